@@ -1,0 +1,2 @@
+//! The `sphlab` command line.
+fn main() {}

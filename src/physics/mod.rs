@@ -1,0 +1,23 @@
+//! The physics definition: pure functions, no loops over particles, no I/O.
+//!
+//! Each Rust function has a WGSL twin of the same name in `shaders/` (tested together in
+//! `tests/wgsl_twins.rs`):
+//!
+//! | Rust (`src/physics/`) | WGSL (`shaders/`) | equations |
+//! |---|---|---|
+//! | `kernel::kernel_f`, `kernel_df`, `kernel_w`, `kernel_dwdr` | `kernel.wgsl` | T40–T43 |
+//! | `eos::eos_pressure` | `eos.wgsl` | T34–T36 |
+//! | `pair::grad_w_ij`, `pressure_acc_ij`, `harmonic_viscosity`, `viscous_fac_ij`, `viscous_acc_ij`, `colour_gradient_ij`, `surface_acc_ij`, `xsph_ij` | `pair.wgsl` | T67–T71, T76, T51 |
+//! | `stress::surface_stress` | `stress.wgsl` | T73–T74 |
+//! | `wall::noslip_beta`, `wall_relative_velocity`, `holmes_beta`, `lj_wall_acc` | `wall.wgsl` | T44–T49 |
+//! | `contact::contact_normal`, `contact_side`, `normal_correction` | `contact.wgsl` | T81–T83 |
+//! | `integrate::integrate_predict`, `integrate_correct`, `integrate_kick`, `integrate_drift` | `integrate.wgsl` | §7.2 |
+
+pub mod contact;
+pub mod eos;
+pub mod integrate;
+pub mod kernel;
+pub mod pair;
+pub mod stress;
+pub mod timestep;
+pub mod wall;

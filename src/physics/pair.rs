@@ -1,0 +1,72 @@
+//! Pair terms of the Hu–Adams momentum equation (PHYSICS.md §4, §5.2, §5.5, §7.1).
+//! CPU twin of `shaders/pair.wgsl`. Every function returns the contribution of one neighbour j
+//! to a sum over j for particle i; the caller multiplies the sum by the prefactor named in the
+//! doc (1/m_i or σ_i). Conventions: `x_ij = x_i − x_j`, `∇_iW_ij = F'(r_ij) x_ij / r_ij` points
+//! from i towards j (F' ≤ 0).
+
+use crate::real::{Real, Sym2, V2};
+
+/// `∇_i W_ij = F'(r) · x_ij / r` (zero for r = 0).
+#[inline(always)]
+pub fn grad_w_ij<T: Real>(dwdr: T, x_ij: V2<T>, r: T) -> V2<T> {
+    if r > T::zero() {
+        x_ij * (dwdr / r)
+    } else {
+        V2::zero()
+    }
+}
+
+/// Pressure term of (T68): `−(p_i/σ_i² + p_j/σ_j²) ∇_iW_ij`. Sum over j, then × 1/m_i.
+#[inline(always)]
+pub fn pressure_acc_ij<T: Real>(p_i: T, inv_s2_i: T, p_j: T, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
+    -(grad_w * (p_i * inv_s2_i + p_j * inv_s2_j))
+}
+
+/// Harmonic mean of the dynamic viscosities, `η̄ = 2η_iη_j/(η_i + η_j)` (T69).
+#[inline(always)]
+pub fn harmonic_viscosity<T: Real>(eta_i: T, eta_j: T) -> T {
+    let s = eta_i + eta_j;
+    if s > T::zero() {
+        T::c(2.0) * eta_i * eta_j / s
+    } else {
+        T::zero()
+    }
+}
+
+/// Regularised `F'(r)/r → r F'(r) / (r² + 0.01 h²)` used by the viscous term (§4).
+#[inline(always)]
+pub fn viscous_fac_ij<T: Real>(dwdr: T, r: T, h: T) -> T {
+    r * dwdr / (r * r + T::c(0.01) * h * h)
+}
+
+/// Viscous term of (T70): `η̄ (1/σ_i² + 1/σ_j²) (F'/r) v_ij`. Sum over j, then × 1/m_i.
+/// With F' < 0 it decelerates i relative to j.
+#[inline(always)]
+pub fn viscous_acc_ij<T: Real>(eta_ij: T, inv_s2_i: T, inv_s2_j: T, fac: T, v_ij: V2<T>) -> V2<T> {
+    v_ij * (eta_ij * (inv_s2_i + inv_s2_j) * fac)
+}
+
+/// Colour-gradient term of (T71): `∇_iW_ij / σ_j²` for j of the other phase. Sum, then × σ_i.
+#[inline(always)]
+pub fn colour_gradient_ij<T: Real>(inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
+    grad_w * inv_s2_j
+}
+
+/// Surface term of (T76): `+(Π_i/σ_i² + Π_j/σ_j²) · ∇_iW_ij`. Sum over j, then × 1/m_i.
+#[inline(always)]
+pub fn surface_acc_ij<T: Real>(
+    pi_i: Sym2<T>,
+    inv_s2_i: T,
+    pi_j: Sym2<T>,
+    inv_s2_j: T,
+    grad_w: V2<T>,
+) -> V2<T> {
+    (pi_i * inv_s2_i + pi_j * inv_s2_j).mul_vec(grad_w)
+}
+
+/// XSPH term of (T51) restricted to same-phase fluid neighbours:
+/// `2 m_j/(ρ_i + ρ_j) (v_j − v_i) W_ij`. Sum over j, then × ε.
+#[inline(always)]
+pub fn xsph_ij<T: Real>(m_j: T, rho_i: T, rho_j: T, v_ji: V2<T>, w: T) -> V2<T> {
+    v_ji * (T::c(2.0) * m_j / (rho_i + rho_j) * w)
+}

@@ -1,0 +1,192 @@
+//! Built-in scenes, exactly as PHYSICS.md §9 sets them up, plus a single-phase Poiseuille flow
+//! with an analytic answer. `sphlab scene show NAME` prints any of them as editable TOML.
+
+use super::*;
+use crate::physics::kernel::KernelKind;
+
+/// Names of the built-in scenes.
+pub const BUILTIN: [&str; 5] = ["oscillating-drop", "sessile-90", "relax-60", "impact", "poiseuille"];
+
+/// A built-in scene by name.
+pub fn builtin(name: &str) -> Option<Scene> {
+    Some(match name {
+        "oscillating-drop" => oscillating_drop(),
+        "sessile-90" => sessile(90.0),
+        "relax-60" => relax_60(),
+        "impact" => impact(90.0),
+        "poiseuille" => poiseuille(),
+        _ => return None,
+    })
+}
+
+fn fluid(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
+    Phase { name: name.into(), rho0, mu, c0, gamma, p_b: 0.0 }
+}
+
+/// §9(a): quarter of a 1×1 box, R = 0.1875 drop of equal density and viscosity, σ = 1,
+/// 30×30 particles (Δx = 1/60), relaxed for t = 0.5 and then given the T84 velocity field.
+pub fn oscillating_drop() -> Scene {
+    Scene {
+        name: "oscillating-drop".into(),
+        description: "Thesis §4.2.1 / Fig. 4.1: oscillating 2D drop (Adami 2010 rod), quarter domain with two symmetry planes".into(),
+        domain: Domain {
+            x: [0.0, 0.5],
+            y: [0.0, 0.5],
+            nx: 30,
+            left: Side::Mirror,
+            right: Side::NoSlip,
+            bottom: Side::Mirror,
+            top: Side::NoSlip,
+        },
+        kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
+        phases: vec![fluid("liquid", 1.0, 0.05, 35.0, 7.0), fluid("gas", 1.0, 0.05, 35.0, 7.0)],
+        fill: "gas".into(),
+        shapes: vec![Shape {
+            geometry: Geometry::Circle { centre: [0.0, 0.0], radius: 0.1875 },
+            phase: "liquid".into(),
+            velocity: [0.0, 0.0],
+        }],
+        surface_tension: Some(SurfaceTension { sigma: 1.0 }),
+        contact: Contact::default(),
+        walls: Walls::default(),
+        gravity: [0.0, 0.0],
+        time: Time { integrator: Integrator::Midpoint, dt: 1e-4, cfl: 0.25, t_end: 0.6, xsph: 0.0 },
+        relax: Some(Relax { t: 0.5 }),
+        initial_velocity: Some(InitialVelocity::RodOscillation {
+            v0: 10.0,
+            r0: 0.05,
+            centre: [0.0, 0.0],
+            phase: "liquid".into(),
+        }),
+        output: Output { every: 20 },
+    }
+}
+
+/// §9(b): half-circle drop R = 0.25 on a no-slip wall, symmetry at x = 0, 65×65 particles,
+/// ρ = 1, μ = 0.15, σ = 1, Mode B at θ_d (Mode A coefficients all 1 for `--set contact.mode=a`).
+/// Cubic spline with h = 1.2Δx and dt = 7e-5 reproduce the thesis (PHYSICS.md §7.4).
+pub fn sessile(theta_deg: f64) -> Scene {
+    Scene {
+        name: "sessile-90".into(),
+        description: "Thesis §4.2.2 / Figs. 4.3–4.9: stationary 90° drop on a no-slip wall, symmetry at x = 0".into(),
+        domain: Domain {
+            x: [0.0, 0.5],
+            y: [0.0, 0.5],
+            nx: 65,
+            left: Side::Mirror,
+            right: Side::NoSlip,
+            bottom: Side::NoSlip,
+            top: Side::NoSlip,
+        },
+        kernel: KernelCfg { kind: KernelKind::CubicSpline, h_ratio: 1.2 },
+        phases: vec![fluid("liquid", 1.0, 0.15, 20.0, 7.0), fluid("gas", 1.0, 0.15, 20.0, 7.0)],
+        fill: "gas".into(),
+        shapes: vec![Shape {
+            geometry: Geometry::Circle { centre: [0.0, 0.0], radius: 0.25 },
+            phase: "liquid".into(),
+            velocity: [0.0, 0.0],
+        }],
+        surface_tension: Some(SurfaceTension { sigma: 1.0 }),
+        contact: Contact {
+            mode: ContactMode::B,
+            sigma_ls: 1.0,
+            sigma_gs: 1.0,
+            theta_deg,
+            normal_correction: true,
+            wall_typing: true,
+            band: 1.2,
+        },
+        walls: Walls::default(),
+        gravity: [0.0, 0.0],
+        time: Time { integrator: Integrator::Midpoint, dt: 7e-5, cfl: 0.25, t_end: 5.0, xsph: 0.0 },
+        relax: None,
+        initial_velocity: None,
+        output: Output { every: 500 },
+    }
+}
+
+/// §9(c): the sessile set-up with targets switched to 60° at t = 0
+/// (Mode B θ_d = 60°; Mode A σ_LS = 0.5, σ_GS = 1). Free-slip: `--set domain.bottom=free-slip`.
+pub fn relax_60() -> Scene {
+    let mut s = sessile(60.0);
+    s.name = "relax-60".into();
+    s.description = "Thesis §4.2.3 / Figs. 4.10–4.15: 90° drop relaxing to 60° (D/D0 → 1.385)".into();
+    s.contact.sigma_ls = 0.5;
+    s.contact.sigma_gs = 1.0;
+    s
+}
+
+/// §9(e): 2D water drop (D0 = 500 µm, 1 m/s) hitting a wall in air, 100×100 particles on a
+/// 1125 µm half domain, Re = 440, We = 6.86, constant contact angle θ_d (Mode B), R-wall pressure.
+pub fn impact(theta_deg: f64) -> Scene {
+    let b = 1000.0 * 20.0 * 20.0 / 7.0;
+    let c_air = (1.4 * b / 1.2_f64).sqrt();
+    Scene {
+        name: "impact".into(),
+        description: "Thesis §5.2 / Figs. 5.3–5.5: 2D drop impact, Re = 440, We = 6.86, density ratio 833".into(),
+        domain: Domain {
+            x: [0.0, 1125e-6],
+            y: [0.0, 1125e-6],
+            nx: 100,
+            left: Side::Mirror,
+            right: Side::FreeSlip,
+            bottom: Side::NoSlip,
+            top: Side::FreeSlip,
+        },
+        kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
+        phases: vec![fluid("water", 1000.0, 1.136e-3, 20.0, 7.0), fluid("air", 1.2, 1.8e-5, c_air, 1.4)],
+        fill: "air".into(),
+        shapes: vec![Shape {
+            geometry: Geometry::Circle { centre: [0.0, 375e-6], radius: 250e-6 },
+            phase: "water".into(),
+            velocity: [0.0, -1.0],
+        }],
+        surface_tension: Some(SurfaceTension { sigma: 0.0729 }),
+        contact: Contact {
+            mode: ContactMode::B,
+            sigma_ls: 0.0,
+            sigma_gs: 0.0,
+            theta_deg,
+            normal_correction: true,
+            wall_typing: true,
+            band: 1.2,
+        },
+        walls: Walls { pressure: WallPressure::RWall, ..Walls::default() },
+        gravity: [0.0, -9.8],
+        time: Time { integrator: Integrator::Midpoint, dt: 0.0, cfl: 0.25, t_end: 1.65e-3, xsph: 0.0 },
+        relax: None,
+        initial_velocity: None,
+        output: Output { every: 2000 },
+    }
+}
+
+/// Single-phase plane Poiseuille flow between no-slip plates y = 0 and y = 1, periodic in x,
+/// driven by a body force g_x = 8 (ρ = 1, μ = 1 ⇒ steady u_max = 1). Analytic transient
+/// solution in `diagnostics::poiseuille_velocity` (Morris et al. 1997).
+pub fn poiseuille() -> Scene {
+    Scene {
+        name: "poiseuille".into(),
+        description: "Single phase: body-force-driven Poiseuille flow between no-slip plates, periodic ends (Morris 1997)".into(),
+        domain: Domain {
+            x: [0.0, 0.4],
+            y: [0.0, 1.0],
+            nx: 8,
+            left: Side::Periodic,
+            right: Side::Periodic,
+            bottom: Side::NoSlip,
+            top: Side::NoSlip,
+        },
+        kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
+        phases: vec![fluid("fluid", 1.0, 1.0, 10.0, 7.0)],
+        fill: "fluid".into(),
+        shapes: vec![],
+        surface_tension: None,
+        contact: Contact::default(),
+        walls: Walls::default(),
+        gravity: [8.0, 0.0],
+        time: Time { integrator: Integrator::Midpoint, dt: 0.0, cfl: 0.25, t_end: 1.0, xsph: 0.0 },
+        relax: None,
+        initial_velocity: None,
+        output: Output { every: 100 },
+    }
+}

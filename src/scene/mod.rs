@@ -1,0 +1,568 @@
+//! Scenes: everything a run needs to know about the physics and the geometry, as plain data
+//! that reads from and writes to TOML (`sphlab scene show NAME`). Built-in scenes are in
+//! [`builtin`], the particle lattice is laid out by [`build`], and `--set KEY=VALUE` overrides
+//! go through [`overrides`]. Validation ([`Scene::validate`]) names the offending field.
+
+pub mod build;
+pub mod builtin;
+pub mod overrides;
+
+use crate::physics::kernel::KernelKind;
+use serde::{Deserialize, Serialize};
+
+/// The largest number of fluid phases a scene may declare (liquid and gas in the thesis).
+pub const MAX_FLUID_PHASES: usize = 2;
+
+/// A complete scene description.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Scene name (used in outputs).
+    pub name: String,
+    /// One line saying what the scene is and where it comes from.
+    #[serde(default)]
+    pub description: String,
+    /// Box, resolution and the type of each side.
+    pub domain: Domain,
+    /// Smoothing kernel.
+    pub kernel: KernelCfg,
+    /// Fluid phases (1 or 2). Phase 0 is "the liquid" for diagnostics.
+    pub phases: Vec<Phase>,
+    /// The phase of every fluid lattice point not covered by a shape.
+    pub fill: String,
+    /// Shapes painted over the fill, in order (a later shape wins).
+    #[serde(default)]
+    pub shapes: Vec<Shape>,
+    /// Surface tension between the two fluid phases (absent: no surface tension).
+    #[serde(default)]
+    pub surface_tension: Option<SurfaceTension>,
+    /// Contact-angle model at the bottom wall.
+    #[serde(default)]
+    pub contact: Contact,
+    /// Wall treatment.
+    #[serde(default)]
+    pub walls: Walls,
+    /// Body acceleration (gravity), [gx, gy].
+    #[serde(default)]
+    pub gravity: [f64; 2],
+    /// Time stepping.
+    pub time: Time,
+    /// Optional relaxation run before t = 0 (then velocities are reset and `initial_velocity` applied).
+    #[serde(default)]
+    pub relax: Option<Relax>,
+    /// Optional analytic initial velocity field applied at t = 0.
+    #[serde(default)]
+    pub initial_velocity: Option<InitialVelocity>,
+    /// Output cadence.
+    #[serde(default)]
+    pub output: Output,
+}
+
+/// The type of one side of the domain box.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Side {
+    /// Fixed ghost-particle wall with Morris no-slip (§6.1–6.2).
+    NoSlip,
+    /// Fixed ghost-particle wall, free-slip (§6.3).
+    FreeSlip,
+    /// Symmetry plane: mirror images (§6.5).
+    Mirror,
+    /// Periodic: images shifted by the box length (both opposite sides must be periodic).
+    Periodic,
+}
+
+impl Side {
+    /// True for the two wall types (ghost-particle lattices).
+    pub fn is_wall(self) -> bool {
+        matches!(self, Side::NoSlip | Side::FreeSlip)
+    }
+}
+
+/// The domain box `[x0,x1] × [y0,y1]`, its resolution and its four sides.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// [x0, x1].
+    pub x: [f64; 2],
+    /// [y0, y1].
+    pub y: [f64; 2],
+    /// Particles across the x extent: Δx = (x1 − x0)/nx. The y extent must be a whole number of Δx.
+    pub nx: u32,
+    /// Left side (x = x0).
+    pub left: Side,
+    /// Right side (x = x1).
+    pub right: Side,
+    /// Bottom side (y = y0); the contact-angle wall.
+    pub bottom: Side,
+    /// Top side (y = y1).
+    pub top: Side,
+}
+
+impl Domain {
+    /// Lattice spacing Δx.
+    pub fn dx(&self) -> f64 {
+        (self.x[1] - self.x[0]) / self.nx as f64
+    }
+    /// Number of rows, ny = (y1 − y0)/Δx rounded.
+    pub fn ny(&self) -> u32 {
+        ((self.y[1] - self.y[0]) / self.dx()).round() as u32
+    }
+}
+
+/// Kernel choice and smoothing length.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct KernelCfg {
+    /// Kernel function.
+    pub kind: KernelKind,
+    /// h / Δx.
+    pub h_ratio: f64,
+}
+
+/// One fluid phase.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Phase {
+    /// Name used by shapes, `fill` and `contact`.
+    pub name: String,
+    /// Rest density ρ0.
+    pub rho0: f64,
+    /// Dynamic viscosity μ (η).
+    pub mu: f64,
+    /// Reference sound speed c0.
+    pub c0: f64,
+    /// Tait exponent γ.
+    pub gamma: f64,
+    /// Background pressure p_b.
+    #[serde(default)]
+    pub p_b: f64,
+}
+
+/// A region painted with one phase and an initial velocity.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Shape {
+    /// Geometry.
+    #[serde(flatten)]
+    pub geometry: Geometry,
+    /// Phase name.
+    pub phase: String,
+    /// Initial velocity of the particles inside.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+}
+
+/// Shape geometry.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Geometry {
+    /// Points with |r − centre| < radius.
+    Circle {
+        /// Centre.
+        centre: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
+    /// Points with min ≤ r < max.
+    Rect {
+        /// Lower-left corner.
+        min: [f64; 2],
+        /// Upper-right corner.
+        max: [f64; 2],
+    },
+}
+
+/// Surface tension between the two fluid phases (Hu–Adams stress tensor, §5).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceTension {
+    /// σ between fluid phases 0 and 1 (σ_LG).
+    pub sigma: f64,
+}
+
+/// Contact-angle mode at the bottom wall (§8).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Contact {
+    /// none | a | b.
+    pub mode: ContactMode,
+    /// Mode A: σ between the wall and fluid phase 0 (σ_LS).
+    #[serde(default)]
+    pub sigma_ls: f64,
+    /// Mode A: σ between the wall and fluid phase 1 (σ_GS).
+    #[serde(default)]
+    pub sigma_gs: f64,
+    /// Mode B: the desired angle θ_d in degrees (inside the liquid, phase 0).
+    #[serde(default = "default_theta")]
+    pub theta_deg: f64,
+    /// Mode B: Algorithm 1 (normal correction) on/off.
+    #[serde(default = "yes")]
+    pub normal_correction: bool,
+    /// Mode B: Algorithm 2 (wall typing by the interpolation line) on/off.
+    #[serde(default = "yes")]
+    pub wall_typing: bool,
+    /// Mode B: the contact-line band is 0 < y − y_w ≤ band·Δx (thesis 1.2).
+    #[serde(default = "default_band")]
+    pub band: f64,
+}
+
+fn default_theta() -> f64 {
+    90.0
+}
+fn yes() -> bool {
+    true
+}
+fn default_band() -> f64 {
+    1.2
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Self {
+            mode: ContactMode::None,
+            sigma_ls: 0.0,
+            sigma_gs: 0.0,
+            theta_deg: 90.0,
+            normal_correction: true,
+            wall_typing: true,
+            band: 1.2,
+        }
+    }
+}
+
+/// The contact-angle modes.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactMode {
+    /// Walls carry no colour.
+    None,
+    /// Mode A: walls are a third phase with σ_LS, σ_GS (Young).
+    A,
+    /// Mode B: one coefficient plus Algorithms 1 and 2.
+    B,
+}
+
+/// Wall treatment (§6).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Walls {
+    /// t-wall (EOS of the wall's phase) or r-wall (Adami extrapolation).
+    #[serde(default = "default_wall_pressure")]
+    pub pressure: WallPressure,
+    /// morris (geometric distances) or holmes (state ratio χ).
+    #[serde(default = "default_wall_velocity")]
+    pub velocity: WallVelocity,
+    /// Cap β_max of the ghost-velocity factor.
+    #[serde(default = "default_beta_max")]
+    pub beta_max: f64,
+    /// The phase whose mass and EOS untyped wall particles use.
+    #[serde(default)]
+    pub phase: Option<String>,
+    /// Lennard-Jones strength D (0 = off); r0 = Δx/2.
+    #[serde(default)]
+    pub lj_strength: f64,
+}
+
+fn default_wall_pressure() -> WallPressure {
+    WallPressure::TWall
+}
+fn default_wall_velocity() -> WallVelocity {
+    WallVelocity::Morris
+}
+fn default_beta_max() -> f64 {
+    1.5
+}
+
+impl Default for Walls {
+    fn default() -> Self {
+        Self {
+            pressure: WallPressure::TWall,
+            velocity: WallVelocity::Morris,
+            beta_max: 1.5,
+            phase: None,
+            lj_strength: 0.0,
+        }
+    }
+}
+
+/// Wall pressure options (§6.1).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallPressure {
+    /// Thesis: `ρ_w = m_w σ_w`, EOS of the wall's (typed) phase.
+    TWall,
+    /// Adami–Hu–Adams 2012 extrapolation from the fluid neighbours.
+    RWall,
+}
+
+/// Wall ghost-velocity options (§6.2, §6.4).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallVelocity {
+    /// Geometric distances to the nearest wall line.
+    Morris,
+    /// Holmes state ratio χ.
+    Holmes,
+}
+
+/// Time stepping.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Time {
+    /// midpoint (predictor–corrector) or verlet.
+    #[serde(default = "default_integrator")]
+    pub integrator: Integrator,
+    /// Fixed dt; 0 means "min of the limits" recomputed each step.
+    #[serde(default)]
+    pub dt: f64,
+    /// CFL factor of (T52).
+    #[serde(default = "default_cfl")]
+    pub cfl: f64,
+    /// End time.
+    pub t_end: f64,
+    /// XSPH ε (0 = off).
+    #[serde(default)]
+    pub xsph: f64,
+}
+
+fn default_integrator() -> Integrator {
+    Integrator::Midpoint
+}
+fn default_cfl() -> f64 {
+    0.25
+}
+
+/// Integrators (§7.2).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Integrator {
+    /// Explicit midpoint predictor–corrector (two force evaluations per step).
+    Midpoint,
+    /// Velocity Verlet (one force evaluation per step).
+    Verlet,
+}
+
+/// Relaxation before t = 0.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Relax {
+    /// Relaxation time.
+    pub t: f64,
+}
+
+/// Analytic initial velocity fields.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum InitialVelocity {
+    /// The oscillating-rod field (T84, Adami 2010), applied to one phase.
+    RodOscillation {
+        /// V0.
+        v0: f64,
+        /// r0.
+        r0: f64,
+        /// Drop centre.
+        centre: [f64; 2],
+        /// Phase it applies to.
+        phase: String,
+    },
+}
+
+/// Output cadence.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// A `series.csv` row every this many steps.
+    pub every: u64,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Self { every: 100 }
+    }
+}
+
+/// A bad-input error: which field, what is wrong.
+#[derive(Debug, thiserror::Error)]
+#[error("scene field `{field}`: {msg}")]
+pub struct SceneError {
+    /// TOML path of the field.
+    pub field: String,
+    /// What is wrong with it.
+    pub msg: String,
+}
+
+fn err(field: &str, msg: impl Into<String>) -> SceneError {
+    SceneError { field: field.to_string(), msg: msg.into() }
+}
+
+impl Scene {
+    /// Parses a TOML scene (unknown keys are errors).
+    pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
+        let s: Scene = toml::from_str(text).map_err(|e| err("<file>", e.to_string().trim().to_string()))?;
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// Serialises to TOML.
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("a Scene always serialises")
+    }
+
+    /// Index of a fluid phase by name.
+    pub fn phase_index(&self, name: &str) -> Option<usize> {
+        self.phases.iter().position(|p| p.name == name)
+    }
+
+    /// Smoothing length h.
+    pub fn h(&self) -> f64 {
+        self.kernel.h_ratio * self.domain.dx()
+    }
+
+    /// Support radius κh.
+    pub fn support(&self) -> f64 {
+        self.kernel.kind.support_factor() * self.h()
+    }
+
+    /// Checks every field; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let d = &self.domain;
+        let fin = |v: f64| v.is_finite();
+        if !(fin(d.x[0]) && fin(d.x[1]) && d.x[1] > d.x[0]) {
+            return Err(err("domain.x", "need x0 < x1, finite"));
+        }
+        if !(fin(d.y[0]) && fin(d.y[1]) && d.y[1] > d.y[0]) {
+            return Err(err("domain.y", "need y0 < y1, finite"));
+        }
+        if d.nx == 0 {
+            return Err(err("domain.nx", "must be a positive number of particles across x"));
+        }
+        if d.nx > 20_000 {
+            return Err(err("domain.nx", "more than 20000 particles across is beyond this solver"));
+        }
+        let dx = d.dx();
+        let ny = (d.y[1] - d.y[0]) / dx;
+        if (ny - ny.round()).abs() > 1e-6 * ny.max(1.0) || ny.round() < 1.0 {
+            return Err(err("domain.y", format!("height must be a whole number of Δx = {dx} (got {ny} rows)")));
+        }
+        if (d.left == Side::Periodic) != (d.right == Side::Periodic) {
+            return Err(err("domain.left", "periodic sides come in pairs (left and right)"));
+        }
+        if (d.bottom == Side::Periodic) != (d.top == Side::Periodic) {
+            return Err(err("domain.bottom", "periodic sides come in pairs (bottom and top)"));
+        }
+        if !(self.kernel.h_ratio.is_finite() && self.kernel.h_ratio > 0.0) {
+            return Err(err("kernel.h_ratio", "must be positive"));
+        }
+        let s = self.support();
+        if d.x[1] - d.x[0] < 2.0 * s || d.y[1] - d.y[0] < 2.0 * s {
+            return Err(err("domain", format!("the box must span at least two kernel supports (2κh = {})", 2.0 * s)));
+        }
+        if self.phases.is_empty() || self.phases.len() > MAX_FLUID_PHASES {
+            return Err(err("phases", format!("need 1 to {MAX_FLUID_PHASES} fluid phases")));
+        }
+        for (i, p) in self.phases.iter().enumerate() {
+            let f = |n: &str| format!("phases[{i}].{n}");
+            if self.phases.iter().filter(|q| q.name == p.name).count() > 1 {
+                return Err(err(&f("name"), format!("duplicate phase name `{}`", p.name)));
+            }
+            if !(p.rho0.is_finite() && p.rho0 > 0.0) {
+                return Err(err(&f("rho0"), "must be positive"));
+            }
+            if !(p.mu.is_finite() && p.mu >= 0.0) {
+                return Err(err(&f("mu"), "must be ≥ 0"));
+            }
+            if !(p.c0.is_finite() && p.c0 > 0.0) {
+                return Err(err(&f("c0"), "must be positive"));
+            }
+            if !(p.gamma.is_finite() && p.gamma >= 1.0) {
+                return Err(err(&f("gamma"), "must be ≥ 1"));
+            }
+            if !p.p_b.is_finite() {
+                return Err(err(&f("p_b"), "must be finite"));
+            }
+        }
+        if self.phase_index(&self.fill).is_none() {
+            return Err(err("fill", format!("unknown phase `{}`", self.fill)));
+        }
+        for (i, sh) in self.shapes.iter().enumerate() {
+            if self.phase_index(&sh.phase).is_none() {
+                return Err(err(&format!("shapes[{i}].phase"), format!("unknown phase `{}`", sh.phase)));
+            }
+            if let Geometry::Circle { radius, .. } = sh.geometry {
+                if !(radius.is_finite() && radius > 0.0) {
+                    return Err(err(&format!("shapes[{i}].radius"), "must be positive"));
+                }
+            }
+        }
+        if let Some(st) = &self.surface_tension {
+            if !(st.sigma.is_finite() && st.sigma >= 0.0) {
+                return Err(err("surface_tension.sigma", "must be ≥ 0"));
+            }
+            if self.phases.len() < 2 {
+                return Err(err("surface_tension", "needs two fluid phases"));
+            }
+        }
+        match self.contact.mode {
+            ContactMode::None => {}
+            ContactMode::A | ContactMode::B => {
+                if self.surface_tension.is_none() {
+                    return Err(err("contact.mode", "a contact-angle mode needs [surface_tension]"));
+                }
+                if !self.domain.bottom.is_wall() {
+                    return Err(err("contact.mode", "the contact line lives on the bottom wall, which must be no-slip or free-slip"));
+                }
+            }
+        }
+        if self.contact.mode == ContactMode::A && (self.contact.sigma_ls < 0.0 || self.contact.sigma_gs < 0.0) {
+            return Err(err("contact.sigma_ls", "must be ≥ 0"));
+        }
+        if !(self.contact.theta_deg > 0.0 && self.contact.theta_deg < 180.0) {
+            return Err(err("contact.theta_deg", "must lie in (0, 180)"));
+        }
+        if let Some(w) = &self.walls.phase {
+            if self.phase_index(w).is_none() {
+                return Err(err("walls.phase", format!("unknown phase `{w}`")));
+            }
+        }
+        if !(self.walls.beta_max >= 1.0) {
+            return Err(err("walls.beta_max", "must be ≥ 1"));
+        }
+        if !(self.walls.lj_strength >= 0.0) {
+            return Err(err("walls.lj_strength", "must be ≥ 0"));
+        }
+        if !(self.gravity[0].is_finite() && self.gravity[1].is_finite()) {
+            return Err(err("gravity", "must be finite"));
+        }
+        let t = &self.time;
+        if !(t.dt.is_finite() && t.dt >= 0.0) {
+            return Err(err("time.dt", "must be ≥ 0 (0 = automatic)"));
+        }
+        if !(t.t_end.is_finite() && t.t_end > 0.0) {
+            return Err(err("time.t_end", "must be positive"));
+        }
+        if !(t.cfl > 0.0 && t.cfl <= 1.0) {
+            return Err(err("time.cfl", "must lie in (0, 1]"));
+        }
+        if !(t.xsph >= 0.0 && t.xsph <= 1.0) {
+            return Err(err("time.xsph", "must lie in [0, 1]"));
+        }
+        if let Some(r) = &self.relax {
+            if !(r.t.is_finite() && r.t >= 0.0) {
+                return Err(err("relax.t", "must be ≥ 0"));
+            }
+        }
+        if let Some(InitialVelocity::RodOscillation { phase, r0, .. }) = &self.initial_velocity {
+            if self.phase_index(phase).is_none() {
+                return Err(err("initial_velocity.phase", format!("unknown phase `{phase}`")));
+            }
+            if !(*r0 > 0.0) {
+                return Err(err("initial_velocity.r0", "must be positive"));
+            }
+        }
+        if self.output.every == 0 {
+            return Err(err("output.every", "must be ≥ 1"));
+        }
+        Ok(())
+    }
+}
