@@ -17,3 +17,8 @@
 pub mod physics;
 pub mod real;
 pub mod scene;
+pub mod backend;
+pub mod cpu;
+pub mod exec;
+pub mod model;
+pub mod neighbours;

@@ -41,11 +41,7 @@ pub fn oscillating_drop() -> Scene {
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
         phases: vec![fluid("liquid", 1.0, 0.05, 35.0, 7.0), fluid("gas", 1.0, 0.05, 35.0, 7.0)],
         fill: "gas".into(),
-        shapes: vec![Shape {
-            geometry: Geometry::Circle { centre: [0.0, 0.0], radius: 0.1875 },
-            phase: "liquid".into(),
-            velocity: [0.0, 0.0],
-        }],
+        shapes: vec![Shape::circle([0.0, 0.0], 0.1875, "liquid", [0.0, 0.0])],
         surface_tension: Some(SurfaceTension { sigma: 1.0 }),
         contact: Contact::default(),
         walls: Walls::default(),
@@ -81,11 +77,7 @@ pub fn sessile(theta_deg: f64) -> Scene {
         kernel: KernelCfg { kind: KernelKind::CubicSpline, h_ratio: 1.2 },
         phases: vec![fluid("liquid", 1.0, 0.15, 20.0, 7.0), fluid("gas", 1.0, 0.15, 20.0, 7.0)],
         fill: "gas".into(),
-        shapes: vec![Shape {
-            geometry: Geometry::Circle { centre: [0.0, 0.0], radius: 0.25 },
-            phase: "liquid".into(),
-            velocity: [0.0, 0.0],
-        }],
+        shapes: vec![Shape::circle([0.0, 0.0], 0.25, "liquid", [0.0, 0.0])],
         surface_tension: Some(SurfaceTension { sigma: 1.0 }),
         contact: Contact {
             mode: ContactMode::B,
@@ -136,11 +128,7 @@ pub fn impact(theta_deg: f64) -> Scene {
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
         phases: vec![fluid("water", 1000.0, 1.136e-3, 20.0, 7.0), fluid("air", 1.2, 1.8e-5, c_air, 1.4)],
         fill: "air".into(),
-        shapes: vec![Shape {
-            geometry: Geometry::Circle { centre: [0.0, 375e-6], radius: 250e-6 },
-            phase: "water".into(),
-            velocity: [0.0, -1.0],
-        }],
+        shapes: vec![Shape::circle([0.0, 375e-6], 250e-6, "water", [0.0, -1.0])],
         surface_tension: Some(SurfaceTension { sigma: 0.0729 }),
         contact: Contact {
             mode: ContactMode::B,

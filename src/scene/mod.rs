@@ -139,13 +139,25 @@ pub struct Phase {
     pub p_b: f64,
 }
 
-/// A region painted with one phase and an initial velocity.
+/// A region painted with one phase and an initial velocity: a circle (`centre`, `radius`) or a
+/// rectangle (`min`, `max`).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Shape {
-    /// Geometry.
-    #[serde(flatten)]
-    pub geometry: Geometry,
+    /// circle | rect.
+    pub kind: ShapeKind,
+    /// Circle centre.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre: Option<[f64; 2]>,
+    /// Circle radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Rectangle lower-left corner.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<[f64; 2]>,
+    /// Rectangle upper-right corner.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<[f64; 2]>,
     /// Phase name.
     pub phase: String,
     /// Initial velocity of the particles inside.
@@ -153,24 +165,34 @@ pub struct Shape {
     pub velocity: [f64; 2],
 }
 
-/// Shape geometry.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "kebab-case")]
-pub enum Geometry {
-    /// Points with |r − centre| < radius.
-    Circle {
-        /// Centre.
-        centre: [f64; 2],
-        /// Radius.
-        radius: f64,
-    },
-    /// Points with min ≤ r < max.
-    Rect {
-        /// Lower-left corner.
-        min: [f64; 2],
-        /// Upper-right corner.
-        max: [f64; 2],
-    },
+impl Shape {
+    /// A circle of `phase`.
+    pub fn circle(centre: [f64; 2], radius: f64, phase: &str, velocity: [f64; 2]) -> Self {
+        Self { kind: ShapeKind::Circle, centre: Some(centre), radius: Some(radius), min: None, max: None, phase: phase.into(), velocity }
+    }
+    /// True when `(x, y)` lies inside (circle: |r − c| < R; rectangle: min ≤ r < max).
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        match self.kind {
+            ShapeKind::Circle => {
+                let (c, r) = (self.centre.unwrap_or_default(), self.radius.unwrap_or(0.0));
+                (x - c[0]).powi(2) + (y - c[1]).powi(2) < r * r
+            }
+            ShapeKind::Rect => {
+                let (a, b) = (self.min.unwrap_or_default(), self.max.unwrap_or_default());
+                x >= a[0] && x < b[0] && y >= a[1] && y < b[1]
+            }
+        }
+    }
+}
+
+/// Shape kinds.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShapeKind {
+    /// Needs `centre` and `radius`.
+    Circle,
+    /// Needs `min` and `max`.
+    Rect,
 }
 
 /// Surface tension between the two fluid phases (Hu–Adams stress tensor, §5).
@@ -489,10 +511,20 @@ impl Scene {
             if self.phase_index(&sh.phase).is_none() {
                 return Err(err(&format!("shapes[{i}].phase"), format!("unknown phase `{}`", sh.phase)));
             }
-            if let Geometry::Circle { radius, .. } = sh.geometry {
-                if !(radius.is_finite() && radius > 0.0) {
-                    return Err(err(&format!("shapes[{i}].radius"), "must be positive"));
+            match sh.kind {
+                ShapeKind::Circle => {
+                    if sh.centre.is_none() {
+                        return Err(err(&format!("shapes[{i}].centre"), "a circle needs a centre"));
+                    }
+                    match sh.radius {
+                        Some(r) if r.is_finite() && r > 0.0 => {}
+                        _ => return Err(err(&format!("shapes[{i}].radius"), "a circle needs a positive radius")),
+                    }
                 }
+                ShapeKind::Rect => match (sh.min, sh.max) {
+                    (Some(a), Some(b)) if a[0] < b[0] && a[1] < b[1] => {}
+                    _ => return Err(err(&format!("shapes[{i}].min"), "a rectangle needs min < max")),
+                },
             }
         }
         if let Some(st) = &self.surface_tension {

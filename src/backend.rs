@@ -1,0 +1,104 @@
+//! What every backend (CPU reference, GPU variants) offers the run driver: stepping, a frame of
+//! the particle state in f64 for output and diagnostics, and errors that name the step and
+//! particle when a run blows up.
+
+use serde::Serialize;
+
+/// A read-back of the particle state, in f64, fluids first.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Frame {
+    /// Step count.
+    pub step: u64,
+    /// Simulated time.
+    pub t: f64,
+    /// Last dt.
+    pub dt: f64,
+    /// Number of fluid particles.
+    pub n_fluid: usize,
+    /// Positions.
+    pub pos: Vec<[f64; 2]>,
+    /// Velocities.
+    pub vel: Vec<[f64; 2]>,
+    /// Densities.
+    pub rho: Vec<f64>,
+    /// Pressures.
+    pub p: Vec<f64>,
+    /// Masses.
+    pub mass: Vec<f64>,
+    /// Fluid phase, or `WALL`.
+    pub phase: Vec<u32>,
+    /// Colour index (−1 none).
+    pub colour: Vec<i32>,
+    /// Colour gradient (sum over the other colours).
+    pub grad_c: Vec<[f64; 2]>,
+    /// Surface stress (xx, xy).
+    pub pi: Vec<[f64; 2]>,
+    /// Acceleration of the last evaluation.
+    pub acc: Vec<[f64; 2]>,
+    /// Number density σ.
+    pub sigma: Vec<f64>,
+    /// Contact points (x, y, s) of the last evaluation.
+    pub contacts: Vec<[f64; 3]>,
+}
+
+/// Why a run stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    /// NaN/inf or a particle outside the domain (exit code 3).
+    #[error("blow-up at step {step} (t = {t:.6e}): particle {particle} {what}")]
+    BlowUp {
+        /// Step at which it was detected.
+        step: u64,
+        /// Time.
+        t: f64,
+        /// Particle id.
+        particle: usize,
+        /// What happened.
+        what: String,
+    },
+    /// More contact points than the fixed capacity.
+    #[error("step {step}: {count} contact points exceed the capacity of {cap}")]
+    ContactOverflow {
+        /// Step.
+        step: u64,
+        /// Points found.
+        count: usize,
+        /// Capacity.
+        cap: usize,
+    },
+    /// A particle has more neighbours than the variant's slots (GPU block layouts).
+    #[error("step {step}: {particles} particles have more than {slots} neighbours (max {max}); variant {variant} cannot hold them")]
+    NeighbourOverflow {
+        /// Step.
+        step: u64,
+        /// Number of overflowing particles.
+        particles: usize,
+        /// Slot capacity.
+        slots: usize,
+        /// Largest count seen.
+        max: usize,
+        /// Variant id.
+        variant: String,
+    },
+    /// A GPU failure.
+    #[error("GPU: {0}")]
+    Gpu(String),
+}
+
+/// A solver the run driver can step.
+pub trait Backend {
+    /// "cpu", "cpu1" or a GPU variant id.
+    fn name(&self) -> String;
+    /// Precision "f32" or "f64".
+    fn precision(&self) -> &'static str;
+    /// One time step.
+    fn step(&mut self) -> Result<(), SolverError>;
+    /// Simulated time.
+    fn time(&self) -> f64;
+    /// Steps taken.
+    fn steps(&self) -> u64;
+    /// Reads the state back (fields of the last evaluation).
+    fn frame(&mut self) -> Frame;
+    /// Replaces the fluid velocities (relaxation end) and resets time and step to zero.
+    fn restart_with_velocities(&mut self, vel: &[[f64; 2]]);
+}

@@ -1,0 +1,326 @@
+//! The CPU reference solver: the physics truth every GPU variant is judged against. Runs the
+//! stages of [`stages`] in the order of PHYSICS.md §12, in `f64` or `f32`, on all cores or one
+//! thread, with any of the three neighbour searches (identical results).
+
+pub mod stages;
+
+use crate::backend::{Backend, Frame, SolverError};
+use crate::exec::Exec;
+use crate::model::{AxisMap, Model, MAX_CONTACTS};
+use crate::neighbours::{NeighbourList, Search, SearchKind};
+use crate::physics::integrate::*;
+use crate::physics::timestep::DtLimits;
+use crate::real::{Real, V2};
+use crate::scene::build::Layout;
+use crate::scene::{Integrator, Scene};
+use stages::*;
+use std::time::{Duration, Instant};
+
+/// Wall-clock time spent per stage (for profiles; not a benchmark).
+#[derive(Clone, Debug, Default)]
+pub struct StageClock {
+    /// (stage name, accumulated time).
+    pub totals: Vec<(&'static str, Duration)>,
+}
+
+impl StageClock {
+    fn add(&mut self, name: &'static str, d: Duration) {
+        if let Some(e) = self.totals.iter_mut().find(|e| e.0 == name) {
+            e.1 += d;
+        } else {
+            self.totals.push((name, d));
+        }
+    }
+}
+
+/// The CPU solver.
+pub struct CpuSolver<T: Real> {
+    /// Constants.
+    pub model: Model<T>,
+    /// Execution mode.
+    pub exec: Exec,
+    /// Neighbour search.
+    pub search: Search<T>,
+    /// Positions (fluids first).
+    pub pos: Vec<V2<T>>,
+    /// Velocities.
+    pub vel: Vec<V2<T>>,
+    /// Fluid phase or WALL.
+    pub phase: Vec<u32>,
+    /// Number of fluid particles.
+    pub n_fluid: usize,
+    /// Fields of the last evaluation.
+    pub f: Fields<T>,
+    /// Neighbour lists of the last evaluation.
+    pub nbrs: NeighbourList,
+    /// Time.
+    pub t: f64,
+    /// Steps.
+    pub step: u64,
+    /// Last dt.
+    pub dt: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Per-stage wall clock (when `profile` is on).
+    pub clock: StageClock,
+    /// Record per-stage times.
+    pub profile: bool,
+    have_acc: bool,
+}
+
+impl<T: Real> CpuSolver<T> {
+    /// A solver for a validated scene and its layout.
+    pub fn new(scene: &Scene, layout: &Layout, exec: Exec, search: SearchKind) -> Self {
+        let model = Model::<T>::new(scene);
+        let n = layout.pos.len();
+        let mut s = Self {
+            model,
+            exec,
+            search: Search::new(search),
+            pos: layout.pos.iter().map(|p| V2::from_f64(p[0], p[1])).collect(),
+            vel: layout.vel.iter().map(|v| V2::from_f64(v[0], v[1])).collect(),
+            phase: layout.phase.clone(),
+            n_fluid: layout.n_fluid,
+            f: Fields::new(n),
+            nbrs: NeighbourList::default(),
+            t: 0.0,
+            step: 0,
+            dt: scene.time.dt,
+            integrator: scene.time.integrator,
+            clock: StageClock::default(),
+            profile: false,
+            have_acc: false,
+        };
+        let mut f = std::mem::take(&mut s.f);
+        assign_colours(&s.ctx(), &mut f);
+        s.f = f;
+        s
+    }
+
+    fn ctx(&self) -> Ctx<'_, T> {
+        Ctx {
+            m: &self.model,
+            pos: &self.pos,
+            vel: &self.vel,
+            phase: &self.phase,
+            n_fluid: self.n_fluid,
+            nbrs: &self.nbrs,
+            exec: self.exec,
+        }
+    }
+
+    /// One force evaluation at the current positions and velocities: every active stage.
+    pub fn evaluate(&mut self) -> Result<(), SolverError> {
+        let t0 = Instant::now();
+        self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support());
+        if self.profile {
+            self.clock.add("neighbour_search", t0.elapsed());
+        }
+        let mut f = std::mem::take(&mut self.f);
+        let st = self.model.stages;
+        let profile = self.profile;
+        let mut clock = std::mem::take(&mut self.clock);
+        {
+            let c = self.ctx();
+            let mut run = |name: &'static str, stage: fn(&Ctx<T>, &mut Fields<T>), f: &mut Fields<T>| {
+                let t = Instant::now();
+                stage(&c, f);
+                if profile {
+                    clock.add(name, t.elapsed());
+                }
+            };
+            run("number_density", number_density, &mut f);
+            if st.contact_line {
+                run("contact_line", contact_line, &mut f);
+            }
+            if st.wall_typing {
+                run("wall_typing", wall_typing, &mut f);
+            }
+            run("equation_of_state", equation_of_state, &mut f);
+            if st.wall_pressure {
+                run("wall_pressure", wall_pressure, &mut f);
+            }
+            if st.surface_tension {
+                run("colour_gradient", colour_gradient, &mut f);
+                if st.normal_correction {
+                    run("normal_correction", normal_correction, &mut f);
+                }
+                run("surface_stress", surface_stress, &mut f);
+            }
+            run("acceleration", acceleration, &mut f);
+            if st.xsph {
+                run("xsph", xsph, &mut f);
+            } else {
+                f.vt[..self.n_fluid].copy_from_slice(&self.vel[..self.n_fluid]);
+            }
+        }
+        self.clock = clock;
+        let overflow = f.contact_overflow;
+        self.f = f;
+        if overflow > 0 {
+            return Err(SolverError::ContactOverflow { step: self.step, count: MAX_CONTACTS + overflow, cap: MAX_CONTACTS });
+        }
+        Ok(())
+    }
+
+    /// The dt of the next step: fixed, or the minimum of the limits at the current state.
+    pub fn next_dt(&self) -> f64 {
+        if self.model.dt_fixed > 0.0 {
+            return self.model.dt_fixed;
+        }
+        let nf = self.n_fluid;
+        let vmax = self.vel[..nf].iter().map(|v| v.norm().f64()).fold(0.0, f64::max);
+        let amax = self.f.acc[..nf].iter().map(|a| a.norm().f64()).fold(0.0, f64::max);
+        let m = &self.model;
+        DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max).min()
+    }
+
+    /// Mirror and periodic sides: reflect or wrap fluid particles that crossed them.
+    fn apply_boundaries(&mut self) {
+        let im = self.model.images;
+        let (lo, hi) = (self.model.lo, self.model.hi);
+        for i in 0..self.n_fluid {
+            let (p, v) = (&mut self.pos[i], &mut self.vel[i]);
+            apply_boundaries_one(&im.x, lo.x, hi.x, &mut p.x, &mut v.x);
+            apply_boundaries_one(&im.y, lo.y, hi.y, &mut p.y, &mut v.y);
+        }
+    }
+
+    /// Checks for NaN and for particles outside the box (by more than Δx/2).
+    pub fn check(&self) -> Result<(), SolverError> {
+        let m = &self.model;
+        let tol = T::c(0.5) * m.dx;
+        for i in 0..self.n_fluid {
+            let (p, v) = (self.pos[i], self.vel[i]);
+            let what = if !p.is_finite() || !v.is_finite() || !self.f.acc[i].is_finite() {
+                Some(format!("has a non-finite state: x = ({}, {}), v = ({}, {})", p.x, p.y, v.x, v.y))
+            } else if p.x < m.lo.x - tol || p.x > m.hi.x + tol || p.y < m.lo.y - tol || p.y > m.hi.y + tol {
+                Some(format!("left the domain: x = ({}, {})", p.x, p.y))
+            } else {
+                None
+            };
+            if let Some(what) = what {
+                return Err(SolverError::BlowUp { step: self.step, t: self.t, particle: i, what });
+            }
+        }
+        Ok(())
+    }
+
+    fn fluid_update(&mut self, f: impl Fn(usize, V2<T>, V2<T>) -> (V2<T>, V2<T>)) {
+        for i in 0..self.n_fluid {
+            let (p, v) = f(i, self.pos[i], self.vel[i]);
+            self.pos[i] = p;
+            self.vel[i] = v;
+        }
+    }
+
+    /// One time step of the scene's integrator.
+    pub fn advance(&mut self) -> Result<(), SolverError> {
+        match self.integrator {
+            Integrator::Midpoint => {
+                self.evaluate()?;
+                let dt = self.next_dt();
+                let dtt = T::c(dt);
+                let (r0, v0) = (self.pos.clone(), self.vel.clone());
+                let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
+                self.fluid_update(|i, r, v| integrate_predict(r, v, vt[i], acc[i], dtt));
+                self.apply_boundaries();
+                self.evaluate()?;
+                let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
+                self.fluid_update(|i, _, _| integrate_correct(r0[i], v0[i], vt[i], acc[i], dtt));
+                self.dt = dt;
+            }
+            Integrator::Verlet => {
+                if !self.have_acc {
+                    self.evaluate()?;
+                }
+                let dt = self.next_dt();
+                let dtt = T::c(dt);
+                let (vt, acc, v0) = (self.f.vt.clone(), self.f.acc.clone(), self.vel.clone());
+                self.fluid_update(|i, r, v| {
+                    let vh = integrate_kick(v, acc[i], dtt);
+                    (integrate_drift(r, vh + (vt[i] - v0[i]), dtt), vh)
+                });
+                self.apply_boundaries();
+                self.evaluate()?;
+                let acc = self.f.acc.clone();
+                self.fluid_update(|i, r, v| (r, integrate_kick(v, acc[i], dtt)));
+                self.have_acc = true;
+                self.dt = dt;
+            }
+        }
+        self.apply_boundaries();
+        self.step += 1;
+        self.t += self.dt;
+        self.check()
+    }
+}
+
+/// Reflects (mirror) or wraps (periodic) one coordinate across the box sides.
+#[inline(always)]
+pub fn apply_boundaries_one<T: Real>(maps: &[Option<AxisMap<T>>; 2], lo: T, hi: T, x: &mut T, v: &mut T) {
+    match maps[0] {
+        Some(AxisMap::Mirror(p)) if *x < p => {
+            *x = p + p - *x;
+            *v = -*v;
+        }
+        Some(AxisMap::Shift(s)) if *x < lo => *x -= s,
+        _ => {}
+    }
+    match maps[1] {
+        Some(AxisMap::Mirror(p)) if *x > p => {
+            *x = p + p - *x;
+            *v = -*v;
+        }
+        Some(AxisMap::Shift(s)) if *x >= hi => *x -= s,
+        _ => {}
+    }
+}
+
+impl<T: Real> Backend for CpuSolver<T> {
+    fn name(&self) -> String {
+        self.exec.name().to_string()
+    }
+    fn precision(&self) -> &'static str {
+        T::NAME
+    }
+    fn step(&mut self) -> Result<(), SolverError> {
+        self.advance()
+    }
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn steps(&self) -> u64 {
+        self.step
+    }
+    fn frame(&mut self) -> Frame {
+        let v2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
+        let f = &self.f;
+        Frame {
+            step: self.step,
+            t: self.t,
+            dt: self.dt,
+            n_fluid: self.n_fluid,
+            pos: self.pos.iter().map(v2).collect(),
+            vel: self.vel.iter().map(v2).collect(),
+            rho: f.rho.iter().map(|x| x.f64()).collect(),
+            p: f.p.iter().map(|x| x.f64()).collect(),
+            mass: f.mass.iter().map(|x| x.f64()).collect(),
+            phase: self.phase.clone(),
+            colour: f.colour.clone(),
+            grad_c: (0..self.pos.len()).map(|i| v2(&f.grad_c(i))).collect(),
+            pi: f.pi.iter().map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
+            acc: f.acc.iter().map(v2).collect(),
+            sigma: f.sigma.iter().map(|x| x.f64()).collect(),
+            contacts: f.contacts.iter().map(|c| [c.r.x.f64(), c.r.y.f64(), c.s.f64()]).collect(),
+        }
+    }
+    fn restart_with_velocities(&mut self, vel: &[[f64; 2]]) {
+        for (i, v) in vel.iter().enumerate().take(self.n_fluid) {
+            self.vel[i] = V2::from_f64(v[0], v[1]);
+        }
+        self.t = 0.0;
+        self.step = 0;
+        self.have_acc = false;
+    }
+}

@@ -1,0 +1,456 @@
+//! The stages of one force evaluation on the CPU (PHYSICS.md §12), one function per stage,
+//! named as the WGSL entry points, pipeline labels, bench ids and CSV columns. Every stage is a
+//! gather over the neighbour list of each particle, so `Exec::Serial` and `Exec::Parallel`
+//! give identical bits. Boundary images enter through `model.images`.
+
+use crate::exec::{self, Exec};
+use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
+use crate::neighbours::{unpack, NeighbourList};
+use crate::physics::contact::{contact_normal, contact_side, normal_correction as correct_normal};
+use crate::physics::eos::eos_pressure;
+use crate::physics::kernel::{kernel_dwdr, kernel_w};
+use crate::physics::pair::*;
+use crate::physics::stress::surface_stress as stress_of;
+use crate::physics::wall::{holmes_beta, lj_wall_acc, noslip_beta, wall_relative_velocity};
+use crate::real::{Real, Sym2, V2};
+use crate::scene::{ContactMode, WallVelocity};
+
+/// A contact point of the liquid (phase 0) on the bottom wall (§8.4 step 2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint<T> {
+    /// Position (y = y_w).
+    pub r: V2<T>,
+    /// +1 when the liquid lies on the −x side, −1 otherwise.
+    pub s: T,
+}
+
+/// Per-evaluation fields (all particles: fluid first, then walls).
+#[derive(Clone, Debug, Default)]
+pub struct Fields<T> {
+    /// Number density σ.
+    pub sigma: Vec<T>,
+    /// Holmes state ratio χ (when active).
+    pub chi: Vec<T>,
+    /// Current particle mass (walls take the mass of their typed phase, T83).
+    pub mass: Vec<T>,
+    /// Colour index (0, 1 fluid phases; 2 wall phase S; −1 none).
+    pub colour: Vec<i32>,
+    /// Density ρ = mσ.
+    pub rho: Vec<T>,
+    /// Pressure.
+    pub p: Vec<T>,
+    /// Colour gradients towards the other colours, by slot.
+    pub grad: Vec<[V2<T>; 2]>,
+    /// Surface stress Π.
+    pub pi: Vec<Sym2<T>>,
+    /// Acceleration (fluids; zero for walls).
+    pub acc: Vec<V2<T>>,
+    /// Advection velocity ṽ (XSPH or v).
+    pub vt: Vec<V2<T>>,
+    /// Contact points, sorted by x.
+    pub contacts: Vec<ContactPoint<T>>,
+    /// Contact points found beyond [`MAX_CONTACTS`] in the last evaluation.
+    pub contact_overflow: usize,
+}
+
+impl<T: Real> Fields<T> {
+    /// Zeroed fields for `n` particles.
+    pub fn new(n: usize) -> Self {
+        Self {
+            sigma: vec![T::zero(); n],
+            chi: vec![T::zero(); n],
+            mass: vec![T::zero(); n],
+            colour: vec![NO_COLOUR; n],
+            rho: vec![T::zero(); n],
+            p: vec![T::zero(); n],
+            grad: vec![[V2::zero(); 2]; n],
+            pi: vec![Sym2::zero(); n],
+            acc: vec![V2::zero(); n],
+            vt: vec![V2::zero(); n],
+            contacts: Vec::new(),
+            contact_overflow: 0,
+        }
+    }
+    /// Sum of the colour-gradient slots (the gradient towards every other colour).
+    pub fn grad_c(&self, i: usize) -> V2<T> {
+        self.grad[i][0] + self.grad[i][1]
+    }
+}
+
+/// Read-only inputs shared by the stages.
+pub struct Ctx<'a, T> {
+    /// Constants.
+    pub m: &'a Model<T>,
+    /// Positions.
+    pub pos: &'a [V2<T>],
+    /// Velocities.
+    pub vel: &'a [V2<T>],
+    /// Fluid phase or WALL.
+    pub phase: &'a [u32],
+    /// Fluid particles come first.
+    pub n_fluid: usize,
+    /// Neighbour lists.
+    pub nbrs: &'a NeighbourList,
+    /// Execution mode.
+    pub exec: Exec,
+}
+
+/// Slot of colour `l` among the others of colour `k`.
+#[inline(always)]
+pub fn colour_slot(k: i32, l: i32) -> usize {
+    if l < k {
+        l as usize
+    } else {
+        (l - 1) as usize
+    }
+}
+
+/// The other colour held in `slot` for colour `k`.
+#[inline(always)]
+pub fn slot_colour(k: i32, slot: usize) -> i32 {
+    if (slot as i32) < k {
+        slot as i32
+    } else {
+        slot as i32 + 1
+    }
+}
+
+/// `number_density`: σ_i = Σ_j W_ij, self and images included (T66); χ_i (T46–T48) when active.
+pub fn number_density<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let kp = c.m.kernel;
+    let holmes = c.m.stages.holmes_chi;
+    let out: Vec<(T, T)> = exec::map(c.exec, c.pos.len(), |i| {
+        let (mut s, mut same) = (T::zero(), T::zero());
+        let fluid_i = i < c.n_fluid;
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            let r = (c.pos[i] - c.m.images.image_pos(code, c.pos[j])).norm();
+            let w = kernel_w(&kp, r);
+            s += w;
+            if holmes && (j < c.n_fluid) == fluid_i {
+                same += w;
+            }
+        }
+        (s, if holmes { same / s } else { T::zero() })
+    });
+    for (i, (s, chi)) in out.into_iter().enumerate() {
+        f.sigma[i] = s;
+        f.chi[i] = chi;
+    }
+}
+
+/// Static colours and masses: fluids by phase; walls S in Mode A, uncoloured otherwise, with the
+/// mass of the reference wall phase. `wall_typing` overwrites the walls in Mode B.
+pub fn assign_colours<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    for i in 0..c.pos.len() {
+        if i < c.n_fluid {
+            f.colour[i] = c.phase[i] as i32;
+            f.mass[i] = c.m.phases[c.phase[i] as usize].mass;
+        } else {
+            f.colour[i] = if c.m.contact_mode == ContactMode::A { COLOUR_WALL } else { NO_COLOUR };
+            f.mass[i] = c.m.phases[c.m.wall_phase].mass;
+        }
+    }
+}
+
+#[inline(always)]
+fn in_band<T: Real>(m: &Model<T>, y: T) -> bool {
+    let d = y - m.y_wall;
+    d > T::zero() && d <= m.band
+}
+
+/// `contact_line`: contact points of the liquid (phase 0) in the first-row band (§8.4 step 2).
+/// For each liquid band particle, its predecessor and successor are the nearest band particles
+/// (images included) on either side among its neighbours; a gas neighbour there makes a contact
+/// point at the midpoint, no neighbour at all a point Δx/2 beyond the particle.
+pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    let half = T::c(0.5);
+    let found: Vec<Vec<ContactPoint<T>>> = exec::map(c.exec, c.n_fluid, |i| {
+        if c.phase[i] != 0 || !in_band(m, c.pos[i].y) {
+            return Vec::new();
+        }
+        let xi = c.pos[i].x;
+        let (mut pred, mut succ): (Option<(T, u32)>, Option<(T, u32)>) = (None, None);
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            if j >= c.n_fluid {
+                continue;
+            }
+            let pj = m.images.image_pos(code, c.pos[j]);
+            if !in_band(m, pj.y) {
+                continue;
+            }
+            if pj.x > xi && succ.is_none_or(|(x, _)| pj.x < x) {
+                succ = Some((pj.x, c.phase[j]));
+            }
+            if pj.x < xi && pred.is_none_or(|(x, _)| pj.x > x) {
+                pred = Some((pj.x, c.phase[j]));
+            }
+        }
+        let mut out = Vec::new();
+        match succ {
+            None => out.push(ContactPoint { r: V2::new(xi + half * m.dx, m.y_wall), s: T::one() }),
+            Some((x, ph)) if ph != 0 => out.push(ContactPoint { r: V2::new(half * (xi + x), m.y_wall), s: T::one() }),
+            _ => {}
+        }
+        match pred {
+            None => out.push(ContactPoint { r: V2::new(xi - half * m.dx, m.y_wall), s: -T::one() }),
+            Some((x, ph)) if ph != 0 => out.push(ContactPoint { r: V2::new(half * (xi + x), m.y_wall), s: -T::one() }),
+            _ => {}
+        }
+        out
+    });
+    let mut all: Vec<ContactPoint<T>> = found.into_iter().flatten().collect();
+    all.sort_by(|a, b| a.r.x.partial_cmp(&b.r.x).unwrap_or(std::cmp::Ordering::Equal).then(a.s.partial_cmp(&b.s).unwrap_or(std::cmp::Ordering::Equal)));
+    f.contact_overflow = all.len().saturating_sub(MAX_CONTACTS);
+    all.truncate(MAX_CONTACTS);
+    f.contacts = all;
+}
+
+/// The contact point nearest to `r` (first in x order on ties).
+#[inline(always)]
+pub fn nearest_contact<T: Real>(contacts: &[ContactPoint<T>], r: V2<T>) -> Option<&ContactPoint<T>> {
+    let mut best: Option<&ContactPoint<T>> = None;
+    let mut bd = T::infinity();
+    for cp in contacts {
+        let d = (r - cp.r).norm2();
+        if d < bd {
+            bd = d;
+            best = Some(cp);
+        }
+    }
+    best
+}
+
+/// `wall_typing` (Algorithm 2): bottom-wall particles (y < y_w) take the liquid or gas colour
+/// by the side of the interpolation line through the nearest contact point; mass per T83.
+/// Without a contact point every wall is untyped (neutral).
+pub fn wall_typing<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    for i in c.n_fluid..c.pos.len() {
+        let mut colour = NO_COLOUR;
+        if c.pos[i].y < m.y_wall {
+            if let Some(cp) = nearest_contact(&f.contacts, c.pos[i]) {
+                let n = contact_normal(m.theta, cp.s);
+                colour = if contact_side(c.pos[i], cp.r, n) < T::zero() { 0 } else { 1 };
+            }
+        }
+        f.colour[i] = colour;
+        f.mass[i] = m.phases[if colour >= 0 { colour as usize } else { m.wall_phase }].mass;
+    }
+}
+
+/// Phase whose EOS a particle uses: its fluid phase, a wall's typed phase, or the wall phase.
+#[inline(always)]
+pub fn eos_phase<T: Real>(m: &Model<T>, i: usize, n_fluid: usize, phase: &[u32], colour: &[i32]) -> usize {
+    if i < n_fluid {
+        phase[i] as usize
+    } else if colour[i] == 0 || colour[i] == 1 {
+        colour[i] as usize
+    } else {
+        m.wall_phase
+    }
+}
+
+/// `equation_of_state`: ρ = mσ and the Tait pressure for every particle (T-wall for walls).
+pub fn equation_of_state<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    for i in 0..c.pos.len() {
+        let ph = &c.m.phases[eos_phase(c.m, i, c.n_fluid, c.phase, &f.colour)];
+        f.rho[i] = f.mass[i] * f.sigma[i];
+        f.p[i] = eos_pressure(f.rho[i], ph.rho0, ph.stiffness, ph.gamma, ph.p_b);
+    }
+}
+
+/// `wall_pressure` (R-wall, Adami 2012): `p_w = [Σ_f p_f W + g·Σ_f ρ_f (r_w − r_f) W] / Σ_f W`.
+pub fn wall_pressure<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    let kp = m.kernel;
+    let pw: Vec<T> = exec::map(c.exec, c.pos.len() - c.n_fluid, |k| {
+        let i = c.n_fluid + k;
+        let (mut num, mut den) = (T::zero(), T::zero());
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            if j >= c.n_fluid {
+                continue;
+            }
+            let xj = m.images.image_pos(code, c.pos[j]);
+            let w = kernel_w(&kp, (c.pos[i] - xj).norm());
+            num += (f.p[j] + m.gravity.dot(c.pos[i] - xj) * f.rho[j]) * w;
+            den += w;
+        }
+        if den > T::zero() {
+            num / den
+        } else {
+            m.phases[m.wall_phase].p_b
+        }
+    });
+    f.p[c.n_fluid..].copy_from_slice(&pw);
+}
+
+/// `colour_gradient` (T71): for each coloured particle, `σ_i Σ_{j of colour l} ∇_iW_ij/σ_j²`
+/// towards every other colour l with σ^{kl} > 0, stored by slot.
+pub fn colour_gradient<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    let kp = m.kernel;
+    let (colour, sigma) = (&f.colour, &f.sigma);
+    let out: Vec<[V2<T>; 2]> = exec::map(c.exec, c.pos.len(), |i| {
+        let k = colour[i];
+        let mut g = [V2::zero(); 2];
+        if k < 0 {
+            return g;
+        }
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            let l = colour[j];
+            if l < 0 || l == k || m.sigma[k as usize][l as usize] == T::zero() {
+                continue;
+            }
+            let x_ij = c.pos[i] - m.images.image_pos(code, c.pos[j]);
+            let r = x_ij.norm();
+            let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
+            g[colour_slot(k, l)] += colour_gradient_ij(T::one() / (sigma[j] * sigma[j]), gw);
+        }
+        [g[0] * sigma[i], g[1] * sigma[i]]
+    });
+    f.grad = out;
+}
+
+/// `normal_correction` (Algorithm 1): near the wall (fluid with y − y_w ≤ 1.2Δx, or a typed wall
+/// particle) the gradient towards the other fluid keeps its magnitude and takes the direction
+/// ±n̂_θ of the nearest contact point.
+pub fn normal_correction<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    if f.contacts.is_empty() {
+        return;
+    }
+    for i in 0..c.pos.len() {
+        let k = f.colour[i];
+        if !(k == 0 || k == 1) || f.grad[i][0].norm2() == T::zero() {
+            continue;
+        }
+        let near = if i < c.n_fluid { c.pos[i].y - m.y_wall <= m.band } else { true };
+        if !near {
+            continue;
+        }
+        let cp = nearest_contact(&f.contacts, c.pos[i]).expect("contacts non-empty");
+        f.grad[i][0] = correct_normal(f.grad[i][0], contact_normal(m.theta, cp.s), k == 0);
+    }
+}
+
+/// `surface_stress` (T73–T75): Π_i = Σ_l σ^{kl} |g^{kl}| (I/2 − n̂n̂).
+pub fn surface_stress<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    for i in 0..c.pos.len() {
+        let k = f.colour[i];
+        let mut pi = Sym2::zero();
+        if k >= 0 {
+            for slot in 0..2 {
+                let l = slot_colour(k, slot);
+                if (l as usize) < crate::model::N_COLOURS {
+                    pi = pi + stress_of(f.grad[i][slot], m.sigma[k as usize][l as usize]);
+                }
+            }
+        }
+        f.pi[i] = pi;
+    }
+}
+
+/// Lennard-Jones repulsion of the boundary points (spacing Δx/2 on each wall line, r0 = Δx/2).
+#[inline(always)]
+pub fn lennard_jones<T: Real>(m: &Model<T>, x: V2<T>) -> V2<T> {
+    let r0 = T::c(0.5) * m.dx;
+    let mut a = V2::zero();
+    for w in &m.walls {
+        if w.distance(x) >= r0 {
+            continue;
+        }
+        let (t, t0) = if w.axis == 0 { (x.y, m.lo.y) } else { (x.x, m.lo.x) };
+        let k0 = ((t - t0) / r0).round();
+        for dk in [-1.0, 0.0, 1.0] {
+            let tb = t0 + (k0 + T::c(dk)) * r0;
+            let b = if w.axis == 0 { V2::new(w.coord, tb) } else { V2::new(tb, w.coord) };
+            a += lj_wall_acc(x - b, r0, m.lj_strength);
+        }
+    }
+    a
+}
+
+/// `acceleration` (T65): pressure (T68) + viscous (T70, wall ghost velocities §6.2–6.4) +
+/// surface (T76) + gravity + optional Lennard-Jones, for fluid particles.
+pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    let kp = m.kernel;
+    let st = m.stages;
+    let fr = &*f;
+    let acc: Vec<V2<T>> = exec::map(c.exec, c.n_fluid, |i| {
+        let xi = c.pos[i];
+        let vi = c.vel[i];
+        let inv_s2_i = T::one() / (fr.sigma[i] * fr.sigma[i]);
+        let eta_i = m.phases[c.phase[i] as usize].eta;
+        let wall = m.nearest_wall(xi);
+        let d_i = wall.map_or(T::zero(), |w| w.distance(xi));
+        let mut sum = V2::zero();
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            let xj = m.images.image_pos(code, c.pos[j]);
+            let x_ij = xi - xj;
+            let r2 = x_ij.norm2();
+            if r2 == T::zero() {
+                continue;
+            }
+            let r = r2.sqrt();
+            let dwdr = kernel_dwdr(&kp, r);
+            let gw = grad_w_ij(dwdr, x_ij, r);
+            let inv_s2_j = T::one() / (fr.sigma[j] * fr.sigma[j]);
+            sum += pressure_acc_ij(fr.p[i], inv_s2_i, fr.p[j], inv_s2_j, gw);
+            if st.viscosity {
+                let fac = viscous_fac_ij(dwdr, r, kp.h);
+                let (eta_ij, v_ij) = if j < c.n_fluid {
+                    let eta_j = m.phases[c.phase[j] as usize].eta;
+                    (harmonic_viscosity(eta_i, eta_j), vi - m.images.image_vec(code, c.vel[j]))
+                } else if let Some(w) = wall {
+                    let beta = match m.wall_velocity {
+                        WallVelocity::Morris => noslip_beta(d_i, -w.distance(xj), m.beta_max, m.dx),
+                        WallVelocity::Holmes => holmes_beta(fr.chi[i], fr.chi[j], m.chi_floor, m.beta_max),
+                    };
+                    (eta_i, wall_relative_velocity(vi, beta, w.free_slip, w.normal()))
+                } else {
+                    (eta_i, vi)
+                };
+                sum += viscous_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij);
+            }
+            if st.surface_tension {
+                sum += surface_acc_ij(fr.pi[i], inv_s2_i, m.images.image_sym(code, fr.pi[j]), inv_s2_j, gw);
+            }
+        }
+        let mut a = sum / fr.mass[i] + m.gravity;
+        if st.lennard_jones {
+            a += lennard_jones(m, xi);
+        }
+        a
+    });
+    f.acc[..c.n_fluid].copy_from_slice(&acc);
+}
+
+/// `xsph` (T51): ṽ_i = v_i + ε Σ_{j same fluid phase} 2m_j/(ρ_i+ρ_j) (v_j − v_i) W_ij.
+pub fn xsph<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
+    let m = c.m;
+    let kp = m.kernel;
+    let fr = &*f;
+    let vt: Vec<V2<T>> = exec::map(c.exec, c.n_fluid, |i| {
+        let mut s = V2::zero();
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            if j >= c.n_fluid || c.phase[j] != c.phase[i] {
+                continue;
+            }
+            let xj = m.images.image_pos(code, c.pos[j]);
+            let w = kernel_w(&kp, (c.pos[i] - xj).norm());
+            let v_ji = m.images.image_vec(code, c.vel[j]) - c.vel[i];
+            s += xsph_ij(fr.mass[j], fr.rho[i], fr.rho[j], v_ji, w);
+        }
+        c.vel[i] + s * m.xsph
+    });
+    f.vt[..c.n_fluid].copy_from_slice(&vt);
+}
