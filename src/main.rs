@@ -1,2 +1,229 @@
-//! The `sphlab` command line.
-fn main() {}
+//! The `sphlab` command line: `run`, `scene`, `analytic` (and, as they land, `variants`,
+//! `verify`, `validate`, `study`). Bad input exits 2 with a message naming what is wrong; a run
+//! that blows up exits 3 with the step and particle named.
+
+use clap::{Args, Parser, Subcommand};
+use sphlab::neighbours::SearchKind;
+use sphlab::run::{RunError, RunOptions};
+use sphlab::scene::{builtin, overrides::apply_overrides, Scene};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "sphlab", version, about = "GPU-vs-CPU performance laboratory for 2D multiphase SPH")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Run a scene (built-in name or TOML file) and write series.csv, snapshots and summary.json.
+    Run(RunArgs),
+    /// Built-in scenes.
+    Scene {
+        #[command(subcommand)]
+        cmd: SceneCmd,
+    },
+    /// Analytic drop-spread models (thesis §5.1, Table 1).
+    Analytic {
+        #[command(subcommand)]
+        cmd: AnalyticCmd,
+    },
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// Built-in scene name (see `sphlab scene list`) or a scene TOML file.
+    scene: String,
+    /// cpu (all cores), cpu1 (one thread) or gpu.
+    #[arg(long, default_value = "cpu")]
+    backend: String,
+    /// GPU variant id (see `sphlab variants`).
+    #[arg(long)]
+    variant: Option<String>,
+    /// f64 or f32 (CPU backends).
+    #[arg(long, default_value = "f64")]
+    precision: String,
+    /// End time (overrides the scene's time.t_end).
+    #[arg(long, conflicts_with = "steps")]
+    t_end: Option<f64>,
+    /// Run exactly N steps.
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Override a scene field by its TOML path, e.g. `--set contact.theta_deg=60`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// A particle snapshot every N series rows (0: only the first and the last).
+    #[arg(long, default_value_t = 10)]
+    every: u64,
+    /// Also write VTK (.vtu + .pvd) snapshots.
+    #[arg(long)]
+    vtk: bool,
+    /// CPU neighbour search: direct, cells or tracking.
+    #[arg(long, default_value = "cells")]
+    search: String,
+    /// No progress bar or console lines.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Subcommand)]
+enum SceneCmd {
+    /// List the built-in scenes.
+    List,
+    /// Print a built-in scene as TOML (edit it and pass the file to `sphlab run`).
+    Show {
+        /// Scene name.
+        name: String,
+    },
+}
+
+#[derive(Subcommand)]
+enum AnalyticCmd {
+    /// Maximum spread D_max/D0 of every model for one impact.
+    Spread {
+        /// Reynolds number ρV0D0/μ.
+        #[arg(long)]
+        re: f64,
+        /// Weber number ρV0²D0/σ.
+        #[arg(long)]
+        we: f64,
+        /// Contact angle in degrees.
+        #[arg(long, conflicts_with = "theta_rad", required_unless_present = "theta_rad")]
+        theta_deg: Option<f64>,
+        /// Contact angle in radians.
+        #[arg(long)]
+        theta_rad: Option<f64>,
+        /// all, axisym, a, b or c.
+        #[arg(long, default_value = "all")]
+        model: String,
+        /// JSON output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The thesis's Table 1 beside sphlab's values, with the relative error of each cell.
+    Table1 {
+        /// JSON output.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Loads a scene by built-in name or TOML path, then applies `--set` overrides.
+fn load_scene(name: &str, sets: &[String]) -> Result<Scene, String> {
+    let base = if let Some(s) = builtin::builtin(name) {
+        s
+    } else if std::path::Path::new(name).exists() {
+        let text = std::fs::read_to_string(name).map_err(|e| format!("cannot read scene file {name}: {e}"))?;
+        Scene::from_toml(&text).map_err(|e| format!("{name}: {e}"))?
+    } else {
+        return Err(format!(
+            "unknown scene `{name}`: not a built-in ({}) and no such file",
+            builtin::BUILTIN.join(", ")
+        ));
+    };
+    apply_overrides(&base, sets).map_err(|e| e.to_string())
+}
+
+fn fail(code: u8, msg: impl std::fmt::Display) -> ExitCode {
+    eprintln!("error: {msg}");
+    ExitCode::from(code)
+}
+
+fn cmd_run(a: RunArgs) -> ExitCode {
+    let scene = match load_scene(&a.scene, &a.sets) {
+        Ok(s) => s,
+        Err(e) => return fail(2, e),
+    };
+    let Some(search) = SearchKind::parse(&a.search) else {
+        return fail(2, format!("--search: unknown search `{}` (direct, cells, tracking)", a.search));
+    };
+    let opts = RunOptions {
+        backend: a.backend,
+        variant: a.variant,
+        precision: a.precision,
+        t_end: a.t_end,
+        steps: a.steps,
+        out: a.out,
+        every: a.every,
+        vtk: a.vtk,
+        search,
+        quiet: a.quiet,
+    };
+    match sphlab::run::run(&scene, &opts) {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e @ RunError::BlowUp(_)) => fail(3, format!("{e}; outputs so far are in {}", opts.out.display())),
+        Err(e) => fail(e.exit_code() as u8, e),
+    }
+}
+
+fn cmd_analytic(cmd: AnalyticCmd) -> ExitCode {
+    use sphlab::analytic;
+    match cmd {
+        AnalyticCmd::Spread { re, we, theta_deg, theta_rad, model, json } => {
+            let theta = theta_rad.unwrap_or_else(|| theta_deg.unwrap_or(f64::NAN).to_radians());
+            if !["all", "axisym", "a", "b", "c"].contains(&model.as_str()) {
+                return fail(2, format!("--model: unknown model `{model}` (all, axisym, a, b, c)"));
+            }
+            let r = match analytic::spread_all(re, we, theta) {
+                Ok(r) => r,
+                Err(e) => return fail(2, e),
+            };
+            if json {
+                let v = serde_json::to_value(&r).expect("serialisable");
+                let v = match model.as_str() {
+                    "axisym" => serde_json::json!({"model": "axisym", "xi": r.axisym}),
+                    "a" => serde_json::json!({"model": "a", "xi": r.model_a}),
+                    "b" => serde_json::json!({"model": "b", "xi": r.model_b}),
+                    "c" => serde_json::json!({"model": "c", "xi": r.model_c}),
+                    _ => v,
+                };
+                println!("{}", serde_json::to_string_pretty(&v).expect("json"));
+            } else {
+                match model.as_str() {
+                    "axisym" => println!("D_max/D0 (axisymmetric) = {:.4}", r.axisym),
+                    "a" => println!("D_max/D0 (2D a) = {:.4}", r.model_a),
+                    "b" => println!("D_max/D0 (2D b) = {:.4}", r.model_b),
+                    "c" => println!("D_max/D0 (2D c, eq. 93) = {:.4}", r.model_c),
+                    _ => print!("{}", analytic::format_spread(&r)),
+                }
+            }
+            ExitCode::SUCCESS
+        }
+        AnalyticCmd::Table1 { json } => {
+            let rows = analytic::table1_comparison();
+            if json {
+                println!("{}", serde_json::to_string_pretty(&rows).expect("json"));
+            } else {
+                print!("{}", analytic::format_table1(&rows));
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.cmd {
+        Cmd::Run(a) => cmd_run(a),
+        Cmd::Scene { cmd: SceneCmd::List } => {
+            for n in builtin::BUILTIN {
+                let s = builtin::builtin(n).expect("built-in");
+                println!("{n:18} {}", s.description);
+            }
+            ExitCode::SUCCESS
+        }
+        Cmd::Scene { cmd: SceneCmd::Show { name } } => match builtin::builtin(&name) {
+            Some(s) => {
+                print!("{}", s.to_toml());
+                ExitCode::SUCCESS
+            }
+            None => fail(2, format!("unknown scene `{name}` (built-in: {})", builtin::BUILTIN.join(", "))),
+        },
+        Cmd::Analytic { cmd } => cmd_analytic(cmd),
+    }
+}

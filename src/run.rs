@@ -1,0 +1,406 @@
+//! The `sphlab run` driver: builds the scene, relaxes it if asked, applies the initial velocity
+//! field, steps a backend and writes `series.csv`, particle snapshots (CSV, optional VTK with a
+//! `.pvd` series) and `summary.json`. A blow-up keeps every file written so far, writes a final
+//! snapshot and a summary naming the step and particle, and maps to exit code 3.
+
+use crate::backend::{Backend, Frame, SolverError};
+use crate::cpu::CpuSolver;
+use crate::diagnostics::{contact_angle, flow};
+use crate::exec::Exec;
+use crate::neighbours::SearchKind;
+use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
+use crate::scene::build::{build_layout, Layout};
+use crate::scene::{ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side};
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Errors of a run, with their exit codes.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// Bad input (exit 2).
+    #[error("{0}")]
+    Input(String),
+    /// The run blew up (exit 3); outputs so far are kept.
+    #[error("{0}")]
+    BlowUp(SolverError),
+    /// Writing an output failed (exit 1).
+    #[error("{0}")]
+    Output(#[from] output::OutputError),
+}
+
+impl From<SceneError> for RunError {
+    fn from(e: SceneError) -> Self {
+        RunError::Input(e.to_string())
+    }
+}
+
+impl RunError {
+    /// Process exit code.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RunError::Input(_) => 2,
+            RunError::BlowUp(_) => 3,
+            RunError::Output(_) => 1,
+        }
+    }
+}
+
+/// Options of `sphlab run`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunOptions {
+    /// cpu, cpu1 or gpu.
+    pub backend: String,
+    /// GPU variant id.
+    pub variant: Option<String>,
+    /// f64 or f32.
+    pub precision: String,
+    /// Overrides the scene's end time.
+    pub t_end: Option<f64>,
+    /// Run exactly this many steps instead.
+    pub steps: Option<u64>,
+    /// Output directory.
+    pub out: PathBuf,
+    /// A particle snapshot every this many series rows (0: only at the end).
+    pub every: u64,
+    /// Also write VTK.
+    pub vtk: bool,
+    /// CPU neighbour search.
+    pub search: SearchKind,
+    /// No progress bar, no console lines.
+    pub quiet: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            backend: "cpu".into(),
+            variant: None,
+            precision: "f64".into(),
+            t_end: None,
+            steps: None,
+            out: PathBuf::from("out"),
+            every: 10,
+            vtk: false,
+            search: SearchKind::Cells,
+            quiet: true,
+        }
+    }
+}
+
+/// One row of `series.csv`.
+#[derive(Clone, Debug, Serialize, Default)]
+pub struct SeriesRow {
+    /// Time.
+    pub t: f64,
+    /// Step.
+    pub step: u64,
+    /// Last dt.
+    pub dt: f64,
+    /// Kinetic energy of the liquid (phase 0).
+    pub kinetic_energy: f64,
+    /// Liquid centroid x.
+    pub centroid_x: f64,
+    /// Liquid centroid y.
+    pub centroid_y: f64,
+    /// Total mass of phase 0.
+    pub mass_phase0: f64,
+    /// Total mass of phase 1 (0 if absent).
+    pub mass_phase1: f64,
+    /// max |ρ/ρ0 − 1| over fluid particles.
+    pub max_density_error: f64,
+    /// Max fluid speed.
+    pub max_speed: f64,
+    /// Contact angle, two-point method (degrees; empty when not measurable).
+    pub theta_two_point: Option<f64>,
+    /// Contact angle, circle fit.
+    pub theta_circle_fit: Option<f64>,
+    /// Contact angle, area inversion.
+    pub theta_area: Option<f64>,
+    /// Contact half-width x_tp.
+    pub x_tp: Option<f64>,
+    /// Spread factor D/D0.
+    pub spread_factor: Option<f64>,
+}
+
+/// Measures one series row from a frame.
+pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
+    let nf = fr.n_fluid;
+    let (mass, pos, vel, phase) = (&fr.mass[..nf], &fr.pos[..nf], &fr.vel[..nf], &fr.phase[..nf]);
+    let c = flow::centroid(mass, pos, phase, 0);
+    let m = flow::mass_per_phase(mass, phase, scene.phases.len());
+    let rho0: Vec<f64> = scene.phases.iter().map(|p| p.rho0).collect();
+    let mut row = SeriesRow {
+        t: fr.t,
+        step: fr.step,
+        dt: fr.dt,
+        kinetic_energy: flow::kinetic_energy(mass, vel, phase, 0),
+        centroid_x: c[0],
+        centroid_y: c[1],
+        mass_phase0: m[0],
+        mass_phase1: m.get(1).copied().unwrap_or(0.0),
+        max_density_error: flow::max_density_error(&fr.rho[..nf], &rho0, phase),
+        max_speed: vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).fold(0.0, f64::max),
+        ..Default::default()
+    };
+    if scene.contact.mode != ContactMode::None {
+        let dx = scene.domain.dx();
+        let y_w = scene.domain.y[0];
+        let mirrored = scene.domain.left == Side::Mirror;
+        let a = contact_angle::measure_all(pos, phase, dx, y_w, mirrored);
+        row.theta_two_point = a.two_point;
+        row.theta_circle_fit = a.circle_fit;
+        row.theta_area = a.area;
+        row.x_tp = contact_angle::contact_half_width(pos, phase, dx, y_w);
+        if let (Some(x), Some(r0)) = (row.x_tp, initial_radius(scene)) {
+            row.spread_factor = Some(if mirrored { x / r0 } else { x / (2.0 * r0) });
+        }
+    }
+    row
+}
+
+/// Radius of the first circle of phase 0 (the drop), for D/D0.
+pub fn initial_radius(scene: &Scene) -> Option<f64> {
+    let liquid = &scene.phases[0].name;
+    scene.shapes.iter().find(|s| s.kind == ShapeKind::Circle && &s.phase == liquid).and_then(|s| s.radius)
+}
+
+/// The fluid velocities at t = 0: shape velocities, with the analytic field (T84) on its phase.
+pub fn initial_velocities(scene: &Scene, layout: &Layout, fr: Option<&Frame>) -> Vec<[f64; 2]> {
+    let pos: Vec<[f64; 2]> = match fr {
+        Some(f) => f.pos[..f.n_fluid].to_vec(),
+        None => layout.pos[..layout.n_fluid].to_vec(),
+    };
+    let mut vel: Vec<[f64; 2]> = match fr {
+        Some(_) => vec![[0.0, 0.0]; pos.len()],
+        None => layout.vel[..layout.n_fluid].to_vec(),
+    };
+    if let Some(InitialVelocity::RodOscillation { v0, r0, centre, phase }) = &scene.initial_velocity {
+        let ph = scene.phase_index(phase).expect("validated") as u32;
+        let h = scene.h();
+        for (i, p) in pos.iter().enumerate() {
+            if layout.phase[i] != ph {
+                continue;
+            }
+            let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
+            let r = (x * x + y * y + 1e-4 * h * h).sqrt();
+            let e = (-r / r0).exp();
+            vel[i] = [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e];
+        }
+    }
+    vel
+}
+
+/// What `summary.json` holds.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// The scene as run (all parameters).
+    pub parameters: Scene,
+    /// The options.
+    pub options: RunOptions,
+    /// Active stages in order.
+    pub active_stages: Vec<&'static str>,
+    /// Fluid particles per phase (by name).
+    pub particles_per_phase: Vec<(String, usize)>,
+    /// Wall particles.
+    pub wall_particles: usize,
+    /// Backend name (cpu, cpu1, or variant id).
+    pub backend: String,
+    /// Precision.
+    pub precision: String,
+    /// dt of the last step.
+    pub dt_last: f64,
+    /// Steps taken after t = 0.
+    pub steps: u64,
+    /// Relaxation steps before t = 0.
+    pub relax_steps: u64,
+    /// Final time.
+    pub t_final: f64,
+    /// Wall time of the stepping after t = 0 (s).
+    pub wall_time_s: f64,
+    /// Wall time per step (ms).
+    pub ms_per_step: f64,
+    /// git commit.
+    pub git_commit: String,
+    /// UTC date.
+    pub date: String,
+    /// "ok" or the error.
+    pub status: String,
+}
+
+/// Builds the backend named in the options.
+pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result<Box<dyn Backend>, RunError> {
+    let exec = match opts.backend.as_str() {
+        "cpu" => Exec::Parallel,
+        "cpu1" => Exec::Serial,
+        "gpu" => return Err(RunError::Input("--backend gpu: the GPU solver is not part of this build yet".into())),
+        other => return Err(RunError::Input(format!("--backend: unknown backend `{other}` (cpu, cpu1, gpu)"))),
+    };
+    Ok(match opts.precision.as_str() {
+        "f64" => Box::new(CpuSolver::<f64>::new(scene, layout, exec, opts.search)),
+        "f32" => Box::new(CpuSolver::<f32>::new(scene, layout, exec, opts.search)),
+        other => return Err(RunError::Input(format!("--precision: unknown precision `{other}` (f64, f32)"))),
+    })
+}
+
+fn snapshot(fr: &Frame) -> Snapshot {
+    Snapshot {
+        step: fr.step,
+        t: fr.t,
+        pos: fr.pos.clone(),
+        vel: fr.vel.clone(),
+        rho: fr.rho.clone(),
+        p: fr.p.clone(),
+        phase: fr.phase.clone(),
+        grad_c: fr.grad_c.clone(),
+    }
+}
+
+/// Runs a scene with outputs in `opts.out`. Returns the summary (also written to disk).
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
+    scene.validate()?;
+    if let Some(t) = opts.t_end {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(RunError::Input(format!("--t-end: must be positive, got {t}")));
+        }
+    }
+    if opts.steps == Some(0) {
+        return Err(RunError::Input("--steps: must be at least 1".into()));
+    }
+    let layout = build_layout(scene)?;
+    let mut backend = make_backend(scene, &layout, opts)?;
+    std::fs::create_dir_all(&opts.out)
+        .map_err(|e| output::OutputError::Io { path: opts.out.clone(), source: e })?;
+    let model = crate::model::Model::<f64>::new(scene);
+    let stages = model.stages.names();
+    if !opts.quiet {
+        eprintln!(
+            "sphlab run {}: {} fluid + {} wall particles, backend {} {}, stages: {}",
+            scene.name,
+            layout.n_fluid,
+            layout.n_wall(),
+            backend.name(),
+            backend.precision(),
+            stages.join(" → ")
+        );
+    }
+    let mut summary = Summary {
+        scene: scene.name.clone(),
+        parameters: scene.clone(),
+        options: opts.clone(),
+        active_stages: stages,
+        particles_per_phase: scene
+            .phases
+            .iter()
+            .zip(layout.count_per_phase(scene.phases.len()))
+            .map(|(p, n)| (p.name.clone(), n))
+            .collect(),
+        wall_particles: layout.n_wall(),
+        backend: backend.name(),
+        precision: backend.precision().to_string(),
+        dt_last: 0.0,
+        steps: 0,
+        relax_steps: 0,
+        t_final: 0.0,
+        wall_time_s: 0.0,
+        ms_per_step: 0.0,
+        git_commit: output::git_commit(),
+        date: output::now_utc_iso8601(),
+        status: "running".into(),
+    };
+    let summary_path = opts.out.join("summary.json");
+    output::write_json(&summary_path, &summary)?;
+
+    let fail = |summary: &mut Summary, backend: &mut Box<dyn Backend>, e: SolverError, pvd: Option<&mut PvdWriter>| {
+        let fr = backend.frame();
+        let snap = snapshot(&fr);
+        let _ = output::write_particles_csv(&opts.out, &snap);
+        if let Some(p) = pvd {
+            let _ = p.add_snapshot(&snap);
+        }
+        summary.status = format!("blow-up: {e}");
+        summary.steps = backend.steps();
+        summary.t_final = backend.time();
+        let _ = output::write_json(&summary_path, &*summary);
+        RunError::BlowUp(e)
+    };
+
+    // Relaxation, then the initial velocity field.
+    if let Some(r) = scene.relax.as_ref().filter(|r| r.t > 0.0) {
+        let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new((r.t / scene.time.dt.max(1e-300)) as u64, "relax") };
+        while backend.time() < r.t * (1.0 - 1e-12) {
+            if let Err(e) = backend.step() {
+                return Err(fail(&mut summary, &mut backend, e, None));
+            }
+            bar.inc(1);
+        }
+        bar.finish();
+        summary.relax_steps = backend.steps();
+        let fr = backend.frame();
+        backend.restart_with_velocities(&initial_velocities(scene, &layout, Some(&fr)));
+    } else if scene.initial_velocity.is_some() {
+        backend.restart_with_velocities(&initial_velocities(scene, &layout, None));
+    }
+
+    let t_end = opts.t_end.unwrap_or(scene.time.t_end);
+    let total = opts.steps.unwrap_or_else(|| if scene.time.dt > 0.0 { (t_end / scene.time.dt).round() as u64 } else { 0 });
+    let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new(total, &scene.name) };
+    let mut series = SeriesWriter::create(opts.out.join("series.csv"))?;
+    let mut pvd = if opts.vtk { Some(PvdWriter::new(&opts.out)) } else { None };
+    let write_frame = |fr: &Frame, pvd: &mut Option<PvdWriter>| -> Result<(), RunError> {
+        let snap = snapshot(fr);
+        output::write_particles_csv(&opts.out, &snap)?;
+        if let Some(p) = pvd.as_mut() {
+            p.add_snapshot(&snap)?;
+        }
+        Ok(())
+    };
+    let fr = backend.frame();
+    series.write(&measure(scene, &fr))?;
+    write_frame(&fr, &mut pvd)?;
+    let mut rows = 1u64;
+    let start = Instant::now();
+    let done = |b: &Box<dyn Backend>| match opts.steps {
+        Some(n) => b.steps() >= n,
+        None => b.time() >= t_end * (1.0 - 1e-12),
+    };
+    while !done(&backend) {
+        if let Err(e) = backend.step() {
+            summary.wall_time_s = start.elapsed().as_secs_f64();
+            return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+        }
+        bar.inc(1);
+        if backend.steps() % scene.output.every == 0 || done(&backend) {
+            let fr = backend.frame();
+            series.write(&measure(scene, &fr))?;
+            rows += 1;
+            if done(&backend) || (opts.every > 0 && rows % opts.every == 0) {
+                write_frame(&fr, &mut pvd)?;
+            }
+        }
+    }
+    bar.finish();
+    let wall = start.elapsed().as_secs_f64();
+    let fr = backend.frame();
+    summary.dt_last = fr.dt;
+    summary.steps = backend.steps();
+    summary.t_final = backend.time();
+    summary.wall_time_s = wall;
+    summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
+    summary.status = "ok".into();
+    series.finish()?;
+    output::write_json(&summary_path, &summary)?;
+    if !opts.quiet {
+        eprintln!(
+            "done: {} steps to t = {:.6e} in {:.2} s ({:.3} ms/step); outputs in {}",
+            summary.steps,
+            summary.t_final,
+            wall,
+            summary.ms_per_step,
+            opts.out.display()
+        );
+    }
+    Ok(summary)
+}
