@@ -15,11 +15,13 @@
 //! * [`run`]: the `sphlab run` driver and its outputs.
 
 pub mod analytic;
-pub mod physics;
-pub mod real;
-pub mod scene;
 pub mod backend;
 pub mod cpu;
+pub mod diagnostics;
 pub mod exec;
 pub mod model;
 pub mod neighbours;
+pub mod physics;
+pub mod real;
+pub mod run;
+pub mod scene;
