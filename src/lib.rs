@@ -14,6 +14,8 @@
 //! * [`cpu`]: the CPU reference solver, stage by stage;
 //! * [`run`]: the `sphlab run` driver and its outputs.
 
+pub mod output;
 pub mod physics;
+pub mod plot;
 pub mod real;
 pub mod scene;

@@ -182,7 +182,10 @@ impl<T: Real> Sym2<T> {
     /// The zero tensor.
     #[inline(always)]
     pub fn zero() -> Self {
-        Self { xx: T::zero(), xy: T::zero() }
+        Self {
+            xx: T::zero(),
+            xy: T::zero(),
+        }
     }
     /// Tensor times vector.
     #[inline(always)]
@@ -195,13 +198,19 @@ impl<T: Real> Add for Sym2<T> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        Self { xx: self.xx + o.xx, xy: self.xy + o.xy }
+        Self {
+            xx: self.xx + o.xx,
+            xy: self.xy + o.xy,
+        }
     }
 }
 impl<T: Real> Mul<T> for Sym2<T> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, s: T) -> Self {
-        Self { xx: self.xx * s, xy: self.xy * s }
+        Self {
+            xx: self.xx * s,
+            xy: self.xy * s,
+        }
     }
 }

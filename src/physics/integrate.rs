@@ -6,14 +6,26 @@ use crate::real::{Real, V2};
 
 /// Midpoint predictor: `r* = r + (dt/2) ṽ`, `v* = v + (dt/2) a`. Returns `(r*, v*)`.
 #[inline(always)]
-pub fn integrate_predict<T: Real>(r: V2<T>, v: V2<T>, vt: V2<T>, a: V2<T>, dt: T) -> (V2<T>, V2<T>) {
+pub fn integrate_predict<T: Real>(
+    r: V2<T>,
+    v: V2<T>,
+    vt: V2<T>,
+    a: V2<T>,
+    dt: T,
+) -> (V2<T>, V2<T>) {
     let half = T::c(0.5) * dt;
     (r + vt * half, v + a * half)
 }
 
 /// Midpoint corrector from the start-of-step state: `v = v⁰ + dt a*`, `r = r⁰ + dt ṽ*`.
 #[inline(always)]
-pub fn integrate_correct<T: Real>(r0: V2<T>, v0: V2<T>, vt_star: V2<T>, a_star: V2<T>, dt: T) -> (V2<T>, V2<T>) {
+pub fn integrate_correct<T: Real>(
+    r0: V2<T>,
+    v0: V2<T>,
+    vt_star: V2<T>,
+    a_star: V2<T>,
+    dt: T,
+) -> (V2<T>, V2<T>) {
     (r0 + vt_star * dt, v0 + a_star * dt)
 }
 

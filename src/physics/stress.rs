@@ -10,7 +10,10 @@ pub fn surface_stress<T: Real>(g: V2<T>, sigma_kl: T) -> Sym2<T> {
     let n2 = g.norm2();
     if n2 > T::zero() {
         let inv = sigma_kl / n2.sqrt();
-        Sym2 { xx: T::c(0.5) * (g.y * g.y - g.x * g.x) * inv, xy: -(g.x * g.y) * inv }
+        Sym2 {
+            xx: T::c(0.5) * (g.y * g.y - g.x * g.x) * inv,
+            xy: -(g.x * g.y) * inv,
+        }
     } else {
         Sym2::zero()
     }

@@ -31,8 +31,16 @@ impl DtLimits {
         let inf = f64::INFINITY;
         Self {
             cfl: cfl * h / (c_max + v_max),
-            viscous: if nu_max > 0.0 { 0.125 * h * h / nu_max } else { inf },
-            force: if a_max > 0.0 { 0.125 * (h / a_max).sqrt() } else { inf },
+            viscous: if nu_max > 0.0 {
+                0.125 * h * h / nu_max
+            } else {
+                inf
+            },
+            force: if a_max > 0.0 {
+                0.125 * (h / a_max).sqrt()
+            } else {
+                inf
+            },
             capillary: if sigma_max > 0.0 {
                 0.25 * (rho_mean * h * h * h / (2.0 * std::f64::consts::PI * sigma_max)).sqrt()
             } else {
@@ -42,6 +50,9 @@ impl DtLimits {
     }
     /// The smallest limit.
     pub fn min(&self) -> f64 {
-        self.cfl.min(self.viscous).min(self.force).min(self.capillary)
+        self.cfl
+            .min(self.viscous)
+            .min(self.force)
+            .min(self.capillary)
     }
 }

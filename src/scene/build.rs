@@ -58,10 +58,16 @@ pub fn build_layout(scene: &Scene) -> Result<Layout, SceneError> {
     let ext = |s: Side| if s.is_wall() { nl } else { 0 };
     let (l, r, b, t) = (ext(d.left), ext(d.right), ext(d.bottom), ext(d.top));
     let fill = scene.phase_index(&scene.fill).expect("validated") as u32;
-    let shapes: Vec<(usize, &super::Shape)> =
-        scene.shapes.iter().map(|s| (scene.phase_index(&s.phase).expect("validated"), s)).collect();
+    let shapes: Vec<(usize, &super::Shape)> = scene
+        .shapes
+        .iter()
+        .map(|s| (scene.phase_index(&s.phase).expect("validated"), s))
+        .collect();
 
-    let mut fluid = Layout { dx, ..Default::default() };
+    let mut fluid = Layout {
+        dx,
+        ..Default::default()
+    };
     let mut wall_pos = Vec::new();
     for j in -b..ny + t {
         for i in -l..nx + r {
@@ -85,7 +91,10 @@ pub fn build_layout(scene: &Scene) -> Result<Layout, SceneError> {
         }
     }
     if fluid.pos.is_empty() {
-        return Err(SceneError { field: "domain".into(), msg: "the domain holds no fluid particle".into() });
+        return Err(SceneError {
+            field: "domain".into(),
+            msg: "the domain holds no fluid particle".into(),
+        });
     }
     fluid.n_fluid = fluid.pos.len();
     for p in wall_pos {

@@ -5,7 +5,13 @@ use super::*;
 use crate::physics::kernel::KernelKind;
 
 /// Names of the built-in scenes.
-pub const BUILTIN: [&str; 5] = ["oscillating-drop", "sessile-90", "relax-60", "impact", "poiseuille"];
+pub const BUILTIN: [&str; 5] = [
+    "oscillating-drop",
+    "sessile-90",
+    "relax-60",
+    "impact",
+    "poiseuille",
+];
 
 /// A built-in scene by name.
 pub fn builtin(name: &str) -> Option<Scene> {
@@ -20,7 +26,14 @@ pub fn builtin(name: &str) -> Option<Scene> {
 }
 
 fn fluid(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
-    Phase { name: name.into(), rho0, mu, c0, gamma, p_b: 0.0 }
+    Phase {
+        name: name.into(),
+        rho0,
+        mu,
+        c0,
+        gamma,
+        p_b: 0.0,
+    }
 }
 
 /// §9(a): quarter of a 1×1 box, R = 0.1875 drop of equal density and viscosity, σ = 1,
@@ -110,7 +123,8 @@ pub fn sessile(theta_deg: f64) -> Scene {
 pub fn relax_60() -> Scene {
     let mut s = sessile(60.0);
     s.name = "relax-60".into();
-    s.description = "Thesis §4.2.3 / Figs. 4.10–4.15: 90° drop relaxing to 60° (D/D0 → 1.385)".into();
+    s.description =
+        "Thesis §4.2.3 / Figs. 4.10–4.15: 90° drop relaxing to 60° (D/D0 → 1.385)".into();
     s.contact.sigma_ls = 0.5;
     s.contact.sigma_gs = 1.0;
     s
@@ -123,7 +137,9 @@ pub fn impact(theta_deg: f64) -> Scene {
     let c_air = (1.4 * b / 1.2_f64).sqrt();
     Scene {
         name: "impact".into(),
-        description: "Thesis §5.2 / Figs. 5.3–5.5: 2D drop impact, Re = 440, We = 6.86, density ratio 833".into(),
+        description:
+            "Thesis §5.2 / Figs. 5.3–5.5: 2D drop impact, Re = 440, We = 6.86, density ratio 833"
+                .into(),
         domain: Domain {
             x: [0.0, 1125e-6],
             y: [0.0, 1125e-6],
@@ -133,11 +149,20 @@ pub fn impact(theta_deg: f64) -> Scene {
             bottom: Side::NoSlip,
             top: Side::FreeSlip,
         },
-        kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
-        phases: vec![fluid("water", 1000.0, 1.136e-3, 20.0, 7.0), fluid("air", 1.2, 1.8e-5, c_air, 1.4)],
+        kernel: KernelCfg {
+            kind: KernelKind::Quintic,
+            h_ratio: 1.0,
+        },
+        phases: vec![
+            fluid("water", 1000.0, 1.136e-3, 20.0, 7.0),
+            fluid("air", 1.2, 1.8e-5, c_air, 1.4),
+        ],
         fill: "air".into(),
         shapes: vec![Shape {
-            geometry: Geometry::Circle { centre: [0.0, 375e-6], radius: 250e-6 },
+            geometry: Geometry::Circle {
+                centre: [0.0, 375e-6],
+                radius: 250e-6,
+            },
             phase: "water".into(),
             velocity: [0.0, -1.0],
         }],
@@ -151,9 +176,18 @@ pub fn impact(theta_deg: f64) -> Scene {
             wall_typing: true,
             band: 1.2,
         },
-        walls: Walls { pressure: WallPressure::RWall, ..Walls::default() },
+        walls: Walls {
+            pressure: WallPressure::RWall,
+            ..Walls::default()
+        },
         gravity: [0.0, -9.8],
-        time: Time { integrator: Integrator::Midpoint, dt: 0.0, cfl: 0.25, t_end: 1.65e-3, xsph: 0.0 },
+        time: Time {
+            integrator: Integrator::Midpoint,
+            dt: 0.0,
+            cfl: 0.25,
+            t_end: 1.65e-3,
+            xsph: 0.0,
+        },
         relax: None,
         initial_velocity: None,
         output: Output { every: 2000 },

@@ -393,13 +393,17 @@ pub struct SceneError {
 }
 
 fn err(field: &str, msg: impl Into<String>) -> SceneError {
-    SceneError { field: field.to_string(), msg: msg.into() }
+    SceneError {
+        field: field.to_string(),
+        msg: msg.into(),
+    }
 }
 
 impl Scene {
     /// Parses a TOML scene (unknown keys are errors).
     pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
-        let s: Scene = toml::from_str(text).map_err(|e| err("<file>", e.to_string().trim().to_string()))?;
+        let s: Scene =
+            toml::from_str(text).map_err(|e| err("<file>", e.to_string().trim().to_string()))?;
         s.validate()?;
         Ok(s)
     }
@@ -435,36 +439,63 @@ impl Scene {
             return Err(err("domain.y", "need y0 < y1, finite"));
         }
         if d.nx == 0 {
-            return Err(err("domain.nx", "must be a positive number of particles across x"));
+            return Err(err(
+                "domain.nx",
+                "must be a positive number of particles across x",
+            ));
         }
         if d.nx > 20_000 {
-            return Err(err("domain.nx", "more than 20000 particles across is beyond this solver"));
+            return Err(err(
+                "domain.nx",
+                "more than 20000 particles across is beyond this solver",
+            ));
         }
         let dx = d.dx();
         let ny = (d.y[1] - d.y[0]) / dx;
         if (ny - ny.round()).abs() > 1e-6 * ny.max(1.0) || ny.round() < 1.0 {
-            return Err(err("domain.y", format!("height must be a whole number of Δx = {dx} (got {ny} rows)")));
+            return Err(err(
+                "domain.y",
+                format!("height must be a whole number of Δx = {dx} (got {ny} rows)"),
+            ));
         }
         if (d.left == Side::Periodic) != (d.right == Side::Periodic) {
-            return Err(err("domain.left", "periodic sides come in pairs (left and right)"));
+            return Err(err(
+                "domain.left",
+                "periodic sides come in pairs (left and right)",
+            ));
         }
         if (d.bottom == Side::Periodic) != (d.top == Side::Periodic) {
-            return Err(err("domain.bottom", "periodic sides come in pairs (bottom and top)"));
+            return Err(err(
+                "domain.bottom",
+                "periodic sides come in pairs (bottom and top)",
+            ));
         }
         if !(self.kernel.h_ratio.is_finite() && self.kernel.h_ratio > 0.0) {
             return Err(err("kernel.h_ratio", "must be positive"));
         }
         let s = self.support();
         if d.x[1] - d.x[0] < 2.0 * s || d.y[1] - d.y[0] < 2.0 * s {
-            return Err(err("domain", format!("the box must span at least two kernel supports (2κh = {})", 2.0 * s)));
+            return Err(err(
+                "domain",
+                format!(
+                    "the box must span at least two kernel supports (2κh = {})",
+                    2.0 * s
+                ),
+            ));
         }
         if self.phases.is_empty() || self.phases.len() > MAX_FLUID_PHASES {
-            return Err(err("phases", format!("need 1 to {MAX_FLUID_PHASES} fluid phases")));
+            return Err(err(
+                "phases",
+                format!("need 1 to {MAX_FLUID_PHASES} fluid phases"),
+            ));
         }
         for (i, p) in self.phases.iter().enumerate() {
             let f = |n: &str| format!("phases[{i}].{n}");
             if self.phases.iter().filter(|q| q.name == p.name).count() > 1 {
-                return Err(err(&f("name"), format!("duplicate phase name `{}`", p.name)));
+                return Err(err(
+                    &f("name"),
+                    format!("duplicate phase name `{}`", p.name),
+                ));
             }
             if !(p.rho0.is_finite() && p.rho0 > 0.0) {
                 return Err(err(&f("rho0"), "must be positive"));
@@ -487,7 +518,10 @@ impl Scene {
         }
         for (i, sh) in self.shapes.iter().enumerate() {
             if self.phase_index(&sh.phase).is_none() {
-                return Err(err(&format!("shapes[{i}].phase"), format!("unknown phase `{}`", sh.phase)));
+                return Err(err(
+                    &format!("shapes[{i}].phase"),
+                    format!("unknown phase `{}`", sh.phase),
+                ));
             }
             if let Geometry::Circle { radius, .. } = sh.geometry {
                 if !(radius.is_finite() && radius > 0.0) {
@@ -507,14 +541,19 @@ impl Scene {
             ContactMode::None => {}
             ContactMode::A | ContactMode::B => {
                 if self.surface_tension.is_none() {
-                    return Err(err("contact.mode", "a contact-angle mode needs [surface_tension]"));
+                    return Err(err(
+                        "contact.mode",
+                        "a contact-angle mode needs [surface_tension]",
+                    ));
                 }
                 if !self.domain.bottom.is_wall() {
                     return Err(err("contact.mode", "the contact line lives on the bottom wall, which must be no-slip or free-slip"));
                 }
             }
         }
-        if self.contact.mode == ContactMode::A && (self.contact.sigma_ls < 0.0 || self.contact.sigma_gs < 0.0) {
+        if self.contact.mode == ContactMode::A
+            && (self.contact.sigma_ls < 0.0 || self.contact.sigma_gs < 0.0)
+        {
             return Err(err("contact.sigma_ls", "must be ≥ 0"));
         }
         if !(self.contact.theta_deg > 0.0 && self.contact.theta_deg < 180.0) {
@@ -554,7 +593,10 @@ impl Scene {
         }
         if let Some(InitialVelocity::RodOscillation { phase, r0, .. }) = &self.initial_velocity {
             if self.phase_index(phase).is_none() {
-                return Err(err("initial_velocity.phase", format!("unknown phase `{phase}`")));
+                return Err(err(
+                    "initial_velocity.phase",
+                    format!("unknown phase `{phase}`"),
+                ));
             }
             if !(*r0 > 0.0) {
                 return Err(err("initial_velocity.r0", "must be positive"));

@@ -6,7 +6,10 @@ use super::{Scene, SceneError};
 use toml::Value;
 
 fn err(field: &str, msg: impl Into<String>) -> SceneError {
-    SceneError { field: field.to_string(), msg: msg.into() }
+    SceneError {
+        field: field.to_string(),
+        msg: msg.into(),
+    }
 }
 
 fn parse_value(text: &str) -> Value {
@@ -17,7 +20,12 @@ fn parse_value(text: &str) -> Value {
 }
 
 fn split_path(key: &str) -> Vec<String> {
-    key.replace('[', ".").replace(']', "").split('.').filter(|s| !s.is_empty()).map(str::to_string).collect()
+    key.replace('[', ".")
+        .replace(']', "")
+        .split('.')
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
+        .collect()
 }
 
 fn set_path(root: &mut Value, path: &[String], value: Value, key: &str) -> Result<(), SceneError> {
@@ -28,14 +36,20 @@ fn set_path(root: &mut Value, path: &[String], value: Value, key: &str) -> Resul
                 t.insert(head.clone(), value);
                 Ok(())
             } else {
-                let child = t.entry(head.clone()).or_insert_with(|| Value::Table(Default::default()));
+                let child = t
+                    .entry(head.clone())
+                    .or_insert_with(|| Value::Table(Default::default()));
                 set_path(child, rest, value, key)
             }
         }
         Value::Array(a) => {
-            let i: usize = head.parse().map_err(|_| err(key, format!("`{head}` is not an index into a list")))?;
+            let i: usize = head
+                .parse()
+                .map_err(|_| err(key, format!("`{head}` is not an index into a list")))?;
             let len = a.len();
-            let slot = a.get_mut(i).ok_or_else(|| err(key, format!("index {i} out of range (the list has {len})")))?;
+            let slot = a
+                .get_mut(i)
+                .ok_or_else(|| err(key, format!("index {i} out of range (the list has {len})")))?;
             if rest.is_empty() {
                 *slot = value;
                 Ok(())
@@ -43,7 +57,10 @@ fn set_path(root: &mut Value, path: &[String], value: Value, key: &str) -> Resul
                 set_path(slot, rest, value, key)
             }
         }
-        _ => Err(err(key, format!("`{head}` is inside a value that is not a table"))),
+        _ => Err(err(
+            key,
+            format!("`{head}` is inside a value that is not a table"),
+        )),
     }
 }
 
@@ -54,7 +71,9 @@ pub fn apply_overrides(scene: &Scene, sets: &[String]) -> Result<Scene, SceneErr
     }
     let mut root = Value::try_from(scene).map_err(|e| err("<scene>", e.to_string()))?;
     for s in sets {
-        let (key, val) = s.split_once('=').ok_or_else(|| err(s, "expected KEY=VALUE"))?;
+        let (key, val) = s
+            .split_once('=')
+            .ok_or_else(|| err(s, "expected KEY=VALUE"))?;
         let key = key.trim();
         let path = split_path(key);
         set_path(&mut root, &path, parse_value(val.trim()), key)?;
