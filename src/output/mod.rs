@@ -1,0 +1,114 @@
+//! The files a run leaves behind, written from plain data (no solver types):
+//!
+//! * [`snapshot`]: particle snapshots as CSV and as VTK (`.vtu` files plus a ParaView `.pvd`
+//!   time series);
+//! * [`series`]: a CSV time series of any `serde::Serialize` row, flushed after every row;
+//! * [`summary`]: pretty JSON summaries, the git commit and a UTC timestamp;
+//! * [`progress`]: a terminal progress bar that is silent when stderr is not a terminal.
+//!
+//! Every fallible function returns [`OutputError`], which names the path involved.
+
+pub mod progress;
+pub mod series;
+pub mod snapshot;
+pub mod summary;
+
+use std::path::{Path, PathBuf};
+
+pub use progress::Progress;
+pub use series::SeriesWriter;
+pub use snapshot::{
+    particles_csv_name, vtu_name, write_particles_csv, write_vtu, PvdWriter, Snapshot,
+};
+pub use summary::{git_commit, iso8601_from_unix, now_utc_iso8601, write_json};
+
+/// An error while writing an output file; every variant names the path involved.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// Creating, writing, renaming or reading a file or directory failed.
+    #[error("I/O error on {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The CSV writer failed (serialisation or I/O).
+    #[error("CSV error on {}: {source}", path.display())]
+    Csv {
+        path: PathBuf,
+        #[source]
+        source: csv::Error,
+    },
+    /// JSON serialisation failed.
+    #[error("JSON error on {}: {source}", path.display())]
+    Json {
+        path: PathBuf,
+        #[source]
+        source: serde_json::Error,
+    },
+    /// Drawing a plot failed, or the plot specification is unusable (e.g. a non-positive range
+    /// on a log axis).
+    #[error("plot error on {}: {message}", path.display())]
+    Plot { path: PathBuf, message: String },
+    /// The data handed over is inconsistent (e.g. snapshot arrays of different lengths).
+    #[error("invalid data for {}: {message}", path.display())]
+    Data { path: PathBuf, message: String },
+}
+
+/// Result type of the output module.
+pub type Result<T> = std::result::Result<T, OutputError>;
+
+impl OutputError {
+    pub(crate) fn io(path: impl AsRef<Path>, source: std::io::Error) -> Self {
+        OutputError::Io {
+            path: path.as_ref().to_path_buf(),
+            source,
+        }
+    }
+    pub(crate) fn csv(path: impl AsRef<Path>, source: csv::Error) -> Self {
+        OutputError::Csv {
+            path: path.as_ref().to_path_buf(),
+            source,
+        }
+    }
+    pub(crate) fn plot(path: impl AsRef<Path>, message: impl Into<String>) -> Self {
+        OutputError::Plot {
+            path: path.as_ref().to_path_buf(),
+            message: message.into(),
+        }
+    }
+    /// The path this error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            OutputError::Io { path, .. }
+            | OutputError::Csv { path, .. }
+            | OutputError::Json { path, .. }
+            | OutputError::Plot { path, .. }
+            | OutputError::Data { path, .. } => path,
+        }
+    }
+}
+
+/// Creates `dir` (and its parents) if missing.
+pub(crate) fn ensure_dir(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))
+}
+
+/// Creates the parent directory of `path` if it has one and it is missing.
+pub(crate) fn ensure_parent(path: &Path) -> Result<()> {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => ensure_dir(p),
+        _ => Ok(()),
+    }
+}
+
+/// Writes `contents` to `path` via a temporary sibling file and a rename, so a reader (or a run
+/// that dies mid-write) never sees a half-written file.
+pub(crate) fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
+    ensure_parent(path)?;
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, contents).map_err(|e| OutputError::io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| OutputError::io(path, e))
+}
