@@ -176,10 +176,11 @@ pub fn initial_velocities(scene: &Scene, layout: &Layout, fr: Option<&Frame>) ->
         None => layout.vel[..layout.n_fluid].to_vec(),
     };
     if let Some(InitialVelocity::RodOscillation { v0, r0, centre, phase }) = &scene.initial_velocity {
-        let ph = scene.phase_index(phase).expect("validated") as u32;
+        // `phase = "*"` applies the field to every fluid particle (as PySPH's oscillating_rod).
+        let ph = if phase == "*" { None } else { Some(scene.phase_index(phase).expect("validated") as u32) };
         let h = scene.h();
         for (i, p) in pos.iter().enumerate() {
-            if layout.phase[i] != ph {
+            if ph.is_some_and(|ph| layout.phase[i] != ph) {
                 continue;
             }
             let (x, y) = (p[0] - centre[0], p[1] - centre[1]);

@@ -385,7 +385,7 @@ pub enum InitialVelocity {
         r0: f64,
         /// Drop centre.
         centre: [f64; 2],
-        /// Phase it applies to.
+        /// Phase it applies to (`"*"`: every fluid particle).
         phase: String,
     },
 }
@@ -585,7 +585,7 @@ impl Scene {
             }
         }
         if let Some(InitialVelocity::RodOscillation { phase, r0, .. }) = &self.initial_velocity {
-            if self.phase_index(phase).is_none() {
+            if phase != "*" && self.phase_index(phase).is_none() {
                 return Err(err("initial_velocity.phase", format!("unknown phase `{phase}`")));
             }
             if !(*r0 > 0.0) {
