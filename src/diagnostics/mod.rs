@@ -7,9 +7,12 @@ pub mod analytic_flows;
 pub mod contact_angle;
 pub mod flow;
 
-pub use analytic_flows::{drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap};
+pub use analytic_flows::{
+    drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap,
+};
 pub use contact_angle::{
-    area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit, ContactAngles,
+    area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit,
+    ContactAngles,
 };
 pub use flow::{
     centroid, kinetic_energy, mass_per_phase, max_density_error, max_normal_deviation, oscillation,
