@@ -2,7 +2,7 @@
 //!
 //! Conventions (§6.1, §10): the bottom wall surface is at `y_w`; particle rows sit at
 //! `y_w + (k+½)Δx`; the drop sits against the symmetry plane x = 0 with x positive away from
-//! the drop axis. Phase 0 = liquid, any other fluid phase = gas, [`WALL`] = wall particle
+//! the drop axis. Phase 0 = liquid, any other fluid phase = gas, [`WALL`](crate::scene::build::WALL) = wall particle
 //! (ignored). All functions are pure, cost O(n) (a coarse cell grid of the gas particles
 //! answers the nearest-gas queries) and return `None` instead of panicking on degenerate data.
 //!
@@ -15,13 +15,7 @@
 //!   calls the right-hand side decreasing; it actually increases from 0 to ∞ on (0, π). The
 //!   bisection is written for a monotone function of either sense.)
 
-use crate::scene::build::WALL;
-
-const LIQUID: u32 = 0;
-
-fn is_gas(p: u32) -> bool {
-    p != LIQUID && p != WALL
-}
+use super::gas_grid::{is_gas, GasGrid, LIQUID};
 
 /// Result of [`circle_fit`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,95 +46,6 @@ pub struct ContactAngles {
     pub area: Option<f64>,
 }
 
-/// Coarse uniform grid over the gas particles (cell ≥ 1.5Δx) for nearest-gas queries within
-/// radius `r ≤ cell`; stored as CSR (cell start offsets + particle ids).
-struct GasGrid {
-    x0: f64,
-    y0: f64,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    start: Vec<usize>,
-    ids: Vec<usize>,
-}
-
-impl GasGrid {
-    fn new(pos: &[[f64; 2]], phase: &[u32], r: f64) -> Option<Self> {
-        let gas: Vec<usize> = (0..pos.len().min(phase.len()))
-            .filter(|&i| is_gas(phase[i]) && pos[i][0].is_finite() && pos[i][1].is_finite())
-            .collect();
-        if gas.is_empty() || !(r > 0.0) {
-            return None;
-        }
-        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-        for &i in &gas {
-            x0 = x0.min(pos[i][0]);
-            y0 = y0.min(pos[i][1]);
-            x1 = x1.max(pos[i][0]);
-            y1 = y1.max(pos[i][1]);
-        }
-        // Cap the number of cells (outliers would blow up a dense grid): enlarge the cell.
-        let max_cells = (16 * gas.len() + 4096) as f64;
-        let mut cell = r;
-        while ((x1 - x0) / cell + 1.0) * ((y1 - y0) / cell + 1.0) > max_cells {
-            cell *= 2.0;
-        }
-        let nx = ((x1 - x0) / cell) as usize + 1;
-        let ny = ((y1 - y0) / cell) as usize + 1;
-        let key = |p: [f64; 2]| {
-            let ix = (((p[0] - x0) / cell) as usize).min(nx - 1);
-            let iy = (((p[1] - y0) / cell) as usize).min(ny - 1);
-            iy * nx + ix
-        };
-        let mut start = vec![0usize; nx * ny + 1];
-        for &i in &gas {
-            start[key(pos[i]) + 1] += 1;
-        }
-        for c in 0..nx * ny {
-            start[c + 1] += start[c];
-        }
-        let mut fill = start.clone();
-        let mut ids = vec![0usize; gas.len()];
-        for &i in &gas {
-            let k = key(pos[i]);
-            ids[fill[k]] = i;
-            fill[k] += 1;
-        }
-        Some(Self {
-            x0,
-            y0,
-            cell,
-            nx,
-            ny,
-            start,
-            ids,
-        })
-    }
-
-    /// Nearest gas particle within `r` (`r` ≤ cell size) of `p`.
-    fn nearest(&self, pos: &[[f64; 2]], p: [f64; 2], r: f64) -> Option<usize> {
-        let fx = ((p[0] - self.x0) / self.cell).floor();
-        let fy = ((p[1] - self.y0) / self.cell).floor();
-        let mut best = (r * r, None);
-        for dy in -1..=1 {
-            for dx in -1..=1 {
-                let (cx, cy) = (fx + dx as f64, fy + dy as f64);
-                if cx < 0.0 || cy < 0.0 || cx >= self.nx as f64 || cy >= self.ny as f64 {
-                    continue;
-                }
-                let c = cy as usize * self.nx + cx as usize;
-                for &j in &self.ids[self.start[c]..self.start[c + 1]] {
-                    let d2 = (pos[j][0] - p[0]).powi(2) + (pos[j][1] - p[1]).powi(2);
-                    if d2 <= best.0 {
-                        best = (d2, Some(j));
-                    }
-                }
-            }
-        }
-        best.1
-    }
-}
-
 fn midpoint(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
 }
@@ -163,7 +68,7 @@ fn band_point(
     };
     let mut outer: Option<usize> = None;
     for i in (0..n).filter(|&i| phase[i] == LIQUID && in_band(i)) {
-        if outer.map_or(true, |o| pos[i][0] > pos[o][0]) {
+        if outer.is_none_or(|o| pos[i][0] > pos[o][0]) {
             outer = Some(i);
         }
     }

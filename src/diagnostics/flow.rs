@@ -264,6 +264,7 @@ pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
 
 /// Time of the maximum near sample `k`: vertex of the least-squares parabola through the
 /// samples within `±w` of `t[k]`; `t[k]` itself if the fit is not a maximum inside the window.
+#[allow(clippy::needless_range_loop)] // small dense elimination reads best with indices
 fn refine_peak(t: &[f64], x: &[f64], k: usize, w: f64) -> f64 {
     let (mut s, mut b) = ([[0.0; 3]; 3], [0.0; 3]);
     for i in (0..t.len()).filter(|&i| (t[i] - t[k]).abs() <= w) {
