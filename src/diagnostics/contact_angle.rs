@@ -2,7 +2,7 @@
 //!
 //! Conventions (§6.1, §10): the bottom wall surface is at `y_w`; particle rows sit at
 //! `y_w + (k+½)Δx`; the drop sits against the symmetry plane x = 0 with x positive away from
-//! the drop axis. Phase 0 = liquid, any other fluid phase = gas, [`WALL`] = wall particle
+//! the drop axis. Phase 0 = liquid, any other fluid phase = gas, [`WALL`](crate::scene::build::WALL) = wall particle
 //! (ignored). All functions are pure, cost O(n) (a coarse cell grid of the gas particles
 //! answers the nearest-gas queries) and return `None` instead of panicking on degenerate data.
 //!
@@ -15,13 +15,7 @@
 //!   calls the right-hand side decreasing; it actually increases from 0 to ∞ on (0, π). The
 //!   bisection is written for a monotone function of either sense.)
 
-use crate::scene::build::WALL;
-
-const LIQUID: u32 = 0;
-
-fn is_gas(p: u32) -> bool {
-    p != LIQUID && p != WALL
-}
+use super::gas_grid::{is_gas, GasGrid, LIQUID};
 
 /// Result of [`circle_fit`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,87 +46,6 @@ pub struct ContactAngles {
     pub area: Option<f64>,
 }
 
-/// Coarse uniform grid over the gas particles (cell ≥ 1.5Δx) for nearest-gas queries within
-/// radius `r ≤ cell`; stored as CSR (cell start offsets + particle ids).
-struct GasGrid {
-    x0: f64,
-    y0: f64,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    start: Vec<usize>,
-    ids: Vec<usize>,
-}
-
-impl GasGrid {
-    fn new(pos: &[[f64; 2]], phase: &[u32], r: f64) -> Option<Self> {
-        let gas: Vec<usize> = (0..pos.len().min(phase.len()))
-            .filter(|&i| is_gas(phase[i]) && pos[i][0].is_finite() && pos[i][1].is_finite())
-            .collect();
-        if gas.is_empty() || !(r > 0.0) {
-            return None;
-        }
-        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-        for &i in &gas {
-            x0 = x0.min(pos[i][0]);
-            y0 = y0.min(pos[i][1]);
-            x1 = x1.max(pos[i][0]);
-            y1 = y1.max(pos[i][1]);
-        }
-        // Cap the number of cells (outliers would blow up a dense grid): enlarge the cell.
-        let max_cells = (16 * gas.len() + 4096) as f64;
-        let mut cell = r;
-        while ((x1 - x0) / cell + 1.0) * ((y1 - y0) / cell + 1.0) > max_cells {
-            cell *= 2.0;
-        }
-        let nx = ((x1 - x0) / cell) as usize + 1;
-        let ny = ((y1 - y0) / cell) as usize + 1;
-        let key = |p: [f64; 2]| {
-            let ix = (((p[0] - x0) / cell) as usize).min(nx - 1);
-            let iy = (((p[1] - y0) / cell) as usize).min(ny - 1);
-            iy * nx + ix
-        };
-        let mut start = vec![0usize; nx * ny + 1];
-        for &i in &gas {
-            start[key(pos[i]) + 1] += 1;
-        }
-        for c in 0..nx * ny {
-            start[c + 1] += start[c];
-        }
-        let mut fill = start.clone();
-        let mut ids = vec![0usize; gas.len()];
-        for &i in &gas {
-            let k = key(pos[i]);
-            ids[fill[k]] = i;
-            fill[k] += 1;
-        }
-        Some(Self { x0, y0, cell, nx, ny, start, ids })
-    }
-
-    /// Nearest gas particle within `r` (`r` ≤ cell size) of `p`.
-    fn nearest(&self, pos: &[[f64; 2]], p: [f64; 2], r: f64) -> Option<usize> {
-        let fx = ((p[0] - self.x0) / self.cell).floor();
-        let fy = ((p[1] - self.y0) / self.cell).floor();
-        let mut best = (r * r, None);
-        for dy in -1..=1 {
-            for dx in -1..=1 {
-                let (cx, cy) = (fx + dx as f64, fy + dy as f64);
-                if cx < 0.0 || cy < 0.0 || cx >= self.nx as f64 || cy >= self.ny as f64 {
-                    continue;
-                }
-                let c = cy as usize * self.nx + cx as usize;
-                for &j in &self.ids[self.start[c]..self.start[c + 1]] {
-                    let d2 = (pos[j][0] - p[0]).powi(2) + (pos[j][1] - p[1]).powi(2);
-                    if d2 <= best.0 {
-                        best = (d2, Some(j));
-                    }
-                }
-            }
-        }
-        best.1
-    }
-}
-
 fn midpoint(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
 }
@@ -140,7 +53,14 @@ fn midpoint(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 /// Interface point of the band `lo < y − y_w ≤ hi` (§10.1 [P]): the outermost liquid particle,
 /// moved to the midpoint towards its nearest gas neighbour of the same band if one lies within
 /// 1.5Δx.
-fn band_point(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, lo: f64, hi: f64) -> Option<[f64; 2]> {
+fn band_point(
+    pos: &[[f64; 2]],
+    phase: &[u32],
+    dx: f64,
+    y_w: f64,
+    lo: f64,
+    hi: f64,
+) -> Option<[f64; 2]> {
     let n = pos.len().min(phase.len());
     let in_band = |i: usize| {
         let s = pos[i][1] - y_w;
@@ -148,7 +68,7 @@ fn band_point(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, lo: f64, hi: f
     };
     let mut outer: Option<usize> = None;
     for i in (0..n).filter(|&i| phase[i] == LIQUID && in_band(i)) {
-        if outer.map_or(true, |o| pos[i][0] > pos[o][0]) {
+        if outer.is_none_or(|o| pos[i][0] > pos[o][0]) {
             outer = Some(i);
         }
     }
@@ -166,7 +86,12 @@ fn band_point(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, lo: f64, hi: f
 
 /// The two interface points (P1, P2) of §10.1: first row `(0, 1.2Δx]` and band
 /// `(1.5Δx, 2.5Δx]` above the wall. Useful for averaging over a time window.
-pub fn two_point_points(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<([f64; 2], [f64; 2])> {
+pub fn two_point_points(
+    pos: &[[f64; 2]],
+    phase: &[u32],
+    dx: f64,
+    y_w: f64,
+) -> Option<([f64; 2], [f64; 2])> {
     if !(dx > 0.0) {
         return None;
     }
@@ -194,14 +119,18 @@ pub fn interface_points(pos: &[[f64; 2]], phase: &[u32], dx: f64) -> Vec<[f64; 2
     };
     (0..pos.len().min(phase.len()))
         .filter(|&i| phase[i] == LIQUID)
-        .filter_map(|i| grid.nearest(pos, pos[i], r).map(|j| midpoint(pos[i], pos[j])))
+        .filter_map(|i| {
+            grid.nearest(pos, pos[i], r)
+                .map(|j| midpoint(pos[i], pos[j]))
+        })
         .collect()
 }
 
 /// Solves the 3×3 system `a x = b` by Cramer's rule; `None` if singular.
 fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
     let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
     };
     let d = det(a);
@@ -227,7 +156,9 @@ pub fn fit_circle(pts: &[[f64; 2]]) -> Option<(f64, f64, f64)> {
         return None;
     }
     let n = pts.len() as f64;
-    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p[0] / n, s.1 + p[1] / n));
+    let (mx, my) = pts
+        .iter()
+        .fold((0.0, 0.0), |s, p| (s.0 + p[0] / n, s.1 + p[1] / n));
     // Kåsa on centred coordinates: u² + v² + D u + E v + F = 0.
     let (mut a, mut b) = ([[0.0; 3]; 3], [0.0; 3]);
     for p in pts {
@@ -266,7 +197,11 @@ pub fn fit_circle(pts: &[[f64; 2]]) -> Option<(f64, f64, f64)> {
         yc += step[1];
         rad += step[2];
     }
-    (rad > 0.0 && rad.is_finite() && xc.is_finite() && yc.is_finite()).then_some((xc + mx, yc + my, rad))
+    (rad > 0.0 && rad.is_finite() && xc.is_finite() && yc.is_finite()).then_some((
+        xc + mx,
+        yc + my,
+        rad,
+    ))
 }
 
 /// §10.2 circle fit of the interface points above `y_w + 3Δx`, mirrored to (−x, y).
@@ -274,8 +209,10 @@ pub fn circle_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<
     if !(dx > 0.0) {
         return None;
     }
-    let mut pts: Vec<[f64; 2]> =
-        interface_points(pos, phase, dx).into_iter().filter(|p| p[1] - y_w >= 3.0 * dx).collect();
+    let mut pts: Vec<[f64; 2]> = interface_points(pos, phase, dx)
+        .into_iter()
+        .filter(|p| p[1] - y_w >= 3.0 * dx)
+        .collect();
     if pts.len() < 3 {
         return None;
     }
@@ -287,7 +224,14 @@ pub fn circle_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<
     let (xc, yc, radius) = fit_circle(&pts)?;
     let c = ((y_w - yc) / radius).clamp(-1.0, 1.0);
     let half_width = xc + (radius * radius - (y_w - yc).powi(2)).max(0.0).sqrt();
-    Some(CircleFit { theta_deg: c.acos().to_degrees(), xc, yc, radius, half_width, n_points: pts.len() })
+    Some(CircleFit {
+        theta_deg: c.acos().to_degrees(),
+        xc,
+        yc,
+        radius,
+        half_width,
+        n_points: pts.len(),
+    })
 }
 
 /// `(θ − sinθcosθ)/sin²θ`: full-drop cap area divided by the squared contact half-width.
@@ -328,8 +272,18 @@ pub fn contact_half_width(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) ->
 
 /// All three §10 estimates. Liquid area = n_liquid·Δx², doubled when the simulated domain is
 /// mirrored at x = 0 (`mirrored`), so that it is the full-drop area §10.3 expects.
-pub fn measure_all(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, mirrored: bool) -> ContactAngles {
-    let n_liquid = phase.iter().take(pos.len()).filter(|&&p| p == LIQUID).count();
+pub fn measure_all(
+    pos: &[[f64; 2]],
+    phase: &[u32],
+    dx: f64,
+    y_w: f64,
+    mirrored: bool,
+) -> ContactAngles {
+    let n_liquid = phase
+        .iter()
+        .take(pos.len())
+        .filter(|&&p| p == LIQUID)
+        .count();
     let area = n_liquid as f64 * dx * dx * if mirrored { 2.0 } else { 1.0 };
     ContactAngles {
         two_point: two_point(pos, phase, dx, y_w),

@@ -20,7 +20,12 @@ pub fn kinetic_energy(mass: &[f64], vel: &[[f64; 2]], phase: &[u32], which_phase
 /// quarter drop). `[NaN, NaN]` when the phase has no (positive) mass.
 pub fn centroid(mass: &[f64], pos: &[[f64; 2]], phase: &[u32], which_phase: u32) -> [f64; 2] {
     let (mut m, mut mx, mut my) = (0.0, 0.0, 0.0);
-    for ((mi, p), _) in mass.iter().zip(pos).zip(phase).filter(|(_, &ph)| ph == which_phase) {
+    for ((mi, p), _) in mass
+        .iter()
+        .zip(pos)
+        .zip(phase)
+        .filter(|(_, &ph)| ph == which_phase)
+    {
         m += mi;
         mx += mi * p[0];
         my += mi * p[1];
@@ -48,7 +53,12 @@ pub fn mass_per_phase(mass: &[f64], phase: &[u32], n_phases: usize) -> Vec<f64> 
 pub fn max_density_error(rho: &[f64], rho0_of_phase: &[f64], phase: &[u32]) -> f64 {
     rho.iter()
         .zip(phase)
-        .filter_map(|(r, &p)| rho0_of_phase.get(p as usize).filter(|_| p != WALL).map(|r0| (r / r0 - 1.0).abs()))
+        .filter_map(|(r, &p)| {
+            rho0_of_phase
+                .get(p as usize)
+                .filter(|_| p != WALL)
+                .map(|r0| (r / r0 - 1.0).abs())
+        })
         .fold(0.0, f64::max)
 }
 
@@ -81,7 +91,11 @@ pub fn wall_shear_profile(
     }
     (0..bins)
         .map(|b| {
-            let mean = if cnt[b] > 0 { sum[b] / cnt[b] as f64 } else { 0.0 };
+            let mean = if cnt[b] > 0 {
+                sum[b] / cnt[b] as f64
+            } else {
+                0.0
+            };
             ((b as f64 + 0.5) / bins as f64, mean, cnt[b])
         })
         .collect()
@@ -118,67 +132,172 @@ pub fn max_normal_deviation(
 /// Result of [`oscillation`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Oscillation {
-    /// Mean time between successive upward crossings of `x − mean`.
+    /// Time between successive maxima (§9(a)): weighted least-squares slope over all maxima.
     pub period: f64,
-    /// Mean over all full cycles (between successive upward crossings) of ½(max − min).
+    /// Mean over the cycles between successive maxima of ½(max − min); smaller than
+    /// [`Self::amplitude_first_cycle`] for a damped signal.
     pub amplitude: f64,
     /// ½(max − min) over the first full cycle `[t_0, t_0 + period]` (§9(a) definition).
     pub amplitude_first_cycle: f64,
-    /// Mean of x over the full cycles (from the first to the last upward crossing).
+    /// Mean of x from the first to the last maximum (whole cycles).
     pub mean: f64,
-    /// Number of full cycles between the first and the last upward crossing.
+    /// Number of periods between the first and the last maximum found.
     pub n_cycles: usize,
 }
 
-/// Period and amplitude of an oscillating record (§9(a): centroid x_c(t)).
+/// Period and amplitude of an oscillating record (§9(a): centroid x_c(t)); `t` sorted.
 ///
-/// Method (chosen over successive maxima, which noise shifts by a sizeable fraction of the
-/// flat top): upward crossings of `x − mean` with a Schmitt trigger (the signal must first go
-/// below `−h`, then the crossing counts once it exceeds `+h`; `h` = 3× the noise level
-/// estimated from second differences), the crossing time interpolated linearly between the two
-/// samples that bracket zero. The mean is first the plain mean, then re-taken over the full
-/// cycles found, and the crossings searched again. Extrema are taken on a centred moving
-/// average over ~1/20 of a period so that noise does not inflate ½(max − min).
-/// Needs sorted `t` and at least two upward crossings; otherwise `None`.
+/// Method. (1) Segment the record at the upward crossings of `x − mean`, with a Schmitt
+/// trigger (the signal must first go below `−h`, the crossing counts once it exceeds `+h`;
+/// `h` = 3× the noise level estimated from second differences). (2) In each segment
+/// (including the partial ones at both ends) take the maximum of a centred moving average
+/// (~1/20 period); keep it if it exceeds `mean + h`, is not a segment end and lies ≥ period/8
+/// from both record ends; refine its time by a least-squares parabola through the raw
+/// samples within ±period/8. (3) Period = slope of the weighted least-squares line through
+/// (cycle index, time of maximum), weights = (peak height above the mean)² (a peak's timing
+/// error scales as noise/height, so decayed cycles count little); an interval of k ≈
+/// interval/median periods (a cycle lost in the noise) advances the index by k. A rough
+/// period for the windows comes from a first pass (crossing spacing, or raw maxima).
+///
+/// Maxima rather than zero crossings: for a damped signal the mean over whole cycles is
+/// biased (early cycles are larger), which shifts the crossings of `x − mean` more and more
+/// as the amplitude decays (measured: +2.9 % period error on the test signal, 0.1 % with
+/// maxima); the maxima of `A e^{−βt} cos ωt` are exactly one period apart whatever the mean.
+/// Works on records of ~1.5 periods (two maxima), e.g. the thesis' t ∈ [0, 0.6] with T ≈ 0.37.
+/// Extrema for the amplitudes are taken on the moving average so noise does not inflate them.
+/// Returns `None` without two maxima.
 pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
     let n = t.len().min(x.len());
-    if n < 5 || t[..n].iter().chain(&x[..n]).any(|v| !v.is_finite()) {
+    if n < 5 || t[..n].iter().chain(&x[..n]).any(|v| !v.is_finite()) || !(t[n - 1] > t[0]) {
         return None;
     }
     let (t, x) = (&t[..n], &x[..n]);
-    // Noise level from second differences (white noise: var(Δ²x) = 6σ²).
-    let d2: f64 = (1..n - 1).map(|i| (x[i + 1] - 2.0 * x[i] + x[i - 1]).powi(2)).sum::<f64>() / (n - 2) as f64;
-    let noise = (d2 / 6.0).sqrt();
+    let d2: f64 = (1..n - 1)
+        .map(|i| (x[i + 1] - 2.0 * x[i] + x[i - 1]).powi(2))
+        .sum::<f64>()
+        / (n - 2) as f64;
+    let h = 3.0 * (d2 / 6.0).sqrt(); // white noise: var(Δ²x) = 6σ²
+    let per_sample = (t[n - 1] - t[0]) / (n - 1) as f64;
     let mut mean = x.iter().sum::<f64>() / n as f64;
-    let mut cross = Vec::new();
-    for _ in 0..2 {
-        cross = upward_crossings(t, x, mean, 3.0 * noise);
-        if cross.len() < 2 {
+    let mut period = (t[n - 1] - t[0]) / 4.0; // first-pass guess, refined below
+    let mut found = None;
+    for _ in 0..3 {
+        let cross = upward_crossings(t, x, mean, h);
+        if cross.len() >= 2 {
+            period = period.min((cross[cross.len() - 1].0 - cross[0].0) / (cross.len() - 1) as f64);
+        }
+        let half = (period / per_sample / 40.0) as usize;
+        let smooth: Vec<f64> = (0..n)
+            .map(|i| {
+                let (a, b) = (i.saturating_sub(half), (i + half).min(n - 1));
+                x[a..=b].iter().sum::<f64>() / (b - a + 1) as f64
+            })
+            .collect();
+        let mut bounds = vec![0];
+        bounds.extend(cross.iter().map(|c| c.1));
+        bounds.push(n - 1);
+        let w = period / 8.0;
+        let mut peaks = Vec::new(); // (refined time, sample index)
+        for s in bounds.windows(2).filter(|s| s[1] > s[0] + 1) {
+            let k = (s[0]..=s[1]).fold(s[0], |m, i| if smooth[i] > smooth[m] { i } else { m });
+            if k > s[0]
+                && k < s[1]
+                && smooth[k] > mean + h
+                && t[k] - w >= t[0]
+                && t[k] + w <= t[n - 1]
+            {
+                peaks.push((refine_peak(t, x, k, w), k));
+            }
+        }
+        if peaks.len() < 2 {
             return None;
         }
-        let (i0, i1) = (cross[0].1, cross[cross.len() - 1].1);
+        let iv: Vec<f64> = peaks.windows(2).map(|w| w[1].0 - w[0].0).collect();
+        let mut sorted = iv.clone();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted[sorted.len() / 2];
+        // Cycle index of each maximum, then a weighted least-squares line t_k = t_0 + k·T with
+        // weights (peak height)², since the timing error of a peak scales as noise/height.
+        let mut idx = vec![0.0];
+        for d in &iv {
+            idx.push(idx[idx.len() - 1] + (d / median).round().max(1.0));
+        }
+        let n_cycles = idx[idx.len() - 1] as usize;
+        let (mut sw, mut sk, mut st, mut skk, mut skt) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (p, k) in peaks.iter().zip(&idx) {
+            let wt = (smooth[p.1] - mean).powi(2);
+            let tt = p.0 - peaks[0].0;
+            sw += wt;
+            sk += wt * k;
+            st += wt * tt;
+            skk += wt * k * k;
+            skt += wt * k * tt;
+        }
+        period = (sw * skt - sk * st) / (sw * skk - sk * sk);
+        if !(period > 0.0) {
+            return None;
+        }
+        let (i0, i1) = (peaks[0].1, peaks[peaks.len() - 1].1);
         mean = x[i0..=i1].iter().sum::<f64>() / (i1 - i0 + 1) as f64;
+        found = Some((peaks, smooth, n_cycles));
     }
-    let n_cycles = cross.len() - 1;
-    let period = (cross[n_cycles].0 - cross[0].0) / n_cycles as f64;
-    if !(period > 0.0) {
-        return None;
-    }
-    let per_sample = (t[n - 1] - t[0]) / (n - 1) as f64;
-    let half = (period / per_sample / 40.0) as usize;
-    let smooth: Vec<f64> = (0..n)
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(half), (i + half).min(n - 1));
-            x[a..=b].iter().sum::<f64>() / (b - a + 1) as f64
-        })
-        .collect();
+    let (peaks, smooth, n_cycles) = found?;
     let half_range = |a: usize, b: usize| {
         let s = &smooth[a..=b];
-        0.5 * (s.iter().cloned().fold(f64::MIN, f64::max) - s.iter().cloned().fold(f64::MAX, f64::min))
+        0.5 * (s.iter().cloned().fold(f64::MIN, f64::max)
+            - s.iter().cloned().fold(f64::MAX, f64::min))
     };
-    let amplitude = cross.windows(2).map(|w| half_range(w[0].1, w[1].1)).sum::<f64>() / n_cycles as f64;
+    let amplitude = peaks
+        .windows(2)
+        .map(|w| half_range(w[0].1, w[1].1))
+        .sum::<f64>()
+        / (peaks.len() - 1) as f64;
     let end = t.iter().position(|&ti| ti > t[0] + period).unwrap_or(n - 1);
-    Some(Oscillation { period, amplitude, amplitude_first_cycle: half_range(0, end), mean, n_cycles })
+    Some(Oscillation {
+        period,
+        amplitude,
+        amplitude_first_cycle: half_range(0, end),
+        mean,
+        n_cycles,
+    })
+}
+
+/// Time of the maximum near sample `k`: vertex of the least-squares parabola through the
+/// samples within `±w` of `t[k]`; `t[k]` itself if the fit is not a maximum inside the window.
+#[allow(clippy::needless_range_loop)] // small dense elimination reads best with indices
+fn refine_peak(t: &[f64], x: &[f64], k: usize, w: f64) -> f64 {
+    let (mut s, mut b) = ([[0.0; 3]; 3], [0.0; 3]);
+    for i in (0..t.len()).filter(|&i| (t[i] - t[k]).abs() <= w) {
+        let tau = (t[i] - t[k]) / w;
+        let row = [1.0, tau, tau * tau];
+        for r in 0..3 {
+            for c in 0..3 {
+                s[r][c] += row[r] * row[c];
+            }
+            b[r] += row[r] * (x[i] - x[k]);
+        }
+    }
+    // Gaussian elimination without pivoting (the normal matrix is positive definite).
+    for p in 0..3 {
+        if !(s[p][p].abs() > 1e-300) {
+            return t[k];
+        }
+        for r in p + 1..3 {
+            let f = s[r][p] / s[p][p];
+            for c in p..3 {
+                s[r][c] -= f * s[p][c];
+            }
+            b[r] -= f * b[p];
+        }
+    }
+    let c2 = b[2] / s[2][2];
+    let c1 = (b[1] - s[1][2] * c2) / s[1][1];
+    let v = -c1 / (2.0 * c2);
+    if c2 < 0.0 && v.abs() <= 1.0 {
+        t[k] + v * w
+    } else {
+        t[k]
+    }
 }
 
 /// Upward crossings of `x − mean` with hysteresis `h`: (interpolated time, sample index after

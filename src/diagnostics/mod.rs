@@ -3,13 +3,20 @@
 //! inputs are plain `f64` slices with the phase convention of [`crate::scene::build`]
 //! (0 = liquid, 1 = gas, [`crate::scene::build::WALL`] = wall particle).
 
+// `!(x > 0.0)` is used on purpose: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod analytic_flows;
 pub mod contact_angle;
 pub mod flow;
+mod gas_grid;
 
-pub use analytic_flows::{drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap};
+pub use analytic_flows::{
+    drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap,
+};
 pub use contact_angle::{
-    area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit, ContactAngles,
+    area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit,
+    ContactAngles,
 };
 pub use flow::{
     centroid, kinetic_energy, mass_per_phase, max_density_error, max_normal_deviation, oscillation,
