@@ -185,6 +185,17 @@ fn auto_range(values: impl Iterator<Item = f64>, log: bool, margin: f64) -> (f64
         hi += m;
     }
     if log {
+        // plotters labels only powers of ten on a log axis: make sure at least two show.
+        if hi.floor() - lo.ceil() < 1.0 {
+            lo = lo.floor();
+            hi = hi.ceil();
+            if hi - lo < 1.0 {
+                hi = lo + 1.0;
+            }
+            // a hair beyond the decades, so rounding in `powf` keeps both inside
+            lo -= 1e-9;
+            hi += 1e-9;
+        }
         (10f64.powf(lo), 10f64.powf(hi))
     } else {
         (lo, hi)
@@ -249,11 +260,21 @@ pub fn fmt_tick(v: f64) -> String {
     }
 }
 
+/// Tick label on an axis spanning `span`: like [`fmt_tick`], with float noise around zero
+/// (e.g. `-2.2e-16` on a `-1..1` axis) shown as `0`.
+fn tick_label(v: f64, span: f64) -> String {
+    if v.abs() <= 1e-9 * span {
+        "0".to_string()
+    } else {
+        fmt_tick(v)
+    }
+}
+
+/// A polyline or point set in data coordinates.
+type Points = Vec<(f64, f64)>;
+
 /// Points of a series split into drawable runs (a line is broken at every skipped point).
-fn segments(
-    points: &[(f64, f64)],
-    ok: impl Fn(f64, f64) -> bool,
-) -> (Vec<Vec<(f64, f64)>>, Vec<(f64, f64)>) {
+fn segments(points: &[(f64, f64)], ok: impl Fn(f64, f64) -> bool) -> (Vec<Points>, Points) {
     let mut segs = Vec::new();
     let mut cur = Vec::new();
     let mut all = Vec::new();
@@ -292,6 +313,10 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let (xspan, yspan) = {
+        let (rx, ry) = (xc.range(), yc.range());
+        (rx.end - rx.start, ry.end - ry.start)
+    };
     let mut chart = ChartBuilder::on(root)
         .caption(&spec.title, ("sans-serif", 26))
         .margin(20)
@@ -305,8 +330,8 @@ where
         .y_desc(spec.y_label.as_str())
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
+        .x_label_formatter(&|v| tick_label(*v, xspan))
+        .y_label_formatter(&|v| tick_label(*v, yspan))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(msg)?;
@@ -460,6 +485,10 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let (xspan, yspan) = {
+        let (rx, ry) = (xc.range(), yc.range());
+        (rx.end - rx.start, ry.end - ry.start)
+    };
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 26))
         .margin(20)
@@ -473,8 +502,8 @@ where
         .y_desc(y_label)
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
+        .x_label_formatter(&|v| tick_label(*v, xspan))
+        .y_label_formatter(&|v| tick_label(*v, yspan))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(msg)?;
