@@ -6,26 +6,20 @@ use std::path::Path;
 
 use serde::Serialize;
 use sphlab::output::{
-    self, iso8601_from_unix, now_utc_iso8601, write_json, write_particles_csv, write_vtu,
-    OutputError, Progress, PvdWriter, SeriesWriter, Snapshot,
+    self, iso8601_from_unix, now_utc_iso8601, write_json, write_particles_csv, write_vtu, OutputError, Progress,
+    PvdWriter, SeriesWriter, Snapshot,
 };
-use sphlab::plot::{
-    fmt_tick, line_plot_svg, scatter_labeled_svg, PlotSpec, RefLine, Series, Style,
-};
+use sphlab::plot::{fmt_tick, line_plot_svg, scatter_labeled_svg, PlotSpec, RefLine, Series, Style};
 
 fn snapshot(n: usize, step: u64) -> Snapshot {
     Snapshot {
         step,
         t: step as f64 / 1e4,
-        pos: (0..n)
-            .map(|i| [i as f64 * 0.1, 0.5 - i as f64 * 0.01])
-            .collect(),
+        pos: (0..n).map(|i| [i as f64 * 0.1, 0.5 - i as f64 * 0.01]).collect(),
         vel: (0..n).map(|i| [i as f64, -(i as f64)]).collect(),
         rho: (0..n).map(|i| 1000.0 + i as f64).collect(),
         p: (0..n).map(|i| 10.0 * i as f64).collect(),
-        phase: (0..n)
-            .map(|i| if i % 4 == 3 { u32::MAX } else { (i % 2) as u32 })
-            .collect(),
+        phase: (0..n).map(|i| if i % 4 == 3 { u32::MAX } else { (i % 2) as u32 }).collect(),
         grad_c: (0..n).map(|i| [0.5 * i as f64, 1.0]).collect(),
     }
 }
@@ -154,9 +148,7 @@ fn vtu_is_well_formed() {
             assert_eq!(tokens.len(), tuples.parse::<usize>().unwrap());
             continue;
         }
-        let comps: usize = attr(attrs, "NumberOfComponents")
-            .map(|c| c.parse().unwrap())
-            .unwrap_or(1);
+        let comps: usize = attr(attrs, "NumberOfComponents").map(|c| c.parse().unwrap()).unwrap_or(1);
         let name = attr(attrs, "Name").unwrap().to_string();
         assert_eq!(tokens.len(), n * comps, "array {name}");
         let ty = attr(attrs, "type").unwrap();
@@ -169,19 +161,9 @@ fn vtu_is_well_formed() {
                 assert!(t.parse::<i64>().is_ok(), "{name}: {t}");
             }
         }
-        names.push((
-            name,
-            ty.to_string(),
-            comps,
-            tokens.iter().map(|t| t.to_string()).collect::<Vec<_>>(),
-        ));
+        names.push((name, ty.to_string(), comps, tokens.iter().map(|t| t.to_string()).collect::<Vec<_>>()));
     }
-    let find = |nm: &str| {
-        names
-            .iter()
-            .find(|a| a.0 == nm)
-            .unwrap_or_else(|| panic!("no {nm}"))
-    };
+    let find = |nm: &str| names.iter().find(|a| a.0 == nm).unwrap_or_else(|| panic!("no {nm}"));
     assert_eq!(find("velocity").2, 3);
     assert_eq!(find("grad_c").2, 3);
     assert_eq!(find("rho").2, 1);
@@ -208,10 +190,7 @@ fn vtu_without_grad_c_writes_zeros() {
     snap.grad_c.clear();
     let xml = fs::read_to_string(write_vtu(dir.path(), &snap).unwrap()).unwrap();
     let arrays = data_arrays(&xml);
-    let g = arrays
-        .iter()
-        .find(|(a, _)| attr(a, "Name") == Some("grad_c"))
-        .unwrap();
+    let g = arrays.iter().find(|(a, _)| attr(a, "Name") == Some("grad_c")).unwrap();
     assert_eq!(g.1.split_whitespace().count(), 12);
 }
 
@@ -309,15 +288,7 @@ fn json_summary_is_pretty_and_round_trips() {
     }
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run/summary.json");
-    write_json(
-        &path,
-        &Summary {
-            name: "drop",
-            steps: 10,
-            l2: 1.5e-3,
-        },
-    )
-    .unwrap();
+    write_json(&path, &Summary { name: "drop", steps: 10, l2: 1.5e-3 }).unwrap();
     let text = fs::read_to_string(&path).unwrap();
     assert!(text.contains("\n  \"steps\": 10"));
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -396,23 +367,9 @@ fn line_plot_has_title_labels_legend() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plots/energy.svg");
     let mut spec = PlotSpec::new("Kinetic energy of the drop", "t (s)", "E_k (J/m)");
-    spec.series.push(Series::line(
-        "CPU f64",
-        (0..50)
-            .map(|i| (i as f64 * 0.01, (i as f64 * 0.2).sin()))
-            .collect(),
-    ));
-    spec.series.push(Series::points(
-        "GPU f32",
-        (0..50)
-            .map(|i| (i as f64 * 0.01, (i as f64 * 0.2).cos()))
-            .collect(),
-    ));
-    spec.series.push(Series::new(
-        "GPU tracked",
-        vec![(0.0, 0.1), (0.1, 0.2), (0.2, 0.15)],
-        Style::LinePoints,
-    ));
+    spec.series.push(Series::line("CPU f64", (0..50).map(|i| (i as f64 * 0.01, (i as f64 * 0.2).sin())).collect()));
+    spec.series.push(Series::points("GPU f32", (0..50).map(|i| (i as f64 * 0.01, (i as f64 * 0.2).cos())).collect()));
+    spec.series.push(Series::new("GPU tracked", vec![(0.0, 0.1), (0.1, 0.2), (0.2, 0.15)], Style::LinePoints));
     spec.refs.push(RefLine::horizontal("thesis value", 0.75));
     spec.refs.push(RefLine::vertical("t_end", 0.4));
     line_plot_svg(&path, &spec).unwrap();
@@ -441,26 +398,12 @@ fn log_log_plot_works() {
     let mut spec = PlotSpec::new("Scaling", "particles N (-)", "time per step (s)");
     spec.log_x = true;
     spec.log_y = true;
-    spec.series.push(Series::line_points(
-        "cpu",
-        (2..8)
-            .map(|k| (10f64.powi(k), 1e-6 * 10f64.powi(k)))
-            .collect(),
-    ));
+    spec.series.push(Series::line_points("cpu", (2..8).map(|k| (10f64.powi(k), 1e-6 * 10f64.powi(k))).collect()));
     // non-positive and NaN points are skipped on log axes
-    spec.series.push(Series::line_points(
-        "gpu",
-        vec![
-            (0.0, 1.0),
-            (1e3, -1.0),
-            (1e4, 1e-4),
-            (f64::NAN, 1e-3),
-            (1e6, 2e-3),
-        ],
-    ));
+    spec.series
+        .push(Series::line_points("gpu", vec![(0.0, 1.0), (1e3, -1.0), (1e4, 1e-4), (f64::NAN, 1e-3), (1e6, 2e-3)]));
     spec.refs.push(RefLine::horizontal("budget", 1e-2));
-    spec.refs
-        .push(RefLine::horizontal("negative ref is skipped", -1.0));
+    spec.refs.push(RefLine::horizontal("negative ref is skipped", -1.0));
     line_plot_svg(&path, &spec).unwrap();
     let svg = read_svg(&path);
     assert!(svg.contains("Scaling") && svg.contains("cpu") && svg.contains("gpu"));
@@ -482,18 +425,11 @@ fn empty_and_nan_series_do_not_panic() {
     // empty series, all-NaN series, one point, constant series
     let mut spec = PlotSpec::new("Degenerate", "x (m)", "y (m)");
     spec.series.push(Series::line("nothing", vec![]));
-    spec.series
-        .push(Series::line("all nan", vec![(f64::NAN, f64::NAN); 4]));
+    spec.series.push(Series::line("all nan", vec![(f64::NAN, f64::NAN); 4]));
     spec.series.push(Series::points("one", vec![(1.0, 2.0)]));
     spec.series.push(Series::line(
         "with gaps",
-        vec![
-            (0.0, 1.0),
-            (1.0, f64::NAN),
-            (2.0, 3.0),
-            (3.0, f64::INFINITY),
-            (4.0, 2.0),
-        ],
+        vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0), (3.0, f64::INFINITY), (4.0, 2.0)],
     ));
     line_plot_svg(dir.path().join("degenerate.svg"), &spec).unwrap();
     let svg = read_svg(&dir.path().join("degenerate.svg"));
@@ -503,8 +439,7 @@ fn empty_and_nan_series_do_not_panic() {
     spec.log_y = true;
     line_plot_svg(dir.path().join("degenerate_log.svg"), &spec).unwrap();
     let mut c = PlotSpec::new("Constant", "x (m)", "y (m)");
-    c.series
-        .push(Series::line("flat", vec![(1.0, 5.0), (1.0, 5.0)]));
+    c.series.push(Series::line("flat", vec![(1.0, 5.0), (1.0, 5.0)]));
     line_plot_svg(dir.path().join("const.svg"), &c).unwrap();
     c.log_x = true;
     c.log_y = true;
@@ -515,10 +450,7 @@ fn empty_and_nan_series_do_not_panic() {
 fn fixed_ranges_are_checked() {
     let dir = tempfile::tempdir().unwrap();
     let mut spec = PlotSpec::new("Ranged", "x (m)", "y (m)");
-    spec.series.push(Series::line(
-        "s",
-        (0..20).map(|i| (i as f64, i as f64)).collect(),
-    ));
+    spec.series.push(Series::line("s", (0..20).map(|i| (i as f64, i as f64)).collect()));
     spec.x_range = Some((2.0, 10.0));
     spec.y_range = Some((0.0, 5.0));
     line_plot_svg(dir.path().join("ranged.svg"), &spec).unwrap();
@@ -542,48 +474,15 @@ fn scatter_labeled_pareto() {
         (0.0, 1.0, "zero".to_string()),
     ];
     let path = dir.path().join("pareto.svg");
-    scatter_labeled_svg(
-        &path,
-        "Speed against error",
-        "time per step (s)",
-        "L2 error (-)",
-        &pts,
-        true,
-        true,
-    )
-    .unwrap();
+    scatter_labeled_svg(&path, "Speed against error", "time per step (s)", "L2 error (-)", &pts, true, true).unwrap();
     let svg = read_svg(&path);
-    for s in [
-        "Speed against error",
-        "cpu-f64",
-        "cpu-f32",
-        "gpu-grid",
-        "L2 error (-)",
-    ] {
+    for s in ["Speed against error", "cpu-f64", "cpu-f32", "gpu-grid", "L2 error (-)"] {
         assert!(svg.contains(s), "missing {s}");
     }
     assert!(!svg.contains("broken"));
     // linear axes, and no point at all
-    scatter_labeled_svg(
-        dir.path().join("lin.svg"),
-        "t",
-        "x (s)",
-        "y (-)",
-        &pts,
-        false,
-        false,
-    )
-    .unwrap();
-    scatter_labeled_svg(
-        dir.path().join("none.svg"),
-        "t",
-        "x (s)",
-        "y (-)",
-        &[],
-        true,
-        false,
-    )
-    .unwrap();
+    scatter_labeled_svg(dir.path().join("lin.svg"), "t", "x (s)", "y (-)", &pts, false, false).unwrap();
+    scatter_labeled_svg(dir.path().join("none.svg"), "t", "x (s)", "y (-)", &[], true, false).unwrap();
 }
 
 #[test]
