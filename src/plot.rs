@@ -63,11 +63,7 @@ pub struct Series {
 impl Series {
     /// A series with the given style.
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
-        Series {
-            label: label.into(),
-            points,
-            style,
-        }
+        Series { label: label.into(), points, style }
     }
     /// A connected line.
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
@@ -97,19 +93,11 @@ pub struct RefLine {
 impl RefLine {
     /// The horizontal line `y = value`.
     pub fn horizontal(label: impl Into<String>, value: f64) -> Self {
-        RefLine {
-            label: label.into(),
-            value,
-            horizontal: true,
-        }
+        RefLine { label: label.into(), value, horizontal: true }
     }
     /// The vertical line `x = value`.
     pub fn vertical(label: impl Into<String>, value: f64) -> Self {
-        RefLine {
-            label: label.into(),
-            value,
-            horizontal: false,
-        }
+        RefLine { label: label.into(), value, horizontal: false }
     }
 }
 
@@ -138,17 +126,8 @@ pub struct PlotSpec {
 
 impl PlotSpec {
     /// A plot with a title and axis labels, no series, linear automatic axes.
-    pub fn new(
-        title: impl Into<String>,
-        x_label: impl Into<String>,
-        y_label: impl Into<String>,
-    ) -> Self {
-        PlotSpec {
-            title: title.into(),
-            x_label: x_label.into(),
-            y_label: y_label.into(),
-            ..Default::default()
-        }
+    pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
+        PlotSpec { title: title.into(), x_label: x_label.into(), y_label: y_label.into(), ..Default::default() }
     }
 }
 
@@ -185,6 +164,17 @@ fn auto_range(values: impl Iterator<Item = f64>, log: bool, margin: f64) -> (f64
         hi += m;
     }
     if log {
+        // plotters labels only powers of ten on a log axis: make sure at least two show.
+        if hi.floor() - lo.ceil() < 1.0 {
+            lo = lo.floor();
+            hi = hi.ceil();
+            if hi - lo < 1.0 {
+                hi = lo + 1.0;
+            }
+            // a hair beyond the decades, so rounding in `powf` keeps both inside
+            lo -= 1e-9;
+            hi += 1e-9;
+        }
         (10f64.powf(lo), 10f64.powf(hi))
     } else {
         (lo, hi)
@@ -204,15 +194,9 @@ fn axis_range(
         None => Ok(auto_range(values, log, margin)),
         Some((lo, hi)) => {
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                Err(OutputError::plot(
-                    path,
-                    format!("{axis} range ({lo}, {hi}) is not an increasing finite interval"),
-                ))
+                Err(OutputError::plot(path, format!("{axis} range ({lo}, {hi}) is not an increasing finite interval")))
             } else if log && lo <= 0.0 {
-                Err(OutputError::plot(
-                    path,
-                    format!("{axis} range ({lo}, {hi}) is not positive on a log axis"),
-                ))
+                Err(OutputError::plot(path, format!("{axis} range ({lo}, {hi}) is not positive on a log axis")))
             } else {
                 Ok((lo, hi))
             }
@@ -234,11 +218,7 @@ pub fn fmt_tick(v: f64) -> String {
         let s = format!("{v:.3e}");
         match s.split_once('e') {
             Some((mant, exp)) => {
-                let mant = if mant.contains('.') {
-                    mant.trim_end_matches('0').trim_end_matches('.')
-                } else {
-                    mant
-                };
+                let mant = if mant.contains('.') { mant.trim_end_matches('0').trim_end_matches('.') } else { mant };
                 format!("{mant}e{exp}")
             }
             None => s,
@@ -249,11 +229,21 @@ pub fn fmt_tick(v: f64) -> String {
     }
 }
 
+/// Tick label on an axis spanning `span`: like [`fmt_tick`], with float noise around zero
+/// (e.g. `-2.2e-16` on a `-1..1` axis) shown as `0`.
+fn tick_label(v: f64, span: f64) -> String {
+    if v.abs() <= 1e-9 * span {
+        "0".to_string()
+    } else {
+        fmt_tick(v)
+    }
+}
+
+/// A polyline or point set in data coordinates.
+type Points = Vec<(f64, f64)>;
+
 /// Points of a series split into drawable runs (a line is broken at every skipped point).
-fn segments(
-    points: &[(f64, f64)],
-    ok: impl Fn(f64, f64) -> bool,
-) -> (Vec<Vec<(f64, f64)>>, Vec<(f64, f64)>) {
+fn segments(points: &[(f64, f64)], ok: impl Fn(f64, f64) -> bool) -> (Vec<Points>, Points) {
     let mut segs = Vec::new();
     let mut cur = Vec::new();
     let mut all = Vec::new();
@@ -292,6 +282,10 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let (xspan, yspan) = {
+        let (rx, ry) = (xc.range(), yc.range());
+        (rx.end - rx.start, ry.end - ry.start)
+    };
     let mut chart = ChartBuilder::on(root)
         .caption(&spec.title, ("sans-serif", 26))
         .margin(20)
@@ -305,17 +299,14 @@ where
         .y_desc(spec.y_label.as_str())
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
+        .x_label_formatter(&|v| tick_label(*v, xspan))
+        .y_label_formatter(&|v| tick_label(*v, yspan))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(msg)?;
 
     let inside = |x: f64, y: f64| {
-        drawable(x, spec.log_x)
-            && drawable(y, spec.log_y)
-            && (xr.0..=xr.1).contains(&x)
-            && (yr.0..=yr.1).contains(&y)
+        drawable(x, spec.log_x) && drawable(y, spec.log_y) && (xr.0..=xr.1).contains(&x) && (yr.0..=yr.1).contains(&y)
     };
     let mut labelled = false;
     for (k, s) in spec.series.iter().enumerate() {
@@ -326,15 +317,10 @@ where
         match s.style {
             Style::Line => {
                 chart
-                    .draw_series(
-                        segs.into_iter()
-                            .map(|seg| PathElement::new(seg, line_style)),
-                    )
+                    .draw_series(segs.into_iter().map(|seg| PathElement::new(seg, line_style)))
                     .map_err(msg)?
                     .label(s.label.as_str())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x - 12, y), (x + 12, y)], line_style)
-                    });
+                    .legend(move |(x, y)| PathElement::new(vec![(x - 12, y), (x + 12, y)], line_style));
             }
             Style::Points => {
                 chart
@@ -345,10 +331,7 @@ where
             }
             Style::LinePoints => {
                 chart
-                    .draw_series(
-                        segs.into_iter()
-                            .map(|seg| PathElement::new(seg, line_style)),
-                    )
+                    .draw_series(segs.into_iter().map(|seg| PathElement::new(seg, line_style)))
                     .map_err(msg)?
                     .label(s.label.as_str())
                     .legend(move |(x, y)| {
@@ -356,9 +339,7 @@ where
                             + PathElement::new(vec![(-12, 0), (12, 0)], line_style)
                             + Circle::new((0, 0), 4, color.filled())
                     });
-                chart
-                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled())))
-                    .map_err(msg)?;
+                chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled()))).map_err(msg)?;
             }
         }
     }
@@ -374,15 +355,10 @@ where
         };
         labelled |= !r.label.is_empty();
         chart
-            .draw_series(
-                line.into_iter()
-                    .map(|l| DashedPathElement::new(l, 10, 6, style)),
-            )
+            .draw_series(line.into_iter().map(|l| DashedPathElement::new(l, 10, 6, style)))
             .map_err(msg)?
             .label(r.label.as_str())
-            .legend(move |(x, y)| {
-                DashedPathElement::new(vec![(x - 12, y), (x + 12, y)], 5, 3, style)
-            });
+            .legend(move |(x, y)| DashedPathElement::new(vec![(x - 12, y), (x + 12, y)], 5, 3, style));
     }
     if labelled {
         chart
@@ -401,8 +377,7 @@ where
 fn svg_area<'a>(path: &'a Path) -> Result<Area<'a>> {
     ensure_parent(path)?;
     let root = SVGBackend::new(path, PLOT_SIZE).into_drawing_area();
-    root.fill(&WHITE)
-        .map_err(|e| OutputError::plot(path, msg(e)))?;
+    root.fill(&WHITE).map_err(|e| OutputError::plot(path, msg(e)))?;
     Ok(root)
 }
 
@@ -412,22 +387,14 @@ pub fn line_plot_svg(path: impl AsRef<Path>, spec: &PlotSpec) -> Result<()> {
     let xs = spec
         .series
         .iter()
-        .flat_map(|s| {
-            s.points
-                .iter()
-                .filter(|p| drawable(p.1, spec.log_y))
-                .map(|p| p.0)
-        })
+        .flat_map(|s| s.points.iter().filter(|p| drawable(p.1, spec.log_y)).map(|p| p.0))
         .chain(spec.refs.iter().filter(|r| !r.horizontal).map(|r| r.value));
     let xr = axis_range(spec.x_range, xs, spec.log_x, 0.05, "x", path)?;
     let ys = spec
         .series
         .iter()
         .flat_map(|s| {
-            s.points
-                .iter()
-                .filter(|p| drawable(p.0, spec.log_x) && (xr.0..=xr.1).contains(&p.0))
-                .map(|p| p.1)
+            s.points.iter().filter(|p| drawable(p.0, spec.log_x) && (xr.0..=xr.1).contains(&p.0)).map(|p| p.1)
         })
         .chain(spec.refs.iter().filter(|r| r.horizontal).map(|r| r.value));
     let yr = axis_range(spec.y_range, ys, spec.log_y, 0.05, "y", path)?;
@@ -460,6 +427,10 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let (xspan, yspan) = {
+        let (rx, ry) = (xc.range(), yc.range());
+        (rx.end - rx.start, ry.end - ry.start)
+    };
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 26))
         .margin(20)
@@ -473,8 +444,8 @@ where
         .y_desc(y_label)
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
+        .x_label_formatter(&|v| tick_label(*v, xspan))
+        .y_label_formatter(&|v| tick_label(*v, yspan))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(msg)?;
@@ -502,11 +473,8 @@ pub fn scatter_labeled_svg(
     log_y: bool,
 ) -> Result<()> {
     let path = path.as_ref();
-    let pts: Vec<(f64, f64, String)> = points
-        .iter()
-        .filter(|(x, y, _)| drawable(*x, log_x) && drawable(*y, log_y))
-        .cloned()
-        .collect();
+    let pts: Vec<(f64, f64, String)> =
+        points.iter().filter(|(x, y, _)| drawable(*x, log_x) && drawable(*y, log_y)).cloned().collect();
     // A wider margin than for lines leaves room for the labels.
     let xr = auto_range(pts.iter().map(|p| p.0), log_x, 0.12);
     let yr = auto_range(pts.iter().map(|p| p.1), log_y, 0.12);

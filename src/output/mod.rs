@@ -17,9 +17,7 @@ use std::path::{Path, PathBuf};
 
 pub use progress::Progress;
 pub use series::SeriesWriter;
-pub use snapshot::{
-    particles_csv_name, vtu_name, write_particles_csv, write_vtu, PvdWriter, Snapshot,
-};
+pub use snapshot::{particles_csv_name, vtu_name, write_particles_csv, write_vtu, PvdWriter, Snapshot};
 pub use summary::{git_commit, iso8601_from_unix, now_utc_iso8601, write_json};
 
 /// An error while writing an output file; every variant names the path involved.
@@ -60,22 +58,13 @@ pub type Result<T> = std::result::Result<T, OutputError>;
 
 impl OutputError {
     pub(crate) fn io(path: impl AsRef<Path>, source: std::io::Error) -> Self {
-        OutputError::Io {
-            path: path.as_ref().to_path_buf(),
-            source,
-        }
+        OutputError::Io { path: path.as_ref().to_path_buf(), source }
     }
     pub(crate) fn csv(path: impl AsRef<Path>, source: csv::Error) -> Self {
-        OutputError::Csv {
-            path: path.as_ref().to_path_buf(),
-            source,
-        }
+        OutputError::Csv { path: path.as_ref().to_path_buf(), source }
     }
     pub(crate) fn plot(path: impl AsRef<Path>, message: impl Into<String>) -> Self {
-        OutputError::Plot {
-            path: path.as_ref().to_path_buf(),
-            message: message.into(),
-        }
+        OutputError::Plot { path: path.as_ref().to_path_buf(), message: message.into() }
     }
     /// The path this error is about.
     pub fn path(&self) -> &Path {

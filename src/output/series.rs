@@ -24,21 +24,13 @@ impl SeriesWriter {
         let path = path.as_ref().to_path_buf();
         ensure_parent(&path)?;
         let file = File::create(&path).map_err(|e| OutputError::io(&path, e))?;
-        Ok(SeriesWriter {
-            writer: csv::Writer::from_writer(file),
-            path,
-            rows: 0,
-        })
+        Ok(SeriesWriter { writer: csv::Writer::from_writer(file), path, rows: 0 })
     }
 
     /// Appends one row (the first row also writes the header) and flushes it to the file.
     pub fn write<R: Serialize>(&mut self, row: &R) -> Result<()> {
-        self.writer
-            .serialize(row)
-            .map_err(|e| OutputError::csv(&self.path, e))?;
-        self.writer
-            .flush()
-            .map_err(|e| OutputError::io(&self.path, e))?;
+        self.writer.serialize(row).map_err(|e| OutputError::csv(&self.path, e))?;
+        self.writer.flush().map_err(|e| OutputError::io(&self.path, e))?;
         self.rows += 1;
         Ok(())
     }
@@ -55,9 +47,7 @@ impl SeriesWriter {
 
     /// Flushes and closes the file, returning its path.
     pub fn finish(mut self) -> Result<PathBuf> {
-        self.writer
-            .flush()
-            .map_err(|e| OutputError::io(&self.path, e))?;
+        self.writer.flush().map_err(|e| OutputError::io(&self.path, e))?;
         Ok(self.path)
     }
 }

@@ -54,17 +54,9 @@ impl Snapshot {
     /// Checks that every array has one entry per particle (`grad_c` may be empty).
     pub fn check(&self, path: &Path) -> Result<()> {
         let n = self.pos.len();
-        let lens = [
-            ("vel", self.vel.len()),
-            ("rho", self.rho.len()),
-            ("p", self.p.len()),
-            ("phase", self.phase.len()),
-        ];
-        let mut bad: Vec<String> = lens
-            .iter()
-            .filter(|(_, l)| *l != n)
-            .map(|(name, l)| format!("{name} has {l}"))
-            .collect();
+        let lens = [("vel", self.vel.len()), ("rho", self.rho.len()), ("p", self.p.len()), ("phase", self.phase.len())];
+        let mut bad: Vec<String> =
+            lens.iter().filter(|(_, l)| *l != n).map(|(name, l)| format!("{name} has {l}")).collect();
         if !self.grad_c.is_empty() && self.grad_c.len() != n {
             bad.push(format!("grad_c has {}", self.grad_c.len()));
         }
@@ -125,10 +117,8 @@ pub fn write_particles_csv(dir: impl AsRef<Path>, snap: &Snapshot) -> Result<Pat
     let mut w = csv::Writer::from_path(&path).map_err(|e| OutputError::csv(&path, e))?;
     if snap.is_empty() {
         // serde writes the header with the first row; with no row, write it by hand.
-        w.write_record([
-            "id", "x", "y", "vx", "vy", "rho", "p", "phase", "gcx", "gcy",
-        ])
-        .map_err(|e| OutputError::csv(&path, e))?;
+        w.write_record(["id", "x", "y", "vx", "vy", "rho", "p", "phase", "gcx", "gcy"])
+            .map_err(|e| OutputError::csv(&path, e))?;
     }
     for i in 0..snap.len() {
         let g = snap.grad_c_at(i);
@@ -162,12 +152,7 @@ fn vtk_f64(out: &mut String, v: f64) {
 }
 
 /// Appends one `DataArray` of `Float64` tuples; `f(i)` gives tuple `i`.
-fn data_array_f64<const C: usize>(
-    out: &mut String,
-    name: Option<&str>,
-    n: usize,
-    f: impl Fn(usize) -> [f64; C],
-) {
+fn data_array_f64<const C: usize>(out: &mut String, name: Option<&str>, n: usize, f: impl Fn(usize) -> [f64; C]) {
     out.push_str("        <DataArray type=\"Float64\"");
     if let Some(name) = name {
         let _ = write!(out, " Name=\"{name}\"");
@@ -188,10 +173,7 @@ fn data_array_f64<const C: usize>(
 
 /// Appends one single-component integer `DataArray` of type `ty`.
 fn data_array_int(out: &mut String, ty: &str, name: &str, n: usize, f: impl Fn(usize) -> i64) {
-    let _ = writeln!(
-        out,
-        "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">"
-    );
+    let _ = writeln!(out, "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">");
     // Ten values per line keeps the file readable and lines short.
     for chunk_start in (0..n).step_by(10) {
         out.push_str("          ");
@@ -229,14 +211,9 @@ fn vtu_text(snap: &Snapshot) -> String {
         snap.step
     );
     s.push_str("    </FieldData>\n");
-    let _ = writeln!(
-        s,
-        "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">"
-    );
+    let _ = writeln!(s, "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">");
     s.push_str("      <PointData Scalars=\"rho\" Vectors=\"velocity\">\n");
-    data_array_f64(&mut s, Some("velocity"), n, |i| {
-        [snap.vel[i][0], snap.vel[i][1], 0.0]
-    });
+    data_array_f64(&mut s, Some("velocity"), n, |i| [snap.vel[i][0], snap.vel[i][1], 0.0]);
     data_array_f64(&mut s, Some("rho"), n, |i| [snap.rho[i]]);
     data_array_f64(&mut s, Some("p"), n, |i| [snap.p[i]]);
     data_array_int(&mut s, "Int32", "phase", n, |i| snap.phase_i64(i));
@@ -246,9 +223,7 @@ fn vtu_text(snap: &Snapshot) -> String {
     });
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
-    data_array_f64(&mut s, Some("Points"), n, |i| {
-        [snap.pos[i][0], snap.pos[i][1], 0.0]
-    });
+    data_array_f64(&mut s, Some("Points"), n, |i| [snap.pos[i][0], snap.pos[i][1], 0.0]);
     s.push_str("      </Points>\n");
     s.push_str("      <Cells>\n");
     data_array_int(&mut s, "Int64", "connectivity", n, |i| i as i64);
@@ -274,9 +249,7 @@ pub fn write_vtu(dir: impl AsRef<Path>, snap: &Snapshot) -> Result<PathBuf> {
     let text = vtu_text(snap);
     let file = File::create(&path).map_err(|e| OutputError::io(&path, e))?;
     let mut w = BufWriter::new(file);
-    w.write_all(text.as_bytes())
-        .and_then(|_| w.flush())
-        .map_err(|e| OutputError::io(&path, e))?;
+    w.write_all(text.as_bytes()).and_then(|_| w.flush()).map_err(|e| OutputError::io(&path, e))?;
     Ok(path)
 }
 
@@ -315,11 +288,7 @@ impl PvdWriter {
     pub fn new(dir: impl AsRef<Path>) -> Self {
         let dir = dir.as_ref().to_path_buf();
         let path = dir.join(Self::FILE_NAME);
-        PvdWriter {
-            dir,
-            path,
-            entries: Vec::new(),
-        }
+        PvdWriter { dir, path, entries: Vec::new() }
     }
 
     /// Path of the `.pvd` file.
@@ -356,11 +325,7 @@ impl PvdWriter {
         for (t, name) in &self.entries {
             s.push_str("    <DataSet timestep=\"");
             vtk_f64(&mut s, *t);
-            let _ = writeln!(
-                s,
-                "\" group=\"\" part=\"0\" file=\"{}\"/>",
-                xml_escape(name)
-            );
+            let _ = writeln!(s, "\" group=\"\" part=\"0\" file=\"{}\"/>", xml_escape(name));
         }
         s.push_str("  </Collection>\n");
         s.push_str("</VTKFile>\n");

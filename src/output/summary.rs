@@ -17,10 +17,8 @@ pub const GIT_COMMIT_ENV: &str = "SPHLAB_GIT_COMMIT";
 /// directory if missing. The file is replaced atomically.
 pub fn write_json(path: impl AsRef<Path>, value: &impl Serialize) -> Result<()> {
     let path = path.as_ref();
-    let mut text = serde_json::to_string_pretty(value).map_err(|e| OutputError::Json {
-        path: path.to_path_buf(),
-        source: e,
-    })?;
+    let mut text =
+        serde_json::to_string_pretty(value).map_err(|e| OutputError::Json { path: path.to_path_buf(), source: e })?;
     text.push('\n');
     write_atomic(path, text.as_bytes())
 }
@@ -59,12 +57,7 @@ pub fn iso8601_from_unix(secs: i64) -> String {
     let days = secs.div_euclid(86_400);
     let sod = secs.rem_euclid(86_400);
     let (y, m, d) = civil_from_days(days);
-    format!(
-        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z",
-        sod / 3600,
-        (sod % 3600) / 60,
-        sod % 60
-    )
+    format!("{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z", sod / 3600, (sod % 3600) / 60, sod % 60)
 }
 
 /// Proleptic Gregorian (year, month 1–12, day 1–31) of `days` since 1970-01-01
