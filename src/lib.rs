@@ -14,6 +14,7 @@
 //! * [`cpu`]: the CPU reference solver, stage by stage;
 //! * [`run`]: the `sphlab run` driver and its outputs.
 
+pub mod gpu;
 pub mod physics;
 pub mod real;
 pub mod scene;
