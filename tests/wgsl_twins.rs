@@ -21,9 +21,9 @@ mod common;
 
 use common::{compare, gpu_or_skip, run_twin, serial, Case, Rng, Twin};
 use sphlab::gpu::GpuContext;
-use sphlab::physics::{eos, kernel, pair};
 use sphlab::physics::kernel::{KernelKind, KernelParams};
-use sphlab::real::{Real, Sym2, V2};
+use sphlab::physics::{eos, kernel};
+use sphlab::real::{Real, V2};
 
 /// f32 tolerance of exactly-rounded arithmetic chains (see module doc).
 const TOL32: f64 = 2e-6;
@@ -51,12 +51,19 @@ fn check<T: Real>(
     cpu: impl Fn(&Case<T>) -> Vec<(T, T)>,
 ) -> f64 {
     let gpu = run_twin(ctx, &t, cases);
-    let want: Vec<(T, T)> = cases.iter().flat_map(|c| {
-        let o = cpu(c);
-        assert_eq!(o.len(), t.nout, "{}: CPU output arity", t.name);
-        o
-    }).collect();
-    let (tol, floor) = if is64::<T>() { (tol.1, 1e-300) } else { (tol.0, 1e-30) };
+    let want: Vec<(T, T)> = cases
+        .iter()
+        .flat_map(|c| {
+            let o = cpu(c);
+            assert_eq!(o.len(), t.nout, "{}: CPU output arity", t.name);
+            o
+        })
+        .collect();
+    let (tol, floor) = if is64::<T>() {
+        (tol.1, 1e-300)
+    } else {
+        (tol.0, 1e-30)
+    };
     compare(t.name, &gpu, &want, cases, tol, floor)
 }
 
@@ -87,7 +94,10 @@ fn with_gpu<T: Real>(f: fn(&GpuContext)) {
     let _guard = serial();
     let Some(ctx) = gpu_or_skip() else { return };
     if is64::<T>() && !ctx.has(wgpu::Features::SHADER_F64) {
-        eprintln!("!!!!!!!! SKIP f64 twins: adapter lacks SHADER_F64 ({}) !!!!!!!!", ctx.describe());
+        eprintln!(
+            "!!!!!!!! SKIP f64 twins: adapter lacks SHADER_F64 ({}) !!!!!!!!",
+            ctx.describe()
+        );
         return;
     }
     f(&ctx);
@@ -135,7 +145,9 @@ fn kernel_df_mag(kind: KernelKind, q: f64) -> f64 {
     let p4 = |a: f64| a.powi(4);
     match kind {
         KernelKind::CubicSpline if q < 1.0 => 3.0 * q + 2.25 * q * q,
-        KernelKind::Quintic if q < 1.0 => 5.0 * p4(3.0 - q) + 30.0 * p4(2.0 - q) + 75.0 * p4(1.0 - q),
+        KernelKind::Quintic if q < 1.0 => {
+            5.0 * p4(3.0 - q) + 30.0 * p4(2.0 - q) + 75.0 * p4(1.0 - q)
+        }
         KernelKind::Quintic if q < 2.0 => 5.0 * p4(3.0 - q) + 30.0 * p4(2.0 - q),
         _ => kernel::kernel_df(kind, q).abs(),
     }
@@ -145,7 +157,13 @@ fn kernel_df_mag(kind: KernelKind, q: f64) -> f64 {
 /// denormal values, then uniform over [0, κ + 0.5].
 fn q_samples<T: Real>(rng: &mut Rng, kind: KernelKind) -> Vec<T> {
     let kappa = kind.support_factor();
-    let mut q: Vec<T> = vec![T::zero(), T::c(1e-30), T::c(1e-7), T::c(kappa + 1e-3), T::c(kappa + 0.5)];
+    let mut q: Vec<T> = vec![
+        T::zero(),
+        T::c(1e-30),
+        T::c(1e-7),
+        T::c(kappa + 1e-3),
+        T::c(kappa + 0.5),
+    ];
     for knot in [1.0, 2.0, 3.0] {
         q.extend([T::c(knot), next(knot, true), next(knot, false)]);
     }
@@ -160,17 +178,52 @@ fn kernel_twins<T: Real>(ctx: &GpuContext) {
     let mut rng = Rng::new(0x5e4_1ab);
     let exp_tol = (TOL32_EXP, TOL64_VIA_F32);
     for kind in KernelKind::ALL {
-        let tol = if kind == KernelKind::Gaussian { exp_tol } else { (TOL32, TOL64) };
-        let cases: Vec<Case<T>> =
-            q_samples::<T>(&mut rng, kind).into_iter().map(|q| Case::new(vec![q], vec![kind.id()])).collect();
+        let tol = if kind == KernelKind::Gaussian {
+            exp_tol
+        } else {
+            (TOL32, TOL64)
+        };
+        let cases: Vec<Case<T>> = q_samples::<T>(&mut rng, kind)
+            .into_iter()
+            .map(|q| Case::new(vec![q], vec![kind.id()]))
+            .collect();
+        let label = |f: &str| format!("{f}[{}]", kind.name());
         let body_f = "put(i, 0u, kernel_f(n(i, 0u), a(i, 0u)));";
-        check(ctx, Twin { name: "kernel_f", module: "kernel", body: body_f, nout: 1 }, &cases, tol, |c| {
-            vec![(kernel::kernel_f(kind, c.args[0]), T::c(kernel_f_mag(kind, c.args[0].f64())))]
-        });
+        check(
+            ctx,
+            Twin {
+                name: &label("kernel_f"),
+                module: "kernel",
+                body: body_f,
+                nout: 1,
+            },
+            &cases,
+            tol,
+            |c| {
+                vec![(
+                    kernel::kernel_f(kind, c.args[0]),
+                    T::c(kernel_f_mag(kind, c.args[0].f64())),
+                )]
+            },
+        );
         let body_df = "put(i, 0u, kernel_df(n(i, 0u), a(i, 0u)));";
-        check(ctx, Twin { name: "kernel_df", module: "kernel", body: body_df, nout: 1 }, &cases, tol, |c| {
-            vec![(kernel::kernel_df(kind, c.args[0]), T::c(kernel_df_mag(kind, c.args[0].f64())))]
-        });
+        check(
+            ctx,
+            Twin {
+                name: &label("kernel_df"),
+                module: "kernel",
+                body: body_df,
+                nout: 1,
+            },
+            &cases,
+            tol,
+            |c| {
+                vec![(
+                    kernel::kernel_df(kind, c.args[0]),
+                    T::c(kernel_df_mag(kind, c.args[0].f64())),
+                )]
+            },
+        );
         // W and ∂W/∂r: h log-uniform in [1e-3, 1], r = q h plus r = 0, h, 2h, 3h, support, past it.
         let mut cases = Vec::new();
         for k in 0..N {
@@ -183,23 +236,56 @@ fn kernel_twins<T: Real>(ctx: &GpuContext) {
                 5 => next(kp.support.f64(), true),
                 _ => kp.h * rng.range::<T>(0.0, kind.support_factor() + 0.5),
             };
-            cases.push(Case::new(vec![kp.h, kp.inv_h, kp.alpha, kp.support, r], vec![kind.id()]));
+            cases.push(Case::new(
+                vec![kp.h, kp.inv_h, kp.alpha, kp.support, r],
+                vec![kind.id()],
+            ));
         }
-        let params = |c: &Case<T>| KernelParams { kind, h: c.args[0], inv_h: c.args[1], alpha: c.args[2], support: c.args[3] };
+        let params = |c: &Case<T>| KernelParams {
+            kind,
+            h: c.args[0],
+            inv_h: c.args[1],
+            alpha: c.args[2],
+            support: c.args[3],
+        };
         let q = |c: &Case<T>| (c.args[4] * c.args[1]).f64();
         let kp = "KernelParams(n(i, 0u), a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u))";
         let body_w = format!("put(i, 0u, kernel_w({kp}, a(i, 4u)));");
-        check(ctx, Twin { name: "kernel_w", module: "kernel", body: &body_w, nout: 1 }, &cases, tol, |c| {
-            let p = params(c);
-            vec![(kernel::kernel_w(&p, c.args[4]), T::c(p.alpha.f64() * kernel_f_mag(kind, q(c))))]
-        });
+        check(
+            ctx,
+            Twin {
+                name: &label("kernel_w"),
+                module: "kernel",
+                body: &body_w,
+                nout: 1,
+            },
+            &cases,
+            tol,
+            |c| {
+                let p = params(c);
+                vec![(
+                    kernel::kernel_w(&p, c.args[4]),
+                    T::c(p.alpha.f64() * kernel_f_mag(kind, q(c))),
+                )]
+            },
+        );
         let body_dw = format!("put(i, 0u, kernel_dwdr({kp}, a(i, 4u)));");
-        check(ctx, Twin { name: "kernel_dwdr", module: "kernel", body: &body_dw, nout: 1 }, &cases, tol, |c| {
-            let p = params(c);
-            let mag = p.alpha.f64() * p.inv_h.f64() * kernel_df_mag(kind, q(c));
-            vec![(kernel::kernel_dwdr(&p, c.args[4]), T::c(mag))]
-        });
-        println!("  (kernel {})", kind.name());
+        check(
+            ctx,
+            Twin {
+                name: &label("kernel_dwdr"),
+                module: "kernel",
+                body: &body_dw,
+                nout: 1,
+            },
+            &cases,
+            tol,
+            |c| {
+                let p = params(c);
+                let mag = p.alpha.f64() * p.inv_h.f64() * kernel_df_mag(kind, q(c));
+                vec![(kernel::kernel_dwdr(&p, c.args[4]), T::c(mag))]
+            },
+        );
     }
 }
 
@@ -210,153 +296,93 @@ fn eos_twins<T: Real>(ctx: &GpuContext) {
     let mut rng = Rng::new(0xe05);
     let body = "put(i, 0u, eos_pressure(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a(i, 4u)));";
     // Whole γ (repeated multiplication on the GPU) and non-integer γ (pow, f32 in f64 builds).
-    for (gammas, tol) in [(&[7.0, 1.0, 2.0, 3.0][..], (TOL32, TOL64)), (&[1.4, 2.5, 7.5][..], (TOL32_TRANSC, TOL64_VIA_F32))] {
+    for (gammas, tol) in [
+        (&[7.0, 1.0, 2.0, 3.0][..], (TOL32, TOL64)),
+        (&[1.4, 2.5, 7.5][..], (TOL32_TRANSC, TOL64_VIA_F32)),
+    ] {
         let cases: Vec<Case<T>> = (0..N)
             .map(|k| {
                 let gamma = gammas[k % gammas.len()];
                 let rho0 = rng.range::<f64>(1.0, 1500.0);
                 let b = eos::eos_stiffness(rho0, rng.range::<f64>(1.0, 50.0), gamma);
-                let rho = if k < 8 { rho0 } else { rho0 * rng.range::<f64>(0.8, 1.2) };
-                let p_b = if k % 3 == 0 { 0.0 } else { rng.range::<f64>(0.0, 0.1 * b) };
-                Case::new(vec![T::c(rho), T::c(rho0), T::c(b), T::c(gamma), T::c(p_b)], vec![])
+                let rho = if k < 8 {
+                    rho0
+                } else {
+                    rho0 * rng.range::<f64>(0.8, 1.2)
+                };
+                let p_b = if k % 3 == 0 {
+                    0.0
+                } else {
+                    rng.range::<f64>(0.0, 0.1 * b)
+                };
+                Case::new(
+                    vec![T::c(rho), T::c(rho0), T::c(b), T::c(gamma), T::c(p_b)],
+                    vec![],
+                )
             })
             .collect();
-        check(ctx, Twin { name: "eos_pressure", module: "eos", body, nout: 1 }, &cases, tol, |c| {
-            let [rho, rho0, b, gamma, p_b] = [0, 1, 2, 3, 4].map(|k| c.args[k]);
-            let mag = b.f64() * ((rho / rho0).f64().powf(gamma.f64()) + 1.0) + p_b.f64().abs();
-            vec![(eos::eos_pressure(rho, rho0, b, gamma, p_b), T::c(mag))]
-        });
+        check(
+            ctx,
+            Twin {
+                name: "eos_pressure",
+                module: "eos",
+                body,
+                nout: 1,
+            },
+            &cases,
+            tol,
+            |c| {
+                let [rho, rho0, b, gamma, p_b] = [0, 1, 2, 3, 4].map(|k| c.args[k]);
+                let mag = b.f64() * ((rho / rho0).f64().powf(gamma.f64()) + 1.0) + p_b.f64().abs();
+                vec![(eos::eos_pressure(rho, rho0, b, gamma, p_b), T::c(mag))]
+            },
+        );
     }
 }
 
-// ---------------------------------------------------------------------------------------------
-// pair.wgsl
-
-fn rand_vec<T: Real>(rng: &mut Rng, lo: f64, hi: f64) -> Vec<T> {
-    vec![rng.signed_log(lo, hi), rng.signed_log(lo, hi)]
+/// The harness itself: an unwritten output keeps its NaN poison and fails the comparison, and
+/// a wrong value fails while a rounding-level one passes.
+#[test]
+fn harness_catches_unwritten_and_wrong_outputs() {
+    let _guard = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let cases: Vec<Case<f32>> = (0..100)
+        .map(|k| Case::new(vec![k as f32 + 1.0], vec![]))
+        .collect();
+    let t = Twin {
+        name: "harness",
+        module: "kernel",
+        body: "if i != 37u { put(i, 0u, a(i, 0u)); }",
+        nout: 1,
+    };
+    let gpu = run_twin(&ctx, &t, &cases);
+    assert!(
+        gpu[37].is_nan() && gpu[36] == 37.0,
+        "element 37 unwritten, the others copied"
+    );
+    let exact: Vec<(f32, f32)> = cases.iter().map(|c| (c.args[0], c.args[0])).collect();
+    let poisoned =
+        std::panic::catch_unwind(|| compare("harness", &gpu, &exact, &cases, TOL32, 1e-30));
+    assert!(
+        poisoned.is_err(),
+        "a NaN left by an unwritten element must fail"
+    );
+    let mut good = gpu.clone();
+    good[37] = 38.0 * (1.0 + f32::EPSILON);
+    assert!(
+        compare("harness", &good, &exact, &cases, TOL32, 1e-30) < TOL32,
+        "one ulp passes"
+    );
+    good[37] = 38.001;
+    let wrong =
+        std::panic::catch_unwind(|| compare("harness", &good, &exact, &cases, TOL32, 1e-30));
+    assert!(wrong.is_err(), "a 3e-5 relative error must fail");
 }
 
-fn pair_twins<T: Real>(ctx: &GpuContext) {
-    let mut rng = Rng::new(0x9a1e);
-    let tol = (TOL32, TOL64);
-    let pair = |name, body, nout| Twin { name, module: "pair", body, nout };
-    let vabs = |v: V2<T>| V2::new(v.x.abs(), v.y.abs());
-
-    // grad_w_ij(dwdr, x_ij, r): r = |x_ij|, edge x_ij = 0 (r = 0) and dwdr = 0.
-    let cases: Vec<Case<T>> = (0..N)
-        .map(|k| {
-            let x: Vec<T> = if k == 0 { vec![T::zero(); 2] } else { rand_vec(&mut rng, 1e-5, 0.03) };
-            let r = V2::new(x[0], x[1]).norm();
-            let dwdr = if k == 1 { T::zero() } else { -rng.signed_log::<T>(1e-2, 1e6).abs() };
-            Case::new(vec![dwdr, x[0], x[1], r], vec![])
-        })
-        .collect();
-    check(ctx, pair("grad_w_ij", "put2(i, 0u, grad_w_ij(a(i, 0u), a2(i, 1u), a(i, 3u)));", 2), &cases, tol, |c| {
-        let g = pair::grad_w_ij(c.args[0], v2(c, 1), c.args[3]);
-        mv(g, g).to_vec()
-    });
-    let grads = cases.clone();
-
-    // pressure_acc_ij(p_i, inv_s2_i, p_j, inv_s2_j, grad_w): p of either sign (cancellation).
-    let cases: Vec<Case<T>> = grads
-        .iter()
-        .map(|g| {
-            let g = pair::grad_w_ij(g.args[0], v2(g, 1), g.args[3]);
-            let p = |r: &mut Rng| r.signed_log::<T>(1e-2, 1e5);
-            let s = |r: &mut Rng| r.signed_log::<T>(1e2, 1e8).abs();
-            Case::new(vec![p(&mut rng), s(&mut rng), p(&mut rng), s(&mut rng), g.x, g.y], vec![])
-        })
-        .collect();
-    let body = "put2(i, 0u, pressure_acc_ij(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a2(i, 4u)));";
-    check(ctx, pair("pressure_acc_ij", body, 2), &cases, tol, |c| {
-        let [pi, si, pj, sj] = [0, 1, 2, 3].map(|k| c.args[k]);
-        let g = v2(c, 4);
-        mv(pair::pressure_acc_ij(pi, si, pj, sj, g), vabs(g) * ((pi * si).abs() + (pj * sj).abs())).to_vec()
-    });
-
-    // harmonic_viscosity(eta_i, eta_j): edges (0, 0) → 0 and (0, η).
-    let cases: Vec<Case<T>> = (0..N)
-        .map(|k| {
-            let e = |r: &mut Rng| r.signed_log::<T>(1e-6, 10.0).abs();
-            let (a, b) = (e(&mut rng), e(&mut rng));
-            Case::new(vec![if k < 2 { T::zero() } else { a }, if k == 0 { T::zero() } else { b }], vec![])
-        })
-        .collect();
-    check(ctx, pair("harmonic_viscosity", "put(i, 0u, harmonic_viscosity(a(i, 0u), a(i, 1u)));", 1), &cases, tol, |c| {
-        vec![m(pair::harmonic_viscosity(c.args[0], c.args[1]))]
-    });
-
-    // viscous_fac_ij(dwdr, r, h): r in [0, 3h], edge r = 0.
-    let cases: Vec<Case<T>> = (0..N)
-        .map(|k| {
-            let h = rng.signed_log::<f64>(1e-3, 1e-1).abs();
-            let r = if k == 0 { 0.0 } else { h * rng.range::<f64>(0.0, 3.0) };
-            Case::new(vec![-rng.signed_log::<T>(1e-2, 1e6).abs(), T::c(r), T::c(h)], vec![])
-        })
-        .collect();
-    check(ctx, pair("viscous_fac_ij", "put(i, 0u, viscous_fac_ij(a(i, 0u), a(i, 1u), a(i, 2u)));", 1), &cases, tol, |c| {
-        vec![m(pair::viscous_fac_ij(c.args[0], c.args[1], c.args[2]))]
-    });
-    let facs: Vec<T> = cases.iter().map(|c| pair::viscous_fac_ij(c.args[0], c.args[1], c.args[2])).collect();
-
-    // viscous_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij).
-    let cases: Vec<Case<T>> = facs
-        .iter()
-        .map(|&fac| {
-            let pos = |r: &mut Rng, lo, hi| r.signed_log::<T>(lo, hi).abs();
-            let v = rand_vec::<T>(&mut rng, 1e-4, 10.0);
-            Case::new(vec![pos(&mut rng, 1e-6, 1.0), pos(&mut rng, 1e2, 1e8), pos(&mut rng, 1e2, 1e8), fac, v[0], v[1]], vec![])
-        })
-        .collect();
-    let body = "put2(i, 0u, viscous_acc_ij(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a2(i, 4u)));";
-    check(ctx, pair("viscous_acc_ij", body, 2), &cases, tol, |c| {
-        let a = pair::viscous_acc_ij(c.args[0], c.args[1], c.args[2], c.args[3], v2(c, 4));
-        mv(a, a).to_vec()
-    });
-
-    // colour_gradient_ij(inv_s2_j, grad_w), surface_acc_ij(Π_i, s_i, Π_j, s_j, grad_w).
-    let cases: Vec<Case<T>> = grads
-        .iter()
-        .map(|g| {
-            let g = pair::grad_w_ij(g.args[0], v2(g, 1), g.args[3]);
-            let s = |r: &mut Rng| r.signed_log::<T>(1e2, 1e8).abs();
-            let pi = |r: &mut Rng| r.signed_log::<T>(1e-6, 1e2);
-            let a = vec![pi(&mut rng), pi(&mut rng), s(&mut rng), pi(&mut rng), pi(&mut rng), s(&mut rng), g.x, g.y];
-            Case::new(a, vec![])
-        })
-        .collect();
-    check(ctx, pair("colour_gradient_ij", "put2(i, 0u, colour_gradient_ij(a(i, 2u), a2(i, 6u)));", 2), &cases, tol, |c| {
-        let g = pair::colour_gradient_ij(c.args[2], v2(c, 6));
-        mv(g, g).to_vec()
-    });
-    let body = "put2(i, 0u, surface_acc_ij(Sym2(a(i, 0u), a(i, 1u)), a(i, 2u), Sym2(a(i, 3u), a(i, 4u)), a(i, 5u), a2(i, 6u)));";
-    check(ctx, pair("surface_acc_ij", body, 2), &cases, tol, |c| {
-        let a = |k: usize| c.args[k];
-        let (pi, pj) = (Sym2 { xx: a(0), xy: a(1) }, Sym2 { xx: a(3), xy: a(4) });
-        let g = v2(c, 6);
-        let xx = (pi.xx * a(2)).abs() + (pj.xx * a(5)).abs();
-        let xy = (pi.xy * a(2)).abs() + (pj.xy * a(5)).abs();
-        let mag = V2::new(xx * g.x.abs() + xy * g.y.abs(), xy * g.x.abs() + xx * g.y.abs());
-        mv(pair::surface_acc_ij(pi, a(2), pj, a(5), g), mag).to_vec()
-    });
-
-    // xsph_ij(m_j, rho_i, rho_j, v_ji, w): w = 0 edge.
-    let cases: Vec<Case<T>> = (0..N)
-        .map(|k| {
-            let pos = |r: &mut Rng, lo, hi| r.signed_log::<T>(lo, hi).abs();
-            let v = rand_vec::<T>(&mut rng, 1e-4, 10.0);
-            let w = if k == 0 { T::zero() } else { pos(&mut rng, 1e-3, 1e5) };
-            Case::new(vec![pos(&mut rng, 1e-6, 1.0), pos(&mut rng, 0.5, 2e3), pos(&mut rng, 0.5, 2e3), v[0], v[1], w], vec![])
-        })
-        .collect();
-    let body = "put2(i, 0u, xsph_ij(a(i, 0u), a(i, 1u), a(i, 2u), a2(i, 3u), a(i, 5u)));";
-    check(ctx, pair("xsph_ij", body, 2), &cases, tol, |c| {
-        let x = pair::xsph_ij(c.args[0], c.args[1], c.args[2], v2(c, 3), c.args[5]);
-        mv(x, x).to_vec()
-    });
-}
-
-// stress.wgsl, wall.wgsl, contact.wgsl and integrate.wgsl (kept apart to keep files short).
+// pair.wgsl, stress.wgsl, wall.wgsl, contact.wgsl and integrate.wgsl (kept apart to keep files short).
 #[path = "twins/geometry.rs"]
 mod geometry;
+#[path = "twins/pair.rs"]
+mod pair_checks;
 use geometry::{contact_twins, integrate_twins, stress_twins, wall_twins};
+use pair_checks::{pair_twins, rand_vec};

@@ -17,9 +17,16 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 
 /// Checks `bytes` against the device's storage binding and buffer limits.
 fn check_size(ctx: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
-    let limit = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+    let limit = ctx
+        .limits
+        .max_storage_buffer_binding_size
+        .min(ctx.limits.max_buffer_size);
     if bytes > limit {
-        return Err(GpuError::TooLarge { what: what.to_string(), bytes, limit });
+        return Err(GpuError::TooLarge {
+            what: what.to_string(),
+            bytes,
+            limit,
+        });
     }
     Ok(())
 }
@@ -43,7 +50,11 @@ impl<T: Pod> GpuVec<T> {
             usage: STORAGE,
             mapped_at_creation: false,
         });
-        Ok(Self { buffer, len, _t: PhantomData })
+        Ok(Self {
+            buffer,
+            len,
+            _t: PhantomData,
+        })
     }
 
     /// A buffer holding a copy of `data`.
@@ -71,7 +82,11 @@ impl<T: Pod> GpuVec<T> {
     /// Writes `data` (exactly `len` elements) through the queue.
     pub fn upload(&self, ctx: &GpuContext, data: &[T]) -> Result<(), GpuError> {
         if data.len() != self.len {
-            return Err(GpuError::Validation(format!("upload of {} elements into a GpuVec of {}", data.len(), self.len)));
+            return Err(GpuError::Validation(format!(
+                "upload of {} elements into a GpuVec of {}",
+                data.len(),
+                self.len
+            )));
         }
         let bytes: &[u8] = bytemuck::cast_slice(data);
         if bytes.len() % 4 != 0 {
@@ -115,7 +130,10 @@ impl<T: Pod> GpuVec<T> {
             .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         let out = {
-            let view = staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
+            let view = staging
+                .slice(..)
+                .get_mapped_range()
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
             bytemuck::pod_collect_to_vec(&view[..bytes as usize])
         };
         staging.unmap();
@@ -139,7 +157,10 @@ impl<T: Pod> Uniform<T> {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let u = Self { buffer, _t: PhantomData };
+        let u = Self {
+            buffer,
+            _t: PhantomData,
+        };
         u.write(ctx, value);
         u
     }

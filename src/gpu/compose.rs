@@ -37,7 +37,9 @@ pub static VARIANT_FILES: &[(&str, &str)] = &[(
 
 /// The source of a shared module by import name (`kernel`, `kernel.wgsl` or `shaders/kernel.wgsl`).
 pub fn shader_source(name: &str) -> Option<&'static str> {
-    let name = name.trim_start_matches("shaders/").trim_end_matches(".wgsl");
+    let name = name
+        .trim_start_matches("shaders/")
+        .trim_end_matches(".wgsl");
     SHADERS.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
 }
 
@@ -92,10 +94,21 @@ pub fn compose_variant_mapped(path: &str, defines: &[&str]) -> Result<Composed, 
 }
 
 /// Composes `entry_source` (named `file` in errors) and keeps the line origins.
-pub fn compose_mapped(file: &str, entry_source: &str, defines: &[&str]) -> Result<Composed, GpuError> {
-    let mut out = Composed { source: String::new(), origin: Vec::new() };
+pub fn compose_mapped(
+    file: &str,
+    entry_source: &str,
+    defines: &[&str],
+) -> Result<Composed, GpuError> {
+    let mut out = Composed {
+        source: String::new(),
+        origin: Vec::new(),
+    };
     let ty = if defines.contains(&F64) { "f64" } else { "f32" };
-    out.push("<prelude>", 1, "// sphlab composed WGSL; precision prelude:");
+    out.push(
+        "<prelude>",
+        1,
+        "// sphlab composed WGSL; precision prelude:",
+    );
     out.push("<prelude>", 2, &format!("alias real = {ty};"));
     out.push("<prelude>", 3, &format!("alias real2 = vec2<{ty}>;"));
     let mut seen = HashSet::new();
@@ -118,7 +131,11 @@ fn expand(
     seen: &mut HashSet<String>,
     out: &mut Composed,
 ) -> Result<(), GpuError> {
-    let err = |line: usize, msg: String| GpuError::ShaderCompose { file: file.to_string(), line, msg };
+    let err = |line: usize, msg: String| GpuError::ShaderCompose {
+        file: file.to_string(),
+        line,
+        msg,
+    };
     let mut stack: Vec<Cond> = Vec::new();
     for (k, text) in src.lines().enumerate() {
         let line = k + 1;
@@ -142,9 +159,14 @@ fn expand(
                     continue;
                 }
                 let name = name.trim_matches('"');
-                let key = name.trim_start_matches("shaders/").trim_end_matches(".wgsl");
+                let key = name
+                    .trim_start_matches("shaders/")
+                    .trim_end_matches(".wgsl");
                 let Some(body) = shader_source(key) else {
-                    return Err(err(line, format!("unknown import `{name}` (not in shaders/)")));
+                    return Err(err(
+                        line,
+                        format!("unknown import `{name}` (not in shaders/)"),
+                    ));
                 };
                 if seen.insert(key.to_string()) {
                     expand(&format!("shaders/{key}.wgsl"), body, defines, seen, out)?;
@@ -153,7 +175,12 @@ fn expand(
             ("ifdef" | "ifndef", Some(name)) => {
                 let set = defines.contains(&name);
                 let cond = if directive == "ifdef" { set } else { !set };
-                stack.push(Cond { line, keep: active && cond, parent_keep: active, in_else: false });
+                stack.push(Cond {
+                    line,
+                    keep: active && cond,
+                    parent_keep: active,
+                    in_else: false,
+                });
             }
             ("else", None) => match stack.last_mut() {
                 Some(c) if !c.in_else => {
@@ -168,7 +195,12 @@ fn expand(
                     return Err(err(line, "`#endif` without `#ifdef`".into()));
                 }
             }
-            _ => return Err(err(line, format!("unknown or malformed directive `{}`", trimmed.trim_end()))),
+            _ => {
+                return Err(err(
+                    line,
+                    format!("unknown or malformed directive `{}`", trimmed.trim_end()),
+                ))
+            }
         }
     }
     if let Some(c) = stack.last() {
@@ -183,11 +215,14 @@ pub fn validate(composed: &Composed) -> Result<wgpu::naga::Module, GpuError> {
     use wgpu::naga::{front::wgsl, valid};
     let src = &composed.source;
     let at = |loc: Option<wgpu::naga::SourceLocation>, msg: String| {
-        let (file, line) = loc.map_or(("<composed>".to_string(), 0), |l| composed.locate(l.line_number as usize));
+        let (file, line) = loc.map_or(("<composed>".to_string(), 0), |l| {
+            composed.locate(l.line_number as usize)
+        });
         GpuError::ShaderCompose { file, line, msg }
     };
     let module = wgsl::parse_str(src).map_err(|e| at(e.location(src), e.emit_to_string(src)))?;
     let mut v = valid::Validator::new(valid::ValidationFlags::all(), valid::Capabilities::all());
-    v.validate(&module).map_err(|e| at(e.location(src), e.emit_to_string(src)))?;
+    v.validate(&module)
+        .map_err(|e| at(e.location(src), e.emit_to_string(src)))?;
     Ok(module)
 }

@@ -43,7 +43,8 @@ impl GpuContext {
     }
 
     async fn new_async() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = instance
             .request_adapter(&wgpu::RequestAdapterOptions {
                 power_preference: wgpu::PowerPreference::HighPerformance,
@@ -73,13 +74,22 @@ impl GpuContext {
             })
             .await
             .map_err(|e| GpuError::NoAdapter(format!("request_device: {e}")))?;
-        Ok(Self { adapter_info: adapter.get_info(), features: device.features(), limits: device.limits(), device, queue })
+        Ok(Self {
+            adapter_info: adapter.get_info(),
+            features: device.features(),
+            limits: device.limits(),
+            device,
+            queue,
+        })
     }
 
     /// One line: "name (backend, device type, driver, driver_info)".
     pub fn describe(&self) -> String {
         let i = &self.adapter_info;
-        format!("{} ({:?}, {:?}, {}, {})", i.name, i.backend, i.device_type, i.driver, i.driver_info)
+        format!(
+            "{} ({:?}, {:?}, {}, {})",
+            i.name, i.backend, i.device_type, i.driver, i.driver_info
+        )
     }
 
     /// True when the device has every feature in `f`.
@@ -115,7 +125,12 @@ impl GpuContext {
     }
 
     /// Builds a compute pipeline (auto layout) from flat WGSL; a bad shader is an `Err`.
-    pub fn compute_pipeline(&self, label: &str, wgsl: &str, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+    pub fn compute_pipeline(
+        &self,
+        label: &str,
+        wgsl: &str,
+        entry: &str,
+    ) -> Result<wgpu::ComputePipeline, GpuError> {
         self.scoped(|d| {
             let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
@@ -133,11 +148,18 @@ impl GpuContext {
     }
 
     /// Builds a bind group for group 0 of `pipeline` from buffers bound in order 0, 1, 2, …
-    pub fn bind_group(&self, pipeline: &wgpu::ComputePipeline, buffers: &[&wgpu::Buffer]) -> Result<wgpu::BindGroup, GpuError> {
+    pub fn bind_group(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        buffers: &[&wgpu::Buffer],
+    ) -> Result<wgpu::BindGroup, GpuError> {
         let entries: Vec<_> = buffers
             .iter()
             .enumerate()
-            .map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() })
+            .map(|(k, b)| wgpu::BindGroupEntry {
+                binding: k as u32,
+                resource: b.as_entire_binding(),
+            })
             .collect();
         self.scoped(|d| {
             d.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -149,7 +171,12 @@ impl GpuContext {
     }
 
     /// Records and submits one dispatch of `groups` workgroups (x) and waits for it.
-    pub fn dispatch(&self, pipeline: &wgpu::ComputePipeline, bind_group: &wgpu::BindGroup, groups: u32) -> Result<(), GpuError> {
+    pub fn dispatch(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        bind_group: &wgpu::BindGroup,
+        groups: u32,
+    ) -> Result<(), GpuError> {
         let mut enc = self.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
