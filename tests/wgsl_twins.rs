@@ -94,10 +94,11 @@ fn with_gpu<T: Real>(f: fn(&GpuContext)) {
     let _guard = serial();
     let Some(ctx) = gpu_or_skip() else { return };
     if is64::<T>() && !ctx.has(wgpu::Features::SHADER_F64) {
-        eprintln!(
-            "!!!!!!!! SKIP f64 twins: adapter lacks SHADER_F64 ({}) !!!!!!!!",
+        let msg = format!(
+            "\n!!!!!!!! SKIP f64 twins: adapter lacks SHADER_F64 ({}) !!!!!!!!\n",
             ctx.describe()
         );
+        let _ = std::io::Write::write_all(&mut std::io::stderr(), msg.as_bytes()); // not captured
         return;
     }
     f(&ctx);

@@ -31,7 +31,13 @@ pub fn gpu_or_skip() -> Option<GpuContext> {
             panic!("[{test}] a GPU is required (SPHLAB_REQUIRE_GPU=1 or CI=true) but: {e}")
         }
         Err(e) => {
-            eprintln!("\n!!!!!!!! SKIP [{test}]: no GPU adapter ({e}). Set SPHLAB_REQUIRE_GPU=1 to make this a failure. !!!!!!!!\n");
+            // Written to the stderr handle directly: the test harness captures `eprintln!`,
+            // and a skip must be visible in a plain `cargo test` run.
+            let msg = format!(
+                "\n!!!!!!!! SKIP [{test}]: no GPU adapter ({e}). \
+                 Set SPHLAB_REQUIRE_GPU=1 to make this a failure. !!!!!!!!\n"
+            );
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), msg.as_bytes());
             None
         }
     }
