@@ -89,7 +89,7 @@ impl<T: Pod> GpuVec<T> {
             )));
         }
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        if bytes.len() % 4 != 0 {
+        if !bytes.len().is_multiple_of(4) {
             // write_buffer needs a multiple of 4 bytes: pad the tail.
             let mut padded = bytes.to_vec();
             padded.resize(bytes.len().next_multiple_of(4), 0);
