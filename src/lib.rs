@@ -19,6 +19,7 @@ pub mod backend;
 pub mod cpu;
 pub mod diagnostics;
 pub mod exec;
+pub mod gpu;
 pub mod model;
 pub mod neighbours;
 pub mod output;

@@ -1,0 +1,48 @@
+//! The wgpu backend: headless device ([`context`]), WGSL composition ([`compose`]) and typed
+//! buffers ([`buffers`]). The GPU physics itself lives in `shaders/*.wgsl` (twins of
+//! [`crate::physics`], tested in `tests/wgsl_twins.rs`); the solver stages come later.
+
+pub mod buffers;
+pub mod compose;
+pub mod context;
+
+pub use buffers::{GpuVec, Uniform};
+pub use compose::{compose, compose_variant, Composed};
+pub use context::{gpu_required, GpuContext};
+
+/// Everything that can go wrong on the GPU side.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter (no GPU and no software Vulkan such as lavapipe).
+    #[error("no GPU adapter: {0}")]
+    NoAdapter(String),
+    /// The adapter lacks a feature that this operation needs.
+    #[error("adapter lacks the feature {0}")]
+    MissingFeature(&'static str),
+    /// A composition or naga error, located in the original file.
+    #[error("{file}:{line}: {msg}")]
+    ShaderCompose {
+        /// File that holds the faulty line (`shaders/…`, `kernels-variants/…`, `<entry>`).
+        file: String,
+        /// 1-based line in that file (0 when unknown).
+        line: usize,
+        /// What is wrong.
+        msg: String,
+    },
+    /// A wgpu validation error caught by an error scope.
+    #[error("wgpu validation: {0}")]
+    Validation(String),
+    /// Mapping or copying a buffer back failed.
+    #[error("readback: {0}")]
+    Readback(String),
+    /// A buffer would exceed a device limit.
+    #[error("{what}: {bytes} bytes exceeds the device limit of {limit} bytes")]
+    TooLarge {
+        /// What was being allocated.
+        what: String,
+        /// Requested size.
+        bytes: u64,
+        /// The limit it exceeds.
+        limit: u64,
+    },
+}
