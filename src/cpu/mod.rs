@@ -66,6 +66,7 @@ pub struct CpuSolver<T: Real> {
     /// Record per-stage times.
     pub profile: bool,
     have_acc: bool,
+    evaluated: bool,
 }
 
 impl<T: Real> CpuSolver<T> {
@@ -90,6 +91,7 @@ impl<T: Real> CpuSolver<T> {
             clock: StageClock::default(),
             profile: false,
             have_acc: false,
+            evaluated: false,
         };
         let mut f = std::mem::take(&mut s.f);
         assign_colours(&s.ctx(), &mut f);
@@ -111,6 +113,7 @@ impl<T: Real> CpuSolver<T> {
 
     /// One force evaluation at the current positions and velocities: every active stage.
     pub fn evaluate(&mut self) -> Result<(), SolverError> {
+        self.evaluated = true;
         let t0 = Instant::now();
         self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support());
         if self.profile {
@@ -294,6 +297,10 @@ impl<T: Real> Backend for CpuSolver<T> {
         self.step
     }
     fn frame(&mut self) -> Frame {
+        if !self.evaluated {
+            // The fields of the initial state, so that the t = 0 row is measured, not zeros.
+            let _ = self.evaluate();
+        }
         let v2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
         let f = &self.f;
         Frame {
@@ -322,5 +329,6 @@ impl<T: Real> Backend for CpuSolver<T> {
         self.t = 0.0;
         self.step = 0;
         self.have_acc = false;
+        self.evaluated = false;
     }
 }
