@@ -210,7 +210,9 @@ fn tracking_after_displacements_equals_direct() {
     let skin = r * 0.25; // TrackingCfg::default().skin_ratio
     for bc in [Bc::None, Bc::MirrorLow, Bc::Periodic, Bc::Mixed] {
         let im = images::<f64>(bc, l);
-        for (label, amp, expect_rebuild) in [("below skin/2", 0.03 * skin, false), ("above skin/2", 0.4 * skin, true)] {
+        // (label, per-step amplitude per component, expected rebuild range over 10 updates)
+        let cases = [("below skin/2", 0.03 * skin, 1..=1), ("crossing skin/2 now and then", 0.1 * skin, 2..=9), ("above skin/2", 0.4 * skin, 10..=10)];
+        for (label, amp, expect) in cases {
             let mut rng = Lcg::new(99);
             let mut pos = random_cloud::<f64>(1013, l, 41);
             let mut tr = Search::<f64>::new(SearchKind::Tracking);
@@ -232,12 +234,9 @@ fn tracking_after_displacements_equals_direct() {
                 }
             }
             println!("{bc:?} {label}: {} rebuilds in 10 updates", tr.rebuilds);
-            if expect_rebuild {
-                assert!(tr.rebuilds > 1, "{bc:?} {label}: expected rebuilds, got {}", tr.rebuilds);
-            } else {
-                // 10 steps of ≤ 0.03·skin per component stay below skin/2 (|d| ≤ 0.42 skin)
-                assert_eq!(tr.rebuilds, 1, "{bc:?} {label}: candidates were rebuilt although nothing moved skin/2");
-            }
+            // 10 steps of ≤ 0.03·skin per component stay below skin/2 (|d| ≤ 0.42 skin): no
+            // rebuild after the first; 0.4·skin per step crosses skin/2 every step
+            assert!(expect.contains(&tr.rebuilds), "{bc:?} {label}: {} rebuilds, expected {expect:?}", tr.rebuilds);
         }
     }
 }
