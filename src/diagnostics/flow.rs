@@ -210,7 +210,7 @@ pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
             }
         }
         if peaks.len() < 2 {
-            return None;
+            return first_cycle(t, x);
         }
         let iv: Vec<f64> = peaks.windows(2).map(|w| w[1].0 - w[0].0).collect();
         let mut sorted = iv.clone();
@@ -325,4 +325,37 @@ fn upward_crossings(t: &[f64], x: &[f64], mean: f64, h: f64) -> Vec<(f64, usize)
         }
     }
     out
+}
+
+/// Fallback of [`oscillation`] for a strongly damped record whose later maxima stay below the
+/// record mean (a drop that settles within two cycles): on a lightly smoothed signal, the first
+/// local maximum (max over ±5 % of the record), the minimum after it and the next local maximum.
+/// Period = time between the two maxima; amplitude = ½(first max − min).
+pub fn first_cycle(t: &[f64], x: &[f64]) -> Option<Oscillation> {
+    let n = t.len().min(x.len());
+    if n < 20 {
+        return None;
+    }
+    let smooth: Vec<f64> = (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(2), (i + 2).min(n - 1));
+            x[a..=b].iter().sum::<f64>() / (b - a + 1) as f64
+        })
+        .collect();
+    let w = (n / 20).max(2);
+    let is_peak = |k: usize| {
+        let (a, b) = (k.saturating_sub(w), (k + w).min(n - 1));
+        k > 0 && k < n - 1 && (a..=b).all(|j| smooth[j] <= smooth[k]) && smooth[k] > smooth[a].min(smooth[b])
+    };
+    let k1 = (1..n - 1).find(|&k| is_peak(k))?;
+    let k2 = (k1 + w..n - 1).find(|&k| is_peak(k))?;
+    let kmin = (k1..=k2).min_by(|&a, &b| smooth[a].total_cmp(&smooth[b]))?;
+    let amp = 0.5 * (smooth[k1] - smooth[kmin]);
+    Some(Oscillation {
+        period: t[k2] - t[k1],
+        amplitude: amp,
+        amplitude_first_cycle: amp,
+        mean: smooth[k1..=k2].iter().sum::<f64>() / (k2 - k1 + 1) as f64,
+        n_cycles: 1,
+    })
 }

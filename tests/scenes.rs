@@ -1,0 +1,120 @@
+//! The built-in scenes against their reference answers (issue: the CPU reference), run through
+//! the same library entry point as `sphlab run`: the oscillating drop's centroid period and
+//! amplitude against the thesis (0.37, 0.012) and the analytic mode-2 estimate, Mode B holding
+//! 90° on `sessile-90`, `relax-60` moving towards 60°, and Poiseuille flow against its series
+//! solution. Each prints what it measured.
+
+use sphlab::diagnostics::analytic_flows::{drop_mode2_period, poiseuille_velocity};
+use sphlab::diagnostics::flow::oscillation;
+use sphlab::run::{run, RunOptions};
+use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use std::path::Path;
+
+fn scene(name: &str, sets: &[&str]) -> Scene {
+    let s: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    apply_overrides(&builtin(name).expect("built-in"), &s).expect("valid overrides")
+}
+
+fn column(dir: &Path, name: &str) -> Vec<f64> {
+    let mut r = csv::Reader::from_path(dir.join("series.csv")).expect("series.csv");
+    let idx = r.headers().expect("header").iter().position(|h| h == name).expect("column");
+    r.records().map(|rec| rec.expect("row").get(idx).and_then(|v| v.parse().ok()).unwrap_or(f64::NAN)).collect()
+}
+
+fn run_to(dir: &Path, scene: &Scene, t_end: Option<f64>) {
+    let opts = RunOptions { out: dir.to_path_buf(), t_end, every: 0, ..RunOptions::default() };
+    run(scene, &opts).expect("the run completes");
+}
+
+#[test]
+fn oscillating_drop_period_and_amplitude() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = scene("oscillating-drop", &["output.every=10"]);
+    run_to(dir.path(), &s, None);
+    let (t, x) = (column(dir.path(), "t"), column(dir.path(), "centroid_x"));
+    let osc = oscillation(&t, &x).expect("an oscillation is found");
+    let t_inviscid = drop_mode2_period(1.0, 1.0, 1.0, 0.1875);
+    println!(
+        "oscillating-drop: period {:.4} (thesis 0.37, inviscid {:.4}), first-cycle amplitude {:.5} (thesis 0.012), mean {:.5} (4R/3π = 0.0796)",
+        osc.period, t_inviscid, osc.amplitude_first_cycle, osc.mean
+    );
+    // PHYSICS.md §9a: SPH is expected in [0.30, 0.37]; the thesis's 0.37 is ~25 % above inviscid
+    // theory. We accept [0.29, 0.40]: above the inviscid bound (viscosity lengthens the period).
+    assert!(osc.period > t_inviscid && osc.period < 0.40, "period {} outside ({t_inviscid}, 0.40)", osc.period);
+    // Thesis 0.012, literature 0.012–0.015; this resolution (98 drop particles) and p_b = B give less.
+    assert!(
+        osc.amplitude_first_cycle > 0.006 && osc.amplitude_first_cycle < 0.016,
+        "amplitude {} outside [0.006, 0.016]",
+        osc.amplitude_first_cycle
+    );
+    assert!((osc.mean - 0.0796).abs() < 0.004, "centroid mean {} far from 4R/3π", osc.mean);
+    let m = column(dir.path(), "mass_phase0");
+    assert!(m.iter().all(|&v| v == m[0]), "liquid mass is conserved exactly");
+}
+
+#[test]
+fn sessile_90_mode_b_holds_ninety_degrees() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = scene("sessile-90", &["output.every=500"]);
+    run_to(dir.path(), &s, Some(0.35));
+    let circle = column(dir.path(), "theta_circle_fit");
+    let area = column(dir.path(), "theta_area");
+    println!("sessile-90 Mode B circle-fit angles: {circle:?}\narea-inversion angles: {area:?}");
+    for (i, (&c, &a)) in circle.iter().zip(&area).enumerate() {
+        assert!((c - 90.0).abs() < 3.0, "row {i}: circle-fit angle {c} more than 3° from 90°");
+        assert!((a - 90.0).abs() < 4.0, "row {i}: area-inversion angle {a} more than 4° from 90°");
+    }
+}
+
+#[test]
+fn relax_60_moves_towards_sixty_degrees() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = scene("relax-60", &["output.every=500"]);
+    run_to(dir.path(), &s, Some(0.35));
+    let circle = column(dir.path(), "theta_circle_fit");
+    let spread = column(dir.path(), "spread_factor");
+    let (c0, c1) = (circle[0], *circle.last().expect("rows"));
+    let (d0, d1) = (spread[0], *spread.last().expect("rows"));
+    println!("relax-60 Mode B: angle {c0:.2} → {c1:.2}, D/D0 {d0:.4} → {d1:.4} (equilibrium 1.385)");
+    assert!(c1 < c0 - 5.0, "the angle must fall from 90° towards 60°: {c0} → {c1}");
+    assert!(c1 > 55.0, "no overshoot below 55° this early: {c1}");
+    assert!(d1 > d0 + 0.03, "the drop spreads: D/D0 {d0} → {d1}");
+}
+
+/// Max |u_SPH − u_analytic| / u_max over the fluid particles of the final snapshot.
+fn poiseuille_error(dir: &Path, sets: &[&str]) -> f64 {
+    let s = scene("poiseuille", sets);
+    run_to(dir, &s, None);
+    let snap = std::fs::read_dir(dir)
+        .expect("dir")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("particles_")))
+        .max()
+        .expect("a snapshot");
+    let mut r = csv::Reader::from_path(snap).expect("csv");
+    let (nu, g, h) = (1.0, 8.0, 1.0);
+    let mut err: f64 = 0.0;
+    for rec in r.records() {
+        let rec = rec.expect("row");
+        if rec.get(7) == Some("-1") {
+            continue;
+        }
+        let y: f64 = rec[2].parse().expect("y");
+        let u: f64 = rec[3].parse().expect("vx");
+        err = err.max((u - poiseuille_velocity(y, 1.0, h, nu, g)).abs());
+    }
+    err / (g * h * h / (8.0 * nu))
+}
+
+#[test]
+fn poiseuille_matches_the_series_solution() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let e8 = poiseuille_error(&dir.path().join("a"), &[]);
+    let e16 = poiseuille_error(&dir.path().join("b"), &["domain.nx=16"]);
+    let free = poiseuille_error(&dir.path().join("c"), &["domain.nx=16", "walls.beta_max=1000"]);
+    println!("Poiseuille max error / u_max at t = 1: Δx = 0.05: {e8:.4}, Δx = 0.025: {e16:.4}, uncapped β: {free:.4}");
+    // The Morris cap β ≤ 1.5 (thesis) lets the first row slip by O(Δx): 4.6 % at Δx = 0.05.
+    assert!(e8 < 0.06, "Δx = 0.05 error {e8}");
+    assert!(e16 < 0.7 * e8, "the error falls with resolution: {e8} → {e16}");
+    assert!(free < 0.012, "without the cap the ghost velocity is exact no-slip: {free}");
+}
