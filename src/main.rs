@@ -35,6 +35,7 @@ enum Cmd {
 #[derive(Args)]
 struct RunArgs {
     /// Built-in scene name (see `sphlab scene list`) or a scene TOML file.
+    #[arg(default_value = "oscillating-drop")]
     scene: String,
     /// cpu (all cores), cpu1 (one thread) or gpu.
     #[arg(long, default_value = "cpu")]
