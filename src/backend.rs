@@ -101,4 +101,6 @@ pub trait Backend {
     fn frame(&mut self) -> Frame;
     /// Replaces the fluid velocities (relaxation end) and resets time and step to zero.
     fn restart_with_velocities(&mut self, vel: &[[f64; 2]]);
+    /// Waits until all submitted work is done (GPU); a no-op on the CPU.
+    fn sync(&mut self) {}
 }

@@ -1,0 +1,91 @@
+//! Criterion bench of a full time step (STUDY.md §4, Fig. 6.3/6.9 style): every supported GPU
+//! variant and the CPU reference (one thread and all threads, f64 and f32) on the same scene
+//! (`oscillating-drop` after relaxation is skipped: the drop at rest with its initial velocity
+//! field) at a few sizes, in one group `step` with `BenchmarkId::new(backend, n)` and throughput
+//! in particles. GPU time is wall clock over `iters` steps followed by a device sync.
+//!
+//! `SPHLAB_BENCH_SIZES=30,60` picks the resolutions (particles across the quarter box);
+//! `SPHLAB_BENCH_VARIANTS=cells.thread.recomputed.f32,...` restricts the GPU variants (`none`
+//! skips the GPU). `cargo bench --bench step -- --test` runs each case once (smoke test).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use sphlab::backend::Backend;
+use sphlab::run::{make_backend, RunOptions};
+use sphlab::scene::build::build_layout;
+use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use std::time::{Duration, Instant};
+
+fn scene(nx: u32) -> Scene {
+    let sets = [format!("domain.nx={nx}"), "relax.t=0".to_string(), format!("time.dt={}", 1e-4 * 30.0 / nx as f64)];
+    apply_overrides(&builtin("oscillating-drop").expect("built-in"), &sets).expect("valid")
+}
+
+fn sizes() -> Vec<u32> {
+    std::env::var("SPHLAB_BENCH_SIZES")
+        .ok()
+        .map(|s| s.split(',').filter_map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![30, 60, 120])
+}
+
+/// (label, options) of every backend to time.
+fn backends() -> Vec<(String, RunOptions)> {
+    let mut v = Vec::new();
+    for backend in ["cpu1", "cpu"] {
+        for precision in ["f64", "f32"] {
+            let o = RunOptions { backend: backend.into(), precision: precision.into(), ..RunOptions::default() };
+            v.push((format!("{backend}.{precision}"), o));
+        }
+    }
+    let only = std::env::var("SPHLAB_BENCH_VARIANTS").ok();
+    if only.as_deref() == Some("none") {
+        return v;
+    }
+    for id in sphlab::gpu::variant::VariantSpec::all().iter().map(|s| s.to_string()) {
+        if only.as_ref().is_some_and(|o| !o.split(',').any(|x| x == id)) {
+            continue;
+        }
+        let o = RunOptions { backend: "gpu".into(), variant: Some(id.clone()), ..RunOptions::default() };
+        v.push((id, o));
+    }
+    v
+}
+
+fn bench_step(c: &mut Criterion) {
+    let mut group = c.benchmark_group("step");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    for nx in sizes() {
+        let s = scene(nx);
+        let layout = build_layout(&s).expect("layout");
+        let n = layout.pos.len() as u64;
+        group.throughput(Throughput::Elements(n));
+        for (label, opts) in backends() {
+            let mut b: Box<dyn Backend> = match make_backend(&s, &layout, &opts) {
+                Ok(b) => b,
+                Err(e) => {
+                    eprintln!("step/{label}/{n}: skipped: {e}");
+                    continue;
+                }
+            };
+            // Warm the pipelines and the neighbour structures.
+            if let Err(e) = b.step() {
+                eprintln!("step/{label}/{n}: skipped, first step failed: {e}");
+                continue;
+            }
+            b.sync();
+            group.bench_with_input(BenchmarkId::new(&label, n), &n, |bench, _| {
+                bench.iter_custom(|iters| {
+                    let t = Instant::now();
+                    for _ in 0..iters {
+                        b.step().expect("step");
+                    }
+                    b.sync();
+                    t.elapsed()
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_step);
+criterion_main!(benches);
