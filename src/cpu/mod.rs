@@ -166,6 +166,50 @@ impl<T: Real> CpuSolver<T> {
         Ok(())
     }
 
+    /// One force evaluation that also returns the fields after every stage, in order (for the
+    /// per-stage GPU check: stage k's inputs are the fields after stage k − 1).
+    pub fn evaluate_stagewise(&mut self) -> Result<Vec<(&'static str, Fields<T>)>, SolverError> {
+        self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support());
+        self.evaluated = true;
+        let mut f = std::mem::take(&mut self.f);
+        let mut out = vec![("neighbour_search", f.clone())];
+        {
+            let c = self.ctx();
+            let st = self.model.stages;
+            let mut list: Vec<(&'static str, fn(&Ctx<T>, &mut Fields<T>))> = vec![("number_density", number_density)];
+            if st.contact_line {
+                list.push(("contact_line", contact_line));
+            }
+            if st.wall_typing {
+                list.push(("wall_typing", wall_typing));
+            }
+            list.push(("equation_of_state", equation_of_state));
+            if st.wall_pressure {
+                list.push(("wall_pressure", wall_pressure));
+            }
+            if st.surface_tension {
+                list.push(("colour_gradient", colour_gradient));
+                if st.normal_correction {
+                    list.push(("normal_correction", normal_correction));
+                }
+                list.push(("surface_stress", surface_stress));
+            }
+            list.push(("acceleration", acceleration));
+            if st.xsph {
+                list.push(("xsph", xsph));
+            }
+            for (name, stage) in list {
+                stage(&c, &mut f);
+                out.push((name, f.clone()));
+            }
+        }
+        if !self.model.stages.xsph {
+            f.vt[..self.n_fluid].copy_from_slice(&self.vel[..self.n_fluid]);
+        }
+        self.f = f;
+        Ok(out)
+    }
+
     /// The dt of the next step: fixed, or the minimum of the limits at the current state.
     pub fn next_dt(&self) -> f64 {
         if self.model.dt_fixed > 0.0 {

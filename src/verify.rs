@@ -1,0 +1,259 @@
+//! `sphlab verify`: judges every GPU variant against the CPU reference of the same precision.
+//!
+//! 1. **One force evaluation** on the scene's initial state (velocity field applied, no
+//!    relaxation): per field (σ, ρ, p, ∇C, Π, acceleration) the max error relative to the field's
+//!    largest magnitude and the relative L2 error, against [`TOLERANCES`]; contact points too.
+//! 2. **After N steps**: the scene's observables (liquid kinetic energy, centroid, contact angle,
+//!    spread factor) against the CPU run, and the exact invariants (particle count, mass per phase).
+//! 3. **Per stage** (`--per-stage`): each GPU stage alone on the CPU's inputs for that stage
+//!    (`GpuSolver::run_stage_from`, outputs poisoned first), to pinpoint a disagreeing stage.
+
+use crate::backend::{Backend, Frame};
+use crate::cpu::stages::Fields;
+use crate::cpu::CpuSolver;
+use crate::exec::Exec;
+use crate::gpu::solver::GpuSolver;
+use crate::gpu::variant::{Precision, VariantSpec};
+use crate::gpu::GpuContext;
+use crate::neighbours::SearchKind;
+use crate::real::{Real, V2};
+use crate::run::{initial_velocities, measure};
+use crate::scene::build::{build_layout, Layout};
+use crate::scene::Scene;
+use serde::Serialize;
+use std::sync::Arc;
+
+/// Per-field tolerances `(field, max relative, relative L2)` for one evaluation, in one place.
+/// Both sides run the same formulas in the same precision; they differ only in summation order
+/// (GPU cell order vs the CPU's sorted lists), fused multiply-adds and WGSL's 2.5-ulp division
+/// and square root. σ and ρ are sums of positive terms (error ~ a few ulp: 1e-6 rel-L2). p
+/// inherits ρ's error times γ·B/p (γ = 7): 1e-5. ∇C, Π and the acceleration are sums of ~30
+/// terms of both signs that cancel to a small fraction of their size (the pressure term with
+/// p_b = B cancels to ~1e-3), so the reordering error of the large terms shows at 1e-4–1e-3 of the
+/// result's scale.
+pub const TOLERANCES: &[(&str, f64, f64)] = &[
+    ("sigma", 1e-5, 1e-6),
+    ("rho", 1e-5, 1e-6),
+    ("p", 1e-4, 1e-5),
+    ("grad_c", 1e-3, 1e-4),
+    ("pi", 1e-3, 1e-4),
+    ("acc", 5e-3, 5e-4),
+];
+
+/// Observable tolerances after N steps: `(name, tolerance, unit)`. Trajectories of two summation
+/// orders drift apart slowly; over 50 steps the observables agree far below these bounds.
+pub const OBS_TOLERANCES: &[(&str, f64, &str)] = &[
+    ("kinetic_energy", 1e-2, "relative"),
+    ("centroid_x", 1e-3, "Δx"),
+    ("centroid_y", 1e-3, "Δx"),
+    ("theta_circle_fit", 0.5, "degrees"),
+    ("spread_factor", 5e-3, "absolute"),
+];
+
+/// One compared quantity.
+#[derive(Clone, Debug, Serialize)]
+pub struct Check {
+    /// field, contacts, observable, invariant or stage.
+    pub kind: String,
+    /// Field or observable name (stage checks: `stage:field`).
+    pub name: String,
+    /// Max error relative to the field scale (fields) or the difference (observables).
+    pub max_rel: f64,
+    /// Relative L2 error (fields); NaN otherwise.
+    pub rel_l2: f64,
+    /// The tolerance on `max_rel`.
+    pub tolerance: f64,
+    /// Passed.
+    pub pass: bool,
+}
+
+/// The verdict on one variant.
+#[derive(Clone, Debug, Serialize)]
+pub struct VariantReport {
+    /// Variant id.
+    pub variant: String,
+    /// pass, FAIL, unsupported or error.
+    pub status: String,
+    /// Why unsupported / what failed.
+    pub reason: String,
+    /// Every check.
+    pub checks: Vec<Check>,
+}
+
+/// Max relative (to the reference's largest magnitude) and relative L2 errors of two vectors.
+pub fn field_error(gpu: &[f64], cpu: &[f64]) -> (f64, f64) {
+    let scale = cpu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let (mut dmax, mut d2, mut r2) = (0.0f64, 0.0, 0.0);
+    for (a, b) in gpu.iter().zip(cpu) {
+        let d = a - b;
+        if !d.is_finite() {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        dmax = dmax.max(d.abs());
+        d2 += d * d;
+        r2 += b * b;
+    }
+    if gpu.len() != cpu.len() {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    if scale == 0.0 {
+        return if dmax == 0.0 { (0.0, 0.0) } else { (f64::INFINITY, f64::INFINITY) };
+    }
+    (dmax / scale, (d2 / r2).sqrt())
+}
+
+fn flat<T: Real>(f: &Fields<T>, name: &str, n_fluid: usize) -> Vec<f64> {
+    let v2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
+    match name {
+        "sigma" => f.sigma.iter().map(|x| x.f64()).collect(),
+        "rho" => f.rho.iter().map(|x| x.f64()).collect(),
+        "p" => f.p.iter().map(|x| x.f64()).collect(),
+        "grad_c" => f.grad.iter().flat_map(|g| v2(&g[0]).into_iter().chain(v2(&g[1]))).collect(),
+        "pi" => f.pi.iter().flat_map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
+        "acc" => f.acc[..n_fluid].iter().flat_map(v2).collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Compares every field of one evaluation (and the contact points).
+pub fn compare_fields<T: Real>(kind: &str, prefix: &str, gpu: &Fields<T>, cpu: &Fields<T>, n_fluid: usize, only: Option<&[&str]>) -> Vec<Check> {
+    let mut out = Vec::new();
+    for &(name, tmax, tl2) in TOLERANCES {
+        if only.is_some_and(|o| !o.contains(&name)) {
+            continue;
+        }
+        let (m, l2) = field_error(&flat(gpu, name, n_fluid), &flat(cpu, name, n_fluid));
+        out.push(Check { kind: kind.into(), name: format!("{prefix}{name}"), max_rel: m, rel_l2: l2, tolerance: tmax, pass: m <= tmax && l2 <= tl2 });
+    }
+    if only.is_none_or(|o| o.contains(&"contacts")) {
+        let same_count = gpu.contacts.len() == cpu.contacts.len();
+        let worst = gpu
+            .contacts
+            .iter()
+            .zip(&cpu.contacts)
+            .map(|(a, b)| ((a.r - b.r).norm() / (b.r.norm() + T::c(1e-30))).f64() + (a.s - b.s).abs().f64())
+            .fold(if same_count { 0.0 } else { f64::INFINITY }, f64::max);
+        out.push(Check { kind: kind.into(), name: format!("{prefix}contacts"), max_rel: worst, rel_l2: f64::NAN, tolerance: 1e-5, pass: worst <= 1e-5 });
+    }
+    out
+}
+
+fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
+    let (rg, rc) = (measure(scene, g), measure(scene, c));
+    let dx = scene.domain.dx();
+    let mut out = Vec::new();
+    for &(name, tol, _) in OBS_TOLERANCES {
+        let (a, b) = match name {
+            "kinetic_energy" => (Some(rg.kinetic_energy), Some(rc.kinetic_energy)),
+            "centroid_x" => (Some(rg.centroid_x), Some(rc.centroid_x)),
+            "centroid_y" => (Some(rg.centroid_y), Some(rc.centroid_y)),
+            "theta_circle_fit" => (rg.theta_circle_fit, rc.theta_circle_fit),
+            _ => (rg.spread_factor, rc.spread_factor),
+        };
+        let (Some(a), Some(b)) = (a, b) else { continue };
+        if !(b.is_finite()) {
+            continue;
+        }
+        let d = match name {
+            "kinetic_energy" => (a - b).abs() / b.abs().max(1e-300),
+            "centroid_x" | "centroid_y" => (a - b).abs() / dx,
+            _ => (a - b).abs(),
+        };
+        out.push(Check { kind: "observable".into(), name: name.into(), max_rel: d, rel_l2: f64::NAN, tolerance: tol, pass: d <= tol });
+    }
+    let count = (g.pos.len() == c.pos.len() && g.n_fluid == c.n_fluid) as u8 as f64;
+    out.push(Check { kind: "invariant".into(), name: "particle_count".into(), max_rel: 1.0 - count, rel_l2: f64::NAN, tolerance: 0.0, pass: count == 1.0 });
+    for (k, (a, b)) in [(rg.mass_phase0, rc.mass_phase0), (rg.mass_phase1, rc.mass_phase1)].into_iter().enumerate() {
+        out.push(Check { kind: "invariant".into(), name: format!("mass_phase{k}"), max_rel: (a - b).abs(), rel_l2: f64::NAN, tolerance: 0.0, pass: a == b });
+    }
+    out
+}
+
+fn verify_typed<T: Real>(ctx: &Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec, steps: u64, per_stage: bool) -> Result<Vec<Check>, String> {
+    let vel0 = initial_velocities(scene, layout, None);
+    let mut cpu = CpuSolver::<T>::new(scene, layout, Exec::Parallel, SearchKind::Cells);
+    cpu.restart_with_velocities(&vel0);
+    let mut gpu = GpuSolver::<T>::new(ctx.clone(), scene, layout, spec).map_err(|e| e.to_string())?;
+    gpu.restart_with_velocities(&vel0);
+    let nf = layout.n_fluid;
+    let stagewise = cpu.evaluate_stagewise().map_err(|e| e.to_string())?;
+    gpu.evaluate_once().map_err(|e| e.to_string())?;
+    let gf = gpu.read_fields().map_err(|e| e.to_string())?;
+    let mut checks = compare_fields("field", "", &gf, &cpu.f, nf, None);
+    if per_stage {
+        let (pos, vel) = (cpu.pos.clone(), cpu.vel.clone());
+        for w in stagewise.windows(2) {
+            let ((_, before), (stage, after)) = (&w[0], &w[1]);
+            let outputs: &[&str] = match *stage {
+                "number_density" => &["sigma"],
+                "equation_of_state" | "wall_pressure" => &["rho", "p"],
+                "colour_gradient" | "normal_correction" => &["grad_c"],
+                "surface_stress" => &["pi"],
+                "acceleration" => &["acc"],
+                "contact_line" => &["contacts"],
+                _ => &[],
+            };
+            if outputs.is_empty() {
+                continue;
+            }
+            match gpu.run_stage_from(&pos, &vel, before, stage) {
+                Ok(g) => checks.extend(compare_fields("stage", &format!("{stage}:"), &g, after, nf, Some(outputs))),
+                Err(e) => checks.push(Check { kind: "stage".into(), name: format!("{stage}: {e}"), max_rel: f64::INFINITY, rel_l2: f64::NAN, tolerance: 0.0, pass: false }),
+            }
+        }
+        gpu.restart_with_velocities(&vel0);
+    }
+    for _ in 0..steps {
+        cpu.advance().map_err(|e| format!("CPU: {e}"))?;
+        gpu.step().map_err(|e| format!("GPU: {e}"))?;
+    }
+    let (g, c) = (gpu.frame(), cpu.frame());
+    checks.extend(observables(scene, &g, &c));
+    Ok(checks)
+}
+
+/// Verifies one variant on `scene` (relaxation is skipped: the initial state is compared).
+pub fn verify_variant(ctx: &Arc<GpuContext>, scene: &Scene, spec: VariantSpec, steps: u64, per_stage: bool) -> VariantReport {
+    let variant = spec.to_string();
+    let mut s = scene.clone();
+    s.relax = None;
+    if let Err(reason) = spec.implemented().and_then(|_| spec.support(ctx)) {
+        return VariantReport { variant, status: "unsupported".into(), reason, checks: Vec::new() };
+    }
+    let layout = match build_layout(&s) {
+        Ok(l) => l,
+        Err(e) => return VariantReport { variant, status: "error".into(), reason: e.to_string(), checks: Vec::new() },
+    };
+    let r = match spec.precision {
+        Precision::F32 => verify_typed::<f32>(ctx, &s, &layout, spec, steps, per_stage),
+        Precision::F64 => verify_typed::<f64>(ctx, &s, &layout, spec, steps, per_stage),
+    };
+    match r {
+        Ok(checks) => {
+            let failed: Vec<String> = checks.iter().filter(|c| !c.pass).map(|c| c.name.clone()).collect();
+            let status = if failed.is_empty() { "pass" } else { "FAIL" };
+            VariantReport { variant, status: status.into(), reason: failed.join(", "), checks }
+        }
+        Err(e) => VariantReport { variant, status: "error".into(), reason: e, checks: Vec::new() },
+    }
+}
+
+/// A terminal table: one line per variant with its worst field and observable.
+pub fn format_table(reports: &[VariantReport]) -> String {
+    let mut s = format!("{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n", "variant", "status", "σ relL2", "p relL2", "acc max", "acc relL2", "notes");
+    for r in reports {
+        let get = |n: &str| r.checks.iter().find(|c| c.name == n);
+        let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2e}"));
+        s += &format!(
+            "{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n",
+            r.variant,
+            r.status,
+            f(get("sigma").map(|c| c.rel_l2)),
+            f(get("p").map(|c| c.rel_l2)),
+            f(get("acc").map(|c| c.max_rel)),
+            f(get("acc").map(|c| c.rel_l2)),
+            r.reason
+        );
+    }
+    s
+}
