@@ -90,7 +90,7 @@ fn errs(cpu: &[f64], gpu: &[f64], scale: Option<f64>) -> (f64, f64) {
         d2 += e * e;
         c2 += c * c;
     }
-    (mx, (d2 / c2.max(s * s * 1e-30)).sqrt())
+    (mx, if d2 == 0.0 { 0.0 } else { (d2 / c2.max(s * s * 1e-30)).sqrt() })
 }
 
 fn flat<T: Real>(f: &Fields<T>, n_fluid: usize) -> Vec<(&'static str, Vec<f64>)> {
