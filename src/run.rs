@@ -236,7 +236,7 @@ pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result
     let exec = match opts.backend.as_str() {
         "cpu" => Exec::Parallel,
         "cpu1" => Exec::Serial,
-        "gpu" => return Err(RunError::Input("--backend gpu: the GPU solver is not part of this build yet".into())),
+        "gpu" => return make_gpu_backend(scene, layout, opts),
         other => return Err(RunError::Input(format!("--backend: unknown backend `{other}` (cpu, cpu1, gpu)"))),
     };
     Ok(match opts.precision.as_str() {
@@ -244,6 +244,19 @@ pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result
         "f32" => Box::new(CpuSolver::<f32>::new(scene, layout, exec, opts.search)),
         other => return Err(RunError::Input(format!("--precision: unknown precision `{other}` (f64, f32)"))),
     })
+}
+
+/// The GPU backend of `--variant` (default [`DEFAULT_VARIANT`]): a bad id or a variant this
+/// build or adapter cannot run is an input error (exit 2) with the reason.
+fn make_gpu_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result<Box<dyn Backend>, RunError> {
+    use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
+    let id = opts.variant.as_deref().unwrap_or(DEFAULT_VARIANT);
+    let spec: VariantSpec = id.parse().map_err(|e: String| RunError::Input(format!("--variant: {e}")))?;
+    spec.implemented().map_err(|e| RunError::Input(format!("--variant: {e}")))?;
+    let ctx = crate::gpu::GpuContext::new().map_err(|e| RunError::Input(format!("--backend gpu: {e}")))?;
+    spec.support(&ctx).map_err(|e| RunError::Input(format!("--variant: unsupported on this adapter: {e}")))?;
+    crate::gpu::solver::new_backend(std::sync::Arc::new(ctx), scene, layout, spec)
+        .map_err(|e| RunError::Input(format!("--backend gpu: {e}")))
 }
 
 fn snapshot(fr: &Frame) -> Snapshot {

@@ -1,7 +1,7 @@
 //! The tiny WGSL preprocessor of `ARCHITECTURE.md` ("How WGSL variants should be composed").
 //!
 //! Directives (a line whose first non-blank character is `#`):
-//! * `#import name`: pastes `shaders/name.wgsl` once (de-duplicated over the whole composition,
+//! * `#import name`: pastes `shaders/name.wgsl` (`#import common/x`: `kernels-variants/common/x.wgsl`) once (de-duplicated over the whole composition,
 //!   transitive; a cycle is harmless because a file is marked before it is expanded);
 //! * `#ifdef X` / `#ifndef X` / `#else` / `#endif`: keep or drop lines by the define set.
 //!
@@ -27,13 +27,29 @@ pub static SHADERS: &[(&str, &str)] = &[
     ("wall", include_str!("../../shaders/wall.wgsl")),
     ("contact", include_str!("../../shaders/contact.wgsl")),
     ("integrate", include_str!("../../shaders/integrate.wgsl")),
+    ("types", include_str!("../../shaders/types.wgsl")),
 ];
 
 /// Every entry-point file of `kernels-variants/` (path relative to that folder, source).
-pub static VARIANT_FILES: &[(&str, &str)] = &[(
-    "eval/kernel_table.wgsl",
-    include_str!("../../kernels-variants/eval/kernel_table.wgsl"),
-)];
+pub static VARIANT_FILES: &[(&str, &str)] = &[
+    ("common/bindings.wgsl", include_str!("../../kernels-variants/common/bindings.wgsl")),
+    ("common/neighbours.wgsl", include_str!("../../kernels-variants/common/neighbours.wgsl")),
+    ("eval/kernel_table.wgsl", include_str!("../../kernels-variants/eval/kernel_table.wgsl")),
+    ("search/cell_count.wgsl", include_str!("../../kernels-variants/search/cell_count.wgsl")),
+    ("search/cell_scan.wgsl", include_str!("../../kernels-variants/search/cell_scan.wgsl")),
+    ("search/cell_scatter.wgsl", include_str!("../../kernels-variants/search/cell_scatter.wgsl")),
+    ("thread/number_density.wgsl", include_str!("../../kernels-variants/thread/number_density.wgsl")),
+    ("thread/contact_line.wgsl", include_str!("../../kernels-variants/thread/contact_line.wgsl")),
+    ("thread/wall_typing.wgsl", include_str!("../../kernels-variants/thread/wall_typing.wgsl")),
+    ("thread/equation_of_state.wgsl", include_str!("../../kernels-variants/thread/equation_of_state.wgsl")),
+    ("thread/wall_pressure.wgsl", include_str!("../../kernels-variants/thread/wall_pressure.wgsl")),
+    ("thread/colour_gradient.wgsl", include_str!("../../kernels-variants/thread/colour_gradient.wgsl")),
+    ("thread/normal_correction.wgsl", include_str!("../../kernels-variants/thread/normal_correction.wgsl")),
+    ("thread/surface_stress.wgsl", include_str!("../../kernels-variants/thread/surface_stress.wgsl")),
+    ("thread/acceleration.wgsl", include_str!("../../kernels-variants/thread/acceleration.wgsl")),
+    ("thread/xsph.wgsl", include_str!("../../kernels-variants/thread/xsph.wgsl")),
+    ("thread/integrate.wgsl", include_str!("../../kernels-variants/thread/integrate.wgsl")),
+];
 
 /// The source of a shared module by import name (`kernel`, `kernel.wgsl` or `shaders/kernel.wgsl`).
 pub fn shader_source(name: &str) -> Option<&'static str> {
@@ -162,14 +178,23 @@ fn expand(
                 let key = name
                     .trim_start_matches("shaders/")
                     .trim_end_matches(".wgsl");
-                let Some(body) = shader_source(key) else {
+                // `common/x` names a shared file of kernels-variants/ (one that may hold the
+                // bindings of the solver stages, which shaders/ modules must not).
+                let (body, path) = if let Some(rest) = key.strip_prefix("common/") {
+                    let p = format!("common/{rest}.wgsl");
+                    let body = VARIANT_FILES.iter().find(|(f, _)| *f == p).map(|(_, s)| *s);
+                    (body, format!("kernels-variants/{p}"))
+                } else {
+                    (shader_source(key), format!("shaders/{key}.wgsl"))
+                };
+                let Some(body) = body else {
                     return Err(err(
                         line,
-                        format!("unknown import `{name}` (not in shaders/)"),
+                        format!("unknown import `{name}` (not in shaders/ or kernels-variants/common/)"),
                     ));
                 };
                 if seen.insert(key.to_string()) {
-                    expand(&format!("shaders/{key}.wgsl"), body, defines, seen, out)?;
+                    expand(&path, body, defines, seen, out)?;
                 }
             }
             ("ifdef" | "ifndef", Some(name)) => {

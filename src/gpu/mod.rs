@@ -1,10 +1,16 @@
 //! The wgpu backend: headless device ([`context`]), WGSL composition ([`compose`]) and typed
 //! buffers ([`buffers`]). The GPU physics itself lives in `shaders/*.wgsl` (twins of
-//! [`crate::physics`], tested in `tests/wgsl_twins.rs`); the solver stages come later.
+//! [`crate::physics`], tested in `tests/wgsl_twins.rs`); the solver ([`solver`]) runs the
+//! stages of [`stages`] for a [`variant`].
 
 pub mod buffers;
 pub mod compose;
 pub mod context;
+pub mod params;
+pub mod solver;
+pub mod solver_buffers;
+pub mod stages;
+pub mod variant;
 
 pub use buffers::{GpuVec, Uniform};
 pub use compose::{compose, compose_variant, Composed};
@@ -35,6 +41,9 @@ pub enum GpuError {
     /// Mapping or copying a buffer back failed.
     #[error("readback: {0}")]
     Readback(String),
+    /// The variant is not implemented in this build or not supported by the adapter.
+    #[error("{0}")]
+    Unsupported(String),
     /// A buffer would exceed a device limit.
     #[error("{what}: {bytes} bytes exceeds the device limit of {limit} bytes")]
     TooLarge {

@@ -1,0 +1,114 @@
+// neighbours.wgsl: the neighbour loop of the `thread` stages, as an iterator, for the two
+// searches: `DIRECT` defined = every particle under every existing image code (O(N²·images),
+// the order of the CPU lists: code, then index); otherwise the 3×3 cells around
+// `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*. A neighbour is
+// (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of `neighbours::within`), self
+// included. Usage: `var it = nb_begin(xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
+// Shared include (needs common/bindings: pos, sorted, cell_start); no entry points.
+
+#import common/bindings
+
+struct Nb {
+    j: u32,        // current neighbour index
+    code: u32,     // its image code
+    xj: real2,     // image position of j
+    xi: real2,     // the query particle
+    cur: u32,      // cursor (index in DIRECT, slot of `sorted` otherwise)
+    end: u32,
+    k: u32,        // cell of the 3×3 block (cells)
+    cx: i32,
+    cy: i32,
+}
+
+// Cell coordinates of p, clamped to [−2, n+1] like `CellGrid::coords`.
+fn cell_coords(p: real2) -> vec2<i32> {
+    let fx = floor((p.x - params.grid_origin_x) * params.grid_inv_cell);
+    let fy = floor((p.y - params.grid_origin_y) * params.grid_inv_cell);
+    let nx = real(params.grid_nx);
+    let ny = real(params.grid_ny);
+    return vec2<i32>(i32(clamp(fx, real(-2.0), nx + real(1.0))), i32(clamp(fy, real(-2.0), ny + real(1.0))));
+}
+
+// Linear cell of p (coordinates clamped into the grid), as `CellGrid::cell_of`.
+fn cell_index(p: real2) -> u32 {
+    let c = cell_coords(p);
+    let x = clamp(c.x, 0, i32(params.grid_nx) - 1);
+    let y = clamp(c.y, 0, i32(params.grid_ny) - 1);
+    return u32(x + i32(params.grid_nx) * y);
+}
+
+fn nb_begin(xi: real2) -> Nb {
+    var it: Nb;
+    it.xi = xi;
+    it.code = 0u;
+    it.cur = 0u;
+    it.end = 0u;
+#ifdef DIRECT
+    it.end = params.n;
+#else
+    let c = cell_coords(xi);
+    it.cx = c.x;
+    it.cy = c.y;
+    it.k = 0xFFFFFFFFu;
+#endif
+    return it;
+}
+
+// Moves to the next existing image code; false when none is left.
+fn nb_next_code(it: ptr<function, Nb>) -> bool {
+    var c = (*it).code + 1u;
+    while c < 9u && !image_exists(c) {
+        c++;
+    }
+    (*it).code = c;
+    return c < 9u;
+}
+
+// Advances to the next neighbour; false at the end.
+fn nb_next(it: ptr<function, Nb>) -> bool {
+    loop {
+        if (*it).cur < (*it).end {
+#ifdef DIRECT
+            let j = (*it).cur;
+#else
+            let j = sorted[(*it).cur];
+#endif
+            (*it).cur += 1u;
+            let xj = image_pos((*it).code, pos[j]);
+            let d = (*it).xi - xj;
+            if d.x * d.x + d.y * d.y < params.support2 {
+                (*it).j = j;
+                (*it).xj = xj;
+                return true;
+            }
+            continue;
+        }
+#ifdef DIRECT
+        if !nb_next_code(it) {
+            return false;
+        }
+        (*it).cur = 0u;
+        (*it).end = params.n;
+#else
+        (*it).k += 1u;
+        if (*it).k >= 9u {
+            if !nb_next_code(it) {
+                return false;
+            }
+            let c = cell_coords(inverse_pos((*it).code, (*it).xi));
+            (*it).cx = c.x;
+            (*it).cy = c.y;
+            (*it).k = 0u;
+        }
+        let x = (*it).cx - 1 + i32((*it).k % 3u);
+        let y = (*it).cy - 1 + i32((*it).k / 3u);
+        if x < 0 || y < 0 || x >= i32(params.grid_nx) || y >= i32(params.grid_ny) {
+            continue;
+        }
+        let cell = u32(x + i32(params.grid_nx) * y);
+        (*it).cur = cell_start[cell];
+        (*it).end = cell_start[cell + 1u];
+#endif
+    }
+    return false;
+}

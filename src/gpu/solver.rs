@@ -1,0 +1,418 @@
+//! The GPU solver: the whole step on the device for one [`VariantSpec`]. Particle data stay on
+//! the device between steps; fixed-dt scenes never read back per step (the blow-up flag is read
+//! every [`GpuSolver::check_every`] steps and at every `frame()`); automatic dt reads back two
+//! floats per step. Stage order, names and physics are those of `cpu::CpuSolver`.
+//! [`GpuSolver::evaluate_once`] and [`GpuSolver::run_stage_from`] serve the stage-by-stage
+//! verification against the CPU reference.
+
+use super::params::{GridSpec, Params};
+use super::solver_buffers::{ctl, layouts, Bufs};
+use super::stages::{Domain, Pipelines};
+use super::variant::VariantSpec;
+use super::{GpuContext, GpuError};
+use crate::backend::{Backend, Frame, SolverError};
+use crate::cpu::stages::{ContactPoint, Fields};
+use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
+use crate::physics::timestep::DtLimits;
+use crate::real::{Real, Sym2, V2};
+use crate::scene::build::Layout;
+use crate::scene::{ContactMode, Integrator, Scene};
+use std::sync::Arc;
+
+/// The GPU solver in storage precision `T` (f32 or f64, as the variant says).
+pub struct GpuSolver<T: Real> {
+    ctx: Arc<GpuContext>,
+    spec: VariantSpec,
+    /// Constants (the same struct the CPU uses).
+    pub model: Model<T>,
+    params: Params<T>,
+    grid: GridSpec<T>,
+    b: Bufs<T>,
+    pipes: Pipelines,
+    bg: wgpu::BindGroup,
+    n: usize,
+    n_fluid: usize,
+    phase: Vec<u32>,
+    integrator: Integrator,
+    t: f64,
+    step: u64,
+    dt: f64,
+    have_acc: bool,
+    pending: Option<SolverError>,
+    /// Read the blow-up flag back every this many steps (besides every `frame()`).
+    pub check_every: u64,
+}
+
+fn v2<T: Real>(p: &[f64; 2]) -> V2<T> {
+    V2::from_f64(p[0], p[1])
+}
+
+impl<T: Real> GpuSolver<T> {
+    /// Uploads the scene and compiles the variant's pipelines.
+    pub fn new(ctx: Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec) -> Result<Self, GpuError> {
+        spec.implemented().map_err(GpuError::Unsupported)?;
+        spec.support(&ctx).map_err(GpuError::Unsupported)?;
+        if spec.precision.name() != T::NAME {
+            return Err(GpuError::Unsupported(format!("{spec}: solver built for {}", T::NAME)));
+        }
+        let model = Model::<T>::new(scene);
+        let n = layout.pos.len();
+        let n_fluid = layout.n_fluid;
+        let pos: Vec<V2<T>> = layout.pos.iter().map(v2).collect();
+        let vel: Vec<V2<T>> = layout.vel.iter().map(v2).collect();
+        let grid = GridSpec::new(&pos, model.support());
+        let params = Params::new(&model, n, n_fluid, &grid);
+        let b = Bufs::new(&ctx, &params, n, grid.cells())?;
+        let (bgl, pl) = layouts(&ctx)?;
+        let pipes = Pipelines::build(&ctx, &spec, &pl)?;
+        let bg = b.bind_group(&ctx, &bgl)?;
+        b.pos.upload(&ctx, &pos)?;
+        b.vel.upload(&ctx, &vel)?;
+        b.phase.upload(&ctx, &layout.phase)?;
+        let s = Self {
+            ctx,
+            spec,
+            model,
+            params,
+            grid,
+            b,
+            pipes,
+            bg,
+            n,
+            n_fluid,
+            phase: layout.phase.clone(),
+            integrator: scene.time.integrator,
+            t: 0.0,
+            step: 0,
+            dt: scene.time.dt,
+            have_acc: false,
+            pending: None,
+            check_every: 100,
+        };
+        s.upload_static_colours()?;
+        s.reset_ctl()?;
+        Ok(s)
+    }
+
+    /// The variant.
+    pub fn spec(&self) -> VariantSpec {
+        self.spec
+    }
+
+    /// Static colours and masses (`cpu::stages::assign_colours`).
+    fn upload_static_colours(&self) -> Result<(), GpuError> {
+        let m = &self.model;
+        let wall_colour = if m.contact_mode == ContactMode::A { COLOUR_WALL } else { NO_COLOUR };
+        let colour: Vec<i32> =
+            (0..self.n).map(|i| if i < self.n_fluid { self.phase[i] as i32 } else { wall_colour }).collect();
+        let mass: Vec<T> = (0..self.n)
+            .map(|i| m.phases[if i < self.n_fluid { self.phase[i] as usize } else { m.wall_phase }].mass)
+            .collect();
+        self.b.colour.upload(&self.ctx, &colour)?;
+        self.b.mass.upload(&self.ctx, &mass)
+    }
+
+    fn reset_ctl(&self) -> Result<(), GpuError> {
+        let mut c = vec![0u32; ctl::LEN];
+        c[ctl::BAD_STEP] = u32::MAX;
+        c[ctl::BAD] = u32::MAX;
+        self.b.ctl.upload(&self.ctx, &c)
+    }
+
+    fn groups(&self, d: Domain) -> u32 {
+        let threads = match d {
+            Domain::All => self.n,
+            Domain::Fluid => self.n_fluid,
+            Domain::Wall => self.n - self.n_fluid,
+            Domain::One | Domain::Group => return 1,
+            Domain::Cells => self.grid.cells(),
+        };
+        threads.div_ceil(64) as u32
+    }
+
+    /// Records the kernels of one stage (by CPU name) into `enc`.
+    fn record(&self, enc: &mut wgpu::CommandEncoder, stage: &str) {
+        let Some(kernels) = self.pipes.stages.get(stage) else { return };
+        if stage == "neighbour_search" && !kernels.is_empty() {
+            enc.clear_buffer(&self.b.cell_count.buffer, 0, None);
+        }
+        if stage == "contact_line" {
+            enc.clear_buffer(&self.b.ctl.buffer, 0, Some(4));
+        }
+        if stage == "reduce_max" {
+            enc.clear_buffer(&self.b.ctl.buffer, 4 * ctl::VMAX as u64, Some(8));
+        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(stage), timestamp_writes: None });
+        pass.set_bind_group(0, &self.bg, &[]);
+        for (kd, p) in kernels {
+            let g = self.groups(kd.domain);
+            if g > 0 {
+                pass.set_pipeline(p);
+                pass.dispatch_workgroups(g, 1, 1);
+            }
+        }
+    }
+
+    /// Records one force evaluation: every active stage in the CPU order, then ṽ.
+    fn record_evaluate(&self, enc: &mut wgpu::CommandEncoder) {
+        for name in self.model.stages.names() {
+            self.record(enc, name);
+        }
+        if !self.model.stages.xsph {
+            let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
+            if bytes > 0 {
+                enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes);
+            }
+        }
+    }
+
+    fn submit(&self, f: impl FnOnce(&mut wgpu::CommandEncoder)) -> Result<(), GpuError> {
+        self.ctx.scoped(|d| {
+            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.step") });
+            f(&mut enc);
+            self.ctx.queue.submit([enc.finish()]);
+        })
+    }
+
+    /// One force evaluation at the current state (no integration), waited for.
+    pub fn evaluate_once(&mut self) -> Result<(), GpuError> {
+        self.submit(|enc| self.record_evaluate(enc))?;
+        self.ctx.wait_idle()
+    }
+
+    /// Uploads CPU-produced inputs, runs the neighbour search and ONE named stage, and reads every
+    /// field back. The stage's pure outputs are poisoned first (NaN, 0xFFFFFFFF), so an element the
+    /// kernel forgets to write shows up in the comparison.
+    pub fn run_stage_from(&mut self, pos: &[V2<T>], vel: &[V2<T>], f: &Fields<T>, stage: &str) -> Result<Fields<T>, GpuError> {
+        let ctx = &*self.ctx;
+        let b = &self.b;
+        b.pos.upload(ctx, pos)?;
+        b.vel.upload(ctx, vel)?;
+        b.sigma.upload(ctx, &f.sigma)?;
+        b.chi.upload(ctx, &f.chi)?;
+        b.mass.upload(ctx, &f.mass)?;
+        b.colour.upload(ctx, &f.colour)?;
+        b.rho.upload(ctx, &f.rho)?;
+        b.p.upload(ctx, &f.p)?;
+        let grad: Vec<V2<T>> = f.grad.iter().flat_map(|g| [g[0], g[1]]).collect();
+        b.grad.upload(ctx, &grad)?;
+        b.pi.upload(ctx, &f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect::<Vec<_>>())?;
+        b.acc.upload(ctx, &f.acc)?;
+        b.vt.upload(ctx, &f.vt)?;
+        self.upload_contacts(&f.contacts)?;
+        let nan = T::nan();
+        let nan2 = V2::new(nan, nan);
+        match stage {
+            "number_density" => {
+                b.sigma.fill(ctx, nan)?;
+                b.chi.fill(ctx, nan)?;
+            }
+            "contact_line" => b.contacts.fill(ctx, nan)?,
+            "equation_of_state" => {
+                b.rho.fill(ctx, nan)?;
+                b.p.fill(ctx, nan)?;
+            }
+            "colour_gradient" => b.grad.fill(ctx, nan2)?,
+            "surface_stress" => b.pi.fill(ctx, nan2)?,
+            "acceleration" => b.acc.fill(ctx, nan2)?,
+            "xsph" => b.vt.fill(ctx, nan2)?,
+            _ => {}
+        }
+        if !self.pipes.stages.contains_key(stage) {
+            return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
+        }
+        self.submit(|enc| {
+            self.record(enc, "neighbour_search");
+            if stage != "neighbour_search" {
+                self.record(enc, stage);
+            }
+        })?;
+        self.ctx.wait_idle()?;
+        self.read_fields()
+    }
+
+    fn upload_contacts(&self, cps: &[ContactPoint<T>]) -> Result<(), GpuError> {
+        let mut c = vec![T::zero(); 4 * MAX_CONTACTS];
+        for (k, cp) in cps.iter().take(MAX_CONTACTS).enumerate() {
+            c[4 * k..4 * k + 3].copy_from_slice(&[cp.r.x, cp.r.y, cp.s]);
+        }
+        self.b.contacts.upload(&self.ctx, &c)?;
+        let mut w = self.b.ctl.read_back(&self.ctx)?;
+        w[ctl::CONTACTS] = cps.len().min(MAX_CONTACTS) as u32;
+        w[ctl::CONTACTS_FOUND] = cps.len() as u32;
+        self.b.ctl.upload(&self.ctx, &w)
+    }
+
+    /// Reads every per-evaluation field back (positions and velocities separately).
+    pub fn read_fields(&self) -> Result<Fields<T>, GpuError> {
+        let ctx = &*self.ctx;
+        let b = &self.b;
+        let w = b.ctl.read_back(ctx)?;
+        let raw = b.contacts.read_back(ctx)?;
+        let kept = (w[ctl::CONTACTS] as usize).min(MAX_CONTACTS);
+        let grad = b.grad.read_back(ctx)?;
+        Ok(Fields {
+            sigma: b.sigma.read_back(ctx)?,
+            chi: b.chi.read_back(ctx)?,
+            mass: b.mass.read_back(ctx)?,
+            colour: b.colour.read_back(ctx)?,
+            rho: b.rho.read_back(ctx)?,
+            p: b.p.read_back(ctx)?,
+            grad: grad.chunks(2).map(|g| [g[0], g[1]]).collect(),
+            pi: b.pi.read_back(ctx)?.iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
+            acc: b.acc.read_back(ctx)?,
+            vt: b.vt.read_back(ctx)?,
+            contacts: (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
+            contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
+        })
+    }
+
+    /// Positions and velocities.
+    pub fn read_state(&self) -> Result<(Vec<V2<T>>, Vec<V2<T>>), GpuError> {
+        Ok((self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?))
+    }
+
+    fn write_params(&mut self, dt: f64, step: u64) {
+        self.params.dt = T::c(dt);
+        self.params.step = step as u32;
+        self.b.params.write(&self.ctx, &self.params);
+    }
+
+    /// Adaptive dt from the GPU maxima of |v| and |a| (f32 bits) after an evaluation.
+    fn adaptive_dt(&self) -> Result<f64, GpuError> {
+        self.submit(|enc| self.record(enc, "reduce_max"))?;
+        let w = self.b.ctl.read_back(&self.ctx)?;
+        let (vmax, amax) = (f32::from_bits(w[ctl::VMAX]) as f64, f32::from_bits(w[ctl::AMAX]) as f64);
+        let m = &self.model;
+        Ok(DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max).min())
+    }
+
+    /// Reads the blow-up flag and the sticky contact count; the error, if any.
+    fn check_flags(&mut self) -> Result<(), SolverError> {
+        let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        let w = self.b.ctl.read_back(&self.ctx).map_err(gpu)?;
+        if w[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
+            let count = w[ctl::CONTACTS_MAX] as usize;
+            return Err(SolverError::ContactOverflow { step: self.step, count, cap: MAX_CONTACTS });
+        }
+        if w[ctl::BAD_STEP] != u32::MAX {
+            let (particle, kind) = ((w[ctl::BAD] / 2) as usize, w[ctl::BAD] % 2);
+            let (pos, vel) = self.read_state().map_err(gpu)?;
+            let (p, v) = (pos[particle], vel[particle]);
+            let what = if kind == 0 {
+                format!("has a non-finite state: x = ({}, {}), v = ({}, {})", p.x, p.y, v.x, v.y)
+            } else {
+                format!("left the domain: x = ({}, {})", p.x, p.y)
+            };
+            return Err(SolverError::BlowUp { step: w[ctl::BAD_STEP] as u64, t: self.t, particle, what });
+        }
+        Ok(())
+    }
+
+    fn advance(&mut self) -> Result<(), SolverError> {
+        if let Some(e) = self.pending.take() {
+            return Err(e);
+        }
+        let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        let adaptive = self.model.dt_fixed <= 0.0;
+        let next = self.step + 1;
+        let first_eval = self.integrator == Integrator::Midpoint || !self.have_acc;
+        let dt = if adaptive {
+            if first_eval {
+                self.submit(|enc| self.record_evaluate(enc)).map_err(gpu)?;
+            }
+            self.adaptive_dt().map_err(gpu)?
+        } else {
+            self.model.dt_fixed
+        };
+        self.write_params(dt, next);
+        let (pre, post) = match self.integrator {
+            Integrator::Midpoint => ("midpoint_predict", "midpoint_correct"),
+            Integrator::Verlet => ("verlet_drift", "verlet_kick"),
+        };
+        self.submit(|enc| {
+            if first_eval && !adaptive {
+                self.record_evaluate(enc);
+            }
+            self.record(enc, pre);
+            self.record_evaluate(enc);
+            self.record(enc, post);
+            self.record(enc, "check");
+        })
+        .map_err(gpu)?;
+        let _ = self.ctx.device.poll(wgpu::PollType::Poll);
+        self.have_acc = true;
+        self.dt = dt;
+        self.step = next;
+        self.t += dt;
+        if self.check_every > 0 && self.step % self.check_every == 0 {
+            self.check_flags()?;
+        }
+        Ok(())
+    }
+}
+
+impl<T: Real> Backend for GpuSolver<T> {
+    fn name(&self) -> String {
+        self.spec.to_string()
+    }
+    fn precision(&self) -> &'static str {
+        T::NAME
+    }
+    fn step(&mut self) -> Result<(), SolverError> {
+        self.advance()
+    }
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn steps(&self) -> u64 {
+        self.step
+    }
+    fn frame(&mut self) -> Frame {
+        if self.pending.is_none() {
+            self.pending = self.check_flags().err();
+        }
+        let c = |x: &T| x.f64();
+        let p2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
+        let (pos, vel) = self.read_state().unwrap_or_default();
+        let f = self.read_fields().unwrap_or_else(|_| Fields::new(0));
+        Frame {
+            step: self.step,
+            t: self.t,
+            dt: self.dt,
+            n_fluid: self.n_fluid,
+            pos: pos.iter().map(p2).collect(),
+            vel: vel.iter().map(p2).collect(),
+            rho: f.rho.iter().map(c).collect(),
+            p: f.p.iter().map(c).collect(),
+            mass: f.mass.iter().map(c).collect(),
+            phase: self.phase.clone(),
+            colour: f.colour.clone(),
+            grad_c: (0..f.grad.len()).map(|i| p2(&f.grad_c(i))).collect(),
+            pi: f.pi.iter().map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
+            acc: f.acc.iter().map(p2).collect(),
+            sigma: f.sigma.iter().map(c).collect(),
+            contacts: f.contacts.iter().map(|k| [k.r.x.f64(), k.r.y.f64(), k.s.f64()]).collect(),
+        }
+    }
+    fn restart_with_velocities(&mut self, vel: &[[f64; 2]]) {
+        if let Ok((_, mut v)) = self.read_state() {
+            for (i, x) in vel.iter().enumerate().take(self.n_fluid) {
+                v[i] = v2(x);
+            }
+            let _ = self.b.vel.upload(&self.ctx, &v);
+        }
+        self.t = 0.0;
+        self.step = 0;
+        self.have_acc = false;
+        let _ = self.reset_ctl();
+    }
+}
+
+/// A boxed GPU backend for `spec` in its precision.
+pub fn new_backend(ctx: Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec) -> Result<Box<dyn Backend>, GpuError> {
+    Ok(match spec.precision {
+        super::variant::Precision::F32 => Box::new(GpuSolver::<f32>::new(ctx, scene, layout, spec)?),
+        super::variant::Precision::F64 => Box::new(GpuSolver::<f64>::new(ctx, scene, layout, spec)?),
+    })
+}

@@ -1,0 +1,165 @@
+//! The device-resident particle state of the GPU solver and its one bind group (twin of
+//! `shaders/bindings.wgsl`: binding k here is binding k there). All stages share one explicit
+//! layout (uniform at 0, read-write storage 1..=20), so a stage binds everything and touches
+//! what it needs. Every allocation is checked against the adapter limits (`GpuError::TooLarge`
+//! names the buffer).
+
+use super::params::Params;
+use super::{GpuContext, GpuError, GpuVec, Uniform};
+use crate::model::MAX_CONTACTS;
+use crate::real::{Real, V2};
+
+/// Words of the control buffer (`CTL_*` in `shaders/bindings.wgsl`).
+pub mod ctl {
+    /// Contact points found by the last `contact_line`.
+    pub const CONTACTS_FOUND: usize = 0;
+    /// Contact points kept (≤ 32).
+    pub const CONTACTS: usize = 1;
+    /// First bad step (`u32::MAX`: none).
+    pub const BAD_STEP: usize = 2;
+    /// 2·particle + kind (0 non-finite, 1 left the domain).
+    pub const BAD: usize = 3;
+    /// f32 bits of max |v|.
+    pub const VMAX: usize = 4;
+    /// f32 bits of max |a|.
+    pub const AMAX: usize = 5;
+    /// Largest contact count seen since the last read (sticky overflow detector).
+    pub const CONTACTS_MAX: usize = 6;
+    /// Words in the buffer.
+    pub const LEN: usize = 8;
+}
+
+/// Number of storage bindings after the uniform.
+pub const N_STORAGE: u32 = 20;
+
+/// The buffers (fluids first, then walls).
+pub struct Bufs<T: Real> {
+    pub params: Uniform<Params<T>>,
+    pub pos: GpuVec<V2<T>>,
+    pub vel: GpuVec<V2<T>>,
+    pub phase: GpuVec<u32>,
+    pub state0: GpuVec<V2<T>>,
+    pub sigma: GpuVec<T>,
+    pub chi: GpuVec<T>,
+    pub mass: GpuVec<T>,
+    pub colour: GpuVec<i32>,
+    pub rho: GpuVec<T>,
+    pub p: GpuVec<T>,
+    pub grad: GpuVec<V2<T>>,
+    pub pi: GpuVec<V2<T>>,
+    pub acc: GpuVec<V2<T>>,
+    pub vt: GpuVec<V2<T>>,
+    pub contacts: GpuVec<T>,
+    pub ctl: GpuVec<u32>,
+    pub cell_count: GpuVec<u32>,
+    pub cell_start: GpuVec<u32>,
+    pub sorted: GpuVec<u32>,
+    pub cell_of: GpuVec<u32>,
+}
+
+impl<T: Real> Bufs<T> {
+    /// Allocates the state of `n` particles on a grid of `cells` cells.
+    pub fn new(ctx: &GpuContext, params: &Params<T>, n: usize, cells: usize) -> Result<Self, GpuError> {
+        let v2 = |name: &str, len| GpuVec::<V2<T>>::new(ctx, &format!("sphlab.{name}"), len);
+        let s = |name: &str, len| GpuVec::<T>::new(ctx, &format!("sphlab.{name}"), len);
+        let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
+        Ok(Self {
+            params: Uniform::new(ctx, "sphlab.params", params),
+            pos: v2("pos", n)?,
+            vel: v2("vel", n)?,
+            phase: u("phase", n)?,
+            state0: v2("state0", 2 * n)?,
+            sigma: s("sigma", n)?,
+            chi: s("chi", n)?,
+            mass: s("mass", n)?,
+            colour: GpuVec::new(ctx, "sphlab.colour", n)?,
+            rho: s("rho", n)?,
+            p: s("p", n)?,
+            grad: v2("grad", 2 * n)?,
+            pi: v2("pi", n)?,
+            acc: v2("acc", n)?,
+            vt: v2("vt", n)?,
+            contacts: s("contacts", 4 * MAX_CONTACTS)?,
+            ctl: u("ctl", ctl::LEN)?,
+            cell_count: u("cell_count", cells)?,
+            cell_start: u("cell_start", cells + 1)?,
+            sorted: u("sorted", n)?,
+            cell_of: u("cell_of", n)?,
+        })
+    }
+
+    /// The storage buffers in binding order 1..=20.
+    fn storage(&self) -> [&wgpu::Buffer; N_STORAGE as usize] {
+        [
+            &self.pos.buffer,
+            &self.vel.buffer,
+            &self.phase.buffer,
+            &self.state0.buffer,
+            &self.sigma.buffer,
+            &self.chi.buffer,
+            &self.mass.buffer,
+            &self.colour.buffer,
+            &self.rho.buffer,
+            &self.p.buffer,
+            &self.grad.buffer,
+            &self.pi.buffer,
+            &self.acc.buffer,
+            &self.vt.buffer,
+            &self.contacts.buffer,
+            &self.ctl.buffer,
+            &self.cell_count.buffer,
+            &self.cell_start.buffer,
+            &self.sorted.buffer,
+            &self.cell_of.buffer,
+        ]
+    }
+
+    /// The bind group of `layout` over these buffers.
+    pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> Result<wgpu::BindGroup, GpuError> {
+        let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: self.params.buffer.as_entire_binding() }];
+        for (k, b) in self.storage().into_iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry { binding: k as u32 + 1, resource: b.as_entire_binding() });
+        }
+        ctx.scoped(|d| {
+            d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("sphlab.state"), layout, entries: &entries })
+        })
+    }
+}
+
+/// The shared bind group layout and pipeline layout.
+pub fn layouts(ctx: &GpuContext) -> Result<(wgpu::BindGroupLayout, wgpu::PipelineLayout), GpuError> {
+    let need = N_STORAGE;
+    if ctx.limits.max_storage_buffers_per_shader_stage < need {
+        return Err(GpuError::Unsupported(format!(
+            "the solver binds {need} storage buffers; the adapter allows {} per shader stage",
+            ctx.limits.max_storage_buffers_per_shader_stage
+        )));
+    }
+    let mut entries = vec![wgpu::BindGroupLayoutEntry {
+        binding: 0,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }];
+    for k in 1..=N_STORAGE {
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: k,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        });
+    }
+    ctx.scoped(|d| {
+        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("sphlab.state"), entries: &entries });
+        let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sphlab.state"),
+            bind_group_layouts: &[Some(&bgl)],
+            immediate_size: 0,
+        });
+        (bgl, pl)
+    })
+}
