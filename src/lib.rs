@@ -28,3 +28,4 @@ pub mod plot;
 pub mod real;
 pub mod run;
 pub mod scene;
+pub mod verify;

@@ -25,6 +25,10 @@ enum Cmd {
         #[command(subcommand)]
         cmd: SceneCmd,
     },
+    /// List the GPU variants, what each needs, and whether this adapter runs it.
+    Variants,
+    /// Check GPU variants against the CPU reference (fields, stages, observables).
+    Verify(VerifyArgs),
     /// Analytic drop-spread models (thesis §5.1, Table 1).
     Analytic {
         #[command(subcommand)]
@@ -70,6 +74,31 @@ struct RunArgs {
     /// No progress bar or console lines.
     #[arg(long)]
     quiet: bool,
+}
+
+#[derive(Args)]
+struct VerifyArgs {
+    /// Built-in scene name or a scene TOML file.
+    #[arg(default_value = "oscillating-drop")]
+    scene: String,
+    /// `all` or a comma-separated list of variant ids.
+    #[arg(long, default_value = "all")]
+    variants: String,
+    /// Steps for the observable comparison.
+    #[arg(long, default_value_t = 50)]
+    steps: u64,
+    /// Override a scene field by its TOML path.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
+    /// Also run every stage alone on the CPU's inputs (pinpoints a disagreeing stage).
+    #[arg(long)]
+    per_stage: bool,
+    /// Write verify.csv and verify.json here.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -207,6 +236,90 @@ fn cmd_analytic(cmd: AnalyticCmd) -> ExitCode {
     }
 }
 
+fn gpu_context() -> Result<std::sync::Arc<sphlab::gpu::GpuContext>, String> {
+    sphlab::gpu::GpuContext::new().map(std::sync::Arc::new).map_err(|e| e.to_string())
+}
+
+fn cmd_variants() -> ExitCode {
+    use sphlab::gpu::variant::VariantSpec;
+    let ctx = gpu_context();
+    match &ctx {
+        Ok(c) => println!("adapter: {}", c.describe()),
+        Err(e) => println!("adapter: none ({e})"),
+    }
+    for v in VariantSpec::all() {
+        let status = match (&ctx, v.implemented()) {
+            (_, Err(e)) => format!("unsupported: {e}"),
+            (Err(_), Ok(())) => "unknown: no adapter".to_string(),
+            (Ok(c), Ok(())) => match v.support(c) {
+                Ok(()) => "supported".to_string(),
+                Err(e) => format!("unsupported: {e}"),
+            },
+        };
+        let mut needs = vec![];
+        if v.precision == sphlab::gpu::variant::Precision::F64 {
+            needs.push("SHADER_F64");
+        }
+        if v.accumulation == sphlab::gpu::variant::Accumulation::Native {
+            needs.push("SHADER_FLOAT32_ATOMIC");
+        }
+        let needs = if needs.is_empty() { "-".to_string() } else { needs.join("+") };
+        println!("{:<44} needs {:<34} {status}", v.to_string(), needs);
+    }
+    ExitCode::SUCCESS
+}
+
+fn cmd_verify(a: VerifyArgs) -> ExitCode {
+    use sphlab::gpu::variant::VariantSpec;
+    let scene = match load_scene(&a.scene, &a.sets) {
+        Ok(s) => s,
+        Err(e) => return fail(2, e),
+    };
+    let specs: Vec<VariantSpec> = if a.variants == "all" {
+        VariantSpec::all()
+    } else {
+        let mut v = Vec::new();
+        for id in a.variants.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            match id.parse() {
+                Ok(s) => v.push(s),
+                Err(e) => return fail(2, format!("--variants: {e}")),
+            }
+        }
+        v
+    };
+    let ctx = match gpu_context() {
+        Ok(c) => c,
+        Err(e) => return fail(2, format!("no GPU adapter: {e}")),
+    };
+    if !a.json {
+        eprintln!("adapter: {}; scene {}; {} variants; {} steps", ctx.describe(), scene.name, specs.len(), a.steps);
+    }
+    let mut reports = Vec::new();
+    for spec in specs {
+        let r = sphlab::verify::verify_variant(&ctx, &scene, spec, a.steps, a.per_stage);
+        if !a.json {
+            eprintln!("{} {}", r.variant, r.status);
+        }
+        reports.push(r);
+    }
+    let failed = reports.iter().any(|r| r.status == "FAIL" || r.status == "error");
+    if let Some(dir) = &a.out {
+        if let Err(e) = sphlab::verify::write_outputs(dir, &ctx.describe(), &scene, &reports) {
+            return fail(1, e);
+        }
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&reports).expect("json"));
+    } else {
+        print!("{}", sphlab::verify::format_table(&reports));
+    }
+    if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.cmd {
@@ -226,5 +339,7 @@ fn main() -> ExitCode {
             None => fail(2, format!("unknown scene `{name}` (built-in: {})", builtin::BUILTIN.join(", "))),
         },
         Cmd::Analytic { cmd } => cmd_analytic(cmd),
+        Cmd::Variants => cmd_variants(),
+        Cmd::Verify(a) => cmd_verify(a),
     }
 }

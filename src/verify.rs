@@ -257,3 +257,41 @@ pub fn format_table(reports: &[VariantReport]) -> String {
     }
     s
 }
+
+/// Writes `verify.csv` (one row per check) and `verify.json` into `dir`, with the adapter, scene,
+/// git commit and date.
+pub fn write_outputs(dir: &std::path::Path, adapter: &str, scene: &Scene, reports: &[VariantReport]) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let (commit, date) = (crate::output::git_commit(), crate::output::now_utc_iso8601());
+    let path = dir.join("verify.csv");
+    let mut w = csv::Writer::from_path(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    w.write_record(["variant", "status", "kind", "check", "max_rel", "rel_l2", "tolerance", "pass", "scene", "adapter", "commit", "date"])
+        .map_err(|e| e.to_string())?;
+    for r in reports {
+        let rows: Vec<Check> = if r.checks.is_empty() {
+            vec![Check { kind: "-".into(), name: r.reason.clone(), max_rel: f64::NAN, rel_l2: f64::NAN, tolerance: f64::NAN, pass: r.status != "FAIL" && r.status != "error" }]
+        } else {
+            r.checks.clone()
+        };
+        for c in rows {
+            w.write_record([
+                r.variant.as_str(),
+                r.status.as_str(),
+                c.kind.as_str(),
+                c.name.as_str(),
+                &format!("{:e}", c.max_rel),
+                &format!("{:e}", c.rel_l2),
+                &format!("{:e}", c.tolerance),
+                if c.pass { "true" } else { "false" },
+                scene.name.as_str(),
+                adapter,
+                commit.as_str(),
+                date.as_str(),
+            ])
+            .map_err(|e| e.to_string())?;
+        }
+    }
+    w.flush().map_err(|e| e.to_string())?;
+    let json = serde_json::json!({"adapter": adapter, "scene": scene.name, "commit": commit, "date": date, "variants": reports});
+    crate::output::write_json(dir.join("verify.json"), &json).map_err(|e| e.to_string())
+}

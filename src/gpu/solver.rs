@@ -407,6 +407,9 @@ impl<T: Real> Backend for GpuSolver<T> {
         self.have_acc = false;
         let _ = self.reset_ctl();
     }
+    fn sync(&mut self) {
+        let _ = self.ctx.wait_idle();
+    }
 }
 
 /// A boxed GPU backend for `spec` in its precision.
