@@ -28,4 +28,6 @@ pub mod plot;
 pub mod real;
 pub mod run;
 pub mod scene;
+pub mod study;
+pub mod study_report;
 pub mod verify;

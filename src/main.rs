@@ -29,6 +29,8 @@ enum Cmd {
     Variants,
     /// Check GPU variants against the CPU reference (fields, stages, observables).
     Verify(VerifyArgs),
+    /// The Chapter 6 timing study: E1 (search × backend), E4 (speedup), scaling; records.csv + summary.md.
+    Study(StudyArgs),
     /// Analytic drop-spread models (thesis §5.1, Table 1).
     Analytic {
         #[command(subcommand)]
@@ -99,6 +101,25 @@ struct VerifyArgs {
     /// Write verify.csv and verify.json here.
     #[arg(long)]
     out: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct StudyArgs {
+    /// Experiments: e1, e4, scaling (comma-separated) or all.
+    #[arg(long, default_value = "all")]
+    experiments: String,
+    /// Scaling resolutions (particles across the box).
+    #[arg(long, default_value = "30,60,120")]
+    sizes: String,
+    /// Timed steps per backend.
+    #[arg(long, default_value_t = 10)]
+    steps: u64,
+    /// GPU variants: `all` or comma-separated ids.
+    #[arg(long, default_value = "all")]
+    variants: String,
+    /// Output directory.
+    #[arg(long, default_value = "reports/study")]
+    out: PathBuf,
 }
 
 #[derive(Subcommand)]
@@ -320,6 +341,42 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
     }
 }
 
+fn cmd_study(a: StudyArgs) -> ExitCode {
+    let experiments: Vec<String> = if a.experiments == "all" {
+        vec!["e1".into(), "e4".into(), "scaling".into()]
+    } else {
+        a.experiments.split(',').map(|s| s.trim().to_string()).collect()
+    };
+    let mut sizes = Vec::new();
+    for s in a.sizes.split(',') {
+        match s.trim().parse::<u32>() {
+            Ok(n) if n >= 10 => sizes.push(n),
+            _ => return fail(2, format!("--sizes: `{s}` is not a resolution ≥ 10")),
+        }
+    }
+    if a.steps == 0 {
+        return fail(2, "--steps: must be at least 1");
+    }
+    let mut variants = Vec::new();
+    if a.variants != "all" {
+        for id in a.variants.split(',') {
+            match id.trim().parse() {
+                Ok(v) => variants.push(v),
+                Err(e) => return fail(2, format!("--variants: {e}")),
+            }
+        }
+    }
+    let opts = sphlab::study::StudyOptions { experiments, sizes, steps: a.steps, variants, out: a.out };
+    match sphlab::study::run_study(&opts) {
+        Ok(r) => {
+            eprintln!("{} records; {}", r.len(), opts.out.join("summary.md").display());
+            ExitCode::SUCCESS
+        }
+        Err(e) if e.starts_with("--") => fail(2, e),
+        Err(e) => fail(1, e),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.cmd {
@@ -340,6 +397,7 @@ fn main() -> ExitCode {
         },
         Cmd::Analytic { cmd } => cmd_analytic(cmd),
         Cmd::Variants => cmd_variants(),
+        Cmd::Study(a) => cmd_study(a),
         Cmd::Verify(a) => cmd_verify(a),
     }
 }

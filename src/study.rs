@@ -1,0 +1,273 @@
+//! `sphlab study`: the thesis's Chapter 6 timing study (STUDY.md §4) and beyond, as records in
+//! the format of STUDY.md §5 (`records.csv`, one row per backend × size) plus `summary.md` and
+//! SVG plots.
+//!
+//! * **E1** (Fig. 6.3): neighbour search {direct, cells, tracking} × {CPU one thread, GPU} at
+//!   2,025 fluid particles (the oscillating-drop box at nx = 45).
+//! * **E4** (§6.5 headline): every GPU variant against the single-thread CPU NNPS (cells) at
+//!   10,000 fluid particles (nx = 100): the speedup (thesis: 120× on a 2012 GPU).
+//! * **scaling**: time per step against N for the CPU (one thread, all threads) and the GPU
+//!   variants, log-log.
+//!
+//! Each backend runs the same scene from the same state: warm-up steps, then `steps` timed steps
+//! (each followed by a device sync, so GPU time is wall clock of finished work); median, p10 and
+//! p90 per step. The error columns compare the backend's state after the timed steps with the
+//! CPU f64 one-thread run of the same steps (kinetic energy, centroid). Absolute GPU times mean
+//! something only on a real GPU; on lavapipe (a CPU emulation of Vulkan) read ratios and
+//! correctness only. E2 (residency hybrids) and E3 (subdomains) are not implemented.
+
+use crate::backend::{Backend, Frame};
+use crate::cpu::CpuSolver;
+use crate::exec::Exec;
+use crate::gpu::variant::VariantSpec;
+use crate::gpu::GpuContext;
+use crate::neighbours::SearchKind;
+use crate::run::{initial_velocities, measure};
+use crate::scene::build::{build_layout, Layout};
+use crate::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use serde::Serialize;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// One benchmark record (STUDY.md §5).
+#[derive(Clone, Debug, Serialize)]
+pub struct Record {
+    /// Experiment (e1, e4, scaling).
+    pub experiment: String,
+    /// Backend or variant id (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …).
+    pub variant: String,
+    /// Scene name.
+    pub scene: String,
+    /// Particles across the box.
+    pub nx: u32,
+    /// Total particles (fluid + wall).
+    pub n: usize,
+    /// Fluid particles.
+    pub n_fluid: usize,
+    /// Timed steps.
+    pub steps: u64,
+    /// cpu, cpu1 or gpu.
+    pub backend: String,
+    /// Adapter name (or "CPU").
+    pub adapter: String,
+    /// Driver and driver info.
+    pub driver: String,
+    /// Device type.
+    pub device_type: String,
+    /// CPU model.
+    pub cpu_model: String,
+    /// CPU threads used.
+    pub cpu_threads: usize,
+    /// f32 or f64.
+    pub precision: String,
+    /// Median wall time per step (ms).
+    pub ms_per_step_median: f64,
+    /// 10th percentile.
+    pub ms_per_step_p10: f64,
+    /// 90th percentile.
+    pub ms_per_step_p90: f64,
+    /// wall (GPU timestamps are not used yet).
+    pub timing: String,
+    /// Particle-evaluations per second: N × force evaluations per step ÷ seconds per step.
+    pub particle_evals_per_s: f64,
+    /// Relative kinetic-energy difference from the CPU f64 reference after the same steps.
+    pub ke_rel_error: f64,
+    /// Centroid difference from the reference, in Δx.
+    pub centroid_error_dx: f64,
+    /// git commit.
+    pub commit: String,
+    /// UTC date.
+    pub date: String,
+}
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct StudyOptions {
+    /// Experiments: e1, e4, scaling.
+    pub experiments: Vec<String>,
+    /// Scaling sizes (nx).
+    pub sizes: Vec<u32>,
+    /// Timed steps per backend.
+    pub steps: u64,
+    /// GPU variants (empty: every supported one).
+    pub variants: Vec<VariantSpec>,
+    /// Output directory.
+    pub out: std::path::PathBuf,
+}
+
+/// The study scene at resolution nx: the oscillating drop without relaxation, dt scaled with Δx.
+pub fn study_scene(nx: u32) -> Scene {
+    let sets = [format!("domain.nx={nx}"), "relax.t=0".into(), format!("time.dt={}", 1e-4 * 30.0 / nx as f64)];
+    apply_overrides(&builtin("oscillating-drop").expect("built-in"), &sets).expect("valid study scene")
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .unwrap_or_else(|| "unknown".into())
+}
+
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// Times `steps` steps (after 2 warm-up steps) and returns (sorted ms per step, final frame).
+fn time_backend(b: &mut dyn Backend, steps: u64) -> Result<(Vec<f64>, Frame), String> {
+    for _ in 0..2 {
+        b.step().map_err(|e| e.to_string())?;
+    }
+    b.sync();
+    let mut ms = Vec::new();
+    for _ in 0..steps {
+        let t = Instant::now();
+        b.step().map_err(|e| e.to_string())?;
+        b.sync();
+        ms.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    ms.sort_by(f64::total_cmp);
+    Ok((ms, b.frame()))
+}
+
+struct Ctx<'a> {
+    scene: Scene,
+    layout: Layout,
+    vel0: Vec<[f64; 2]>,
+    reference: Option<Frame>,
+    gpu: Option<&'a Arc<GpuContext>>,
+    commit: String,
+    date: String,
+    cpu_model: String,
+}
+
+impl Ctx<'_> {
+    #[allow(clippy::too_many_arguments)]
+    fn record(&mut self, experiment: &str, variant: String, backend: &str, precision: &str, mut b: Box<dyn Backend>, steps: u64, threads: usize) -> Result<Record, String> {
+        b.restart_with_velocities(&self.vel0);
+        let (ms, frame) = time_backend(b.as_mut(), steps)?;
+        let (ke_err, c_err) = match &self.reference {
+            Some(r) => {
+                let (a, c) = (measure(&self.scene, &frame), measure(&self.scene, r));
+                let dx = self.scene.domain.dx();
+                ((a.kinetic_energy - c.kinetic_energy).abs() / c.kinetic_energy.abs().max(1e-300), ((a.centroid_x - c.centroid_x).hypot(a.centroid_y - c.centroid_y)) / dx)
+            }
+            None => (0.0, 0.0),
+        };
+        let median = percentile(&ms, 0.5);
+        let evals = if self.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
+        let (adapter, driver, device_type) = match (backend, self.gpu) {
+            ("gpu", Some(g)) => {
+                let i = &g.adapter_info;
+                (i.name.clone(), format!("{} {}", i.driver, i.driver_info), format!("{:?}", i.device_type))
+            }
+            _ => ("CPU".into(), "-".into(), "Cpu".into()),
+        };
+        Ok(Record {
+            experiment: experiment.into(),
+            variant,
+            scene: self.scene.name.clone(),
+            nx: self.scene.domain.nx,
+            n: self.layout.pos.len(),
+            n_fluid: self.layout.n_fluid,
+            steps,
+            backend: backend.into(),
+            adapter,
+            driver,
+            device_type,
+            cpu_model: self.cpu_model.clone(),
+            cpu_threads: threads,
+            precision: precision.into(),
+            ms_per_step_median: median,
+            ms_per_step_p10: percentile(&ms, 0.1),
+            ms_per_step_p90: percentile(&ms, 0.9),
+            timing: "wall".into(),
+            particle_evals_per_s: self.layout.pos.len() as f64 * evals / (median * 1e-3),
+            ke_rel_error: ke_err,
+            centroid_error_dx: c_err,
+            commit: self.commit.clone(),
+            date: self.date.clone(),
+        })
+    }
+}
+
+fn cpu_backend(scene: &Scene, layout: &Layout, exec: Exec, search: SearchKind, f32: bool) -> Box<dyn Backend> {
+    if f32 {
+        Box::new(CpuSolver::<f32>::new(scene, layout, exec, search))
+    } else {
+        Box::new(CpuSolver::<f64>::new(scene, layout, exec, search))
+    }
+}
+
+/// Runs one experiment at one size; appends records (and prints a line per record).
+fn run_size(experiment: &str, nx: u32, opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, cpu_searches: &[SearchKind], all_threads: bool, out: &mut Vec<Record>) -> Result<(), String> {
+    let scene = study_scene(nx);
+    let layout = build_layout(&scene).map_err(|e| e.to_string())?;
+    let vel0 = initial_velocities(&scene, &layout, None);
+    let mut c = Ctx { scene, layout, vel0, reference: None, gpu, commit: crate::output::git_commit(), date: crate::output::now_utc_iso8601(), cpu_model: cpu_model() };
+    // The reference: CPU f64, one thread, cells.
+    let mut r = cpu_backend(&c.scene, &c.layout, Exec::Serial, SearchKind::Cells, false);
+    r.restart_with_velocities(&c.vel0);
+    let (ms, frame) = time_backend(r.as_mut(), opts.steps)?;
+    c.reference = Some(frame);
+    let _ = ms;
+    let push = |rec: Result<Record, String>, label: &str, out: &mut Vec<Record>| match rec {
+        Ok(r) => {
+            eprintln!("{experiment} nx={nx} {:<44} {:>10.3} ms/step", r.variant, r.ms_per_step_median);
+            out.push(r);
+        }
+        Err(e) => eprintln!("{experiment} nx={nx} {label}: skipped: {e}"),
+    };
+    for &s in cpu_searches {
+        let label = format!("cpu1.{}.f64", s.name());
+        let b = cpu_backend(&c.scene, &c.layout, Exec::Serial, s, false);
+        let rec = c.record(experiment, label.clone(), "cpu1", "f64", b, opts.steps, 1);
+        push(rec, &label, out);
+    }
+    if all_threads {
+        for f32 in [false, true] {
+            let p = if f32 { "f32" } else { "f64" };
+            let label = format!("cpu.cells.{p}");
+            let b = cpu_backend(&c.scene, &c.layout, Exec::Parallel, SearchKind::Cells, f32);
+            let rec = c.record(experiment, label.clone(), "cpu", p, b, opts.steps, rayon::current_num_threads());
+            push(rec, &label, out);
+        }
+    }
+    if let Some(g) = gpu {
+        let specs: Vec<VariantSpec> = if opts.variants.is_empty() { VariantSpec::all() } else { opts.variants.clone() };
+        for spec in specs {
+            if experiment == "e1" && spec.to_string() != format!("{}.thread.recomputed.f32", spec.search.name()) {
+                continue;
+            }
+            let label = spec.to_string();
+            if let Err(e) = spec.implemented().and_then(|_| spec.support(g)) {
+                eprintln!("{experiment} nx={nx} {label}: skipped: {e}");
+                continue;
+            }
+            let b = crate::gpu::solver::new_backend(g.clone(), &c.scene, &c.layout, spec).map_err(|e| e.to_string());
+            let rec = b.and_then(|b| c.record(experiment, label.clone(), "gpu", spec.precision.name(), b, opts.steps, 1));
+            push(rec, &label, out);
+        }
+    }
+    Ok(())
+}
+
+/// Runs the selected experiments and writes `records.csv`, `summary.md` and plots.
+pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
+    let gpu = GpuContext::new().map(Arc::new).map_err(|e| eprintln!("study: no GPU adapter ({e}); CPU only")).ok();
+    let mut recs = Vec::new();
+    let all = [SearchKind::Direct, SearchKind::Cells, SearchKind::Tracking];
+    for e in &opts.experiments {
+        match e.as_str() {
+            "e1" => run_size("e1", 45, opts, gpu.as_ref(), &all, false, &mut recs)?,
+            "e4" => run_size("e4", 100, opts, gpu.as_ref(), &[SearchKind::Cells], true, &mut recs)?,
+            "scaling" => {
+                for &nx in &opts.sizes {
+                    run_size("scaling", nx, opts, gpu.as_ref(), &[SearchKind::Cells], true, &mut recs)?;
+                }
+            }
+            other => return Err(format!("--experiments: unknown experiment `{other}` (e1, e4, scaling)")),
+        }
+    }
+    crate::study_report::write(&opts.out, &recs, gpu.as_ref().map(|g| g.describe()))?;
+    Ok(recs)
+}
