@@ -103,4 +103,10 @@ pub trait Backend {
     fn restart_with_velocities(&mut self, vel: &[[f64; 2]]);
     /// Waits until all submitted work is done (GPU); a no-op on the CPU.
     fn sync(&mut self) {}
+    /// A blow-up or overflow detected after the last `step()` returned (the GPU checks its
+    /// device-side flags at output steps and in `frame()`); `None` on the CPU, which checks
+    /// every step.
+    fn take_error(&mut self) -> Option<SolverError> {
+        None
+    }
 }

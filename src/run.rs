@@ -397,6 +397,10 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     }
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
+    if let Some(e) = backend.take_error() {
+        summary.wall_time_s = wall;
+        return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+    }
     let fr = backend.frame();
     summary.dt_last = fr.dt;
     summary.steps = backend.steps();

@@ -410,6 +410,12 @@ impl<T: Real> Backend for GpuSolver<T> {
     fn sync(&mut self) {
         let _ = self.ctx.wait_idle();
     }
+    fn take_error(&mut self) -> Option<SolverError> {
+        if self.pending.is_none() {
+            self.pending = self.check_flags().err();
+        }
+        self.pending.take()
+    }
 }
 
 /// A boxed GPU backend for `spec` in its precision.
