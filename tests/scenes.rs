@@ -118,3 +118,23 @@ fn poiseuille_matches_the_series_solution() {
     assert!(e16 < 0.7 * e8, "the error falls with resolution: {e8} → {e16}");
     assert!(free < 0.012, "without the cap the ghost velocity is exact no-slip: {free}");
 }
+
+#[test]
+fn solver_options_match_poiseuille_too() {
+    // Each optional treatment must still reproduce the analytic flow: velocity Verlet, XSPH,
+    // Holmes χ ghost velocities, Adami R-wall pressure and a Lennard-Jones wall force (whose r0 =
+    // Δx/2 leaves the undisturbed first row untouched: it must not perturb the flow).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cases: [(&str, &[&str], f64); 5] = [
+        ("verlet", &["time.integrator=\"verlet\""], 0.06),
+        ("xsph", &["time.xsph=0.5"], 0.06),
+        ("holmes", &["walls.velocity=\"holmes\""], 0.08),
+        ("r-wall", &["walls.pressure=\"r-wall\""], 0.06),
+        ("lennard-jones", &["walls.lj_strength=1.0"], 0.06),
+    ];
+    for (name, sets, tol) in cases {
+        let e = poiseuille_error(&dir.path().join(name), sets);
+        println!("Poiseuille with {name}: max error / u_max = {e:.4}");
+        assert!(e < tol, "{name}: error {e} above {tol}");
+    }
+}
