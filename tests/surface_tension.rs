@@ -320,10 +320,12 @@ fn flat_interface_surface_force() {
     for k in half - 5..half + 5 {
         println!("  row y={:>5.1}: a_y = {:+.6e}", k as f64 + 0.5, ay[k]);
     }
-    // (1) no tangential force
+    // (1) no tangential force (rounding only: a(σ=1) − a(σ=0) subtracts pressure terms of size
+    // ~B = ρ0c0²/γ with p_b = B, so the floor is ~1e-16·B ≈ 1e-14; a real tangential error
+    // would be of the size of a_y)
     for (k, a) in ax.iter().enumerate() {
         assert!(
-            a.abs() < 1e-14,
+            a.abs() < 1e-12,
             "row {k}: tangential surface acceleration {a:e} ≠ 0 on a flat interface"
         );
     }
