@@ -28,12 +28,19 @@ use std::time::Instant;
 /// Tolerances of one evaluation, relative to the field's max magnitude (the pressure to the
 /// EOS scale B), in one place. f32: GPU and CPU sum in different orders (cells, candidate and
 /// list orders, atomics in any order), so agreement is at the f32 rounding level: rel-L2 1e-5,
-/// max-rel 1e-4 (acceleration 1e-3: it inherits the pressure's cancellation near ρ0). The
-/// fixed-point accumulation adds at most 2⁻³⁵ of the field's expected scale per sum (see
-/// `gpu::variant_buffers`), far below these bounds. f64: 1e-9 (fixed point included).
+/// max-rel 1e-4. The acceleration is a sum of pressure terms that cancel to ~1e-3 of their
+/// size in a drop at rest, so its f32 value depends on the summation order at ~1e-3 of |a|
+/// per particle (the exact fixed-point sum differs from the CPU's sequential f32 sum by
+/// 3e-5 rel-L2 on oscillating-drop, while both are 1e-4 from the f64 truth): rel-L2 1e-4,
+/// max-rel 1e-3 against the CPU f32, AND no less accurate than the CPU f32 itself against the
+/// CPU f64 (`ACC_VS_F64`: at most 1.25× its rel-L2 + 1e-6). The fixed-point accumulation adds
+/// at most 2⁻⁴³ of the field's expected scale per sum (`gpu::variant_buffers`), far below
+/// these bounds. f64: 1e-9 everywhere (fixed point included).
 const TOL_L2: f64 = 1e-5;
 const TOL_MAX: f64 = 1e-4;
+const TOL_L2_ACC: f64 = 1e-4;
 const TOL_MAX_ACC: f64 = 1e-3;
+const ACC_VS_F64: (f64, f64) = (1.25, 1e-6);
 const TOL_F64: f64 = 1e-9;
 
 const SCENES: &[(&str, &[&str])] = &[("oscillating-drop", &[]), ("sessile-90", &["contact.mode=b", "domain.nx=33"])];
@@ -77,7 +84,7 @@ fn errs(cpu: &[f64], gpu: &[f64], scale: Option<f64>) -> (f64, f64) {
         d2 += e * e;
         c2 += c * c;
     }
-    (mx, (d2 / c2.max(s * s * 1e-30)).sqrt())
+    (mx, if d2 == 0.0 { 0.0 } else { (d2 / c2.max(s * s * 1e-30)).sqrt() })
 }
 
 fn flat<T: Real>(f: &Fields<T>, n_fluid: usize) -> Vec<(&'static str, Vec<f64>)> {
@@ -95,7 +102,7 @@ fn flat<T: Real>(f: &Fields<T>, n_fluid: usize) -> Vec<(&'static str, Vec<f64>)>
 }
 
 /// Compares one evaluation field by field; returns the worst (max-rel, rel-L2) and prints them.
-fn compare<T: Real>(tag: &str, cpu: &CpuSolver<T>, g: &Fields<T>, tol: (f64, f64, f64)) -> (f64, f64) {
+fn compare<T: Real>(tag: &str, cpu: &CpuSolver<T>, g: &Fields<T>, tol: [f64; 4]) -> (f64, f64) {
     let cf = &cpu.f;
     let b = cpu.model.phases.iter().map(|p| (p.stiffness + p.p_b.abs()).f64()).fold(0.0, f64::max);
     assert_eq!(cf.colour, g.colour, "{tag}: colours");
@@ -105,8 +112,8 @@ fn compare<T: Real>(tag: &str, cpu: &CpuSolver<T>, g: &Fields<T>, tol: (f64, f64
     for ((name, c), (_, gv)) in flat(cf, cpu.n_fluid).into_iter().zip(flat(g, cpu.n_fluid)) {
         let (mx, l2) = errs(&c, &gv, if name == "p" { Some(b) } else { None });
         line += &format!(" {name} {mx:.1e}/{l2:.1e}");
-        let tmax = if name == "acc" { tol.2 } else { tol.1 };
-        assert!(mx <= tmax && l2 <= tol.0, "{tag} {name}: max-rel {mx:e} rel-L2 {l2:e}");
+        let (tl2, tmax) = if name == "acc" { (tol[2], tol[3]) } else { (tol[0], tol[1]) };
+        assert!(mx <= tmax && l2 <= tl2, "{tag} {name}: max-rel {mx:e} rel-L2 {l2:e}");
         (wm, wl) = (wm.max(mx), wl.max(l2));
     }
     println!("{tag:<46}{line}");
@@ -117,16 +124,29 @@ fn bits<T: Real>(f: &Fields<T>) -> Vec<u64> {
     flat(f, f.acc.len()).into_iter().flat_map(|(_, v)| v.into_iter().map(f64::to_bits)).collect()
 }
 
-/// One evaluation of `spec` vs the CPU; for order-independent variants (thread mapping, fixed
-/// accumulation) a second evaluation on the same state must give the same bits.
-fn check_variant<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, cpu: &CpuSolver<T>, spec: VariantSpec, tag: &str) {
-    let tol = if T::NAME == "f64" { (TOL_F64, TOL_F64, TOL_F64) } else { (TOL_L2, TOL_MAX, TOL_MAX_ACC) };
+/// rel-L2 of the fluid accelerations against the f64 reference.
+fn acc_vs_f64<T: Real>(f: &Fields<T>, truth: &CpuSolver<f64>) -> f64 {
+    let nf = truth.n_fluid;
+    let r: Vec<f64> = truth.f.acc[..nf].iter().flat_map(|a| [a.x, a.y]).collect();
+    let g: Vec<f64> = f.acc[..nf].iter().flat_map(|a| [a.x.f64(), a.y.f64()]).collect();
+    errs(&r, &g, None).1
+}
+
+/// One evaluation of `spec` vs the CPU (and, in f32, the acceleration's accuracy against the
+/// f64 reference); for order-independent variants (thread mapping, fixed accumulation) a second
+/// evaluation on the same state must give the same bits.
+fn check_variant<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, cpu: &CpuSolver<T>, truth: &CpuSolver<f64>, spec: VariantSpec, tag: &str) {
+    let tol = if T::NAME == "f64" { [TOL_F64; 4] } else { [TOL_L2, TOL_MAX, TOL_L2_ACC, TOL_MAX_ACC] };
     let t0 = Instant::now();
     let mut gpu = GpuSolver::<T>::new(ctx.clone(), s, l, spec).unwrap_or_else(|e| panic!("{spec}: {e}"));
     let t1 = Instant::now();
     gpu.evaluate_once().unwrap_or_else(|e| panic!("{spec}: {e}"));
     let f = gpu.read_fields().unwrap();
     let (mx, l2) = compare(tag, cpu, &f, tol);
+    if T::NAME == "f32" {
+        let (own, cpu_own) = (acc_vs_f64(&f, truth), acc_vs_f64(&cpu.f, truth));
+        assert!(own <= ACC_VS_F64.0 * cpu_own + ACC_VS_F64.1, "{tag}: acc rel-L2 vs f64 {own:e}, CPU f32 {cpu_own:e}");
+    }
     if spec.mapping == Mapping::Thread || spec.accumulation == Accumulation::Fixed {
         gpu.evaluate_once().unwrap();
         assert!(bits(&f) == bits(&gpu.read_fields().unwrap()), "{tag}: two evaluations differ in bits");
@@ -154,8 +174,8 @@ fn every_variant_matches_cpu_one_evaluation() {
             }
             let tag = format!("{name} {spec}");
             match spec.precision {
-                Precision::F32 => check_variant(&ctx, &s, &l, &c32, spec, &tag),
-                Precision::F64 => check_variant(&ctx, &s, &l, &c64, spec, &tag),
+                Precision::F32 => check_variant(&ctx, &s, &l, &c32, &c64, spec, &tag),
+                Precision::F64 => check_variant(&ctx, &s, &l, &c64, &c64, spec, &tag),
             }
             ran += 1;
         }

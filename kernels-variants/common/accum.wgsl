@@ -40,15 +40,30 @@ fn acc_add(i: u32, c: u32, f: u32, v: real) {
         old = r.old_value;
     }
 #else
-    // t = round(v/q) (exact scaling: q is a power of two), split into hi·2³² + lo, lo ∈ [0, 2³²).
-    let lim = real(4.0e18); // < 2⁶²: beyond this the field is 10⁶× its expected scale
-    let t = clamp(round(v * vparams[VP_INV_Q + f]), -lim, lim);
-    let hi = floor(t / real(TWO32));
-    let lo = u32(t - hi * real(TWO32));
+    // t = round(v/q) (exact scaling: q is a power of two). |t| splits exactly into
+    // hi·2³² + lo (lo = the bits of |t| below 2³², a multiple of its ulp), then the sign is
+    // applied as a 64-bit two's-complement negation in integers (splitting t itself would need
+    // lo = 2³² − small, not representable in f32).
+    // Beyond 2⁶² quanta (2¹⁴ times the field's expected scale) the sum could wrap: count it
+    // (the host reports the evaluation as invalid) instead of returning wrong numbers.
+    let lim = real(4.0e18);
+    var t = round(v * vparams[VP_INV_Q + f]);
+    if abs(t) > lim {
+        atomicAdd(&vctl[V_FIXED_OVER], 1u);
+        t = clamp(t, -lim, lim);
+    }
+    let m = abs(t);
+    let mh = floor(m / real(TWO32));
+    var lo = u32(m - mh * real(TWO32));
+    var hi = u32(mh);
+    if t < real(0.0) {
+        hi = ~hi + select(0u, 1u, lo == 0u);
+        lo = 0u - lo;
+    }
     let a = 2u * (4u * i + c);
     let old = atomicAdd(&accum[a], lo);
     let carry = select(0u, 1u, old + lo < old);
-    atomicAdd(&accum[a + 1u], bitcast<u32>(i32(hi)) + carry);
+    atomicAdd(&accum[a + 1u], hi + carry);
 #endif
 #endif
 }
@@ -61,10 +76,18 @@ fn acc_get(i: u32, c: u32, f: u32) -> real {
 #ifdef ACC_CAS
     return real(bitcast<f32>(atomicLoad(&accum[4u * i + c])));
 #else
+    // Magnitude and sign in integers first (real(hi)·2³² + real(lo) would lose a small
+    // negative total to rounding), then one conversion.
     let a = 2u * (4u * i + c);
-    let lo = atomicLoad(&accum[a]);
-    let hi = bitcast<i32>(atomicLoad(&accum[a + 1u]));
-    return (real(hi) * real(TWO32) + real(lo)) * vparams[VP_Q + f];
+    var lo = atomicLoad(&accum[a]);
+    var hi = atomicLoad(&accum[a + 1u]);
+    let neg = bitcast<i32>(hi) < 0;
+    if neg {
+        hi = ~hi + select(0u, 1u, lo == 0u);
+        lo = 0u - lo;
+    }
+    let m = (real(hi) * real(TWO32) + real(lo)) * vparams[VP_Q + f];
+    return select(m, -m, neg);
 #endif
 #endif
 }

@@ -32,6 +32,7 @@ const V_SINCE: u32 = 5u;      // evaluations since the last build
 const V_DISP2: u32 = 6u;      // f32 bits of max |x − x_ref|² (this evaluation)
 const V_REBUILDS: u32 = 7u;   // builds so far
 const V_EVERY: u32 = 8u;      // rebuild at least every this many evaluations (host-written)
+const V_FIXED_OVER: u32 = 9u; // fixed-point terms beyond the representable range
 
 // Entries of `vparams` (twin of `vparam::*`).
 const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)

@@ -142,6 +142,11 @@ impl<T: Real> GpuSolver<T> {
         (threads.div_ceil(64) as u32, 1)
     }
 
+    /// The variant constants (fixed-point quanta, tracking radii; `gpu::variant_buffers`).
+    pub fn variant_constants(&self) -> Result<Vec<T>, GpuError> {
+        self.vb.vparams.read_back(&self.ctx)
+    }
+
     /// Tracking-list builds so far (0 for the other searches).
     pub fn tracking_rebuilds(&self) -> Result<u64, GpuError> {
         self.vb.rebuilds(&self.ctx)

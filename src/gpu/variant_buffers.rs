@@ -7,12 +7,13 @@
 //! turns the overflow counters into [`SolverError::NeighbourOverflow`].
 //!
 //! Fixed-point scales: each accumulated field group f (density, colour gradient, acceleration)
-//! gets a quantum q_f = 2^(⌊log₂ S_f⌋ − 40), S_f its expected magnitude from the model:
-//! S_density = 1/Δx² (σ of a lattice), S_grad = 64·G·Δx⁴ (64 slots of ∇W/σ² with
-//! G = α/h the scale of F'), S_acc = S_grad·P (P = EOS scale B + σ_s/h + η·c/h). Terms are
-//! rounded to multiples of q_f and summed exactly in 64 bits: each sum carries at most
-//! 64·q_f/2 = 2⁻³⁵·S_f of quantisation error (3e-11 of the scale, far below f32 rounding)
-//! and stays exact up to 2²³·S_f (8e6 times the expected magnitude).
+//! gets a quantum q_f = 2^(⌊log₂ S_f⌋ − 48), S_f an upper estimate of the sum of |terms| from
+//! the model: S_density = 1/Δx² (σ of a lattice), S_grad = 64·F'max·Δx⁴ (64 slots of ∇W/σ²),
+//! S_acc = S_grad·P (P = EOS scale B + σ_s/h + η·c/h). Terms are rounded to multiples of q_f
+//! and summed exactly in 64 bits: each sum carries at most 64·q_f/2 = 2⁻⁴³·S_f of
+//! quantisation error (1.1e-13 of the scale, so still ~1e-9 of a field 10⁴× smaller than its
+//! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
+//! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
 use super::variant::{Mapping, SearchVariant, VariantSpec};
 use super::{GpuContext, GpuError, GpuVec};
@@ -48,6 +49,8 @@ pub mod vctl {
     pub const REBUILDS: usize = 7;
     /// Rebuild period k.
     pub const EVERY: usize = 8;
+    /// Fixed-point terms beyond the representable range.
+    pub const FIXED_OVER: usize = 9;
     /// Words.
     pub const LEN: usize = 12;
 }
@@ -67,9 +70,9 @@ pub struct VBufs<T: Real> {
     every: u32,
 }
 
-/// Power of two 2^(⌊log₂ s⌋ − 40) (the fixed-point quantum of a field of magnitude s).
+/// Power of two 2^(⌊log₂ s⌋ − 48) (the fixed-point quantum of a field of magnitude s).
 fn quantum(s: f64) -> f64 {
-    2f64.powi(s.max(1e-300).log2().floor() as i32 - 40)
+    2f64.powi(s.max(1e-300).log2().floor() as i32 - 48)
 }
 
 impl<T: Real> VBufs<T> {
@@ -103,7 +106,10 @@ impl<T: Real> VBufs<T> {
     fn constants(m: &Model<T>) -> Vec<T> {
         let kp = m.kernel;
         let (dx, h) = (m.dx.f64(), kp.h.f64());
-        let g = kp.alpha.f64() / h;
+        let support = kp.support.f64();
+        let g = (0..=1000)
+            .map(|k| crate::physics::kernel::kernel_dwdr(&kp, T::c(support * k as f64 / 1000.0)).f64().abs())
+            .fold(0.0, f64::max);
         let b = m.phases.iter().map(|p| (p.stiffness + p.p_b.abs()).f64()).fold(0.0, f64::max);
         let eta = m.phases.iter().map(|p| p.eta.f64()).fold(0.0, f64::max);
         let p = b + m.sigma_max / h + eta * m.c_max / h;
@@ -115,7 +121,6 @@ impl<T: Real> VBufs<T> {
             v[f] = T::c(1.0 / q);
             v[4 + f] = T::c(q);
         }
-        let support = kp.support.f64();
         let skin = support * TrackingCfg::default().skin_ratio;
         v[8] = T::c((support + skin) * (support + skin));
         v[9] = T::c(0.25 * skin * skin);
@@ -144,7 +149,8 @@ impl<T: Real> VBufs<T> {
     }
 
     /// `Err(NeighbourOverflow)` when a particle had more neighbours than the 64 list slots or
-    /// more candidates than the 96 tracking slots since the last call (then clears the counters).
+    /// more candidates than the 96 tracking slots since the last call, `Err(Gpu)` when a
+    /// fixed-point term left the accumulator's range (then clears the counters).
     pub fn overflow(&self, ctx: &GpuContext, step: u64) -> Result<(), SolverError> {
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
         let mut c = self.vctl.read_back(ctx).map_err(gpu)?;
@@ -155,11 +161,20 @@ impl<T: Real> VBufs<T> {
         } else {
             None
         };
-        let Some((particles, slots, max, what)) = err else { return Ok(()) };
-        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::CAND_MAX] {
+        let fixed = c[vctl::FIXED_OVER];
+        if err.is_none() && fixed == 0 {
+            return Ok(());
+        }
+        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::CAND_MAX, vctl::FIXED_OVER] {
             c[w] = 0;
         }
         self.vctl.upload(ctx, &c).map_err(gpu)?;
+        let Some((particles, slots, max, what)) = err else {
+            return Err(SolverError::Gpu(format!(
+                "step {step}: {}: {fixed} fixed-point terms exceed the accumulator range (2^62 quanta)",
+                self.spec
+            )));
+        };
         Err(SolverError::NeighbourOverflow {
             step,
             particles: particles as usize,
@@ -200,10 +215,11 @@ impl<T: Real> VBufs<T> {
 /// The group-1 layout and the two-group pipeline layout over `state` (group 0).
 pub fn layouts(ctx: &GpuContext, state: &wgpu::BindGroupLayout) -> Result<(wgpu::BindGroupLayout, wgpu::PipelineLayout), GpuError> {
     let need = super::solver_buffers::N_STORAGE + N_VSTORAGE;
-    if ctx.limits.max_storage_buffers_per_shader_stage < need {
+    let lim = &ctx.limits;
+    let allowed = lim.max_storage_buffers_per_shader_stage.min(lim.max_buffers_and_acceleration_structures_per_shader_stage.saturating_sub(1));
+    if allowed < need {
         return Err(GpuError::Unsupported(format!(
-            "the solver binds {need} storage buffers; the adapter allows {} per shader stage",
-            ctx.limits.max_storage_buffers_per_shader_stage
+            "the solver binds {need} storage buffers and a uniform; the adapter allows {allowed} storage buffers per shader stage"
         )));
     }
     let entries: Vec<_> = (0..N_VSTORAGE)
