@@ -33,6 +33,7 @@ const V_DISP2: u32 = 6u;      // f32 bits of max |x − x_ref|² (this evaluatio
 const V_REBUILDS: u32 = 7u;   // builds so far
 const V_EVERY: u32 = 8u;      // rebuild at least every this many evaluations (host-written)
 const V_FIXED_OVER: u32 = 9u; // fixed-point terms beyond the representable range
+const V_CAND_STALE: u32 = 10u; // particles whose current candidate list overflowed (until the next build)
 
 // Entries of `vparams` (twin of `vparam::*`).
 const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)

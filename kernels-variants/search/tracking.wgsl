@@ -9,7 +9,8 @@
 // when the flag is set (every thread returns at once otherwise) and `track_clear` lowers it.
 // PERF: the cell sort of search/cell_*.wgsl still runs every evaluation (cheap next to the
 // pair stages); indirect dispatch could skip it too. Candidates beyond CAND_SLOTS are counted
-// in vctl and reported as `NeighbourOverflow` by the host, never dropped silently.
+// in vctl and reported as `NeighbourOverflow` by the host, never dropped silently; the
+// truncated lists stay flagged (V_CAND_STALE) for every evaluation until the next build.
 
 #import common/neighbours
 
@@ -36,6 +37,7 @@ fn track_every() {
     if rebuild {
         atomicStore(&vctl[V_REBUILD], 1u);
         atomicStore(&vctl[V_SINCE], 0u);
+        atomicStore(&vctl[V_CAND_STALE], 0u);
         atomicAdd(&vctl[V_REBUILDS], 1u);
     }
     atomicAdd(&vctl[V_SINCE], 1u);
@@ -80,6 +82,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>) {
     ref_pos[i] = xi;
     if count > CAND_SLOTS {
         atomicAdd(&vctl[V_CAND_OVER], 1u);
+        atomicAdd(&vctl[V_CAND_STALE], 1u);
         atomicMax(&vctl[V_CAND_MAX], count);
     }
 }

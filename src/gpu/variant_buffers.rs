@@ -51,6 +51,8 @@ pub mod vctl {
     pub const EVERY: usize = 8;
     /// Fixed-point terms beyond the representable range.
     pub const FIXED_OVER: usize = 9;
+    /// Particles whose current (truncated) candidate list overflowed; cleared by a rebuild.
+    pub const CAND_STALE: usize = 10;
     /// Words.
     pub const LEN: usize = 12;
 }
@@ -148,16 +150,17 @@ impl<T: Real> VBufs<T> {
         Ok(self.vctl.read_back(ctx)?[vctl::REBUILDS] as u64)
     }
 
-    /// `Err(NeighbourOverflow)` when a particle had more neighbours than the 64 list slots or
-    /// more candidates than the 96 tracking slots since the last call, `Err(Gpu)` when a
+    /// `Err(NeighbourOverflow)` when a particle had more neighbours than the 64 list slots
+    /// since the last call or its current tracking list (96 slots) is truncated, `Err(Gpu)` when a
     /// fixed-point term left the accumulator's range (then clears the counters).
     pub fn overflow(&self, ctx: &GpuContext, step: u64) -> Result<(), SolverError> {
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
         let mut c = self.vctl.read_back(ctx).map_err(gpu)?;
-        let err = if c[vctl::NBR_OVER] > 0 {
+        let cand = c[vctl::CAND_OVER].max(c[vctl::CAND_STALE]);
+        let err = if cand > 0 {
+            Some((cand, CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".to_string()))
+        } else if c[vctl::NBR_OVER] > 0 {
             Some((c[vctl::NBR_OVER], NBR_SLOTS, c[vctl::NBR_MAX], String::new()))
-        } else if c[vctl::CAND_OVER] > 0 {
-            Some((c[vctl::CAND_OVER], CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".into()))
         } else {
             None
         };
@@ -165,8 +168,11 @@ impl<T: Real> VBufs<T> {
         if err.is_none() && fixed == 0 {
             return Ok(());
         }
-        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::CAND_MAX, vctl::FIXED_OVER] {
+        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::FIXED_OVER] {
             c[w] = 0;
+        }
+        if c[vctl::CAND_STALE] == 0 {
+            c[vctl::CAND_MAX] = 0;
         }
         self.vctl.upload(ctx, &c).map_err(gpu)?;
         let Some((particles, slots, max, what)) = err else {
