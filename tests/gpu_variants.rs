@@ -135,7 +135,15 @@ fn acc_vs_f64<T: Real>(f: &Fields<T>, truth: &CpuSolver<f64>) -> f64 {
 /// One evaluation of `spec` vs the CPU (and, in f32, the acceleration's accuracy against the
 /// f64 reference); for order-independent variants (thread mapping, fixed accumulation) a second
 /// evaluation on the same state must give the same bits.
-fn check_variant<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, cpu: &CpuSolver<T>, truth: &CpuSolver<f64>, spec: VariantSpec, tag: &str) {
+fn check_variant<T: Real>(
+    ctx: &Arc<GpuContext>,
+    s: &Scene,
+    l: &Layout,
+    cpu: &CpuSolver<T>,
+    truth: &CpuSolver<f64>,
+    spec: VariantSpec,
+    tag: &str,
+) {
     let tol = if T::NAME == "f64" { [TOL_F64; 4] } else { [TOL_L2, TOL_MAX, TOL_L2_ACC, TOL_MAX_ACC] };
     let t0 = Instant::now();
     let mut gpu = GpuSolver::<T>::new(ctx.clone(), s, l, spec).unwrap_or_else(|e| panic!("{spec}: {e}"));
@@ -151,7 +159,11 @@ fn check_variant<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, cpu: &Cp
         gpu.evaluate_once().unwrap();
         assert!(bits(&f) == bits(&gpu.read_fields().unwrap()), "{tag}: two evaluations differ in bits");
     }
-    println!("    worst max-rel {mx:.2e} rel-L2 {l2:.2e}; build {:.1} s, evaluate {:.2} s", (t1 - t0).as_secs_f64(), t1.elapsed().as_secs_f64());
+    println!(
+        "    worst max-rel {mx:.2e} rel-L2 {l2:.2e}; build {:.1} s, evaluate {:.2} s",
+        (t1 - t0).as_secs_f64(),
+        t1.elapsed().as_secs_f64()
+    );
 }
 
 #[test]
@@ -195,7 +207,12 @@ fn fixed_and_thread_variants_are_bitwise_reproducible() {
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
     let (s, l) = scene(SCENES[1].0, SCENES[1].1);
-    for id in ["cells.block-atomic.fixed.recomputed.f32", "tracking.block-tree.fixed.cached.f32", "tracking.thread.recomputed.f32", "direct.thread.cached.f32"] {
+    for id in [
+        "cells.block-atomic.fixed.recomputed.f32",
+        "tracking.block-tree.fixed.cached.f32",
+        "tracking.thread.recomputed.f32",
+        "direct.thread.cached.f32",
+    ] {
         let run = || {
             let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, id.parse().unwrap()).unwrap();
             for _ in 0..5 {
@@ -217,7 +234,12 @@ fn neighbour_overflow_is_reported() {
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
     let (s, l) = scene("sessile-90", &["contact.mode=b", "domain.nx=21", "kernel.kind=quintic", "kernel.h_ratio=2.0"]);
-    let ids = ["cells.block-atomic.cas.recomputed.f32", "tracking.block-tree.fixed.cached.f32", "direct.thread.cached.f32", "tracking.thread.recomputed.f32"];
+    let ids = [
+        "cells.block-atomic.cas.recomputed.f32",
+        "tracking.block-tree.fixed.cached.f32",
+        "direct.thread.cached.f32",
+        "tracking.thread.recomputed.f32",
+    ];
     for id in ids {
         let spec: VariantSpec = id.parse().unwrap();
         let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
@@ -245,7 +267,8 @@ fn tracking_rebuilds_like_the_cpu() {
     let ctx = Arc::new(ctx);
     let (s, l) = scene(SCENES[0].0, SCENES[0].1);
     let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Tracking);
-    let mut gpu = GpuSolver::<f32>::new(ctx.clone(), &s, &l, "tracking.thread.recomputed.f32".parse().unwrap()).unwrap();
+    let mut gpu =
+        GpuSolver::<f32>::new(ctx.clone(), &s, &l, "tracking.thread.recomputed.f32".parse().unwrap()).unwrap();
     for _ in 0..25 {
         cpu.step().unwrap();
         gpu.step().unwrap();

@@ -219,10 +219,15 @@ impl<T: Real> VBufs<T> {
 }
 
 /// The group-1 layout and the two-group pipeline layout over `state` (group 0).
-pub fn layouts(ctx: &GpuContext, state: &wgpu::BindGroupLayout) -> Result<(wgpu::BindGroupLayout, wgpu::PipelineLayout), GpuError> {
+pub fn layouts(
+    ctx: &GpuContext,
+    state: &wgpu::BindGroupLayout,
+) -> Result<(wgpu::BindGroupLayout, wgpu::PipelineLayout), GpuError> {
     let need = super::solver_buffers::N_STORAGE + N_VSTORAGE;
     let lim = &ctx.limits;
-    let allowed = lim.max_storage_buffers_per_shader_stage.min(lim.max_buffers_and_acceleration_structures_per_shader_stage.saturating_sub(1));
+    let allowed = lim
+        .max_storage_buffers_per_shader_stage
+        .min(lim.max_buffers_and_acceleration_structures_per_shader_stage.saturating_sub(1));
     if allowed < need {
         return Err(GpuError::Unsupported(format!(
             "the solver binds {need} storage buffers and a uniform; the adapter allows {allowed} storage buffers per shader stage"
@@ -241,7 +246,10 @@ pub fn layouts(ctx: &GpuContext, state: &wgpu::BindGroupLayout) -> Result<(wgpu:
         })
         .collect();
     ctx.scoped(|d| {
-        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("sphlab.variant"), entries: &entries });
+        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sphlab.variant"),
+            entries: &entries,
+        });
         let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sphlab.state+variant"),
             bind_group_layouts: &[Some(state), Some(&bgl)],
