@@ -1,12 +1,14 @@
-// neighbours.wgsl: the neighbour loop of the `thread` stages, as an iterator, for the two
+// neighbours.wgsl: the neighbour loop of the `thread` stages, as an iterator, for the three
 // searches: `DIRECT` defined = every particle under every existing image code (O(N²·images),
-// the order of the CPU lists: code, then index); otherwise the 3×3 cells around
+// the order of the CPU lists: code, then index); `TRACKING` defined = the particle's tracking
+// candidates (kernels-variants/search/tracking.wgsl) under the exact distance test; otherwise the 3×3 cells around
 // `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*. A neighbour is
 // (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of `neighbours::within`), self
-// included. Usage: `var it = nb_begin(xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
-// Shared include (needs common/bindings: pos, sorted, cell_start); no entry points.
+// included. Usage: `var it = nb_begin(i, xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
+// Shared include (needs common/bindings: pos, sorted, cell_start; common/variant_bindings:
+// counts, cand); no entry points.
 
-#import common/bindings
+#import common/variant_bindings
 
 struct Nb {
     j: u32,        // current neighbour index
@@ -37,7 +39,7 @@ fn cell_index(p: real2) -> u32 {
     return u32(x + i32(params.grid_nx) * y);
 }
 
-fn nb_begin(xi: real2) -> Nb {
+fn nb_begin(i: u32, xi: real2) -> Nb {
     var it: Nb;
     it.xi = xi;
     it.code = 0u;
@@ -46,10 +48,15 @@ fn nb_begin(xi: real2) -> Nb {
 #ifdef DIRECT
     it.end = params.n;
 #else
+#ifdef TRACKING
+    it.cur = i * CAND_SLOTS;
+    it.end = it.cur + min(counts[params.n + i], CAND_SLOTS);
+#else
     let c = cell_coords(xi);
     it.cx = c.x;
     it.cy = c.y;
     it.k = 0xFFFFFFFFu;
+#endif
 #endif
     return it;
 }
@@ -71,7 +78,13 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
 #ifdef DIRECT
             let j = (*it).cur;
 #else
+#ifdef TRACKING
+            let e = cand[(*it).cur];
+            let j = e & PACK_MASK;
+            (*it).code = e >> PACK_SHIFT;
+#else
             let j = sorted[(*it).cur];
+#endif
 #endif
             (*it).cur += 1u;
             let xj = image_pos((*it).code, pos[j]);
@@ -89,6 +102,9 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
         }
         (*it).cur = 0u;
         (*it).end = params.n;
+#else
+#ifdef TRACKING
+        return false;
 #else
         (*it).k += 1u;
         if (*it).k >= 9u {
@@ -108,6 +124,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
         let cell = u32(x + i32(params.grid_nx) * y);
         (*it).cur = cell_start[cell];
         (*it).end = cell_start[cell + 1u];
+#endif
 #endif
     }
     return false;

@@ -5,30 +5,7 @@
 #import common/neighbours
 #import pair
 #import wall
-
-// Lennard-Jones repulsion of the boundary points (spacing r0 = Δx/2 on each wall line).
-fn lennard_jones(x: real2) -> real2 {
-    let r0 = real(0.5) * params.dx;
-    var a = real2(real(0.0), real(0.0));
-    for (var w = 0u; w < params.n_walls; w++) {
-        if wall_distance(w, x) >= r0 {
-            continue;
-        }
-        let along_y = params.wall_axis[w] == 0u;
-        let t = select(x.x, x.y, along_y);
-        let t0 = select(params.lo_x, params.lo_y, along_y);
-        let k0 = round((t - t0) / r0);
-        for (var dk = -1; dk <= 1; dk++) {
-            let tb = t0 + (k0 + real(dk)) * r0;
-            var b = real2(tb, params.wall_coord[w]);
-            if along_y {
-                b = real2(params.wall_coord[w], tb);
-            }
-            a += lj_wall_acc(x - b, r0, params.lj_strength);
-        }
-    }
-    return a;
-}
+#import common/pair_terms
 
 @compute @workgroup_size(64)
 fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -54,7 +31,7 @@ fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>) {
         d_i = wall_distance(w, xi);
     }
     var sum = real2(real(0.0), real(0.0));
-    var it = nb_begin(xi);
+    var it = nb_begin(i, xi);
     while nb_next(&it) {
         let j = it.j;
         let x_ij = xi - it.xj;

@@ -17,7 +17,7 @@ fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     var g1 = g0;
     if k >= 0 {
         let xi = pos[i];
-        var it = nb_begin(xi);
+        var it = nb_begin(i, xi);
         while nb_next(&it) {
             let j = it.j;
             let l = colour[j];

@@ -35,7 +35,7 @@ fn contact_line(@builtin(global_invocation_id) gid: vec3<u32>) {
     var succ = real(0.0);
     var pred_phase = 0u;
     var succ_phase = 0u;
-    var it = nb_begin(pos[i]);
+    var it = nb_begin(i, pos[i]);
     while nb_next(&it) {
         if it.j >= params.n_fluid || !in_band(it.xj.y) {
             continue;

@@ -16,7 +16,7 @@ fn number_density(@builtin(global_invocation_id) gid: vec3<u32>) {
     let xi = pos[i];
     var s = real(0.0);
     var same = real(0.0);
-    var it = nb_begin(xi);
+    var it = nb_begin(i, xi);
     while nb_next(&it) {
         let d = xi - it.xj;
         let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));

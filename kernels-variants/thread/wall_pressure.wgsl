@@ -15,7 +15,7 @@ fn wall_pressure(@builtin(global_invocation_id) gid: vec3<u32>) {
     let xi = pos[i];
     var num = real(0.0);
     var den = real(0.0);
-    var it = nb_begin(xi);
+    var it = nb_begin(i, xi);
     while nb_next(&it) {
         let j = it.j;
         if j >= params.n_fluid {

@@ -15,7 +15,7 @@ fn xsph(@builtin(global_invocation_id) gid: vec3<u32>) {
     let xi = pos[i];
     let vi = vel[i];
     var s = real2(real(0.0), real(0.0));
-    var it = nb_begin(xi);
+    var it = nb_begin(i, xi);
     while nb_next(&it) {
         let j = it.j;
         if j >= params.n_fluid || phase[j] != phase[i] {

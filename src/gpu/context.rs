@@ -57,6 +57,8 @@ impl GpuContext {
         let limits = Limits {
             max_storage_buffer_binding_size: max.max_storage_buffer_binding_size,
             max_storage_buffers_per_shader_stage: max.max_storage_buffers_per_shader_stage,
+            max_buffers_and_acceleration_structures_per_shader_stage: max
+                .max_buffers_and_acceleration_structures_per_shader_stage,
             max_buffer_size: max.max_buffer_size,
             max_compute_workgroup_storage_size: max.max_compute_workgroup_storage_size,
             max_compute_invocations_per_workgroup: max.max_compute_invocations_per_workgroup,

@@ -11,6 +11,7 @@ pub mod solver;
 pub mod solver_buffers;
 pub mod stages;
 pub mod variant;
+pub mod variant_buffers;
 
 pub use buffers::{GpuVec, Uniform};
 pub use compose::{compose, compose_variant, Composed};
@@ -44,6 +45,9 @@ pub enum GpuError {
     /// The variant is not implemented in this build or not supported by the adapter.
     #[error("{0}")]
     Unsupported(String),
+    /// The solver detected a condition that invalidates the results (neighbour overflow).
+    #[error(transparent)]
+    Solver(#[from] crate::backend::SolverError),
     /// A buffer would exceed a device limit.
     #[error("{what}: {bytes} bytes exceeds the device limit of {limit} bytes")]
     TooLarge {

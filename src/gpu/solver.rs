@@ -3,12 +3,16 @@
 //! every [`GpuSolver::check_every`] steps and at every `frame()`); automatic dt reads back two
 //! floats per step. Stage order, names and physics are those of `cpu::CpuSolver`.
 //! [`GpuSolver::evaluate_once`] and [`GpuSolver::run_stage_from`] serve the stage-by-stage
-//! verification against the CPU reference.
+//! verification against the CPU reference. Group 0 binds the particle state
+//! ([`super::solver_buffers`]), group 1 the strategy buffers ([`super::variant_buffers`]:
+//! lists, caches, tracking candidates, accumulators); neighbour overflow of the list-based
+//! variants is read with the blow-up flag and reported as [`SolverError::NeighbourOverflow`].
 
 use super::params::{GridSpec, Params};
 use super::solver_buffers::{ctl, layouts, Bufs};
 use super::stages::{Domain, Pipelines};
 use super::variant::VariantSpec;
+use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
 use crate::backend::{Backend, Frame, SolverError};
 use crate::cpu::stages::{ContactPoint, Fields};
@@ -28,8 +32,10 @@ pub struct GpuSolver<T: Real> {
     params: Params<T>,
     grid: GridSpec<T>,
     b: Bufs<T>,
+    vb: VBufs<T>,
     pipes: Pipelines,
     bg: wgpu::BindGroup,
+    vbg: wgpu::BindGroup,
     n: usize,
     n_fluid: usize,
     phase: Vec<u32>,
@@ -63,9 +69,12 @@ impl<T: Real> GpuSolver<T> {
         let grid = GridSpec::new(&pos, model.support());
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
-        let (bgl, pl) = layouts(&ctx)?;
+        let vb = VBufs::new(&ctx, spec, &model, n)?;
+        let (bgl, _) = layouts(&ctx)?;
+        let (vbgl, pl) = vbufs::layouts(&ctx, &bgl)?;
         let pipes = Pipelines::build(&ctx, &spec, &pl)?;
         let bg = b.bind_group(&ctx, &bgl)?;
+        let vbg = vb.bind_group(&ctx, &vbgl)?;
         b.pos.upload(&ctx, &pos)?;
         b.vel.upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;
@@ -76,8 +85,10 @@ impl<T: Real> GpuSolver<T> {
             params,
             grid,
             b,
+            vb,
             pipes,
             bg,
+            vbg,
             n,
             n_fluid,
             phase: layout.phase.clone(),
@@ -119,15 +130,26 @@ impl<T: Real> GpuSolver<T> {
         self.b.ctl.upload(&self.ctx, &c)
     }
 
-    fn groups(&self, d: Domain) -> u32 {
+    fn groups(&self, d: Domain) -> (u32, u32) {
         let threads = match d {
             Domain::All => self.n,
             Domain::Fluid => self.n_fluid,
             Domain::Wall => self.n - self.n_fluid,
-            Domain::One | Domain::Group => return 1,
+            Domain::One | Domain::Group => return (1, 1),
             Domain::Cells => self.grid.cells(),
+            Domain::Block => return (self.n.div_ceil(32) as u32, (vbufs::NBR_SLOTS / 16) as u32),
         };
-        threads.div_ceil(64) as u32
+        (threads.div_ceil(64) as u32, 1)
+    }
+
+    /// The variant constants (fixed-point quanta, tracking radii; `gpu::variant_buffers`).
+    pub fn variant_constants(&self) -> Result<Vec<T>, GpuError> {
+        self.vb.vparams.read_back(&self.ctx)
+    }
+
+    /// Tracking-list builds so far (0 for the other searches).
+    pub fn tracking_rebuilds(&self) -> Result<u64, GpuError> {
+        self.vb.rebuilds(&self.ctx)
     }
 
     /// Records the kernels of one stage (by CPU name) into `enc`.
@@ -142,13 +164,17 @@ impl<T: Real> GpuSolver<T> {
         if stage == "reduce_max" {
             enc.clear_buffer(&self.b.ctl.buffer, 4 * ctl::VMAX as u64, Some(8));
         }
+        if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
+            enc.clear_buffer(&self.vb.accum.buffer, 0, None);
+        }
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(stage), timestamp_writes: None });
         pass.set_bind_group(0, &self.bg, &[]);
+        pass.set_bind_group(1, &self.vbg, &[]);
         for (kd, p) in kernels {
-            let g = self.groups(kd.domain);
-            if g > 0 {
+            let (gx, gy) = self.groups(kd.domain);
+            if gx > 0 {
                 pass.set_pipeline(p);
-                pass.dispatch_workgroups(g, 1, 1);
+                pass.dispatch_workgroups(gx, gy, 1);
             }
         }
     }
@@ -174,10 +200,12 @@ impl<T: Real> GpuSolver<T> {
         })
     }
 
-    /// One force evaluation at the current state (no integration), waited for.
+    /// One force evaluation at the current state (no integration), waited for; a neighbour
+    /// overflow is an error (`GpuError::Solver(NeighbourOverflow)`).
     pub fn evaluate_once(&mut self) -> Result<(), GpuError> {
         self.submit(|enc| self.record_evaluate(enc))?;
-        self.ctx.wait_idle()
+        self.ctx.wait_idle()?;
+        Ok(self.vb.overflow(&self.ctx, self.step)?)
     }
 
     /// Uploads CPU-produced inputs, runs the neighbour search and ONE named stage, and reads every
@@ -221,6 +249,7 @@ impl<T: Real> GpuSolver<T> {
         if !self.pipes.stages.contains_key(stage) {
             return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
         }
+        self.vb.invalidate(ctx)?;
         self.submit(|enc| {
             self.record(enc, "neighbour_search");
             if stage != "neighbour_search" {
@@ -228,6 +257,7 @@ impl<T: Real> GpuSolver<T> {
             }
         })?;
         self.ctx.wait_idle()?;
+        self.vb.overflow(&self.ctx, self.step)?;
         self.read_fields()
     }
 
@@ -290,6 +320,7 @@ impl<T: Real> GpuSolver<T> {
     /// Reads the blow-up flag and the sticky contact count; the error, if any.
     fn check_flags(&mut self) -> Result<(), SolverError> {
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        self.vb.overflow(&self.ctx, self.step)?;
         let w = self.b.ctl.read_back(&self.ctx).map_err(gpu)?;
         if w[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
             let count = w[ctl::CONTACTS_MAX] as usize;

@@ -1,13 +1,15 @@
 //! The table of GPU kernels per variant: which entry point of which `kernels-variants/` file runs
-//! for each CPU stage name, over which index range, compiled with which defines. Mappings not in
-//! this build (block-*, tracking, cached) slot in as further tables; [`kernel_table`] refuses
-//! them with a clear reason. Every pipeline shares the one explicit layout of
+//! for each CPU stage name, over which index range, compiled with which defines. The `thread`
+//! table is the base; the search adds its kernels to `neighbour_search` (tracking lists, the
+//! explicit 64-slot lists), and the mapping / kernel-value axes replace the three pair-sum
+//! stages (number_density, colour_gradient, acceleration) by their own kernels
+//! ([`pair_stage`]); the other stages keep the thread kernels over the search's iterator. Every pipeline shares the one explicit layout of
 //! [`super::solver_buffers`]; labels are `sphlab.<variant>.<stage>` (`.<entry>` added
 //! when a stage has several kernels or its entry differs: `stage_<name>` avoids a clash with a
 //! library function of the same name).
 
 use super::compose::{compose_variant, F64};
-use super::variant::{Precision, SearchVariant, VariantSpec};
+use super::variant::{Accumulation, KernelValues, Mapping, Precision, SearchVariant, VariantSpec};
 use super::{GpuContext, GpuError};
 use std::collections::HashMap;
 
@@ -26,6 +28,8 @@ pub enum Domain {
     Cells,
     /// One workgroup (its own size).
     Group,
+    /// The 16 × 32 block layout: N/32 workgroups in x, 4 in y (64 slots).
+    Block,
 }
 
 /// One kernel: entry point, file (relative to `kernels-variants/`), dispatch domain.
@@ -77,15 +81,52 @@ pub const THREAD_STAGES: &[(&str, &[KernelDef])] = &[
     ("reduce_max", &[k("reduce_max", "thread/integrate.wgsl", Domain::Fluid)]),
 ];
 
+/// Tracking lists, before the cell sort: displacement reduction and the rebuild decision.
+pub const TRACKING_PRE: &[KernelDef] =
+    &[k("track_check", "search/tracking.wgsl", Domain::All), k("track_every", "search/tracking.wgsl", Domain::One)];
+
+/// Tracking lists, after the cell sort: candidate build (when flagged), flag cleared.
+pub const TRACKING_POST: &[KernelDef] =
+    &[k("track_build", "search/tracking.wgsl", Domain::All), k("track_clear", "search/tracking.wgsl", Domain::One)];
+
+/// The explicit lists (and cached kernel values), built last in `neighbour_search`.
+pub const NBR_BUILD: KernelDef = k("nbr_build", "search/nbr_list.wgsl", Domain::All);
+
+/// The pair-sum stages whose kernels depend on the mapping and the kernel values.
+pub const PAIR_STAGES: [&str; 3] = ["number_density", "colour_gradient", "acceleration"];
+
+/// Kernels of pair-sum stage `name` for `spec`; `None` keeps the thread kernels.
+pub fn pair_stage(spec: &VariantSpec, name: &'static str) -> Option<Vec<KernelDef>> {
+    let fin = match name {
+        "number_density" => "finalize_density",
+        "colour_gradient" => "finalize_gradient",
+        "acceleration" => "finalize_acceleration",
+        _ => return None,
+    };
+    let block = |file| vec![k(name, file, Domain::Block), k(fin, "block/finalize.wgsl", Domain::All)];
+    match spec.mapping {
+        Mapping::Thread if spec.kernel_values == KernelValues::Cached => {
+            Some(vec![k(name, "list/pair_sums.wgsl", Domain::All)])
+        }
+        Mapping::Thread => None,
+        Mapping::BlockAtomic => Some(block("block/atomic.wgsl")),
+        Mapping::BlockTree => Some(block("block/tree.wgsl")),
+    }
+}
+
 /// The stage table of a variant: `neighbour_search` first, then the stages by CPU name.
 pub fn kernel_table(spec: &VariantSpec) -> Result<Vec<(&'static str, Vec<KernelDef>)>, String> {
     spec.implemented()?;
-    let search = match spec.search {
+    let mut search = match spec.search {
+        SearchVariant::Direct => Vec::new(),
         SearchVariant::Cells => CELLS_SEARCH.to_vec(),
-        _ => Vec::new(),
+        SearchVariant::Tracking => [TRACKING_PRE, CELLS_SEARCH, TRACKING_POST].concat(),
     };
+    if spec.has_lists() {
+        search.push(NBR_BUILD);
+    }
     let mut t = vec![("neighbour_search", search)];
-    t.extend(THREAD_STAGES.iter().map(|(n, ks)| (*n, ks.to_vec())));
+    t.extend(THREAD_STAGES.iter().map(|(n, ks)| (*n, pair_stage(spec, n).unwrap_or_else(|| ks.to_vec()))));
     Ok(t)
 }
 
@@ -95,8 +136,18 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     if spec.precision == Precision::F64 {
         d.push(F64);
     }
-    if spec.search == SearchVariant::Direct {
-        d.push("DIRECT");
+    match spec.search {
+        SearchVariant::Direct => d.push("DIRECT"),
+        SearchVariant::Tracking => d.push("TRACKING"),
+        SearchVariant::Cells => {}
+    }
+    if spec.kernel_values == KernelValues::Cached {
+        d.push("CACHED");
+    }
+    match spec.accumulation {
+        Accumulation::Cas => d.push("ACC_CAS"),
+        Accumulation::Native => d.push("ACC_NATIVE"),
+        Accumulation::Fixed | Accumulation::None => {}
     }
     d
 }

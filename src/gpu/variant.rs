@@ -1,8 +1,9 @@
 //! GPU variant ids (STUDY.md): search × mapping × accumulation × kernel values × precision,
 //! written `"{search}.{mapping}[.{accum}].{kernel_values}.{precision}"`, e.g.
 //! `cells.thread.recomputed.f32` or `tracking.block-atomic.fixed.cached.f32`. [`VariantSpec::all`]
-//! lists every combination that makes sense (an accumulation only for the block mappings);
-//! [`VariantSpec::support`] says why an adapter cannot run one.
+//! lists every combination that makes sense (an accumulation only for the block mappings; no
+//! float atomics in f64, so f64 block variants accumulate in fixed point only) and every one
+//! is implemented; [`VariantSpec::support`] says why an adapter cannot run one.
 
 use super::GpuContext;
 use std::fmt;
@@ -24,9 +25,11 @@ pub enum SearchVariant {
 pub enum Mapping {
     /// One thread per particle, sequential gather (no atomics in the sums).
     Thread,
-    /// One workgroup per particle, atomic accumulation.
+    /// Thesis §6.4.1: 32 particles × 16 neighbour threads per workgroup, 4 workgroups in y
+    /// over the 64 list slots, one atomic add per pair term.
     BlockAtomic,
-    /// One workgroup per particle, tree reduction in workgroup memory.
+    /// The same layout, tree reduction of each row in workgroup memory, then one atomic add
+    /// per particle per workgroup.
     BlockTree,
 }
 
@@ -121,7 +124,7 @@ impl VariantSpec {
                     for &kernel_values in KernelValues::ALL {
                         for &precision in Precision::ALL {
                             let s = VariantSpec { search, mapping, accumulation, kernel_values, precision };
-                            if s.is_consistent() {
+                            if s.is_consistent() && s.meaningful().is_ok() {
                                 v.push(s);
                             }
                         }
@@ -137,8 +140,42 @@ impl VariantSpec {
         Self::all().iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
     }
 
-    /// `Err(reason)` when the adapter lacks a feature this variant needs.
+    /// True when the variant runs on explicit 64-slot neighbour lists (block mappings, cached
+    /// kernel values).
+    pub fn has_lists(&self) -> bool {
+        self.mapping != Mapping::Thread || self.kernel_values == KernelValues::Cached
+    }
+
+    /// `Err(reason)` for a consistent id that is not a meaningful variant.
+    pub fn meaningful(&self) -> Result<(), String> {
+        if self.precision == Precision::F64 && matches!(self.accumulation, Accumulation::Cas | Accumulation::Native) {
+            return Err(format!(
+                "{self}: f64 {} accumulation is not meaningful: WGSL has no 64-bit float atomics \
+                 (a u64 CAS would need SHADER_INT64_ATOMIC_ALL_OPS); use `fixed` in f64",
+                self.accumulation.name()
+            ));
+        }
+        Ok(())
+    }
+
+    /// `Err(reason)` when the adapter lacks a feature or a limit this variant needs.
     pub fn support(&self, ctx: &GpuContext) -> Result<(), String> {
+        if self.mapping != Mapping::Thread {
+            let (inv, wgs) = (ctx.limits.max_compute_invocations_per_workgroup, ctx.limits.max_compute_workgroup_size_y);
+            if inv < 512 || wgs < 32 {
+                return Err(format!(
+                    "{self}: the 16 × 32 block layout needs 512 invocations per workgroup (adapter: {inv}, y size {wgs})"
+                ));
+            }
+            let real = if self.precision == Precision::F64 { 8 } else { 4 };
+            let tree = 2 * 512 * 2 * real;
+            if self.mapping == Mapping::BlockTree && ctx.limits.max_compute_workgroup_storage_size < tree {
+                return Err(format!(
+                    "{self}: the tree reduction needs {tree} bytes of workgroup memory (adapter: {})",
+                    ctx.limits.max_compute_workgroup_storage_size
+                ));
+            }
+        }
         if self.precision == Precision::F64 && !ctx.has(wgpu::Features::SHADER_F64) {
             return Err(format!("{self}: the adapter lacks SHADER_F64"));
         }
@@ -148,18 +185,13 @@ impl VariantSpec {
         Ok(())
     }
 
-    /// `Err(reason)` when this build has no implementation of the variant.
+    /// `Err(reason)` when this build has no implementation of the variant: every consistent,
+    /// meaningful id is implemented.
     pub fn implemented(&self) -> Result<(), String> {
-        let ok = self.mapping == Mapping::Thread
-            && self.search != SearchVariant::Tracking
-            && self.kernel_values == KernelValues::Recomputed;
-        if ok {
-            Ok(())
-        } else {
-            Err(format!(
-                "not implemented in this build: {self} (implemented: {{direct, cells}}.thread.recomputed.{{f32, f64}})"
-            ))
+        if !self.is_consistent() {
+            return Err(format!("{self}: an accumulation belongs to the block mappings only"));
         }
+        self.meaningful()
     }
 }
 
@@ -204,7 +236,12 @@ mod tests {
     #[test]
     fn ids_round_trip() {
         let all = VariantSpec::all();
-        assert_eq!(all.len(), 3 * 2 * 2 + 3 * 2 * 3 * 2 * 2);
+        // thread: 3 searches × 2 kernel values × 2 precisions; block: 3 × 2 mappings × 2 kernel
+        // values × (3 accumulations in f32 + fixed in f64).
+        assert_eq!(all.len(), 3 * 2 * 2 + 3 * 2 * 2 * 4);
+        assert!(all.iter().all(|s| s.implemented().is_ok()));
+        let f64cas: VariantSpec = "cells.block-atomic.cas.recomputed.f64".parse().unwrap();
+        assert!(f64cas.implemented().is_err() && !all.contains(&f64cas));
         for s in &all {
             assert_eq!(s.to_string().parse::<VariantSpec>().unwrap(), *s, "{s}");
         }

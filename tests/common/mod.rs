@@ -1,9 +1,6 @@
 //! Shared test helpers: GPU presence rule, a seeded RNG, and the wgebra-style harness that runs
 //! one WGSL library function on many inputs through an appended `@compute` test entry point.
-#![allow(
-    dead_code,
-    reason = "each test binary uses a different subset of the helpers"
-)]
+#![allow(dead_code, reason = "each test binary uses a different subset of the helpers")]
 
 use sphlab::gpu::compose::{compose_mapped, validate, F64};
 use sphlab::gpu::{gpu_required, GpuContext, GpuVec};
@@ -140,49 +137,23 @@ pub fn run_twin<T: Real>(ctx: &GpuContext, t: &Twin, cases: &[Case<T>]) -> Vec<T
     let mut args = Vec::with_capacity(cases.len() * nin);
     let mut ints = Vec::with_capacity(cases.len() * nint);
     for c in cases {
-        assert_eq!(
-            (c.args.len().max(1), c.ints.len().max(1)),
-            (nin, nint),
-            "all cases have the same arity"
-        );
-        args.extend(
-            c.args
-                .iter()
-                .copied()
-                .chain(std::iter::repeat(T::zero()))
-                .take(nin),
-        );
-        ints.extend(
-            c.ints
-                .iter()
-                .copied()
-                .chain(std::iter::repeat(0))
-                .take(nint),
-        );
+        assert_eq!((c.args.len().max(1), c.ints.len().max(1)), (nin, nint), "all cases have the same arity");
+        args.extend(c.args.iter().copied().chain(std::iter::repeat(T::zero())).take(nin));
+        ints.extend(c.ints.iter().copied().chain(std::iter::repeat(0)).take(nint));
     }
     let defines: &[&str] = if T::NAME == "f64" { &[F64] } else { &[] };
-    let composed = compose_mapped("<test kernel>", &test_kernel(t, nin, nint), defines)
-        .expect("test kernel composes");
+    let composed = compose_mapped("<test kernel>", &test_kernel(t, nin, nint), defines).expect("test kernel composes");
     if let Err(e) = validate(&composed) {
-        panic!(
-            "{} [{}]: naga rejects the test kernel: {e}",
-            t.name,
-            T::NAME
-        );
+        panic!("{} [{}]: naga rejects the test kernel: {e}", t.name, T::NAME);
     }
     let label = format!("sphlab.test.{}.{}", t.name, T::NAME);
-    let pipeline = ctx
-        .compute_pipeline(&label, &composed.source, "test_main")
-        .expect("pipeline builds");
+    let pipeline = ctx.compute_pipeline(&label, &composed.source, "test_main").expect("pipeline builds");
     let inp = GpuVec::from_slice(ctx, "inp", &args).expect("upload");
     let ints = GpuVec::from_slice(ctx, "ints", &ints).expect("upload");
     let out = GpuVec::<T>::new(ctx, "out", cases.len() * t.nout).expect("alloc");
     out.fill(ctx, poison()).expect("poison");
-    let bg = ctx
-        .bind_group(&pipeline, &[&inp.buffer, &ints.buffer, &out.buffer])
-        .expect("bind group");
-    ctx.dispatch(&pipeline, &bg, cases.len().div_ceil(64) as u32)
-        .expect("dispatch");
+    let bg = ctx.bind_group(&pipeline, &[&inp.buffer, &ints.buffer, &out.buffer]).expect("bind group");
+    ctx.dispatch(&pipeline, &bg, cases.len().div_ceil(64) as u32).expect("dispatch");
     out.read_back(ctx).expect("read back")
 }
 
@@ -191,14 +162,7 @@ pub fn run_twin<T: Real>(ctx: &GpuContext, t: &Twin, cases: &[Case<T>]) -> Vec<T
 /// terms that produced it (|cpu| when nothing cancels) and `abs_floor` absorbs flushed
 /// denormals. NaN where a number is expected (the poison left in place) counts as infinite.
 /// Panics with the first offenders when the max error exceeds `tol`; returns the max error.
-pub fn compare<T: Real>(
-    name: &str,
-    gpu: &[T],
-    cpu: &[(T, T)],
-    cases: &[Case<T>],
-    tol: f64,
-    abs_floor: f64,
-) -> f64 {
+pub fn compare<T: Real>(name: &str, gpu: &[T], cpu: &[(T, T)], cases: &[Case<T>], tol: f64, abs_floor: f64) -> f64 {
     assert_eq!(gpu.len(), cpu.len(), "{name}: output count");
     let nout = cpu.len() / cases.len();
     let mut errs: Vec<(f64, usize)> = Vec::new();
@@ -217,18 +181,10 @@ pub fn compare<T: Real>(
             errs.push((e, k));
         }
     }
-    println!(
-        "twin {name:<34} [{}] max err {max:.3e} (tol {tol:.0e}) over {} outputs",
-        T::NAME,
-        gpu.len()
-    );
+    println!("twin {name:<34} [{}] max err {max:.3e} (tol {tol:.0e}) over {} outputs", T::NAME, gpu.len());
     if !errs.is_empty() {
         errs.sort_by(|a, b| b.0.total_cmp(&a.0));
-        let mut msg = format!(
-            "{name} [{}]: {} outputs exceed tol {tol:e}; worst first:\n",
-            T::NAME,
-            errs.len()
-        );
+        let mut msg = format!("{name} [{}]: {} outputs exceed tol {tol:e}; worst first:\n", T::NAME, errs.len());
         for (e, k) in errs.iter().take(10) {
             let c = &cases[k / nout];
             msg += &format!(

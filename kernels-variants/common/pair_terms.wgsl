@@ -1,0 +1,210 @@
+// pair_terms.wgsl: the per-pair bodies of the three pair-sum stages (number_density,
+// colour_gradient, acceleration) over the explicit 64-slot lists, shared by the list-driven
+// `thread` kernels (list/pair_sums.wgsl), the block mappings (block/*.wgsl) and their finalize
+// kernels, so every mapping composes the physics of shaders/pair.wgsl in one place. Each
+// `*_pair` returns the contribution of one slot; each `*_out` applies the per-particle
+// prefactors (σ_i, 1/m_i, gravity, Lennard-Jones) and writes the field, exactly as the
+// `thread` kernels of kernels-variants/thread/ do (twins of `cpu::stages`).
+// Kernel values: `CACHED` defined = W_ij and F'(r_ij) read from the cache written by
+// search/nbr_list.wgsl; otherwise recomputed on demand (the thesis's two policies, §6.5).
+// Library module (needs common/variant_bindings); no entry points.
+
+#import common/variant_bindings
+#import pair
+#import wall
+
+// One list entry of particle i: neighbour, image code, slot, image position, x_ij, r.
+struct Pair {
+    j: u32,
+    code: u32,
+    slot: u32,
+    xj: real2,
+    x_ij: real2,
+    r2: real,
+    r: real,
+}
+
+// Number of valid slots of i (an overflowing particle is reported by the host).
+fn list_len(i: u32) -> u32 {
+    return min(counts[i], NBR_SLOTS);
+}
+
+// The entry in `slot` (= i*NBR_SLOTS + k) of particle i at xi.
+fn pair_at(xi: real2, slot: u32) -> Pair {
+    let e = nbr[slot];
+    var p: Pair;
+    p.j = e & PACK_MASK;
+    p.code = e >> PACK_SHIFT;
+    p.slot = slot;
+#ifdef CACHED
+    p.xj = cache_xj[slot];
+#else
+    p.xj = image_pos(p.code, pos[p.j]);
+#endif
+    p.x_ij = xi - p.xj;
+    p.r2 = p.x_ij.x * p.x_ij.x + p.x_ij.y * p.x_ij.y;
+    p.r = sqrt(p.r2);
+    return p;
+}
+
+// W_ij.
+fn pair_w(kp: KernelParams, p: Pair) -> real {
+#ifdef CACHED
+    return cache_wf[p.slot].x;
+#else
+    return kernel_w(kp, p.r);
+#endif
+}
+
+// F'(r_ij).
+fn pair_dwdr(kp: KernelParams, p: Pair) -> real {
+#ifdef CACHED
+    return cache_wf[p.slot].y;
+#else
+    return kernel_dwdr(kp, p.r);
+#endif
+}
+
+// number_density: (W_ij, W_ij when j is of the same kind and Holmes χ is active) (T66, T46).
+fn density_pair(i: u32, kp: KernelParams, p: Pair) -> real2 {
+    let w = pair_w(kp, p);
+    let same = params_has(params, STAGE_HOLMES) && (p.j < params.n_fluid) == (i < params.n_fluid);
+    return real2(w, select(real(0.0), w, same));
+}
+
+fn density_out(i: u32, s: real2) {
+    sigma[i] = s.x;
+    chi[i] = select(real(0.0), s.y / s.x, params_has(params, STAGE_HOLMES));
+}
+
+// colour_gradient: ∇_iW_ij/σ_j² in the slot of colour l = colour[j] (T71), for colour k of i.
+struct Grad2 {
+    g0: real2,
+    g1: real2,
+}
+
+fn grad_pair(k: i32, kp: KernelParams, p: Pair) -> Grad2 {
+    var g = Grad2(real2(real(0.0), real(0.0)), real2(real(0.0), real(0.0)));
+    if k < 0 {
+        return g;
+    }
+    let l = colour[p.j];
+    if l < 0 || l == k || params_sigma(params, k, l) == real(0.0) {
+        return g;
+    }
+    let gw = grad_w_ij(pair_dwdr(kp, p), p.x_ij, p.r);
+    let t = colour_gradient_ij(real(1.0) / (sigma[p.j] * sigma[p.j]), gw);
+    let first = (l < k && l == 0) || (l > k && l == 1);
+    if first {
+        g.g0 = t;
+    } else {
+        g.g1 = t;
+    }
+    return g;
+}
+
+fn grad_out(i: u32, g: Grad2) {
+    grad[2u * i] = g.g0 * sigma[i];
+    grad[2u * i + 1u] = g.g1 * sigma[i];
+}
+
+// acceleration: what the pair terms need to know about particle i.
+struct AccI {
+    xi: real2,
+    vi: real2,
+    p_i: real,
+    inv_s2_i: real,
+    eta_i: real,
+    pi_i: Sym2,
+    wall: u32,
+    d_i: real,
+}
+
+fn acc_ctx(i: u32) -> AccI {
+    var c: AccI;
+    c.xi = pos[i];
+    c.vi = vel[i];
+    c.p_i = pres[i];
+    c.inv_s2_i = real(1.0) / (sigma[i] * sigma[i]);
+    c.eta_i = params.eta[phase[i]];
+    c.pi_i = Sym2(pi[i].x, pi[i].y);
+    c.wall = nearest_wall(c.xi);
+    c.d_i = real(0.0);
+    if c.wall != 0xFFFFFFFFu {
+        c.d_i = wall_distance(c.wall, c.xi);
+    }
+    return c;
+}
+
+// Pressure (T68) + viscous (T70, Morris or Holmes wall ghost velocity) + surface (T76) term of
+// fluid particle i (with context c) from one pair; zero for the self pair.
+fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
+    if p.r2 == real(0.0) {
+        return real2(real(0.0), real(0.0));
+    }
+    let j = p.j;
+    let dwdr = pair_dwdr(kp, p);
+    let gw = grad_w_ij(dwdr, p.x_ij, p.r);
+    let inv_s2_j = real(1.0) / (sigma[j] * sigma[j]);
+    var sum = pressure_acc_ij(c.p_i, c.inv_s2_i, pres[j], inv_s2_j, gw);
+    if params_has(params, STAGE_VISCOSITY) {
+        let fac = viscous_fac_ij(dwdr, p.r, kp.h);
+        var eta_ij = c.eta_i;
+        var v_ij = c.vi;
+        if j < params.n_fluid {
+            eta_ij = harmonic_viscosity(c.eta_i, params.eta[phase[j]]);
+            v_ij = c.vi - image_vec(p.code, vel[j]);
+        } else if c.wall != 0xFFFFFFFFu {
+            var beta = real(1.0);
+            if params.wall_velocity == WALL_VELOCITY_HOLMES {
+                beta = holmes_beta(chi[i], chi[j], params.chi_floor, params.beta_max);
+            } else {
+                beta = noslip_beta(c.d_i, -wall_distance(c.wall, p.xj), params.beta_max, params.dx);
+            }
+            v_ij = wall_relative_velocity(c.vi, beta, params.wall_free_slip[c.wall] != 0u, wall_normal(c.wall));
+        }
+        sum += viscous_acc_ij(eta_ij, c.inv_s2_i, inv_s2_j, fac, v_ij);
+    }
+    if params_has(params, STAGE_SURFACE) {
+        let pi_j = image_sym(p.code, Sym2(pi[j].x, pi[j].y));
+        sum += surface_acc_ij(c.pi_i, c.inv_s2_i, pi_j, inv_s2_j, gw);
+    }
+    return sum;
+}
+
+// Lennard-Jones repulsion of the boundary points (spacing r0 = Δx/2 on each wall line).
+fn lennard_jones(x: real2) -> real2 {
+    let r0 = real(0.5) * params.dx;
+    var a = real2(real(0.0), real(0.0));
+    for (var w = 0u; w < params.n_walls; w++) {
+        if wall_distance(w, x) >= r0 {
+            continue;
+        }
+        let along_y = params.wall_axis[w] == 0u;
+        let t = select(x.x, x.y, along_y);
+        let t0 = select(params.lo_x, params.lo_y, along_y);
+        let k0 = round((t - t0) / r0);
+        for (var dk = -1; dk <= 1; dk++) {
+            let tb = t0 + (k0 + real(dk)) * r0;
+            var b = real2(tb, params.wall_coord[w]);
+            if along_y {
+                b = real2(params.wall_coord[w], tb);
+            }
+            a += lj_wall_acc(x - b, r0, params.lj_strength);
+        }
+    }
+    return a;
+}
+
+// a_i = Σ/m_i + g (+ Lennard-Jones); walls get zero.
+fn acc_out(i: u32, sum: real2) {
+    if i >= params.n_fluid {
+        acc[i] = real2(real(0.0), real(0.0));
+        return;
+    }
+    var a = sum / mass[i] + real2(params.gravity_x, params.gravity_y);
+    if params_has(params, STAGE_LJ) {
+        a += lennard_jones(pos[i]);
+    }
+    acc[i] = a;
+}

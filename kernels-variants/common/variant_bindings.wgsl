@@ -1,0 +1,51 @@
+// variant_bindings.wgsl: bind group 1, the buffers of the strategy variants (twin of
+// `VBufs::storage` in src/gpu/variant_buffers.rs, binding k there = binding k here): control
+// words, per-variant constants, list and candidate counts, the thesis's 64-slot explicit
+// neighbour lists (packed j | code << 28 like `neighbours::pack`), cached kernel values, the
+// tracking candidates and their reference positions. The accumulator (binding 8) is declared
+// by common/accum.wgsl, since its element type depends on the accumulation. Variants that do
+// not use a buffer get a one-element stand-in. Library module: no entry points.
+
+#import common/bindings
+
+@group(1) @binding(0) var<storage, read_write> vctl: array<atomic<u32>>;
+@group(1) @binding(1) var<storage, read_write> vparams: array<real>;
+@group(1) @binding(2) var<storage, read_write> counts: array<u32>;    // list count (0..n), candidates (n..2n)
+@group(1) @binding(3) var<storage, read_write> nbr: array<u32>;       // slot k of i at i*NBR_SLOTS + k
+@group(1) @binding(4) var<storage, read_write> cache_wf: array<real2>; // (W_ij, F'(r_ij)) per slot
+@group(1) @binding(5) var<storage, read_write> cache_xj: array<real2>; // image position of j per slot
+@group(1) @binding(6) var<storage, read_write> cand: array<u32>;       // slot k of i at i*CAND_SLOTS + k
+@group(1) @binding(7) var<storage, read_write> ref_pos: array<real2>;  // positions at the last build
+
+const NBR_SLOTS: u32 = 64u;   // thesis §6.4.1: at most 64 neighbours (4 blocks of 16 threads)
+const CAND_SLOTS: u32 = 96u;  // tracking candidates within support + skin
+const PACK_SHIFT: u32 = 28u;  // twin of neighbours::IMAGE_SHIFT
+const PACK_MASK: u32 = 0x0FFFFFFFu;
+
+// Words of `vctl` (twin of `vctl::*` in src/gpu/variant_buffers.rs).
+const V_NBR_OVER: u32 = 0u;   // particles with more than NBR_SLOTS neighbours (sticky until read)
+const V_NBR_MAX: u32 = 1u;    // largest neighbour count seen
+const V_CAND_OVER: u32 = 2u;  // particles with more than CAND_SLOTS candidates
+const V_CAND_MAX: u32 = 3u;   // largest candidate count seen
+const V_REBUILD: u32 = 4u;    // 1: rebuild the tracking lists in this evaluation
+const V_SINCE: u32 = 5u;      // evaluations since the last build
+const V_DISP2: u32 = 6u;      // f32 bits of max |x − x_ref|² (this evaluation)
+const V_REBUILDS: u32 = 7u;   // builds so far
+const V_EVERY: u32 = 8u;      // rebuild at least every this many evaluations (host-written)
+const V_FIXED_OVER: u32 = 9u; // fixed-point terms beyond the representable range
+const V_CAND_STALE: u32 = 10u; // particles whose current candidate list overflowed (until the next build)
+
+// Entries of `vparams` (twin of `vparam::*`).
+const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)
+const VP_Q: u32 = 4u;         // quantum of field f at VP_Q + f
+const VP_CAND_R2: u32 = 8u;   // (support + skin)²
+const VP_HALF_SKIN2: u32 = 9u; // (skin / 2)²
+
+// Fixed-point field groups (index f above).
+const F_DENSITY: u32 = 0u;
+const F_GRAD: u32 = 1u;
+const F_ACC: u32 = 2u;
+
+fn pack_nb(j: u32, code: u32) -> u32 {
+    return j | (code << PACK_SHIFT);
+}

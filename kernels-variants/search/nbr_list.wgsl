@@ -1,0 +1,43 @@
+// nbr_list.wgsl: the explicit neighbour lists of the block mappings and of the `cached` kernel
+// values (thesis §6.4.1 layout: at most NBR_SLOTS = 64 neighbours per particle), built every
+// evaluation from the variant's search (direct, cells or tracking candidates, through
+// common/neighbours.wgsl) after the search kernels ran. counts[i] = neighbour count (may exceed
+// 64: the particle is then counted in vctl and the host reports `NeighbourOverflow`; no entry
+// beyond slot 63 is written and the stages read min(count, 64), so numbers from an overflowing
+// evaluation are never returned as valid). With `CACHED` the kernel values W_ij, F'(r_ij) and
+// the image position x_j are stored per slot; they stay valid for this evaluation (positions do not change until
+// the integrator runs, and the lists are rebuilt at the next evaluation).
+
+#import common/neighbours
+
+@compute @workgroup_size(64)
+fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.n {
+        return;
+    }
+#ifdef CACHED
+    let kp = params_kernel(params);
+#endif
+    let xi = pos[i];
+    var count = 0u;
+    var it = nb_begin(i, xi);
+    while nb_next(&it) {
+        if count < NBR_SLOTS {
+            let slot = i * NBR_SLOTS + count;
+            nbr[slot] = pack_nb(it.j, it.code);
+#ifdef CACHED
+            let x_ij = xi - it.xj;
+            let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
+            cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
+            cache_xj[slot] = it.xj;
+#endif
+        }
+        count += 1u;
+    }
+    counts[i] = count;
+    if count > NBR_SLOTS {
+        atomicAdd(&vctl[V_NBR_OVER], 1u);
+        atomicMax(&vctl[V_NBR_MAX], count);
+    }
+}

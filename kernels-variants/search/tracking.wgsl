@@ -1,0 +1,93 @@
+// tracking.wgsl: the thesis's tracking lists on the GPU (§6.3; twin of the `Tracking` arm of
+// `neighbours::Search::update`). Each particle keeps the candidates within support + skin
+// (skin = 0.25·support) found on the cell grid, and the neighbours are then found among them
+// by the exact distance test (common/neighbours.wgsl, `TRACKING`). The lists are rebuilt when
+// the largest displacement since the last build exceeds skin/2 or every k evaluations.
+// The decision stays on the device (no read-back per evaluation): `track_check` reduces the
+// max displacement² (atomicMax on f32 bits, valid for non-negative floats), `track_every` turns
+// it and the evaluation counter into the flag `vctl[V_REBUILD]`, `track_build` rebuilds only
+// when the flag is set (every thread returns at once otherwise) and `track_clear` lowers it.
+// PERF: the cell sort of search/cell_*.wgsl still runs every evaluation (cheap next to the
+// pair stages); indirect dispatch could skip it too. Candidates beyond CAND_SLOTS are counted
+// in vctl and reported as `NeighbourOverflow` by the host, never dropped silently; the
+// truncated lists stay flagged (V_CAND_STALE) for every evaluation until the next build.
+
+#import common/neighbours
+
+@compute @workgroup_size(64)
+fn track_check(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.n {
+        return;
+    }
+    let d = pos[i] - ref_pos[i];
+    let d2 = f32(d.x * d.x + d.y * d.y);
+    if d2 > 0.0 {
+        atomicMax(&vctl[V_DISP2], bitcast<u32>(d2));
+    }
+}
+
+@compute @workgroup_size(1)
+fn track_every() {
+    let d2 = bitcast<f32>(atomicLoad(&vctl[V_DISP2]));
+    atomicStore(&vctl[V_DISP2], 0u);
+    var rebuild = atomicLoad(&vctl[V_REBUILD]) != 0u;
+    rebuild = rebuild || d2 > f32(vparams[VP_HALF_SKIN2]);
+    rebuild = rebuild || atomicLoad(&vctl[V_SINCE]) >= atomicLoad(&vctl[V_EVERY]);
+    if rebuild {
+        atomicStore(&vctl[V_REBUILD], 1u);
+        atomicStore(&vctl[V_SINCE], 0u);
+        atomicStore(&vctl[V_CAND_STALE], 0u);
+        atomicAdd(&vctl[V_REBUILDS], 1u);
+    }
+    atomicAdd(&vctl[V_SINCE], 1u);
+}
+
+@compute @workgroup_size(64)
+fn track_build(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.n || atomicLoad(&vctl[V_REBUILD]) == 0u {
+        return;
+    }
+    let xi = pos[i];
+    let r2 = vparams[VP_CAND_R2];
+    // Cell size ≥ support and support + skin ≤ 2 cells: the 5×5 block around the cell of the
+    // (inversely imaged) query point holds every candidate.
+    var count = 0u;
+    for (var code = 0u; code < 9u; code++) {
+        if !image_exists(code) {
+            continue;
+        }
+        let c = cell_coords(inverse_pos(code, xi));
+        for (var k = 0u; k < 25u; k++) {
+            let x = c.x - 2 + i32(k % 5u);
+            let y = c.y - 2 + i32(k / 5u);
+            if x < 0 || y < 0 || x >= i32(params.grid_nx) || y >= i32(params.grid_ny) {
+                continue;
+            }
+            let cell = u32(x + i32(params.grid_nx) * y);
+            for (var s = cell_start[cell]; s < cell_start[cell + 1u]; s++) {
+                let j = sorted[s];
+                let d = xi - image_pos(code, pos[j]);
+                if d.x * d.x + d.y * d.y < r2 {
+                    if count < CAND_SLOTS {
+                        cand[i * CAND_SLOTS + count] = pack_nb(j, code);
+                    }
+                    count += 1u;
+                }
+            }
+        }
+    }
+    counts[params.n + i] = count;
+    ref_pos[i] = xi;
+    if count > CAND_SLOTS {
+        atomicAdd(&vctl[V_CAND_OVER], 1u);
+        atomicAdd(&vctl[V_CAND_STALE], 1u);
+        atomicMax(&vctl[V_CAND_MAX], count);
+    }
+}
+
+@compute @workgroup_size(1)
+fn track_clear() {
+    atomicStore(&vctl[V_REBUILD], 0u);
+}

@@ -1,0 +1,260 @@
+//! The buffers of the strategy variants, bind group 1 (twin of
+//! `kernels-variants/common/variant_bindings.wgsl` and `common/accum.wgsl`: binding k here is
+//! binding k there): control words, per-variant constants (fixed-point quanta, tracking radii),
+//! list and candidate counts, the 64-slot explicit neighbour lists, cached kernel values, the
+//! tracking candidates with their reference positions, and the block accumulator. A variant
+//! allocates only what it uses (one-element stand-ins otherwise), and [`VBufs::overflow`]
+//! turns the overflow counters into [`SolverError::NeighbourOverflow`].
+//!
+//! Fixed-point scales: each accumulated field group f (density, colour gradient, acceleration)
+//! gets a quantum q_f = 2^(⌊log₂ S_f⌋ − 48), S_f an upper estimate of the sum of |terms| from
+//! the model: S_density = 1/Δx² (σ of a lattice), S_grad = 64·F'max·Δx⁴ (64 slots of ∇W/σ²),
+//! S_acc = S_grad·P (P = EOS scale B + σ_s/h + η·c/h). Terms are rounded to multiples of q_f
+//! and summed exactly in 64 bits: each sum carries at most 64·q_f/2 = 2⁻⁴³·S_f of
+//! quantisation error (1.1e-13 of the scale, so still ~1e-9 of a field 10⁴× smaller than its
+//! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
+//! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
+
+use super::variant::{Mapping, SearchVariant, VariantSpec};
+use super::{GpuContext, GpuError, GpuVec};
+use crate::backend::SolverError;
+use crate::model::Model;
+use crate::neighbours::TrackingCfg;
+use crate::real::{Real, V2};
+
+/// Slots of the explicit lists (thesis §6.4.1).
+pub const NBR_SLOTS: usize = 64;
+/// Slots of the tracking candidate lists.
+pub const CAND_SLOTS: usize = 96;
+/// Storage buffers of group 1.
+pub const N_VSTORAGE: u32 = 9;
+
+/// Words of `vctl` (`V_*` in variant_bindings.wgsl).
+pub mod vctl {
+    /// Particles with more than 64 neighbours.
+    pub const NBR_OVER: usize = 0;
+    /// Largest neighbour count.
+    pub const NBR_MAX: usize = 1;
+    /// Particles with more than 96 candidates.
+    pub const CAND_OVER: usize = 2;
+    /// Largest candidate count.
+    pub const CAND_MAX: usize = 3;
+    /// Rebuild flag.
+    pub const REBUILD: usize = 4;
+    /// Evaluations since the last build.
+    pub const SINCE: usize = 5;
+    /// f32 bits of the max displacement².
+    pub const DISP2: usize = 6;
+    /// Builds so far.
+    pub const REBUILDS: usize = 7;
+    /// Rebuild period k.
+    pub const EVERY: usize = 8;
+    /// Fixed-point terms beyond the representable range.
+    pub const FIXED_OVER: usize = 9;
+    /// Particles whose current (truncated) candidate list overflowed; cleared by a rebuild.
+    pub const CAND_STALE: usize = 10;
+    /// Words.
+    pub const LEN: usize = 12;
+}
+
+/// The group-1 buffers.
+pub struct VBufs<T: Real> {
+    pub vctl: GpuVec<u32>,
+    pub vparams: GpuVec<T>,
+    pub counts: GpuVec<u32>,
+    pub nbr: GpuVec<u32>,
+    pub cache_wf: GpuVec<V2<T>>,
+    pub cache_xj: GpuVec<V2<T>>,
+    pub cand: GpuVec<u32>,
+    pub ref_pos: GpuVec<V2<T>>,
+    pub accum: GpuVec<u32>,
+    spec: VariantSpec,
+    every: u32,
+}
+
+/// Power of two 2^(⌊log₂ s⌋ − 48) (the fixed-point quantum of a field of magnitude s).
+fn quantum(s: f64) -> f64 {
+    2f64.powi(s.max(1e-300).log2().floor() as i32 - 48)
+}
+
+impl<T: Real> VBufs<T> {
+    /// Allocates what `spec` uses for `n` particles and writes the constants.
+    pub fn new(ctx: &GpuContext, spec: VariantSpec, m: &Model<T>, n: usize) -> Result<Self, GpuError> {
+        let lists = spec.has_lists();
+        let tracking = spec.search == SearchVariant::Tracking;
+        let if_ = |on: bool, len: usize| if on { len } else { 1 };
+        let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
+        let v2 = |name: &str, len| GpuVec::<V2<T>>::new(ctx, &format!("sphlab.{name}"), len);
+        let cached = lists && spec.kernel_values == super::variant::KernelValues::Cached;
+        let b = Self {
+            vctl: u("vctl", vctl::LEN)?,
+            vparams: GpuVec::new(ctx, "sphlab.vparams", 12)?,
+            counts: u("counts", 2 * n.max(1))?,
+            nbr: u("nbr", if_(lists, n * NBR_SLOTS))?,
+            cache_wf: v2("cache_wf", if_(cached, n * NBR_SLOTS))?,
+            cache_xj: v2("cache_xj", if_(cached, n * NBR_SLOTS))?,
+            cand: u("cand", if_(tracking, n * CAND_SLOTS))?,
+            ref_pos: v2("ref_pos", if_(tracking, n))?,
+            accum: u("accum", if_(spec.mapping != Mapping::Thread, 8 * n))?,
+            spec,
+            every: TrackingCfg::default().every,
+        };
+        b.vparams.upload(ctx, &Self::constants(m))?;
+        b.reset(ctx)?;
+        Ok(b)
+    }
+
+    /// `vparams`: 1/q and q per field group, (support + skin)², (skin/2)².
+    fn constants(m: &Model<T>) -> Vec<T> {
+        let kp = m.kernel;
+        let (dx, h) = (m.dx.f64(), kp.h.f64());
+        let support = kp.support.f64();
+        let g = (0..=1000)
+            .map(|k| crate::physics::kernel::kernel_dwdr(&kp, T::c(support * k as f64 / 1000.0)).f64().abs())
+            .fold(0.0, f64::max);
+        let b = m.phases.iter().map(|p| (p.stiffness + p.p_b.abs()).f64()).fold(0.0, f64::max);
+        let eta = m.phases.iter().map(|p| p.eta.f64()).fold(0.0, f64::max);
+        let p = b + m.sigma_max / h + eta * m.c_max / h;
+        let s_grad = NBR_SLOTS as f64 * g * dx.powi(4);
+        let scales = [1.0 / (dx * dx), s_grad, s_grad * p.max(1e-30), 1.0];
+        let mut v = vec![T::zero(); 12];
+        for (f, s) in scales.iter().enumerate() {
+            let q = quantum(*s);
+            v[f] = T::c(1.0 / q);
+            v[4 + f] = T::c(q);
+        }
+        let skin = support * TrackingCfg::default().skin_ratio;
+        v[8] = T::c((support + skin) * (support + skin));
+        v[9] = T::c(0.25 * skin * skin);
+        v
+    }
+
+    /// Clears the control words and forces a tracking rebuild at the next evaluation.
+    pub fn reset(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+        let mut c = vec![0u32; vctl::LEN];
+        c[vctl::REBUILD] = 1;
+        c[vctl::EVERY] = self.every;
+        self.vctl.upload(ctx, &c)
+    }
+
+    /// Forces a tracking rebuild at the next evaluation (positions were replaced by hand),
+    /// keeping the overflow counters.
+    pub fn invalidate(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+        let mut c = self.vctl.read_back(ctx)?;
+        c[vctl::REBUILD] = 1;
+        self.vctl.upload(ctx, &c)
+    }
+
+    /// Tracking-list builds so far.
+    pub fn rebuilds(&self, ctx: &GpuContext) -> Result<u64, GpuError> {
+        Ok(self.vctl.read_back(ctx)?[vctl::REBUILDS] as u64)
+    }
+
+    /// `Err(NeighbourOverflow)` when a particle had more neighbours than the 64 list slots
+    /// since the last call or its current tracking list (96 slots) is truncated, `Err(Gpu)` when a
+    /// fixed-point term left the accumulator's range (then clears the counters).
+    pub fn overflow(&self, ctx: &GpuContext, step: u64) -> Result<(), SolverError> {
+        let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        let mut c = self.vctl.read_back(ctx).map_err(gpu)?;
+        let cand = c[vctl::CAND_OVER].max(c[vctl::CAND_STALE]);
+        let err = if cand > 0 {
+            Some((cand, CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".to_string()))
+        } else if c[vctl::NBR_OVER] > 0 {
+            Some((c[vctl::NBR_OVER], NBR_SLOTS, c[vctl::NBR_MAX], String::new()))
+        } else {
+            None
+        };
+        let fixed = c[vctl::FIXED_OVER];
+        if err.is_none() && fixed == 0 {
+            return Ok(());
+        }
+        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::FIXED_OVER] {
+            c[w] = 0;
+        }
+        if c[vctl::CAND_STALE] == 0 {
+            c[vctl::CAND_MAX] = 0;
+        }
+        self.vctl.upload(ctx, &c).map_err(gpu)?;
+        let Some((particles, slots, max, what)) = err else {
+            return Err(SolverError::Gpu(format!(
+                "step {step}: {}: {fixed} fixed-point terms exceed the accumulator range (2^62 quanta)",
+                self.spec
+            )));
+        };
+        Err(SolverError::NeighbourOverflow {
+            step,
+            particles: particles as usize,
+            slots,
+            max: max as usize,
+            variant: format!("{}{what}", self.spec),
+        })
+    }
+
+    fn storage(&self) -> [&wgpu::Buffer; N_VSTORAGE as usize] {
+        [
+            &self.vctl.buffer,
+            &self.vparams.buffer,
+            &self.counts.buffer,
+            &self.nbr.buffer,
+            &self.cache_wf.buffer,
+            &self.cache_xj.buffer,
+            &self.cand.buffer,
+            &self.ref_pos.buffer,
+            &self.accum.buffer,
+        ]
+    }
+
+    /// The bind group of `layout` (group 1) over these buffers.
+    pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> Result<wgpu::BindGroup, GpuError> {
+        let entries: Vec<_> = self
+            .storage()
+            .into_iter()
+            .enumerate()
+            .map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() })
+            .collect();
+        ctx.scoped(|d| {
+            d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("sphlab.variant"), layout, entries: &entries })
+        })
+    }
+}
+
+/// The group-1 layout and the two-group pipeline layout over `state` (group 0).
+pub fn layouts(
+    ctx: &GpuContext,
+    state: &wgpu::BindGroupLayout,
+) -> Result<(wgpu::BindGroupLayout, wgpu::PipelineLayout), GpuError> {
+    let need = super::solver_buffers::N_STORAGE + N_VSTORAGE;
+    let lim = &ctx.limits;
+    let allowed = lim
+        .max_storage_buffers_per_shader_stage
+        .min(lim.max_buffers_and_acceleration_structures_per_shader_stage.saturating_sub(1));
+    if allowed < need {
+        return Err(GpuError::Unsupported(format!(
+            "the solver binds {need} storage buffers and a uniform; the adapter allows {allowed} storage buffers per shader stage"
+        )));
+    }
+    let entries: Vec<_> = (0..N_VSTORAGE)
+        .map(|k| wgpu::BindGroupLayoutEntry {
+            binding: k,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect();
+    ctx.scoped(|d| {
+        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sphlab.variant"),
+            entries: &entries,
+        });
+        let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sphlab.state+variant"),
+            bind_group_layouts: &[Some(state), Some(&bgl)],
+            immediate_size: 0,
+        });
+        (bgl, pl)
+    })
+}
