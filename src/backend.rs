@@ -2,6 +2,8 @@
 //! the particle state in f64 for output and diagnostics, and errors that name the step and
 //! particle when a run blows up.
 
+use crate::cpu::stages::Fields;
+use crate::real::{Real, V2};
 use serde::Serialize;
 
 /// A read-back of the particle state, in f64, fluids first.
@@ -39,6 +41,42 @@ pub struct Frame {
     pub sigma: Vec<f64>,
     /// Contact points (x, y, s) of the last evaluation.
     pub contacts: Vec<[f64; 3]>,
+}
+
+impl Frame {
+    /// A frame from a solver's state and the fields of its last evaluation (CPU and GPU alike).
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_fields<T: Real>(
+        step: u64,
+        t: f64,
+        dt: f64,
+        n_fluid: usize,
+        pos: &[V2<T>],
+        vel: &[V2<T>],
+        phase: &[u32],
+        f: &Fields<T>,
+    ) -> Frame {
+        let c = |x: &T| x.f64();
+        let v2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
+        Frame {
+            step,
+            t,
+            dt,
+            n_fluid,
+            pos: pos.iter().map(v2).collect(),
+            vel: vel.iter().map(v2).collect(),
+            rho: f.rho.iter().map(c).collect(),
+            p: f.p.iter().map(c).collect(),
+            mass: f.mass.iter().map(c).collect(),
+            phase: phase.to_vec(),
+            colour: f.colour.clone(),
+            grad_c: (0..f.grad.len()).map(|i| v2(&f.grad_c(i))).collect(),
+            pi: f.pi.iter().map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
+            acc: f.acc.iter().map(v2).collect(),
+            sigma: f.sigma.iter().map(c).collect(),
+            contacts: f.contacts.iter().map(|k| [k.r.x.f64(), k.r.y.f64(), k.s.f64()]).collect(),
+        }
+    }
 }
 
 /// Why a run stopped.

@@ -345,26 +345,7 @@ impl<T: Real> Backend for CpuSolver<T> {
             // The fields of the initial state, so that the t = 0 row is measured, not zeros.
             let _ = self.evaluate();
         }
-        let v2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
-        let f = &self.f;
-        Frame {
-            step: self.step,
-            t: self.t,
-            dt: self.dt,
-            n_fluid: self.n_fluid,
-            pos: self.pos.iter().map(v2).collect(),
-            vel: self.vel.iter().map(v2).collect(),
-            rho: f.rho.iter().map(|x| x.f64()).collect(),
-            p: f.p.iter().map(|x| x.f64()).collect(),
-            mass: f.mass.iter().map(|x| x.f64()).collect(),
-            phase: self.phase.clone(),
-            colour: f.colour.clone(),
-            grad_c: (0..self.pos.len()).map(|i| v2(&f.grad_c(i))).collect(),
-            pi: f.pi.iter().map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
-            acc: f.acc.iter().map(v2).collect(),
-            sigma: f.sigma.iter().map(|x| x.f64()).collect(),
-            contacts: f.contacts.iter().map(|c| [c.r.x.f64(), c.r.y.f64(), c.s.f64()]).collect(),
-        }
+        Frame::from_fields(self.step, self.t, self.dt, self.n_fluid, &self.pos, &self.vel, &self.phase, &self.f)
     }
     fn restart_with_velocities(&mut self, vel: &[[f64; 2]]) {
         for (i, v) in vel.iter().enumerate().take(self.n_fluid) {

@@ -15,36 +15,36 @@ use super::variant::VariantSpec;
 use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
 use crate::backend::{Backend, Frame, SolverError};
-use crate::cpu::stages::{ContactPoint, Fields};
+use crate::cpu::stages::Fields;
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
 use crate::physics::timestep::DtLimits;
-use crate::real::{Real, Sym2, V2};
+use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{ContactMode, Integrator, Scene};
 use std::sync::Arc;
 
 /// The GPU solver in storage precision `T` (f32 or f64, as the variant says).
 pub struct GpuSolver<T: Real> {
-    ctx: Arc<GpuContext>,
-    spec: VariantSpec,
+    pub(super) ctx: Arc<GpuContext>,
+    pub(super) spec: VariantSpec,
     /// Constants (the same struct the CPU uses).
     pub model: Model<T>,
-    params: Params<T>,
-    grid: GridSpec<T>,
-    b: Bufs<T>,
-    vb: VBufs<T>,
-    pipes: Pipelines,
-    bg: wgpu::BindGroup,
-    vbg: wgpu::BindGroup,
-    n: usize,
-    n_fluid: usize,
-    phase: Vec<u32>,
-    integrator: Integrator,
-    t: f64,
-    step: u64,
-    dt: f64,
-    have_acc: bool,
-    pending: Option<SolverError>,
+    pub(super) params: Params<T>,
+    pub(super) grid: GridSpec<T>,
+    pub(super) b: Bufs<T>,
+    pub(super) vb: VBufs<T>,
+    pub(super) pipes: Pipelines,
+    pub(super) bg: wgpu::BindGroup,
+    pub(super) vbg: wgpu::BindGroup,
+    pub(super) n: usize,
+    pub(super) n_fluid: usize,
+    pub(super) phase: Vec<u32>,
+    pub(super) integrator: Integrator,
+    pub(super) t: f64,
+    pub(super) step: u64,
+    pub(super) dt: f64,
+    pub(super) have_acc: bool,
+    pub(super) pending: Option<SolverError>,
     /// Read the blow-up flag back every this many steps (besides every `frame()`).
     pub check_every: u64,
 }
@@ -153,7 +153,7 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Records the kernels of one stage (by CPU name) into `enc`.
-    fn record(&self, enc: &mut wgpu::CommandEncoder, stage: &str) {
+    pub(super) fn record(&self, enc: &mut wgpu::CommandEncoder, stage: &str) {
         let Some(kernels) = self.pipes.stages.get(stage) else { return };
         if stage == "neighbour_search" && !kernels.is_empty() {
             enc.clear_buffer(&self.b.cell_count.buffer, 0, None);
@@ -192,7 +192,7 @@ impl<T: Real> GpuSolver<T> {
         }
     }
 
-    fn submit(&self, f: impl FnOnce(&mut wgpu::CommandEncoder)) -> Result<(), GpuError> {
+    pub(super) fn submit(&self, f: impl FnOnce(&mut wgpu::CommandEncoder)) -> Result<(), GpuError> {
         self.ctx.scoped(|d| {
             let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.step") });
             f(&mut enc);
@@ -206,100 +206,6 @@ impl<T: Real> GpuSolver<T> {
         self.submit(|enc| self.record_evaluate(enc))?;
         self.ctx.wait_idle()?;
         Ok(self.vb.overflow(&self.ctx, self.step)?)
-    }
-
-    /// Uploads CPU-produced inputs, runs the neighbour search and ONE named stage, and reads every
-    /// field back. The stage's pure outputs are poisoned first (NaN, 0xFFFFFFFF), so an element the
-    /// kernel forgets to write shows up in the comparison.
-    pub fn run_stage_from(&mut self, pos: &[V2<T>], vel: &[V2<T>], f: &Fields<T>, stage: &str) -> Result<Fields<T>, GpuError> {
-        let ctx = &*self.ctx;
-        let b = &self.b;
-        b.pos.upload(ctx, pos)?;
-        b.vel.upload(ctx, vel)?;
-        b.sigma.upload(ctx, &f.sigma)?;
-        b.chi.upload(ctx, &f.chi)?;
-        b.mass.upload(ctx, &f.mass)?;
-        b.colour.upload(ctx, &f.colour)?;
-        b.rho.upload(ctx, &f.rho)?;
-        b.p.upload(ctx, &f.p)?;
-        let grad: Vec<V2<T>> = f.grad.iter().flat_map(|g| [g[0], g[1]]).collect();
-        b.grad.upload(ctx, &grad)?;
-        b.pi.upload(ctx, &f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect::<Vec<_>>())?;
-        b.acc.upload(ctx, &f.acc)?;
-        b.vt.upload(ctx, &f.vt)?;
-        self.upload_contacts(&f.contacts)?;
-        let nan = T::nan();
-        let nan2 = V2::new(nan, nan);
-        match stage {
-            "number_density" => {
-                b.sigma.fill(ctx, nan)?;
-                b.chi.fill(ctx, nan)?;
-            }
-            "contact_line" => b.contacts.fill(ctx, nan)?,
-            "equation_of_state" => {
-                b.rho.fill(ctx, nan)?;
-                b.p.fill(ctx, nan)?;
-            }
-            "colour_gradient" => b.grad.fill(ctx, nan2)?,
-            "surface_stress" => b.pi.fill(ctx, nan2)?,
-            "acceleration" => b.acc.fill(ctx, nan2)?,
-            "xsph" => b.vt.fill(ctx, nan2)?,
-            _ => {}
-        }
-        if !self.pipes.stages.contains_key(stage) {
-            return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
-        }
-        self.vb.invalidate(ctx)?;
-        self.submit(|enc| {
-            self.record(enc, "neighbour_search");
-            if stage != "neighbour_search" {
-                self.record(enc, stage);
-            }
-        })?;
-        self.ctx.wait_idle()?;
-        self.vb.overflow(&self.ctx, self.step)?;
-        self.read_fields()
-    }
-
-    fn upload_contacts(&self, cps: &[ContactPoint<T>]) -> Result<(), GpuError> {
-        let mut c = vec![T::zero(); 4 * MAX_CONTACTS];
-        for (k, cp) in cps.iter().take(MAX_CONTACTS).enumerate() {
-            c[4 * k..4 * k + 3].copy_from_slice(&[cp.r.x, cp.r.y, cp.s]);
-        }
-        self.b.contacts.upload(&self.ctx, &c)?;
-        let mut w = self.b.ctl.read_back(&self.ctx)?;
-        w[ctl::CONTACTS] = cps.len().min(MAX_CONTACTS) as u32;
-        w[ctl::CONTACTS_FOUND] = cps.len() as u32;
-        self.b.ctl.upload(&self.ctx, &w)
-    }
-
-    /// Reads every per-evaluation field back (positions and velocities separately).
-    pub fn read_fields(&self) -> Result<Fields<T>, GpuError> {
-        let ctx = &*self.ctx;
-        let b = &self.b;
-        let w = b.ctl.read_back(ctx)?;
-        let raw = b.contacts.read_back(ctx)?;
-        let kept = (w[ctl::CONTACTS] as usize).min(MAX_CONTACTS);
-        let grad = b.grad.read_back(ctx)?;
-        Ok(Fields {
-            sigma: b.sigma.read_back(ctx)?,
-            chi: b.chi.read_back(ctx)?,
-            mass: b.mass.read_back(ctx)?,
-            colour: b.colour.read_back(ctx)?,
-            rho: b.rho.read_back(ctx)?,
-            p: b.p.read_back(ctx)?,
-            grad: grad.chunks(2).map(|g| [g[0], g[1]]).collect(),
-            pi: b.pi.read_back(ctx)?.iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
-            acc: b.acc.read_back(ctx)?,
-            vt: b.vt.read_back(ctx)?,
-            contacts: (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
-            contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
-        })
-    }
-
-    /// Positions and velocities.
-    pub fn read_state(&self) -> Result<(Vec<V2<T>>, Vec<V2<T>>), GpuError> {
-        Ok((self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?))
     }
 
     fn write_params(&mut self, dt: f64, step: u64) {
@@ -403,28 +309,9 @@ impl<T: Real> Backend for GpuSolver<T> {
         if self.pending.is_none() {
             self.pending = self.check_flags().err();
         }
-        let c = |x: &T| x.f64();
-        let p2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
         let (pos, vel) = self.read_state().unwrap_or_default();
         let f = self.read_fields().unwrap_or_else(|_| Fields::new(0));
-        Frame {
-            step: self.step,
-            t: self.t,
-            dt: self.dt,
-            n_fluid: self.n_fluid,
-            pos: pos.iter().map(p2).collect(),
-            vel: vel.iter().map(p2).collect(),
-            rho: f.rho.iter().map(c).collect(),
-            p: f.p.iter().map(c).collect(),
-            mass: f.mass.iter().map(c).collect(),
-            phase: self.phase.clone(),
-            colour: f.colour.clone(),
-            grad_c: (0..f.grad.len()).map(|i| p2(&f.grad_c(i))).collect(),
-            pi: f.pi.iter().map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
-            acc: f.acc.iter().map(p2).collect(),
-            sigma: f.sigma.iter().map(c).collect(),
-            contacts: f.contacts.iter().map(|k| [k.r.x.f64(), k.r.y.f64(), k.s.f64()]).collect(),
-        }
+        Frame::from_fields(self.step, self.t, self.dt, self.n_fluid, &pos, &vel, &self.phase, &f)
     }
     fn restart_with_velocities(&mut self, vel: &[[f64; 2]]) {
         if let Ok((_, mut v)) = self.read_state() {

@@ -1,0 +1,106 @@
+//! Moving data between the host and a [`GpuSolver`]: reading the fields and the state back,
+//! and the per-stage check of `sphlab verify` (upload CPU-produced inputs, run ONE stage with its
+//! outputs poisoned, read everything back).
+
+use super::solver::GpuSolver;
+use super::solver_buffers::ctl;
+use super::GpuError;
+use crate::cpu::stages::{ContactPoint, Fields};
+use crate::model::MAX_CONTACTS;
+use crate::real::{Real, Sym2, V2};
+
+impl<T: Real> GpuSolver<T> {
+    /// Uploads CPU-produced inputs, runs the neighbour search and ONE named stage, and reads every
+    /// field back. The stage's pure outputs are poisoned first (NaN, 0xFFFFFFFF), so an element the
+    /// kernel forgets to write shows up in the comparison.
+    pub fn run_stage_from(&mut self, pos: &[V2<T>], vel: &[V2<T>], f: &Fields<T>, stage: &str) -> Result<Fields<T>, GpuError> {
+        let ctx = &*self.ctx;
+        let b = &self.b;
+        b.pos.upload(ctx, pos)?;
+        b.vel.upload(ctx, vel)?;
+        b.sigma.upload(ctx, &f.sigma)?;
+        b.chi.upload(ctx, &f.chi)?;
+        b.mass.upload(ctx, &f.mass)?;
+        b.colour.upload(ctx, &f.colour)?;
+        b.rho.upload(ctx, &f.rho)?;
+        b.p.upload(ctx, &f.p)?;
+        let grad: Vec<V2<T>> = f.grad.iter().flat_map(|g| [g[0], g[1]]).collect();
+        b.grad.upload(ctx, &grad)?;
+        b.pi.upload(ctx, &f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect::<Vec<_>>())?;
+        b.acc.upload(ctx, &f.acc)?;
+        b.vt.upload(ctx, &f.vt)?;
+        self.upload_contacts(&f.contacts)?;
+        let nan = T::nan();
+        let nan2 = V2::new(nan, nan);
+        match stage {
+            "number_density" => {
+                b.sigma.fill(ctx, nan)?;
+                b.chi.fill(ctx, nan)?;
+            }
+            "contact_line" => b.contacts.fill(ctx, nan)?,
+            "equation_of_state" => {
+                b.rho.fill(ctx, nan)?;
+                b.p.fill(ctx, nan)?;
+            }
+            "colour_gradient" => b.grad.fill(ctx, nan2)?,
+            "surface_stress" => b.pi.fill(ctx, nan2)?,
+            "acceleration" => b.acc.fill(ctx, nan2)?,
+            "xsph" => b.vt.fill(ctx, nan2)?,
+            _ => {}
+        }
+        if !self.pipes.stages.contains_key(stage) {
+            return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
+        }
+        self.vb.invalidate(ctx)?;
+        self.submit(|enc| {
+            self.record(enc, "neighbour_search");
+            if stage != "neighbour_search" {
+                self.record(enc, stage);
+            }
+        })?;
+        self.ctx.wait_idle()?;
+        self.vb.overflow(&self.ctx, self.step)?;
+        self.read_fields()
+    }
+
+    fn upload_contacts(&self, cps: &[ContactPoint<T>]) -> Result<(), GpuError> {
+        let mut c = vec![T::zero(); 4 * MAX_CONTACTS];
+        for (k, cp) in cps.iter().take(MAX_CONTACTS).enumerate() {
+            c[4 * k..4 * k + 3].copy_from_slice(&[cp.r.x, cp.r.y, cp.s]);
+        }
+        self.b.contacts.upload(&self.ctx, &c)?;
+        let mut w = self.b.ctl.read_back(&self.ctx)?;
+        w[ctl::CONTACTS] = cps.len().min(MAX_CONTACTS) as u32;
+        w[ctl::CONTACTS_FOUND] = cps.len() as u32;
+        self.b.ctl.upload(&self.ctx, &w)
+    }
+
+    /// Reads every per-evaluation field back (positions and velocities separately).
+    pub fn read_fields(&self) -> Result<Fields<T>, GpuError> {
+        let ctx = &*self.ctx;
+        let b = &self.b;
+        let w = b.ctl.read_back(ctx)?;
+        let raw = b.contacts.read_back(ctx)?;
+        let kept = (w[ctl::CONTACTS] as usize).min(MAX_CONTACTS);
+        let grad = b.grad.read_back(ctx)?;
+        Ok(Fields {
+            sigma: b.sigma.read_back(ctx)?,
+            chi: b.chi.read_back(ctx)?,
+            mass: b.mass.read_back(ctx)?,
+            colour: b.colour.read_back(ctx)?,
+            rho: b.rho.read_back(ctx)?,
+            p: b.p.read_back(ctx)?,
+            grad: grad.chunks(2).map(|g| [g[0], g[1]]).collect(),
+            pi: b.pi.read_back(ctx)?.iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
+            acc: b.acc.read_back(ctx)?,
+            vt: b.vt.read_back(ctx)?,
+            contacts: (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
+            contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
+        })
+    }
+
+    /// Positions and velocities.
+    pub fn read_state(&self) -> Result<(Vec<V2<T>>, Vec<V2<T>>), GpuError> {
+        Ok((self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?))
+    }
+}
