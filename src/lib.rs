@@ -12,7 +12,8 @@
 //! * [`model`]: the scene turned into solver constants in the working precision;
 //! * [`neighbours`]: direct, cell-grid and tracking-list neighbour searches with boundary images;
 //! * [`cpu`]: the CPU reference solver, stage by stage;
-//! * [`run`]: the `sphlab run` driver and its outputs.
+//! * [`run`]: the `sphlab run` driver and its outputs;
+//! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports.
 
 pub mod analytic;
 pub mod backend;
@@ -28,3 +29,4 @@ pub mod plot;
 pub mod real;
 pub mod run;
 pub mod scene;
+pub mod validate;
