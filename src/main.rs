@@ -98,6 +98,10 @@ struct ValidateArgs {
     /// With --reuse: skip runs that have no finished output (they are listed as not run).
     #[arg(long, requires = "reuse")]
     skip_missing: bool,
+    /// Run only these run ids (comma-separated, e.g. `nx45,nx65`); every other run is reused if
+    /// finished, else skipped and listed.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
     /// End time of the long sessile-90 / relax-60 / convergence runs (default: the thesis's 5).
     #[arg(long)]
     t_end: Option<f64>,
@@ -212,6 +216,7 @@ fn cmd_validate(a: ValidateArgs) -> ExitCode {
         out: a.out,
         reuse: a.reuse,
         skip_missing: a.skip_missing,
+        only: a.only,
         t_end_long: a.t_end,
         full_impact: a.full_impact,
         quiet: a.quiet,

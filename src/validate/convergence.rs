@@ -68,10 +68,20 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
         let th_end = window_stats(&th, wa, wb).map_or(f64::NAN, |s| s.0);
         let err = (d_end / d_an - 1.0).abs();
         rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: D/D0, mean over {wtext}"), d_end, 3, None, Some(d_an)));
-        rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: θ circle fit, mean over {wtext} (deg)"), th_end, 2, None, Some(60.0)));
-        rep.rows.push(
-            Row::new(&format!("Δx = 0.5/{nx}: wall time (s) at {:.2} ms/step", rec.ms_per_step), rec.wall_time_s, 1, None, None),
-        );
+        rep.rows.push(Row::new(
+            &format!("Δx = 0.5/{nx}: θ circle fit, mean over {wtext} (deg)"),
+            th_end,
+            2,
+            None,
+            Some(60.0),
+        ));
+        rep.rows.push(Row::new(
+            &format!("Δx = 0.5/{nx}: wall time (s) at {:.2} ms/step", rec.ms_per_step),
+            rec.wall_time_s,
+            1,
+            None,
+            None,
+        ));
         csv.push(vec![nx as f64, dt_for(nx, quick), d_end, th_end, err, rec.wall_time_s, rec.ms_per_step]);
         pts.push((format!("relax-60 nx={nx}"), rec.wall_time_s, rec.ms_per_step, err, (th_end - 60.0).abs()));
         rep.runs.push(rec);
@@ -80,13 +90,23 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
     angle.refs = vec![RefLine::horizontal("target 60°", 60.0)];
     plot(ctx, rep, "spread_factor_vs_resolution.svg", &spread)?;
     plot(ctx, rep, "angle_vs_resolution.svg", &angle)?;
-    write_csv(ctx, rep, "convergence.csv", "nx,dt,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step", &csv)?;
+    write_csv(
+        ctx,
+        rep,
+        "convergence.csv",
+        "nx,dt,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step",
+        &csv,
+    )?;
     Ok(pts)
 }
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
-    let mut rep = CaseReport::new("convergence", "Thesis §4.2.4 (PHYSICS.md §9(d)): resolution study of relax-60, Mode B, no-slip", quick);
+    let mut rep = CaseReport::new(
+        "convergence",
+        "Thesis §4.2.4 (PHYSICS.md §9(d)): resolution study of relax-60, Mode B, no-slip",
+        quick,
+    );
     let t_end = ctx.opts.long_t_end(0.3);
     if !quick && t_end < 5.0 {
         rep.not_full_because(format!("t_end = {t_end} instead of the thesis's 5 (CPU time)"));
@@ -94,8 +114,16 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let pts = study(ctx, &mut rep)?;
     let sc: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.1, p.3.max(1e-6), p.0.clone())).collect();
     let path = ctx.path("time_vs_error.svg");
-    crate::plot::scatter_labeled_svg(&path, "Convergence: wall time vs |D/D0 − 1.385|/1.385", "wall time (s)", "relative error of D/D0", &sc, true, true)
-        .map_err(|e| ValidateError::Io(e.to_string()))?;
+    crate::plot::scatter_labeled_svg(
+        &path,
+        "Convergence: wall time vs |D/D0 − 1.385|/1.385",
+        "wall time (s)",
+        "relative error of D/D0",
+        &sc,
+        true,
+        true,
+    )
+    .map_err(|e| ValidateError::Io(e.to_string()))?;
     rep.plots.push("time_vs_error.svg".into());
     rep.notes.push("Thesis: every resolution but 0.5/45 converges in D/D0 and θ (no numbers given).".into());
     Ok(rep)

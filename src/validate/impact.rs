@@ -10,7 +10,7 @@
 use super::data::{col, read_series};
 use super::report::{plot, write_csv, CaseReport, Row};
 use super::{Ctx, RunSpec, ValidateError};
-use crate::analytic::{spread_axisym, spread_2d_c};
+use crate::analytic::{spread_2d_c, spread_axisym};
 use crate::plot::{PlotSpec, Series};
 use crate::run::RunOptions;
 use std::path::PathBuf;
@@ -48,24 +48,43 @@ pub fn spec(theta: f64, nx: Option<u32>, t_end: f64) -> RunSpec<'static> {
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
     let full = ctx.opts.full_impact && !quick;
-    let mut rep = CaseReport::new("impact", "Thesis §5.2, Figs. 5.3–5.5 (PHYSICS.md §9(e)): 2D drop impact, Re = 440, We = 6.86", quick);
+    let mut rep = CaseReport::new(
+        "impact",
+        "Thesis §5.2, Figs. 5.3–5.5 (PHYSICS.md §9(e)): 2D drop impact, Re = 440, We = 6.86",
+        quick,
+    );
     if !quick && !full {
         // Cost of the full resolution, measured over 100 steps.
         let dir = ctx.dir.join("runs").join("probe");
-        let reuse = crate::validate::RunRecord::load(&dir, "", true).filter(|r| ctx.opts.reuse && r.status == "ok" && r.steps == 100);
+        let reuse = crate::validate::RunRecord::load(&dir, "", true)
+            .filter(|r| ctx.opts.reuse && r.status == "ok" && r.steps == 100);
         let rec = match reuse {
             Some(r) => r,
             None => {
                 let scene = crate::scene::builtin::impact(90.0);
-                let opts = RunOptions { steps: Some(100), every: 0, out: dir.clone(), backend: ctx.opts.backend.clone(), precision: ctx.opts.precision.clone(), ..RunOptions::default() };
+                let opts = RunOptions {
+                    steps: Some(100),
+                    every: 0,
+                    out: dir.clone(),
+                    backend: ctx.opts.backend.clone(),
+                    precision: ctx.opts.precision.clone(),
+                    ..RunOptions::default()
+                };
                 crate::run::run(&scene, &opts).map_err(|err| ValidateError::Run { id: "probe".into(), err })?;
-                crate::validate::RunRecord::load(&dir, "", false).ok_or_else(|| ValidateError::Io("probe: no summary".into()))?
+                crate::validate::RunRecord::load(&dir, "", false)
+                    .ok_or_else(|| ValidateError::Io("probe: no summary".into()))?
             }
         };
         let dt = rec.t_final / rec.steps as f64;
         let steps = T_END / dt;
         let hours = steps * rec.ms_per_step / 3.6e6;
-        rep.rows.push(Row::new("full resolution: ms/step (100×100, 10,000 fluid particles)", rec.ms_per_step, 1, None, None));
+        rep.rows.push(Row::new(
+            "full resolution: ms/step (100×100, 10,000 fluid particles)",
+            rec.ms_per_step,
+            1,
+            None,
+            None,
+        ));
         rep.rows.push(Row::new("full resolution: dt (s)", dt, 10, Some(1e-8), None));
         rep.rows.push(Row::new("full resolution: projected hours per angle (1.65 ms)", hours, 1, None, None));
         rep.not_full_because(format!(
@@ -108,12 +127,20 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         let m0 = rows.first().map_or(f64::NAN, |r| r.mass_phase0);
         let drift = rows.iter().map(|r| (r.mass_phase0 / m0 - 1.0).abs()).fold(0.0, f64::max);
         let finite = rows.iter().all(|r| r.kinetic_energy.is_finite() && r.max_speed.is_finite());
-        let label = if quick { format!("θ = {th:.0}°: max D/D0 for t ≤ {:.2} ms", t_end * 1e3) } else { format!("θ = {th:.0}°: D_max/D0") };
+        let label = if quick {
+            format!("θ = {th:.0}°: max D/D0 for t ≤ {:.2} ms", t_end * 1e3)
+        } else {
+            format!("θ = {th:.0}°: D_max/D0")
+        };
         let row = Row::new(&label, m, 3, None, Some(c))
             .thesis_text("between axisym and (c) (Fig. 5.5)")
             .analytic_text(&format!("axisym {a:.3}; 2D (c) {c:.3}"));
         let (lo, hi) = (a.min(c), a.max(c));
-        rep.rows.push(if full { row.check(m >= 0.9 * lo && m <= 1.1 * hi, "within [0.9·min, 1.1·max] of axisym, (c)") } else { row });
+        rep.rows.push(if full {
+            row.check(m >= 0.9 * lo && m <= 1.1 * hi, "within [0.9·min, 1.1·max] of axisym, (c)")
+        } else {
+            row
+        });
         rep.rows.push(
             Row::new(&format!("θ = {th:.0}°: max relative drift of the water mass"), drift, 2, None, Some(0.0))
                 .sphlab_text(format!("{drift:.1e}"))
@@ -123,15 +150,27 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     }
     if let (Some(a), Some(b)) = (at_end.first(), at_end.last()) {
         rep.rows.push(
-            Row::new(&format!("D/D0 at t = {:.2} ms: θ = {:.0}° minus θ = {:.0}°", t_end * 1e3, a.0, b.0), a.1 - b.1, 3, None, None)
-                .check(a.1 > b.1, "the hydrophilic drop spreads more (direction)"),
+            Row::new(
+                &format!("D/D0 at t = {:.2} ms: θ = {:.0}° minus θ = {:.0}°", t_end * 1e3, a.0, b.0),
+                a.1 - b.1,
+                3,
+                None,
+                None,
+            )
+            .check(a.1 > b.1, "the hydrophilic drop spreads more (direction)"),
         );
     }
-    dmax.series = vec![Series::line_points("sphlab", sph), Series::line("axisymmetric (Pasandideh-Fard)", axi), Series::line("2D model (c), eq. (93)", mc)];
+    dmax.series = vec![
+        Series::line_points("sphlab", sph),
+        Series::line("axisymmetric (Pasandideh-Fard)", axi),
+        Series::line("2D model (c), eq. (93)", mc),
+    ];
     plot(ctx, &mut rep, "fig5_3_spread_vs_tau.svg", &spread)?;
     plot(ctx, &mut rep, "fig5_5_dmax_vs_theta.svg", &dmax)?;
     write_csv(ctx, &mut rep, "dmax.csv", "theta_deg,sphlab_dmax,axisym,model_c", &csv)?;
-    rep.notes.push("D = 2 × (outermost first-row water particle + Δx/2); τ = 4μ_L t/(ρ_L D0²) (τ = 0.03 at 1.65 ms).".into());
+    rep.notes.push(
+        "D = 2 × (outermost first-row water particle + Δx/2); τ = 4μ_L t/(ρ_L D0²) (τ = 0.03 at 1.65 ms).".into(),
+    );
     if quick {
         rep.notes.push("Quick: the run stops 0.225 ms after contact, well before the maximum; only the direction (50° spreads more than 160°) and the conservation are checked.".into());
     }

@@ -51,6 +51,8 @@ pub struct ValidateOptions {
     pub t_end_long: Option<f64>,
     /// With `reuse`: skip (and report) runs that have no finished output instead of running them.
     pub skip_missing: bool,
+    /// Run ids to run (reusing or skipping every other one as with `skip_missing`); empty: all.
+    pub only: Vec<String>,
     /// Actually run the full-resolution impact (hours per angle on a CPU).
     pub full_impact: bool,
     /// No console lines.
@@ -68,6 +70,7 @@ impl Default for ValidateOptions {
             reuse: false,
             t_end_long: None,
             skip_missing: false,
+            only: Vec::new(),
             full_impact: false,
             quiet: true,
         }
@@ -134,7 +137,8 @@ impl<'a> RunSpec<'a> {
 
     /// The scene this spec runs.
     pub fn scene(&self) -> Result<Scene, ValidateError> {
-        let base = builtin::builtin(self.base).ok_or_else(|| ValidateError::Input(format!("no scene {}", self.base)))?;
+        let base =
+            builtin::builtin(self.base).ok_or_else(|| ValidateError::Input(format!("no scene {}", self.base)))?;
         let mut s = apply_overrides(&base, &self.sets).map_err(|e| ValidateError::Input(e.to_string()))?;
         if let Some(f) = self.edit {
             f(&mut s);
@@ -180,7 +184,8 @@ impl<'a> Ctx<'a> {
         let scene = spec.scene()?;
         let mut candidates = vec![dir.clone()];
         candidates.extend(also.iter().cloned());
-        if self.opts.reuse {
+        let only_other = !self.opts.only.is_empty() && !self.opts.only.contains(&spec.id);
+        if self.opts.reuse || only_other {
             for c in &candidates {
                 if let Some(rec) = RunRecord::reuse(c, &scene, spec.t_end, &spec.command(c)) {
                     self.say(&format!("  reuse {}", c.display()));
@@ -188,7 +193,7 @@ impl<'a> Ctx<'a> {
                 }
             }
         }
-        if self.opts.reuse && self.opts.skip_missing {
+        if (self.opts.reuse && self.opts.skip_missing) || only_other {
             return Err(ValidateError::Skipped(spec.id.clone()));
         }
         let opts = RunOptions {

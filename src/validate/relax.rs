@@ -32,19 +32,31 @@ pub fn variants() -> Vec<(&'static str, &'static str, Vec<String>)> {
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
-    let mut rep = CaseReport::new("relax-60", "Thesis §4.2.3, Figs. 4.10–4.15 (PHYSICS.md §9(c)): 90° → 60° relaxation", quick);
+    let mut rep =
+        CaseReport::new("relax-60", "Thesis §4.2.3, Figs. 4.10–4.15 (PHYSICS.md §9(c)): 90° → 60° relaxation", quick);
     let t_end = ctx.opts.long_t_end(0.3);
     let nx = if quick { 26 } else { 65 };
     let (dx, y_w, x_max) = geometry(nx);
     if !quick && t_end < 5.0 {
-        rep.not_full_because(format!("t_end = {t_end} instead of the thesis's 5 (CPU time); end profile over the last 10 %"));
+        rep.not_full_because(format!(
+            "t_end = {t_end} instead of the thesis's 5 (CPU time); end profile over the last 10 %"
+        ));
     }
     let d_an = analytic_spread();
     let (wa, wb, wtext) = shear_window(t_end);
     let (ea, eb) = (0.2f64.min(0.5 * t_end), 0.3f64.min(t_end));
-    let mut angle = PlotSpec::new("Relaxation 90° → 60°: contact-angle deviation from 60° (§4.2.3)", "t (nondimensional)", "θ − 60° (degrees)");
-    let mut spread = PlotSpec::new("Relaxation 90° → 60°: spread factor D/D0 (Fig. 4.13)", "t (nondimensional)", "D/D0 = x_tp / R");
-    let mut shear = PlotSpec::new("Relaxation 90° → 60°: wall shear rate along the wall", "fraction of the wall (0 = drop centre, 1 = right wall)", "average |∂u/∂y| (1/time)");
+    let mut angle = PlotSpec::new(
+        "Relaxation 90° → 60°: contact-angle deviation from 60° (§4.2.3)",
+        "t (nondimensional)",
+        "θ − 60° (degrees)",
+    );
+    let mut spread =
+        PlotSpec::new("Relaxation 90° → 60°: spread factor D/D0 (Fig. 4.13)", "t (nondimensional)", "D/D0 = x_tp / R");
+    let mut shear = PlotSpec::new(
+        "Relaxation 90° → 60°: wall shear rate along the wall",
+        "fraction of the wall (0 = drop centre, 1 = right wall)",
+        "average |∂u/∂y| (1/time)",
+    );
     shear.log_y = true;
     let mut csv = Vec::new();
     let variants = if quick { variants().into_iter().take(1).collect() } else { variants() };
@@ -96,8 +108,9 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         });
         for (name, pts) in [("circle fit", &circle), ("two-point", &two), ("area inversion", &area)] {
             if let Some((mean, std, n)) = window_stats(pts, wa, wb) {
-                let r = Row::new(&format!("{label}: θ − 60°, {name}, mean over {wtext} (deg)"), mean, 2, None, Some(0.0))
-                    .sphlab_text(format!("{mean:.2} ± {std:.2} (n = {n})"));
+                let r =
+                    Row::new(&format!("{label}: θ − 60°, {name}, mean over {wtext} (deg)"), mean, 2, None, Some(0.0))
+                        .sphlab_text(format!("{mean:.2} ± {std:.2} (n = {n})"));
                 rep.rows.push(if b_noslip && name == "circle fit" && !quick {
                     r.check(mean.abs() < 5.0, "|θ − 60°| < 5°")
                 } else if quick && name == "circle fit" {
@@ -109,7 +122,13 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             }
         }
         let pk = |p: &[(f64, f64)]| p.iter().map(|q| q.1).fold(f64::NAN, f64::max);
-        rep.rows.push(Row::new(&format!("{label}: peak wall shear, t ∈ [{ea:.2}, {eb:.2}] (1/time)"), pk(&early), 4, None, None));
+        rep.rows.push(Row::new(
+            &format!("{label}: peak wall shear, t ∈ [{ea:.2}, {eb:.2}] (1/time)"),
+            pk(&early),
+            4,
+            None,
+            None,
+        ));
         rep.rows.push(Row::new(&format!("{label}: peak wall shear, {wtext} (1/time)"), pk(&late), 4, None, None));
         rep.runs.push(rec);
     }
@@ -122,10 +141,18 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     plot(ctx, &mut rep, "contact_angle_deviation.svg", &angle)?;
     plot(ctx, &mut rep, "fig4_13_spread_factor.svg", &spread)?;
     plot(ctx, &mut rep, "wall_shear_profiles.svg", &shear)?;
-    write_csv(ctx, &mut rep, "wall_shear_profiles.csv", "variant_index,late_window,wall_fraction,mean_abs_shear_rate", &csv)?;
+    write_csv(
+        ctx,
+        &mut rep,
+        "wall_shear_profiles.csv",
+        "variant_index,late_window,wall_fraction,mean_abs_shear_rate",
+        &csv,
+    )?;
     rep.notes.push(format!(
         "Analytic equilibrium: circular cap of the half-drop's area πR²/2 at 60°: R_c = 0.3998, x_tp = 0.3462, D/D0 = {d_an:.4}."
     ));
-    rep.notes.push("D/D0 = x_tp/R with x_tp the outermost first-row liquid particle + Δx/2 (series.csv spread_factor).".into());
+    rep.notes.push(
+        "D/D0 = x_tp/R with x_tp the outermost first-row liquid particle + Δx/2 (series.csv spread_factor).".into(),
+    );
     Ok(rep)
 }

@@ -18,7 +18,7 @@ pub struct Row {
     pub thesis: String,
     /// The analytic value ("—" if none).
     pub analytic: String,
-    /// The difference (to the analytic value if any, else to the thesis).
+    /// The difference to the analytic value and/or to the thesis.
     pub difference: String,
     /// pass / fail / info, with the criterion.
     pub verdict: String,
@@ -30,13 +30,20 @@ impl Row {
     /// A row; `difference` is computed against `reference` (relative) when given.
     pub fn new(quantity: &str, value: f64, prec: usize, thesis: Option<f64>, analytic: Option<f64>) -> Row {
         let f = |v: Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.prec$}"));
-        let reference = analytic.or(thesis);
-        let difference = match reference {
-            Some(r) if value.is_finite() && r != 0.0 => {
+        let diff = |r: f64| {
+            if !value.is_finite() {
+                "—".to_string()
+            } else if r != 0.0 {
                 format!("{:+.prec$} ({:+.1} %)", value - r, 100.0 * (value - r) / r.abs())
+            } else {
+                format!("{:+.prec$}", value - r)
             }
-            Some(r) if value.is_finite() => format!("{:+.prec$}", value - r),
-            _ => "—".into(),
+        };
+        let difference = match (thesis, analytic) {
+            (Some(t), Some(a)) => format!("vs analytic {}; vs thesis {}", diff(a), diff(t)),
+            (None, Some(a)) => diff(a),
+            (Some(t), None) => diff(t),
+            (None, None) => "—".into(),
         };
         Row {
             quantity: quantity.into(),
@@ -209,8 +216,11 @@ pub fn write_summary(ctx: &Ctx, rep: &CaseReport) -> Result<(), ValidateError> {
     }
     let _ = writeln!(m, "| quantity | sphlab | thesis | analytic | difference | verdict |\n|---|---|---|---|---|---|");
     for r in &rep.rows {
-        let _ =
-            writeln!(m, "| {} | {} | {} | {} | {} | {} |", r.quantity, r.sphlab, r.thesis, r.analytic, r.difference, r.verdict);
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} | {} | {} | {} |",
+            r.quantity, r.sphlab, r.thesis, r.analytic, r.difference, r.verdict
+        );
     }
     if !rep.notes.is_empty() {
         let _ = writeln!(m, "\n## Notes\n");
@@ -268,13 +278,19 @@ pub fn write_summary(ctx: &Ctx, rep: &CaseReport) -> Result<(), ValidateError> {
 
 /// Writes `index.md` from every `<case>/case.json` under the report root, plus cases that
 /// failed in this invocation.
-pub fn write_index(opts: &ValidateOptions, _reps: &[CaseReport], failed: &[(String, String)]) -> Result<(), ValidateError> {
+pub fn write_index(
+    opts: &ValidateOptions,
+    _reps: &[CaseReport],
+    failed: &[(String, String)],
+) -> Result<(), ValidateError> {
     let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | wall time (s) |\n|---|---|---|---|---|\n");
     let mut not_full = Vec::new();
     for c in CASES {
         let j = opts.out.join(c).join("case.json");
-        let Some(rep) = std::fs::read_to_string(&j).ok().and_then(|t| serde_json::from_str::<CaseReport>(&t).ok()) else {
-            let why = failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
+        let Some(rep) = std::fs::read_to_string(&j).ok().and_then(|t| serde_json::from_str::<CaseReport>(&t).ok())
+        else {
+            let why =
+                failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
             let _ = writeln!(m, "| {c} | — | no | — | — |");
             not_full.push((c.to_string(), why));
             continue;
@@ -306,7 +322,13 @@ pub fn write_index(opts: &ValidateOptions, _reps: &[CaseReport], failed: &[(Stri
 }
 
 /// Writes `name` (CSV with a header) in the case directory and records it.
-pub fn write_csv(ctx: &Ctx, rep: &mut CaseReport, name: &str, header: &str, rows: &[Vec<f64>]) -> Result<(), ValidateError> {
+pub fn write_csv(
+    ctx: &Ctx,
+    rep: &mut CaseReport,
+    name: &str,
+    header: &str,
+    rows: &[Vec<f64>],
+) -> Result<(), ValidateError> {
     let mut s = format!("{header}\n");
     for r in rows {
         let cells: Vec<String> = r.iter().map(|v| if v.is_finite() { format!("{v}") } else { String::new() }).collect();

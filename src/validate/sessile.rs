@@ -4,7 +4,9 @@
 //! profile averaged near t ≈ 4.4 (the last 10 % of a shortened run) and the maximum normal
 //! deviation (Fig. 4.9). Thesis: Mode B < 3°, Mode A ±10°, Mode A's peak shear ≈ 160× Mode B's.
 
-use super::data::{col, mean_shear_profile, normal_deviation_series, read_series, snapshots_in, window_stats, Row as SRow};
+use super::data::{
+    col, mean_shear_profile, normal_deviation_series, read_series, snapshots_in, window_stats, Row as SRow,
+};
 use super::report::{plot, write_csv, CaseReport, Row};
 use super::{Ctx, RunSpec, ValidateError};
 use crate::plot::{PlotSpec, RefLine, Series};
@@ -60,7 +62,8 @@ pub fn measure(dir: &std::path::Path, nx: u32, a: f64, b: f64) -> Measured {
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
-    let mut rep = CaseReport::new("sessile-90", "Thesis §4.2.2, Figs. 4.3–4.9 (PHYSICS.md §9(b)): 90° drop at rest", quick);
+    let mut rep =
+        CaseReport::new("sessile-90", "Thesis §4.2.2, Figs. 4.3–4.9 (PHYSICS.md §9(b)): 90° drop at rest", quick);
     let t_end = ctx.opts.long_t_end(0.3);
     let nx = if quick { 26 } else { 65 };
     if !quick && t_end < 5.0 {
@@ -69,8 +72,16 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         ));
     }
     let (wa, wb, wtext) = shear_window(t_end);
-    let mut angle = PlotSpec::new("Sessile 90°: contact-angle deviation from 90° (§4.2.2)", "t (nondimensional)", "θ − 90° (degrees)");
-    let mut ke = PlotSpec::new("Sessile 90°: liquid kinetic energy (§4.2.2)", "t (nondimensional)", "kinetic energy of the liquid (nondimensional)");
+    let mut angle = PlotSpec::new(
+        "Sessile 90°: contact-angle deviation from 90° (§4.2.2)",
+        "t (nondimensional)",
+        "θ − 90° (degrees)",
+    );
+    let mut ke = PlotSpec::new(
+        "Sessile 90°: liquid kinetic energy (§4.2.2)",
+        "t (nondimensional)",
+        "kinetic energy of the liquid (nondimensional)",
+    );
     ke.log_y = true;
     let mut shear = PlotSpec::new(
         &format!("Sessile 90°: wall shear rate |∂u/∂y| along the wall, {wtext}"),
@@ -78,7 +89,11 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         "average shear rate (1/time)",
     );
     shear.log_y = true;
-    let mut normal = PlotSpec::new("Sessile 90°: maximum normal deviation (Fig. 4.9)", "t (nondimensional)", "max angle between n̂ and the radial direction (degrees)");
+    let mut normal = PlotSpec::new(
+        "Sessile 90°: maximum normal deviation (Fig. 4.9)",
+        "t (nondimensional)",
+        "max angle between n̂ and the radial direction (degrees)",
+    );
     let mut peaks = Vec::new();
     let mut shear_csv: Vec<Vec<f64>> = Vec::new();
     for (id, mode, thesis_dev) in [("mode-b", "b", THESIS_MODE_B_DEV), ("mode-a", "a", THESIS_MODE_A_DEV)] {
@@ -95,13 +110,22 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         angle.series.push(Series::line(format!("{label}: circle fit"), circle.clone()));
         angle.series.push(Series::points(format!("{label}: two-point (per row)"), two.clone()));
         angle.series.push(Series::line(format!("{label}: area inversion"), area.clone()));
-        ke.series.push(Series::line(label.clone(), col(&m.rows, |r| Some(r.kinetic_energy)).into_iter().filter(|p| p.0 > 0.0).collect()));
+        ke.series.push(Series::line(
+            label.clone(),
+            col(&m.rows, |r| Some(r.kinetic_energy)).into_iter().filter(|p| p.0 > 0.0).collect(),
+        ));
         shear.series.push(Series::line_points(label.clone(), m.shear.clone()));
         normal.series.push(Series::line_points(label.clone(), m.normal.clone()));
         let max_circle = circle.iter().map(|p| p.1.abs()).fold(f64::NAN, f64::max);
         let crit = if mode == "b" { Some(thesis_dev) } else { None };
-        let r = Row::new(&format!("{label}: max |θ − 90°|, circle fit, whole run (deg)"), max_circle, 2, Some(thesis_dev), None)
-            .thesis_text(if mode == "b" { "< 3" } else { "±10" });
+        let r = Row::new(
+            &format!("{label}: max |θ − 90°|, circle fit, whole run (deg)"),
+            max_circle,
+            2,
+            Some(thesis_dev),
+            None,
+        )
+        .thesis_text(if mode == "b" { "< 3" } else { "±10" });
         rep.rows.push(match crit {
             Some(c) => r.check(max_circle < c, "< 3° (thesis)"),
             None => r,
@@ -119,7 +143,13 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         let peak = m.shear.iter().map(|p| p.1).fold(f64::NAN, f64::max);
         rep.rows.push(Row::new(&format!("{label}: peak wall shear rate, {wtext} (1/time)"), peak, 4, None, None));
         let nd = window_stats(&m.normal, wa, wb).map_or(f64::NAN, |s| s.0);
-        rep.rows.push(Row::new(&format!("{label}: max normal deviation, mean over {wtext} (deg)"), nd, 2, None, Some(0.0)));
+        rep.rows.push(Row::new(
+            &format!("{label}: max normal deviation, mean over {wtext} (deg)"),
+            nd,
+            2,
+            None,
+            Some(0.0),
+        ));
         peaks.push(peak);
         for (x, g) in &m.shear {
             shear_csv.push(vec![if mode == "b" { 1.0 } else { 0.0 }, *x, *g]);

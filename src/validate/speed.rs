@@ -16,7 +16,14 @@ pub fn kernels() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
     ]
 }
 
-fn scatter(ctx: &Ctx, rep: &mut CaseReport, name: &str, title: &str, y: &str, pts: &[(f64, f64, String)]) -> Result<(), ValidateError> {
+fn scatter(
+    ctx: &Ctx,
+    rep: &mut CaseReport,
+    name: &str,
+    title: &str,
+    y: &str,
+    pts: &[(f64, f64, String)],
+) -> Result<(), ValidateError> {
     let pts: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.0, p.1.max(1e-6), p.2.clone())).collect();
     crate::plot::scatter_labeled_svg(ctx.path(name), title, "wall time (s)", y, &pts, true, true)
         .map_err(|e| ValidateError::Io(e.to_string()))?;
@@ -26,7 +33,11 @@ fn scatter(ctx: &Ctx, rep: &mut CaseReport, name: &str, title: &str, y: &str, pt
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
-    let mut rep = CaseReport::new("speed-vs-error", "Wall time vs error: kernels on the oscillating drop, resolutions on relax-60", quick);
+    let mut rep = CaseReport::new(
+        "speed-vs-error",
+        "Wall time vs error: kernels on the oscillating drop, resolutions on relax-60",
+        quick,
+    );
     let mut osc = Vec::new();
     let mut csv = Vec::new();
     let osc_dir = ctx.opts.out.join("oscillation").join("runs").join("quintic");
@@ -45,13 +56,32 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         let (period, amp) = oscillation::measure(&PathBuf::from(&rec.dir)).unwrap_or((f64::NAN, f64::NAN));
         let err = (period / oscillation::THESIS_PERIOD - 1.0).abs();
         rep.rows.push(Row::new(&format!("{label}: period"), period, 4, Some(oscillation::THESIS_PERIOD), None));
-        rep.rows.push(Row::new(&format!("{label}: first-cycle amplitude"), amp, 4, Some(oscillation::THESIS_AMPLITUDE), None));
-        rep.rows.push(Row::new(&format!("{label}: wall time (s), {:.3} ms/step", rec.ms_per_step), rec.wall_time_s, 1, None, None));
+        rep.rows.push(Row::new(
+            &format!("{label}: first-cycle amplitude"),
+            amp,
+            4,
+            Some(oscillation::THESIS_AMPLITUDE),
+            None,
+        ));
+        rep.rows.push(Row::new(
+            &format!("{label}: wall time (s), {:.3} ms/step", rec.ms_per_step),
+            rec.wall_time_s,
+            1,
+            None,
+            None,
+        ));
         osc.push((rec.wall_time_s, err, label.to_string()));
         csv.push(vec![0.0, k as f64, rec.wall_time_s, rec.ms_per_step, period, err]);
         rep.runs.push(rec);
     }
-    scatter(ctx, &mut rep, "oscillation_time_vs_error.svg", "Oscillating drop: wall time vs period error (kernels)", "|T − 0.37| / 0.37", &osc)?;
+    scatter(
+        ctx,
+        &mut rep,
+        "oscillation_time_vs_error.svg",
+        "Oscillating drop: wall time vs period error (kernels)",
+        "|T − 0.37| / 0.37",
+        &osc,
+    )?;
     let cctx = Ctx::new(ctx.opts, "convergence");
     let mut crep = CaseReport::new("convergence", "", quick);
     let pts = convergence::study(&cctx, &mut crep)?;
@@ -64,7 +94,14 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         csv.push(vec![1.0, i as f64, p.1, p.2, f64::NAN, p.3]);
     }
     rep.runs.extend(crep.runs);
-    scatter(ctx, &mut rep, "convergence_time_vs_error.svg", "relax-60 Mode B: wall time vs D/D0 error (resolutions)", "|D/D0 − 1.385| / 1.385", &conv)?;
+    scatter(
+        ctx,
+        &mut rep,
+        "convergence_time_vs_error.svg",
+        "relax-60 Mode B: wall time vs D/D0 error (resolutions)",
+        "|D/D0 − 1.385| / 1.385",
+        &conv,
+    )?;
     write_csv(ctx, &mut rep, "speed_vs_error.csv", "study,index,wall_time_s,ms_per_step,period,rel_error", &csv)?;
     rep.notes.push("Study 0 = kernels on the oscillating drop (error of the period against the thesis's 0.37); study 1 = resolutions 0.5/nx of relax-60 (error of the end D/D0 against the analytic 1.385). Wall times are on a shared 2-core machine: compare within a study only.".into());
     Ok(rep)

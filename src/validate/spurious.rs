@@ -33,7 +33,11 @@ pub fn spec(quick: bool) -> RunSpec<'static> {
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
-    let mut rep = CaseReport::new("spurious", "Spurious currents: the §9(a) drop at rest (no thesis figure; the issue's hard case)", quick);
+    let mut rep = CaseReport::new(
+        "spurious",
+        "Spurious currents: the §9(a) drop at rest (no thesis figure; the issue's hard case)",
+        quick,
+    );
     let rec = ctx.run(&spec(quick), &[])?;
     let rows = read_series(&PathBuf::from(&rec.dir));
     let speed = col(&rows, |r| Some(r.max_speed));
@@ -47,19 +51,36 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         Row::new(&format!("max fluid speed over t ≤ {t_end:.2}"), vmax, 4, None, Some(0.0))
             .check(vmax < MAX_SPEED_BOUND && rec.status == "ok", &format!("< {MAX_SPEED_BOUND} (stated bound)")),
     );
-    rep.rows.push(Row::new(&format!("max fluid speed, mean over t ∈ [{:.2}, {t_end:.2}]", 0.5 * t_end), late_mean, 4, None, Some(0.0)));
+    rep.rows.push(Row::new(
+        &format!("max fluid speed, mean over t ∈ [{:.2}, {t_end:.2}]", 0.5 * t_end),
+        late_mean,
+        4,
+        None,
+        Some(0.0),
+    ));
     rep.rows.push(
         Row::new("max liquid kinetic energy for t > 0.05", ke_max, 6, None, Some(0.0))
             .sphlab_text(format!("{ke_max:.3e}"))
             .check(ke_max < KE_BOUND, &format!("< {KE_BOUND:e} (stated bound)")),
     );
-    rep.rows.push(Row::new("max density error at the end", rows.last().map_or(f64::NAN, |r| r.max_density_error), 4, None, Some(0.0)));
-    let mut p = PlotSpec::new("Drop at rest: spurious currents", "t (nondimensional)", "max fluid speed (nondimensional)");
+    rep.rows.push(Row::new(
+        "max density error at the end",
+        rows.last().map_or(f64::NAN, |r| r.max_density_error),
+        4,
+        None,
+        Some(0.0),
+    ));
+    let mut p =
+        PlotSpec::new("Drop at rest: spurious currents", "t (nondimensional)", "max fluid speed (nondimensional)");
     p.log_y = true;
     p.series = vec![Series::line("max |v| over all fluid particles", speed)];
     p.refs = vec![RefLine::horizontal(format!("stated bound {MAX_SPEED_BOUND}"), MAX_SPEED_BOUND)];
     plot(ctx, &mut rep, "max_speed.svg", &p)?;
-    let mut k = PlotSpec::new("Drop at rest: liquid kinetic energy", "t (nondimensional)", "kinetic energy of the liquid (nondimensional)");
+    let mut k = PlotSpec::new(
+        "Drop at rest: liquid kinetic energy",
+        "t (nondimensional)",
+        "kinetic energy of the liquid (nondimensional)",
+    );
     k.log_y = true;
     k.series = vec![Series::line("liquid KE", ke.into_iter().filter(|p| p.0 > 0.0).collect())];
     k.refs = vec![RefLine::horizontal(format!("stated bound {KE_BOUND:e}"), KE_BOUND)];
