@@ -155,12 +155,31 @@ pub fn mean_shear_profile(snaps: &[Snap], dx: f64, y_w: f64, x_max: f64, bins: u
 }
 
 /// Max normal deviation (Fig. 4.9) of every snapshot: `(t, degrees)`, radial directions from
-/// `centre`, via [`crate::diagnostics::max_normal_deviation`].
-pub fn normal_deviation_series(dir: &Path, rows: &[Row], dx: f64, y_w: f64, centre: [f64; 2]) -> Vec<(f64, f64)> {
+/// `centre`, via [`crate::diagnostics::max_normal_deviation`], over the fluid particles within
+/// `band` of the circle of radius `radius` about `centre` (the drop's interface band; without
+/// it, Mode A's colour gradients at the right and top walls, a third phase there, count too).
+pub fn normal_deviation_series(
+    dir: &Path,
+    rows: &[Row],
+    dx: f64,
+    y_w: f64,
+    centre: [f64; 2],
+    radius: f64,
+    band: f64,
+) -> Vec<(f64, f64)> {
     snapshots_in(dir, rows, f64::NEG_INFINITY, f64::INFINITY)
         .iter()
         .filter_map(|s| {
-            crate::diagnostics::max_normal_deviation(&s.pos, &s.phase, &s.grad_c, dx, y_w, centre).map(|d| (s.t, d))
+            let keep: Vec<usize> = (0..s.pos.len())
+                .filter(|&i| {
+                    let r = (s.pos[i][0] - centre[0]).hypot(s.pos[i][1] - centre[1]);
+                    s.phase[i] != WALL && (r - radius).abs() <= band
+                })
+                .collect();
+            let pos: Vec<[f64; 2]> = keep.iter().map(|&i| s.pos[i]).collect();
+            let phase: Vec<u32> = keep.iter().map(|&i| s.phase[i]).collect();
+            let g: Vec<[f64; 2]> = keep.iter().map(|&i| s.grad_c[i]).collect();
+            crate::diagnostics::max_normal_deviation(&pos, &phase, &g, dx, y_w, centre).map(|d| (s.t, d))
         })
         .collect()
 }

@@ -56,7 +56,7 @@ pub fn measure(dir: &std::path::Path, nx: u32, a: f64, b: f64) -> Measured {
     let rows = read_series(dir);
     let snaps = snapshots_in(dir, &rows, a, b);
     let shear = mean_shear_profile(&snaps, dx, y_w, x_max, 20);
-    let normal = normal_deviation_series(dir, &rows, dx, y_w, [0.0, 0.0]);
+    let normal = normal_deviation_series(dir, &rows, dx, y_w, [0.0, 0.0], 0.25, 3.0 * dx);
     Measured { rows, shear, normal }
 }
 
@@ -139,7 +139,10 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             }
         }
         let ke_end = m.rows.last().map_or(f64::NAN, |r| r.kinetic_energy);
-        rep.rows.push(Row::new(&format!("{label}: liquid kinetic energy at t = {t_end}"), ke_end, 3, None, Some(0.0)));
+        rep.rows.push(
+            Row::new(&format!("{label}: liquid kinetic energy at t = {t_end}"), ke_end, 3, None, Some(0.0))
+                .sphlab_text(format!("{ke_end:.3e}")),
+        );
         let peak = m.shear.iter().map(|p| p.1).fold(f64::NAN, f64::max);
         rep.rows.push(Row::new(&format!("{label}: peak wall shear rate, {wtext} (1/time)"), peak, 4, None, None));
         let nd = window_stats(&m.normal, wa, wb).map_or(f64::NAN, |s| s.0);
@@ -175,6 +178,6 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     write_csv(ctx, &mut rep, "wall_shear_profile.csv", "mode_b,wall_fraction,mean_abs_shear_rate", &shear_csv)?;
     rep.notes.push("Two-point angles (§10.1) are noisy per snapshot on disordered particles (±40°): the table gives the window mean ± std; the circle fit (§10.2) is the robust estimate.".into());
     rep.notes.push("Wall shear rate: |u/(y − y_w)| of first-row fluid particles (§9(b) quick check, diagnostics::wall_shear_profile), 20 bins over [0, 0.5], count-weighted over the snapshots in the window.".into());
-    rep.notes.push("Max normal deviation: interface particles with y > 3Δx, angle between the outward normal from grad C and the radial direction from (0, 0).".into());
+    rep.notes.push("Max normal deviation: particles with grad C ≠ 0, y > 3Δx and |r − 0.25| ≤ 3Δx (the drop's interface band; Mode A's walls are a third colour, so particles at the right and top walls also carry grad C), angle between the outward normal and the radial direction from (0, 0).".into());
     Ok(rep)
 }
