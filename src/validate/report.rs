@@ -92,6 +92,9 @@ pub struct RunRecord {
     pub command: String,
     /// Backend (cpu, cpu1, variant).
     pub backend: String,
+    /// GPU variant id ("—" for the CPU backends).
+    #[serde(default)]
+    pub variant: String,
     /// Precision.
     pub precision: String,
     /// Adapter ("CPU" for the CPU backends).
@@ -129,6 +132,7 @@ impl RunRecord {
             command: command.into(),
             adapter: if backend.starts_with("cpu") { "CPU".into() } else { backend.clone() },
             backend,
+            variant: v["options"]["variant"].as_str().unwrap_or("—").to_string(),
             precision: s("precision"),
             git_commit: s("git_commit"),
             date: s("date"),
@@ -237,15 +241,16 @@ pub fn write_summary(ctx: &Ctx, rep: &CaseReport) -> Result<(), ValidateError> {
     }
     let _ = writeln!(
         m,
-        "\n## Runs\n\n| run | status | backend | precision | adapter | particles | steps | t_end | wall time (s) | ms/step | commit | date | reused |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "\n## Runs\n\n| run | status | backend | variant | precision | adapter | particles | steps | t_end | wall time (s) | ms/step | commit | date | reused |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for r in &rep.runs {
         let _ = writeln!(
             m,
-            "| {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.1} | {:.3} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.1} | {:.3} | {} | {} | {} |",
             r.id,
             r.status,
             r.backend,
+            r.variant,
             r.precision,
             r.adapter,
             r.n_fluid,
