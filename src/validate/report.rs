@@ -288,7 +288,7 @@ pub fn write_index(
     _reps: &[CaseReport],
     failed: &[(String, String)],
 ) -> Result<(), ValidateError> {
-    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | wall time (s) |\n|---|---|---|---|---|\n");
+    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | run wall time (s) |\n|---|---|---|---|---|\n");
     let mut not_full = Vec::new();
     for c in CASES {
         let j = opts.out.join(c).join("case.json");
@@ -308,7 +308,7 @@ pub fn write_index(
             rep.reference.lines().next().unwrap_or(""),
             if rep.not_full.is_none() { "yes" } else { "no" },
             rep.rows.len() - pass - fail,
-            rep.wall_time_s
+            rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
         );
         if let Some(w) = rep.not_full {
             not_full.push((c.to_string(), w));
