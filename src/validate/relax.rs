@@ -95,7 +95,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             csv.push(vec![k as f64, 1.0, *x, *g]);
         }
         let d_end = window_stats(&d, wa, wb).map_or(f64::NAN, |s| s.0);
-        let row = Row::new(&format!("{label}: D/D0, mean over {wtext}"), d_end, 3, Some(THESIS_SPREAD_MAX), Some(d_an))
+        let row = Row::new(&format!("{label}: D/D0, mean over {wtext}"), d_end, 3, None, Some(d_an))
             .thesis_text("within 1–1.4 (Fig. 4.13)");
         let b_noslip = id == "b-noslip";
         rep.rows.push(if b_noslip && !quick {
@@ -119,6 +119,22 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                 } else {
                     r
                 });
+            }
+        }
+        let win: Vec<&(f64, f64)> = circle.iter().filter(|p| p.0 >= wa && p.0 <= wb).collect();
+        if let (Some(a), Some(b)) = (win.first(), win.last()) {
+            if b.0 > a.0 {
+                let rate = (b.1 - a.1) / (b.0 - a.0);
+                rep.rows.push(Row::new(
+                    &format!("{label}: dθ/dt (circle fit) over {wtext} (deg/time)"),
+                    rate,
+                    2,
+                    None,
+                    Some(0.0),
+                ));
+                if rate.abs() > 1.0 && !quick {
+                    rep.notes.push(format!("{label}: still relaxing at t = {t_end}: θ changes by {rate:.1}°/time unit over {wtext}, so the end values are not the equilibrium."));
+                }
             }
         }
         let pk = |p: &[(f64, f64)]| p.iter().map(|q| q.1).fold(f64::NAN, f64::max);
