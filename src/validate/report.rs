@@ -155,10 +155,44 @@ impl RunRecord {
         let v: serde_json::Value = serde_json::from_str(&text).ok()?;
         let want = serde_json::to_value(scene).ok()?;
         let same_t = v["options"]["t_end"].as_f64() == t_end && v["options"]["steps"].is_null();
-        if v["status"] != "ok" || v["parameters"] != want || !same_t {
+        // Floats compared to 1e-12 relative: serde_json's default parser is not always the
+        // correctly rounded one (1 ulp off seen on a dt read back from summary.json).
+        let differs = first_diff(&v["parameters"], &want, String::new());
+        if v["status"] != "ok" || differs.is_some() || !same_t {
+            if std::env::var_os("SPHLAB_DEBUG_REUSE").is_some() {
+                eprintln!(
+                    "no reuse of {}: status {}, same t_end {same_t}, first difference {:?}",
+                    dir.display(),
+                    v["status"],
+                    first_diff(&v["parameters"], &want, String::new())
+                );
+            }
             return None;
         }
         RunRecord::load(dir, command, true)
+    }
+}
+
+/// The first path where two JSON values differ, with both values.
+fn first_diff(a: &serde_json::Value, b: &serde_json::Value, path: String) -> Option<String> {
+    match (a, b) {
+        (serde_json::Value::Object(x), serde_json::Value::Object(y)) => x.keys().chain(y.keys()).find_map(|k| {
+            first_diff(
+                &x.get(k).cloned().unwrap_or_default(),
+                &y.get(k).cloned().unwrap_or_default(),
+                format!("{path}.{k}"),
+            )
+        }),
+        (serde_json::Value::Array(x), serde_json::Value::Array(y)) if x.len() == y.len() => {
+            x.iter().zip(y).enumerate().find_map(|(i, (p, q))| first_diff(p, q, format!("{path}[{i}]")))
+        }
+        (serde_json::Value::Number(x), serde_json::Value::Number(y))
+            if x.as_f64().zip(y.as_f64()).is_some_and(|(p, q)| (p - q).abs() <= 1e-12 * p.abs().max(q.abs())) =>
+        {
+            None
+        }
+        _ if a == b => None,
+        _ => Some(format!("{path}: {a} vs {b}")),
     }
 }
 
@@ -314,6 +348,10 @@ pub fn write_index(
             not_full.push((c.to_string(), w));
         }
     }
+    let _ = writeln!(
+        m,
+        "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them.\n"
+    );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
     if not_full.is_empty() {
         let _ = writeln!(m, "None.");
