@@ -12,7 +12,8 @@
 //! * [`model`]: the scene turned into solver constants in the working precision;
 //! * [`neighbours`]: direct, cell-grid and tracking-list neighbour searches with boundary images;
 //! * [`cpu`]: the CPU reference solver, stage by stage;
-//! * [`run`]: the `sphlab run` driver and its outputs.
+//! * [`run`]: the `sphlab run` driver and its outputs;
+//! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports.
 
 pub mod analytic;
 pub mod backend;
@@ -31,3 +32,4 @@ pub mod scene;
 pub mod study;
 pub mod study_report;
 pub mod verify;
+pub mod validate;

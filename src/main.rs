@@ -31,6 +31,8 @@ enum Cmd {
     Verify(VerifyArgs),
     /// The Chapter 6 timing study: E1 (search × backend), E4 (speedup), scaling; records.csv + summary.md.
     Study(StudyArgs),
+    /// Validation cases against the thesis and analytic references (reports/validation).
+    Validate(ValidateArgs),
     /// Analytic drop-spread models (thesis §5.1, Table 1).
     Analytic {
         #[command(subcommand)]
@@ -122,6 +124,46 @@ struct StudyArgs {
     out: PathBuf,
 }
 
+#[derive(Args)]
+struct ValidateArgs {
+    /// oscillation, sessile-90, relax-60, convergence, impact, spurious, speed-vs-error or all.
+    case: String,
+    /// Coarse resolution and short times (seconds per case; direction and rough size only).
+    #[arg(long)]
+    quick: bool,
+    /// cpu, cpu1 or gpu.
+    #[arg(long, default_value = "cpu")]
+    backend: String,
+    /// GPU variant id.
+    #[arg(long)]
+    variant: Option<String>,
+    /// f64 or f32.
+    #[arg(long, default_value = "f64")]
+    precision: String,
+    /// Report directory.
+    #[arg(long, default_value = "reports/validation")]
+    out: PathBuf,
+    /// Reuse finished runs of exactly the same scene and end time found in the report directory.
+    #[arg(long)]
+    reuse: bool,
+    /// With --reuse: skip runs that have no finished output (they are listed as not run).
+    #[arg(long, requires = "reuse")]
+    skip_missing: bool,
+    /// Run only these run ids (comma-separated, e.g. `nx45,nx65`); every other run is reused if
+    /// finished, else skipped and listed.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+    /// End time of the long sessile-90 / relax-60 / convergence runs (default: the thesis's 5).
+    #[arg(long)]
+    t_end: Option<f64>,
+    /// Run the impact case at full resolution (hours per angle on a CPU).
+    #[arg(long)]
+    full_impact: bool,
+    /// No console lines.
+    #[arg(long)]
+    quiet: bool,
+}
+
 #[derive(Subcommand)]
 enum SceneCmd {
     /// List the built-in scenes.
@@ -209,6 +251,41 @@ fn cmd_run(a: RunArgs) -> ExitCode {
         Ok(_) => ExitCode::SUCCESS,
         Err(e @ RunError::BlowUp(_)) => fail(3, format!("{e}; outputs so far are in {}", opts.out.display())),
         Err(e) => fail(e.exit_code() as u8, e),
+    }
+}
+
+fn cmd_validate(a: ValidateArgs) -> ExitCode {
+    use sphlab::validate::{self, ValidateError, ValidateOptions};
+    if a.t_end.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+        return fail(2, "--t-end: must be positive");
+    }
+    let opts = ValidateOptions {
+        quick: a.quick,
+        backend: a.backend,
+        variant: a.variant,
+        precision: a.precision,
+        out: a.out,
+        reuse: a.reuse,
+        skip_missing: a.skip_missing,
+        only: a.only,
+        t_end_long: a.t_end,
+        full_impact: a.full_impact,
+        quiet: a.quiet,
+    };
+    let res = if a.case == "all" {
+        validate::run_all(&opts).map(|r| r.len())
+    } else {
+        validate::run_case(&a.case, &opts).map(|_| 1)
+    };
+    match res {
+        Ok(n) => {
+            if !opts.quiet {
+                eprintln!("{n} case(s) written under {}", opts.out.display());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e @ ValidateError::Input(_)) => fail(2, e),
+        Err(e) => fail(1, e),
     }
 }
 
@@ -399,5 +476,6 @@ fn main() -> ExitCode {
         Cmd::Variants => cmd_variants(),
         Cmd::Study(a) => cmd_study(a),
         Cmd::Verify(a) => cmd_verify(a),
+        Cmd::Validate(a) => cmd_validate(a),
     }
 }

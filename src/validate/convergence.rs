@@ -1,0 +1,130 @@
+//! Case `convergence` (PHYSICS.md §9(d), thesis §4.2.4): relax-60, Mode B, no-slip, at
+//! Δx = 0.5/45, 0.5/65, 0.5/85, 0.5/105 with dt scaled with the viscous limit ∝ Δx²
+//! (7e-5 at 65). D/D0 and θ at the end against the analytic cap, and time to solution
+//! against error. Thesis: all but 0.5/45 converge in D/D0 and θ.
+
+use super::data::{col, read_series, window_stats};
+use super::relax::analytic_spread;
+use super::report::{plot, write_csv, CaseReport, Row};
+use super::sessile::shear_window;
+use super::{Ctx, RunSpec, ValidateError};
+use crate::plot::{PlotSpec, RefLine, Series};
+use std::path::PathBuf;
+
+/// Resolutions (particles across 0.5) of the full study.
+pub const FULL_NX: [u32; 4] = [45, 65, 85, 105];
+/// Resolutions of the quick study.
+pub const QUICK_NX: [u32; 3] = [20, 26, 33];
+
+/// dt at `nx`: the viscous limit scales as Δx², anchored at 7e-5 for 65 (1.4e-4 at 26 quick).
+pub fn dt_for(nx: u32, quick: bool) -> f64 {
+    let (dt0, nx0) = if quick { (1.4e-4, 26.0) } else { (7e-5, 65.0) };
+    dt0 * (nx0 / nx as f64).powi(2)
+}
+
+/// The run spec at `nx`.
+pub fn spec(nx: u32, quick: bool, t_end: f64) -> RunSpec<'static> {
+    let mut sets = vec![format!("domain.nx={nx}"), format!("time.dt={:e}", dt_for(nx, quick))];
+    if quick {
+        sets.push("output.every=100".into());
+    } else {
+        // keep a series row every ~0.035 time units at every resolution
+        sets.push(format!("output.every={}", (0.035 / dt_for(nx, quick)).round() as u64));
+    }
+    RunSpec::new(format!("nx{nx}"), "relax-60", &sets, Some(t_end), if quick { 0 } else { 10 })
+}
+
+/// One point of the speed/error study: `(label, wall time s, ms/step, |D/D0 − analytic|/analytic, θ error deg)`.
+pub type Point = (String, f64, f64, f64, f64);
+
+/// Runs (or reuses) the study and returns its points; fills `rep` if given.
+pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateError> {
+    let quick = ctx.opts.quick;
+    let t_end = ctx.opts.long_t_end(0.3);
+    let (wa, wb, wtext) = shear_window(t_end);
+    let d_an = analytic_spread();
+    let nxs: Vec<u32> = if quick { QUICK_NX.to_vec() } else { FULL_NX.to_vec() };
+    let mut spread = PlotSpec::new("Convergence: D/D0 vs time (§4.2.4)", "t (nondimensional)", "D/D0");
+    let mut angle = PlotSpec::new("Convergence: θ (circle fit) vs time (§4.2.4)", "t (nondimensional)", "θ (degrees)");
+    let mut pts = Vec::new();
+    let mut csv = Vec::new();
+    for nx in nxs {
+        let s = spec(nx, quick, t_end);
+        let relax_dir = ctx.opts.out.join("relax-60").join("runs").join("b-noslip");
+        let rec = match ctx.run(&s, &[relax_dir]) {
+            Ok(r) => r,
+            Err(ValidateError::Skipped(id)) => {
+                rep.not_full_because(format!("{id} not run (CPU time)"));
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        let rows = read_series(&PathBuf::from(&rec.dir));
+        let d = col(&rows, |r| r.spread_factor);
+        let th = col(&rows, |r| r.theta_circle_fit);
+        spread.series.push(Series::line(format!("Δx = 0.5/{nx}"), d.clone()));
+        angle.series.push(Series::line(format!("Δx = 0.5/{nx}"), th.clone()));
+        let d_end = window_stats(&d, wa, wb).map_or(f64::NAN, |s| s.0);
+        let th_end = window_stats(&th, wa, wb).map_or(f64::NAN, |s| s.0);
+        let err = (d_end / d_an - 1.0).abs();
+        rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: D/D0, mean over {wtext}"), d_end, 3, None, Some(d_an)));
+        rep.rows.push(Row::new(
+            &format!("Δx = 0.5/{nx}: θ circle fit, mean over {wtext} (deg)"),
+            th_end,
+            2,
+            None,
+            Some(60.0),
+        ));
+        rep.rows.push(Row::new(
+            &format!("Δx = 0.5/{nx}: wall time (s) at {:.2} ms/step", rec.ms_per_step),
+            rec.wall_time_s,
+            1,
+            None,
+            None,
+        ));
+        csv.push(vec![nx as f64, dt_for(nx, quick), d_end, th_end, err, rec.wall_time_s, rec.ms_per_step]);
+        pts.push((format!("relax-60 nx={nx}"), rec.wall_time_s, rec.ms_per_step, err, (th_end - 60.0).abs()));
+        rep.runs.push(rec);
+    }
+    spread.refs = vec![RefLine::horizontal(format!("analytic equilibrium {d_an:.3}"), d_an)];
+    angle.refs = vec![RefLine::horizontal("target 60°", 60.0)];
+    plot(ctx, rep, "spread_factor_vs_resolution.svg", &spread)?;
+    plot(ctx, rep, "angle_vs_resolution.svg", &angle)?;
+    write_csv(
+        ctx,
+        rep,
+        "convergence.csv",
+        "nx,dt,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step",
+        &csv,
+    )?;
+    Ok(pts)
+}
+
+pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
+    let quick = ctx.opts.quick;
+    let mut rep = CaseReport::new(
+        "convergence",
+        "Thesis §4.2.4 (PHYSICS.md §9(d)): resolution study of relax-60, Mode B, no-slip",
+        quick,
+    );
+    let t_end = ctx.opts.long_t_end(0.3);
+    if !quick && t_end < 5.0 {
+        rep.not_full_because(format!("t_end = {t_end} instead of the thesis's 5 (CPU time)"));
+    }
+    let pts = study(ctx, &mut rep)?;
+    let sc: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.1, p.3.max(1e-6), p.0.clone())).collect();
+    let path = ctx.path("time_vs_error.svg");
+    crate::plot::scatter_labeled_svg(
+        &path,
+        "Convergence: wall time vs |D/D0 − 1.385|/1.385",
+        "wall time (s)",
+        "relative error of D/D0",
+        &sc,
+        true,
+        true,
+    )
+    .map_err(|e| ValidateError::Io(e.to_string()))?;
+    rep.plots.push("time_vs_error.svg".into());
+    rep.notes.push("Thesis: every resolution but 0.5/45 converges in D/D0 and θ (no numbers given).".into());
+    Ok(rep)
+}

@@ -1,0 +1,185 @@
+//! Reading a run back for validation: `series.csv` as columns, particle snapshots
+//! (`particles_<step>.csv`, walls phase −1 → [`WALL`]) and small statistics helpers.
+
+use crate::scene::build::WALL;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// One `series.csv` row (the columns of [`crate::run::SeriesRow`]).
+#[derive(Clone, Debug, Deserialize)]
+pub struct Row {
+    /// Time.
+    pub t: f64,
+    /// Step.
+    pub step: u64,
+    /// Liquid kinetic energy.
+    pub kinetic_energy: f64,
+    /// Liquid centroid x.
+    pub centroid_x: f64,
+    /// Liquid centroid y.
+    pub centroid_y: f64,
+    /// Mass of phase 0.
+    pub mass_phase0: f64,
+    /// Mass of phase 1.
+    pub mass_phase1: f64,
+    /// max |ρ/ρ0 − 1|.
+    pub max_density_error: f64,
+    /// Max fluid speed.
+    pub max_speed: f64,
+    /// Two-point angle.
+    pub theta_two_point: Option<f64>,
+    /// Circle-fit angle.
+    pub theta_circle_fit: Option<f64>,
+    /// Area-inversion angle.
+    pub theta_area: Option<f64>,
+    /// Contact half-width.
+    pub x_tp: Option<f64>,
+    /// D/D0.
+    pub spread_factor: Option<f64>,
+}
+
+/// Reads `dir/series.csv` (rows that fail to parse, e.g. a half-written last line, end it).
+pub fn read_series(dir: &Path) -> Vec<Row> {
+    let Ok(mut r) = csv::Reader::from_path(dir.join("series.csv")) else {
+        return Vec::new();
+    };
+    r.deserialize::<Row>().map_while(Result::ok).collect()
+}
+
+/// `(t, f(row))` for the rows where `f` gives a finite value.
+pub fn col(rows: &[Row], f: impl Fn(&Row) -> Option<f64>) -> Vec<(f64, f64)> {
+    rows.iter().filter_map(|r| f(r).filter(|v| v.is_finite()).map(|v| (r.t, v))).collect()
+}
+
+/// Mean and (population) standard deviation of the values with `t` in `[a, b]`.
+pub fn window_stats(pts: &[(f64, f64)], a: f64, b: f64) -> Option<(f64, f64, usize)> {
+    let v: Vec<f64> = pts.iter().filter(|p| p.0 >= a && p.0 <= b).map(|p| p.1).collect();
+    if v.is_empty() {
+        return None;
+    }
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let s = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / n).sqrt();
+    Some((m, s, v.len()))
+}
+
+/// The value at the last point (None if empty).
+pub fn last(pts: &[(f64, f64)]) -> Option<f64> {
+    pts.last().map(|p| p.1)
+}
+
+/// A particle snapshot read back.
+#[derive(Clone, Debug, Default)]
+pub struct Snap {
+    /// Step.
+    pub step: u64,
+    /// Time (from the series row of the same step; NaN if none).
+    pub t: f64,
+    /// Positions.
+    pub pos: Vec<[f64; 2]>,
+    /// Velocities.
+    pub vel: Vec<[f64; 2]>,
+    /// Phase ([`WALL`] for walls).
+    pub phase: Vec<u32>,
+    /// Colour gradient.
+    pub grad_c: Vec<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+struct PRow {
+    x: f64,
+    y: f64,
+    vx: f64,
+    vy: f64,
+    phase: i64,
+    gcx: f64,
+    gcy: f64,
+}
+
+/// The snapshot files of a run, sorted by step.
+pub fn snapshot_files(dir: &Path) -> Vec<(u64, PathBuf)> {
+    let mut v: Vec<(u64, PathBuf)> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().to_string();
+            let step = name.strip_prefix("particles_")?.strip_suffix(".csv")?.parse().ok()?;
+            Some((step, e.path()))
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Reads one snapshot file.
+pub fn read_snapshot(path: &Path, step: u64, t: f64) -> Option<Snap> {
+    let mut r = csv::Reader::from_path(path).ok()?;
+    let mut s = Snap { step, t, ..Default::default() };
+    for row in r.deserialize::<PRow>() {
+        let p = row.ok()?;
+        s.pos.push([p.x, p.y]);
+        s.vel.push([p.vx, p.vy]);
+        s.phase.push(if p.phase < 0 { WALL } else { p.phase as u32 });
+        s.grad_c.push([p.gcx, p.gcy]);
+    }
+    Some(s)
+}
+
+/// The snapshots of a run with time in `[a, b]` (time from the series rows).
+pub fn snapshots_in(dir: &Path, rows: &[Row], a: f64, b: f64) -> Vec<Snap> {
+    snapshot_files(dir)
+        .into_iter()
+        .filter_map(|(step, p)| {
+            let t = rows.iter().find(|r| r.step == step).map(|r| r.t)?;
+            (t >= a && t <= b).then_some((step, p, t))
+        })
+        .filter_map(|(step, p, t)| read_snapshot(&p, step, t))
+        .collect()
+}
+
+/// Wall shear-rate profile averaged over snapshots (count-weighted per bin):
+/// `(fraction of the wall, mean |γ̇|)` for the non-empty bins, via
+/// [`crate::diagnostics::wall_shear_profile`].
+pub fn mean_shear_profile(snaps: &[Snap], dx: f64, y_w: f64, x_max: f64, bins: usize) -> Vec<(f64, f64)> {
+    let mut sum = vec![0.0; bins];
+    let mut cnt = vec![0usize; bins];
+    for s in snaps {
+        let prof = crate::diagnostics::wall_shear_profile(&s.pos, &s.vel, &s.phase, dx, y_w, x_max, bins);
+        for (b, (_, m, c)) in prof.into_iter().enumerate() {
+            sum[b] += m * c as f64;
+            cnt[b] += c;
+        }
+    }
+    (0..bins).filter(|&b| cnt[b] > 0).map(|b| ((b as f64 + 0.5) / bins as f64, sum[b] / cnt[b] as f64)).collect()
+}
+
+/// Max normal deviation (Fig. 4.9) of every snapshot: `(t, degrees)`, radial directions from
+/// `centre`, via [`crate::diagnostics::max_normal_deviation`], over the fluid particles within
+/// `band` of the circle of radius `radius` about `centre` (the drop's interface band; without
+/// it, Mode A's colour gradients at the right and top walls, a third phase there, count too).
+pub fn normal_deviation_series(
+    dir: &Path,
+    rows: &[Row],
+    dx: f64,
+    y_w: f64,
+    centre: [f64; 2],
+    radius: f64,
+    band: f64,
+) -> Vec<(f64, f64)> {
+    snapshots_in(dir, rows, f64::NEG_INFINITY, f64::INFINITY)
+        .iter()
+        .filter_map(|s| {
+            let keep: Vec<usize> = (0..s.pos.len())
+                .filter(|&i| {
+                    let r = (s.pos[i][0] - centre[0]).hypot(s.pos[i][1] - centre[1]);
+                    s.phase[i] != WALL && (r - radius).abs() <= band
+                })
+                .collect();
+            let pos: Vec<[f64; 2]> = keep.iter().map(|&i| s.pos[i]).collect();
+            let phase: Vec<u32> = keep.iter().map(|&i| s.phase[i]).collect();
+            let g: Vec<[f64; 2]> = keep.iter().map(|&i| s.grad_c[i]).collect();
+            crate::diagnostics::max_normal_deviation(&pos, &phase, &g, dx, y_w, centre).map(|d| (s.t, d))
+        })
+        .collect()
+}

@@ -1,0 +1,393 @@
+//! Validation reports: the comparison rows of a case, the provenance of its runs, and the
+//! Markdown files (`<case>/summary.md`, `<case>/case.json`, `index.md`).
+
+use super::{Ctx, ValidateError, ValidateOptions, CASES};
+use crate::scene::Scene;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One line of a case's comparison table.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Row {
+    /// What is compared (with units).
+    pub quantity: String,
+    /// sphlab's value (formatted).
+    pub sphlab: String,
+    /// The thesis's value ("—" if it gives none).
+    pub thesis: String,
+    /// The analytic value ("—" if none).
+    pub analytic: String,
+    /// The difference to the analytic value and/or to the thesis.
+    pub difference: String,
+    /// pass / fail / info, with the criterion.
+    pub verdict: String,
+    /// The value as a number (for tests; NaN if none).
+    pub value: f64,
+}
+
+impl Row {
+    /// A row; `difference` is computed against `reference` (relative) when given.
+    pub fn new(quantity: &str, value: f64, prec: usize, thesis: Option<f64>, analytic: Option<f64>) -> Row {
+        let f = |v: Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.prec$}"));
+        let diff = |r: f64| {
+            if !value.is_finite() {
+                "—".to_string()
+            } else if r != 0.0 {
+                format!("{:+.prec$} ({:+.1} %)", value - r, 100.0 * (value - r) / r.abs())
+            } else {
+                format!("{:+.prec$}", value - r)
+            }
+        };
+        let difference = match (thesis, analytic) {
+            (Some(t), Some(a)) => format!("vs analytic {}; vs thesis {}", diff(a), diff(t)),
+            (None, Some(a)) => diff(a),
+            (Some(t), None) => diff(t),
+            (None, None) => "—".into(),
+        };
+        Row {
+            quantity: quantity.into(),
+            sphlab: if value.is_finite() { format!("{value:.prec$}") } else { "n/a".into() },
+            thesis: f(thesis),
+            analytic: f(analytic),
+            difference,
+            verdict: "info".into(),
+            value,
+        }
+    }
+
+    /// Sets the thesis column to free text.
+    pub fn thesis_text(mut self, s: &str) -> Row {
+        self.thesis = s.into();
+        self
+    }
+
+    /// Sets the analytic column to free text.
+    pub fn analytic_text(mut self, s: &str) -> Row {
+        self.analytic = s.into();
+        self
+    }
+
+    /// Sets the sphlab column to free text (keeps the value).
+    pub fn sphlab_text(mut self, s: String) -> Row {
+        self.sphlab = s;
+        self
+    }
+
+    /// Verdict from a test: "pass (criterion)" or "FAIL (criterion)".
+    pub fn check(mut self, ok: bool, criterion: &str) -> Row {
+        self.verdict = format!("{} ({criterion})", if ok { "pass" } else { "FAIL" });
+        self
+    }
+}
+
+/// Provenance of one run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Run id.
+    pub id: String,
+    /// Run directory.
+    pub dir: String,
+    /// Equivalent command line.
+    pub command: String,
+    /// Backend (cpu, cpu1, variant).
+    pub backend: String,
+    /// GPU variant id ("—" for the CPU backends).
+    #[serde(default)]
+    pub variant: String,
+    /// Precision.
+    pub precision: String,
+    /// Adapter ("CPU" for the CPU backends).
+    pub adapter: String,
+    /// git commit of the binary.
+    pub git_commit: String,
+    /// Date (UTC).
+    pub date: String,
+    /// Wall time of the stepping (s).
+    pub wall_time_s: f64,
+    /// ms per step.
+    pub ms_per_step: f64,
+    /// Steps.
+    pub steps: u64,
+    /// Final time.
+    pub t_final: f64,
+    /// Fluid particles.
+    pub n_fluid: usize,
+    /// "ok" or the blow-up.
+    pub status: String,
+    /// Taken from an earlier run (`--reuse`).
+    pub reused: bool,
+}
+
+impl RunRecord {
+    /// Reads `dir/summary.json`.
+    pub fn load(dir: &Path, command: &str, reused: bool) -> Option<RunRecord> {
+        let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+        let s = |k: &str| v[k].as_str().unwrap_or("").to_string();
+        let backend = s("backend");
+        Some(RunRecord {
+            id: dir.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default(),
+            dir: dir.display().to_string(),
+            command: command.into(),
+            adapter: if backend.starts_with("cpu") { "CPU".into() } else { backend.clone() },
+            backend,
+            variant: v["options"]["variant"].as_str().unwrap_or("—").to_string(),
+            precision: s("precision"),
+            git_commit: s("git_commit"),
+            date: s("date"),
+            wall_time_s: v["wall_time_s"].as_f64().unwrap_or(f64::NAN),
+            ms_per_step: v["ms_per_step"].as_f64().unwrap_or(f64::NAN),
+            steps: v["steps"].as_u64().unwrap_or(0),
+            t_final: v["t_final"].as_f64().unwrap_or(f64::NAN),
+            n_fluid: v["particles_per_phase"]
+                .as_array()
+                .map(|a| a.iter().filter_map(|p| p[1].as_u64()).sum::<u64>() as usize)
+                .unwrap_or(0),
+            status: s("status"),
+            reused,
+        })
+    }
+
+    /// A finished (`ok`) run in `dir` of exactly `scene` to `t_end`, if there is one.
+    pub fn reuse(dir: &Path, scene: &Scene, t_end: Option<f64>, command: &str) -> Option<RunRecord> {
+        let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+        let want = serde_json::to_value(scene).ok()?;
+        let same_t = v["options"]["t_end"].as_f64() == t_end && v["options"]["steps"].is_null();
+        // Floats compared to 1e-12 relative: serde_json's default parser is not always the
+        // correctly rounded one (1 ulp off seen on a dt read back from summary.json).
+        let differs = first_diff(&v["parameters"], &want, String::new());
+        if v["status"] != "ok" || differs.is_some() || !same_t {
+            if std::env::var_os("SPHLAB_DEBUG_REUSE").is_some() {
+                eprintln!(
+                    "no reuse of {}: status {}, same t_end {same_t}, first difference {:?}",
+                    dir.display(),
+                    v["status"],
+                    first_diff(&v["parameters"], &want, String::new())
+                );
+            }
+            return None;
+        }
+        RunRecord::load(dir, command, true)
+    }
+}
+
+/// The first path where two JSON values differ, with both values.
+fn first_diff(a: &serde_json::Value, b: &serde_json::Value, path: String) -> Option<String> {
+    match (a, b) {
+        (serde_json::Value::Object(x), serde_json::Value::Object(y)) => x.keys().chain(y.keys()).find_map(|k| {
+            first_diff(
+                &x.get(k).cloned().unwrap_or_default(),
+                &y.get(k).cloned().unwrap_or_default(),
+                format!("{path}.{k}"),
+            )
+        }),
+        (serde_json::Value::Array(x), serde_json::Value::Array(y)) if x.len() == y.len() => {
+            x.iter().zip(y).enumerate().find_map(|(i, (p, q))| first_diff(p, q, format!("{path}[{i}]")))
+        }
+        (serde_json::Value::Number(x), serde_json::Value::Number(y))
+            if x.as_f64().zip(y.as_f64()).is_some_and(|(p, q)| (p - q).abs() <= 1e-12 * p.abs().max(q.abs())) =>
+        {
+            None
+        }
+        _ if a == b => None,
+        _ => Some(format!("{path}: {a} vs {b}")),
+    }
+}
+
+/// Everything a case reports.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct CaseReport {
+    /// Case name.
+    pub name: String,
+    /// Thesis section / figures.
+    pub reference: String,
+    /// Comparison rows.
+    pub rows: Vec<Row>,
+    /// Runs.
+    pub runs: Vec<RunRecord>,
+    /// Plots written (file names in the case directory).
+    pub plots: Vec<String>,
+    /// CSV files written besides the runs' series.
+    pub csv: Vec<String>,
+    /// Free-text notes.
+    pub notes: Vec<String>,
+    /// Why the case is not at full resolution (None: it is).
+    pub not_full: Option<String>,
+    /// `validate` wall time (s).
+    pub wall_time_s: f64,
+    /// Quick mode.
+    pub quick: bool,
+}
+
+impl CaseReport {
+    /// An empty report.
+    pub fn new(name: &str, reference: &str, quick: bool) -> Self {
+        CaseReport { name: name.into(), reference: reference.into(), quick, ..Default::default() }
+    }
+
+    /// The row whose quantity starts with `prefix` (for tests).
+    pub fn row(&self, prefix: &str) -> Option<&Row> {
+        self.rows.iter().find(|r| r.quantity.starts_with(prefix))
+    }
+
+    /// Adds a reason the case is not at full resolution.
+    pub fn not_full_because(&mut self, why: String) {
+        self.not_full = Some(match self.not_full.take() {
+            Some(w) => format!("{w}; {why}"),
+            None => why,
+        });
+    }
+}
+
+fn io(p: &Path, e: impl std::fmt::Display) -> ValidateError {
+    ValidateError::Io(format!("{}: {e}", p.display()))
+}
+
+/// Writes `summary.md` and `case.json` of a case, and refreshes `index.md`.
+pub fn write_summary(ctx: &Ctx, rep: &CaseReport) -> Result<(), ValidateError> {
+    let mut m = String::new();
+    let _ = writeln!(m, "# Validation: {}\n\n{}\n", rep.name, rep.reference);
+    if let Some(w) = &rep.not_full {
+        let _ = writeln!(m, "**Not at full resolution:** {w}\n");
+    }
+    let _ = writeln!(m, "| quantity | sphlab | thesis | analytic | difference | verdict |\n|---|---|---|---|---|---|");
+    for r in &rep.rows {
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} | {} | {} | {} |",
+            r.quantity, r.sphlab, r.thesis, r.analytic, r.difference, r.verdict
+        );
+    }
+    if !rep.notes.is_empty() {
+        let _ = writeln!(m, "\n## Notes\n");
+        for n in &rep.notes {
+            let _ = writeln!(m, "* {n}");
+        }
+    }
+    let _ = writeln!(m, "\n## Plots and data\n");
+    for p in &rep.plots {
+        let _ = writeln!(m, "* [{p}]({p})");
+    }
+    for c in &rep.csv {
+        let _ = writeln!(m, "* [{c}]({c})");
+    }
+    let _ = writeln!(
+        m,
+        "\n## Runs\n\n| run | status | backend | variant | precision | adapter | particles | steps | t_end | wall time (s) | ms/step | commit | date | reused |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for r in &rep.runs {
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.1} | {:.3} | {} | {} | {} |",
+            r.id,
+            r.status,
+            r.backend,
+            r.variant,
+            r.precision,
+            r.adapter,
+            r.n_fluid,
+            r.steps,
+            r.t_final,
+            r.wall_time_s,
+            r.ms_per_step,
+            &r.git_commit,
+            r.date,
+            if r.reused { "yes" } else { "no" }
+        );
+    }
+    let _ = writeln!(m, "\nCommands:\n");
+    for r in &rep.runs {
+        let _ = writeln!(m, "* `{}`: `{}`", r.id, r.command);
+    }
+    let _ = writeln!(
+        m,
+        "\n`sphlab validate {}{}` took {:.1} s (including reused runs' analysis).",
+        rep.name,
+        if rep.quick { " --quick" } else { "" },
+        rep.wall_time_s
+    );
+    let p = ctx.path("summary.md");
+    std::fs::write(&p, m).map_err(|e| io(&p, e))?;
+    let j = ctx.path("case.json");
+    std::fs::write(&j, serde_json::to_string_pretty(rep).expect("json")).map_err(|e| io(&j, e))?;
+    write_index(ctx.opts, &[], &[])
+}
+
+/// Writes `index.md` from every `<case>/case.json` under the report root, plus cases that
+/// failed in this invocation.
+pub fn write_index(
+    opts: &ValidateOptions,
+    _reps: &[CaseReport],
+    failed: &[(String, String)],
+) -> Result<(), ValidateError> {
+    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | run wall time (s) |\n|---|---|---|---|---|\n");
+    let mut not_full = Vec::new();
+    for c in CASES {
+        let j = opts.out.join(c).join("case.json");
+        let Some(rep) = std::fs::read_to_string(&j).ok().and_then(|t| serde_json::from_str::<CaseReport>(&t).ok())
+        else {
+            let why =
+                failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
+            let _ = writeln!(m, "| {c} | — | no | — | — |");
+            not_full.push((c.to_string(), why));
+            continue;
+        };
+        let pass = rep.rows.iter().filter(|r| r.verdict.starts_with("pass")).count();
+        let fail = rep.rows.iter().filter(|r| r.verdict.starts_with("FAIL")).count();
+        let _ = writeln!(
+            m,
+            "| [{c}]({c}/summary.md) | {} | {} | {pass} pass, {fail} FAIL, {} info | {:.0} |",
+            rep.reference.lines().next().unwrap_or(""),
+            if rep.not_full.is_none() { "yes" } else { "no" },
+            rep.rows.len() - pass - fail,
+            rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
+        );
+        if let Some(w) = rep.not_full {
+            not_full.push((c.to_string(), w));
+        }
+    }
+    let _ = writeln!(
+        m,
+        "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them.\n"
+    );
+    let _ = writeln!(m, "\n## Cases not run at full resolution\n");
+    if not_full.is_empty() {
+        let _ = writeln!(m, "None.");
+    }
+    for (c, w) in not_full {
+        let _ = writeln!(m, "* **{c}**: {w}");
+    }
+    std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
+    let p = opts.out.join("index.md");
+    std::fs::write(&p, m).map_err(|e| io(&p, e))
+}
+
+/// Writes `name` (CSV with a header) in the case directory and records it.
+pub fn write_csv(
+    ctx: &Ctx,
+    rep: &mut CaseReport,
+    name: &str,
+    header: &str,
+    rows: &[Vec<f64>],
+) -> Result<(), ValidateError> {
+    let mut s = format!("{header}\n");
+    for r in rows {
+        let cells: Vec<String> = r.iter().map(|v| if v.is_finite() { format!("{v}") } else { String::new() }).collect();
+        s += &cells.join(",");
+        s.push('\n');
+    }
+    let p = ctx.path(name);
+    std::fs::write(&p, s).map_err(|e| io(&p, e))?;
+    rep.csv.push(name.into());
+    Ok(())
+}
+
+/// Draws a line plot into the case directory and records it.
+pub fn plot(ctx: &Ctx, rep: &mut CaseReport, name: &str, spec: &crate::plot::PlotSpec) -> Result<(), ValidateError> {
+    let p = ctx.path(name);
+    crate::plot::line_plot_svg(&p, spec).map_err(|e| io(&p, e))?;
+    rep.plots.push(name.into());
+    Ok(())
+}

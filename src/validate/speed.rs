@@ -1,0 +1,108 @@
+//! Case `speed-vs-error`: wall time against error, (1) for the oscillation case across kernels
+//! {quintic h = Δx, cubic h = 1.2Δx, Wendland C2 h = 1.3Δx} (error of the period against the
+//! thesis's 0.37) and (2) for the convergence resolutions (error of D/D0 against 1.385).
+//! Reuses the oscillation and convergence runs when they are there (same scene, finished).
+
+use super::report::{write_csv, CaseReport, Row};
+use super::{convergence, oscillation, Ctx, ValidateError};
+use std::path::PathBuf;
+
+/// Kernel variants: (id, label, overrides).
+pub fn kernels() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
+    vec![
+        ("quintic", "quintic h=Δx", vec![]),
+        ("osc-cubic", "cubic h=1.2Δx", vec!["kernel.kind=cubic-spline", "kernel.h_ratio=1.2"]),
+        ("osc-wendland", "wendland-c2 h=1.3Δx", vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.3"]),
+    ]
+}
+
+fn scatter(
+    ctx: &Ctx,
+    rep: &mut CaseReport,
+    name: &str,
+    title: &str,
+    y: &str,
+    pts: &[(f64, f64, String)],
+) -> Result<(), ValidateError> {
+    let pts: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.0, p.1.max(1e-6), p.2.clone())).collect();
+    crate::plot::scatter_labeled_svg(ctx.path(name), title, "wall time (s)", y, &pts, true, true)
+        .map_err(|e| ValidateError::Io(e.to_string()))?;
+    rep.plots.push(name.into());
+    Ok(())
+}
+
+pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
+    let quick = ctx.opts.quick;
+    let mut rep = CaseReport::new(
+        "speed-vs-error",
+        "Wall time vs error: kernels on the oscillating drop, resolutions on relax-60",
+        quick,
+    );
+    let mut osc = Vec::new();
+    let mut csv = Vec::new();
+    let osc_dir = ctx.opts.out.join("oscillation").join("runs").join("quintic");
+    for (k, (id, label, sets)) in kernels().into_iter().enumerate() {
+        let also = if id == "quintic" { vec![osc_dir.clone()] } else { vec![] };
+        let mut s = oscillation::spec(id, quick, &sets);
+        s.id = format!("osc-{}", id.trim_start_matches("osc-"));
+        let rec = match ctx.run(&s, &also) {
+            Ok(r) => r,
+            Err(ValidateError::Skipped(s)) => {
+                rep.not_full_because(format!("{s} not run"));
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        let (period, amp) = oscillation::measure(&PathBuf::from(&rec.dir)).unwrap_or((f64::NAN, f64::NAN));
+        let err = (period / oscillation::THESIS_PERIOD - 1.0).abs();
+        rep.rows.push(Row::new(&format!("{label}: period"), period, 4, Some(oscillation::THESIS_PERIOD), None));
+        rep.rows.push(Row::new(
+            &format!("{label}: first-cycle amplitude"),
+            amp,
+            4,
+            Some(oscillation::THESIS_AMPLITUDE),
+            None,
+        ));
+        rep.rows.push(Row::new(
+            &format!("{label}: wall time (s), {:.3} ms/step", rec.ms_per_step),
+            rec.wall_time_s,
+            1,
+            None,
+            None,
+        ));
+        osc.push((rec.wall_time_s, err, label.to_string()));
+        csv.push(vec![0.0, k as f64, rec.wall_time_s, rec.ms_per_step, period, err]);
+        rep.runs.push(rec);
+    }
+    scatter(
+        ctx,
+        &mut rep,
+        "oscillation_time_vs_error.svg",
+        "Oscillating drop: wall time vs period error (kernels)",
+        "|T − 0.37| / 0.37",
+        &osc,
+    )?;
+    let cctx = Ctx::new(ctx.opts, "convergence");
+    let mut crep = CaseReport::new("convergence", "", quick);
+    let pts = convergence::study(&cctx, &mut crep)?;
+    if let Some(w) = crep.not_full {
+        rep.not_full_because(format!("convergence: {w}"));
+    }
+    let conv: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.1, p.3, p.0.clone())).collect();
+    for (i, p) in pts.iter().enumerate() {
+        rep.rows.push(Row::new(&format!("{}: |D/D0 − 1.385|/1.385 at the end", p.0), p.3, 4, None, Some(0.0)));
+        csv.push(vec![1.0, i as f64, p.1, p.2, f64::NAN, p.3]);
+    }
+    rep.runs.extend(crep.runs);
+    scatter(
+        ctx,
+        &mut rep,
+        "convergence_time_vs_error.svg",
+        "relax-60 Mode B: wall time vs D/D0 error (resolutions)",
+        "|D/D0 − 1.385| / 1.385",
+        &conv,
+    )?;
+    write_csv(ctx, &mut rep, "speed_vs_error.csv", "study,index,wall_time_s,ms_per_step,period,rel_error", &csv)?;
+    rep.notes.push("Study 0 = kernels on the oscillating drop (error of the period against the thesis's 0.37); study 1 = resolutions 0.5/nx of relax-60 (error of the end D/D0 against the analytic 1.385). Wall times are on a shared 2-core machine: compare within a study only.".into());
+    Ok(rep)
+}
