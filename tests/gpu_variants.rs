@@ -277,33 +277,3 @@ fn tracking_rebuilds_like_the_cpu() {
     println!("tracking rebuilds after 25 steps: CPU {rc}, GPU {rg}");
     assert!(rg >= 2 && rg.abs_diff(rc) <= 1, "CPU {rc} vs GPU {rg}");
 }
-
-/// Wall-clock ms/step of every supported variant on oscillating-drop (not a benchmark: run with
-/// `--ignored --nocapture` for a quick table; criterion benches are the measurement).
-#[test]
-#[ignore]
-fn variant_step_times() {
-    let _g = serial();
-    let Some(ctx) = gpu_or_skip() else { return };
-    let ctx = Arc::new(ctx);
-    let (s, l) = scene(SCENES[0].0, SCENES[0].1);
-    println!("oscillating-drop: {} particles", l.pos.len());
-    let steps = 20;
-    for spec in VariantSpec::all() {
-        if let Err(why) = spec.support(&ctx) {
-            println!("{spec:<44} unsupported: {why}");
-            continue;
-        }
-        let mut g = sphlab::gpu::solver::new_backend(ctx.clone(), &s, &l, spec).unwrap();
-        for _ in 0..2 {
-            g.step().unwrap();
-        }
-        let _ = g.frame();
-        let t0 = Instant::now();
-        for _ in 0..steps {
-            g.step().unwrap();
-        }
-        let _ = g.frame();
-        println!("{spec:<44} {:8.2} ms/step", t0.elapsed().as_secs_f64() * 1e3 / steps as f64);
-    }
-}
