@@ -29,6 +29,9 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// Largest particle count at which the O(N²) `direct` GPU variants run by default.
+pub const DIRECT_MAX_N: usize = 3000;
+
 /// One benchmark record (STUDY.md §5).
 #[derive(Clone, Debug, Serialize)]
 pub struct Record {
@@ -239,6 +242,10 @@ fn run_size(experiment: &str, nx: u32, opts: &StudyOptions, gpu: Option<&Arc<Gpu
                 continue;
             }
             let label = spec.to_string();
+            if spec.search == crate::gpu::variant::SearchVariant::Direct && c.layout.pos.len() > DIRECT_MAX_N && opts.variants.is_empty() {
+                eprintln!("{experiment} nx={nx} {label}: skipped: direct search is O(N²); only run up to {DIRECT_MAX_N} particles unless named in --variants");
+                continue;
+            }
             if let Err(e) = spec.implemented().and_then(|_| spec.support(g)) {
                 eprintln!("{experiment} nx={nx} {label}: skipped: {e}");
                 continue;
