@@ -96,7 +96,8 @@ impl Timestamps {
         }
         let bytes = used as u64 * wgpu::QUERY_SIZE as u64;
         ctx.scoped(|d| {
-            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.timestamps") });
+            let mut enc =
+                d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.timestamps") });
             enc.resolve_query_set(&pool.set, 0..used, &pool.resolve, 0);
             enc.copy_buffer_to_buffer(&pool.resolve, 0, &pool.staging, 0, bytes);
             ctx.queue.submit([enc.finish()]);
@@ -155,7 +156,12 @@ impl<T: Real> GpuSolver<T> {
         let ctx = &self.ctx;
         let bytes = CAPACITY as u64 * wgpu::QUERY_SIZE as u64;
         let buffer = |label, usage| {
-            ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes, usage, mapped_at_creation: false })
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage,
+                mapped_at_creation: false,
+            })
         };
         use wgpu::BufferUsages as U;
         let pool = Pool {
