@@ -150,3 +150,36 @@ fn cpu_backend_has_no_device_time() {
     c.step().unwrap();
     assert!(c.device_time().is_none());
 }
+
+#[test]
+fn study_records_device_time_and_stage_table() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let timed = ctx.has(wgpu::Features::TIMESTAMP_QUERY);
+    drop(ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let opts = sphlab::study::StudyOptions {
+        experiments: vec!["e4".into()],
+        sizes: vec![],
+        steps: 2,
+        variants: vec![VariantSpec::default()],
+        out: dir.path().to_path_buf(),
+    };
+    let recs = sphlab::study::run_study(&opts).expect("study");
+    let gpu = recs.iter().find(|r| r.backend == "gpu").expect("a GPU record");
+    let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary");
+    let stages = dir.path().join("stage_times.csv");
+    assert!(recs.iter().filter(|r| r.backend != "gpu").all(|r| r.timing == "wall" && r.gpu_ms_per_step.is_none()));
+    if !timed {
+        assert!(gpu.timing == "wall" && gpu.gpu_ms_per_step.is_none() && !stages.exists());
+        return;
+    }
+    assert_eq!(gpu.timing, "wall+timestamps");
+    let d = gpu.gpu_ms_per_step.expect("device ms");
+    assert!(d > 0.0 && d <= gpu.ms_per_step_p90 * 1.05 + 0.5, "device {d} ms, wall p90 {} ms", gpu.ms_per_step_p90);
+    let csv = std::fs::read_to_string(stages).expect("stage_times.csv");
+    assert!(csv.starts_with("experiment,variant,n,stage,device_ms_per_step,share"), "{csv}");
+    let share: f64 = csv.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap()).sum();
+    assert!((share - 1.0).abs() < 1e-2, "shares sum to {share}");
+    assert!(csv.contains(",colour_gradient,") && md.contains("device time per stage"), "{md}");
+}
