@@ -44,6 +44,9 @@ struct State {
     last_step: u64,
 }
 
+/// Per-stage (name, ns, passes) sums and the steps they cover.
+type Taken = (Vec<(String, f64, u64)>, u64);
+
 /// The query set and its buffers, present only while timing is on.
 struct Pool {
     set: wgpu::QuerySet,
@@ -130,7 +133,7 @@ impl Timestamps {
     }
 
     /// Accumulated (stage, ns, passes) since the last take and the steps between the takes.
-    fn take(&self, ctx: &GpuContext, step: u64) -> Result<Option<(Vec<(String, f64, u64)>, u64)>, GpuError> {
+    fn take(&self, ctx: &GpuContext, step: u64) -> Result<Option<Taken>, GpuError> {
         let Some(pool) = &self.0 else { return Ok(None) };
         self.resolve(ctx)?;
         let mut s = pool.state.lock().unwrap_or_else(|p| p.into_inner());
