@@ -4,6 +4,11 @@
 //! field) at a few sizes, in one group `step` with `BenchmarkId::new(backend, n)` and throughput
 //! in particles. GPU time is wall clock over `iters` steps followed by a device sync.
 //!
+//! A second group `step_device` times the same GPU cases by GPU timestamps (`gpu::timing`): the
+//! summed device time of every stage pass of the `iters` steps (`Backend::device_time`), so
+//! host-side recording, submission and readback overheads are left out. Where the adapter has no
+//! `TIMESTAMP_QUERY` the group is skipped with the reason printed.
+//!
 //! `SPHLAB_BENCH_SIZES=30,60` picks the resolutions (particles across the quarter box);
 //! `SPHLAB_BENCH_VARIANTS=cells.thread.recomputed.f32,...` restricts the GPU variants (`none`
 //! skips the GPU). `cargo bench --bench step -- --test` runs each case once (smoke test).
@@ -87,5 +92,47 @@ fn bench_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_step);
+fn bench_step_device(c: &mut Criterion) {
+    let mut group = c.benchmark_group("step_device");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    for nx in sizes() {
+        let s = scene(nx);
+        let layout = build_layout(&s).expect("layout");
+        let n = layout.pos.len() as u64;
+        group.throughput(Throughput::Elements(n));
+        for (label, opts) in backends().into_iter().filter(|(_, o)| o.backend == "gpu") {
+            let mut b: Box<dyn Backend> = match make_backend(&s, &layout, &opts) {
+                Ok(b) => b,
+                Err(e) => {
+                    eprintln!("step_device/{label}/{n}: skipped: {e}");
+                    continue;
+                }
+            };
+            if !b.enable_device_time(true) {
+                eprintln!("step_device: skipped: the adapter has no TIMESTAMP_QUERY (device time unavailable)");
+                group.finish();
+                return;
+            }
+            if let Err(e) = b.step() {
+                eprintln!("step_device/{label}/{n}: skipped, first step failed: {e}");
+                continue;
+            }
+            b.sync();
+            group.bench_with_input(BenchmarkId::new(&label, n), &n, |bench, _| {
+                bench.iter_custom(|iters| {
+                    let _ = b.device_time();
+                    for _ in 0..iters {
+                        b.step().expect("step");
+                    }
+                    b.sync();
+                    let d = b.device_time().expect("device timing is on");
+                    Duration::from_secs_f64(d.total_ms * 1e-3)
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_step, bench_step_device);
 criterion_main!(benches);

@@ -123,6 +123,17 @@ pub enum SolverError {
     Gpu(String),
 }
 
+/// Device time measured by GPU timestamps since the last [`Backend::device_time`] call.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DeviceTimes {
+    /// Sum of the stage times (ms).
+    pub total_ms: f64,
+    /// (stage name, ms) in order of first appearance: `neighbour_search`, …, `midpoint_predict`, ….
+    pub stages: Vec<(String, f64)>,
+    /// Solver steps taken in the interval.
+    pub steps: u64,
+}
+
 /// A solver the run driver can step.
 pub trait Backend {
     /// "cpu", "cpu1" or a GPU variant id.
@@ -145,6 +156,17 @@ pub trait Backend {
     /// device-side flags at output steps and in `frame()`); `None` on the CPU, which checks
     /// every step.
     fn take_error(&mut self) -> Option<SolverError> {
+        None
+    }
+    /// Switches device timing (GPU timestamp queries) on or off; true when it is on. The default
+    /// (CPU, adapters without timestamps) is false: nothing is timed.
+    fn enable_device_time(&mut self, on: bool) -> bool {
+        let _ = on;
+        false
+    }
+    /// Device time since the last call when device timing is on; `None` otherwise (never an
+    /// estimate).
+    fn device_time(&mut self) -> Option<DeviceTimes> {
         None
     }
 }

@@ -11,9 +11,10 @@
 //!
 //! Each backend runs the same scene from the same state: warm-up steps, then `steps` timed steps
 //! (each followed by a device sync, so GPU time is wall clock of finished work); median, p10 and
-//! p90 per step. The error columns compare the backend's state after the timed steps with the
-//! CPU f64 one-thread run of the same steps (kinetic energy, centroid). Absolute GPU times mean
-//! something only on a real GPU; on lavapipe (a CPU emulation of Vulkan) read ratios and
+//! p90 per step; where the adapter has timestamp queries, also the device time of every stage
+//! pass (`gpu::timing`): `gpu_ms_per_step` (median) and `stage_times.csv`. The error columns
+//! compare the backend's state after the timed steps with the CPU f64 one-thread run of the
+//! same steps (kinetic energy, centroid). Absolute GPU times mean something only on a real GPU; on lavapipe (a CPU emulation of Vulkan) read ratios and
 //! correctness only. E2 (residency hybrids) and E3 (subdomains) are not implemented.
 
 use crate::backend::{Backend, Frame};
@@ -69,8 +70,10 @@ pub struct Record {
     pub ms_per_step_p10: f64,
     /// 90th percentile.
     pub ms_per_step_p90: f64,
-    /// wall (GPU timestamps are not used yet).
+    /// `wall`, or `wall+timestamps` when the backend also reported GPU timestamps.
     pub timing: String,
+    /// Median device time per step (ms) from GPU timestamps (empty without them).
+    pub gpu_ms_per_step: Option<f64>,
     /// Particle-evaluations per second: N × force evaluations per step ÷ seconds per step.
     pub particle_evals_per_s: f64,
     /// Relative kinetic-energy difference from the CPU f64 reference after the same steps.
@@ -81,6 +84,10 @@ pub struct Record {
     pub commit: String,
     /// UTC date.
     pub date: String,
+    /// Mean device ms per step of each stage over the timed steps (GPU timestamps; written to
+    /// `stage_times.csv`, not to `records.csv`).
+    #[serde(skip)]
+    pub stage_ms: Vec<(String, f64)>,
 }
 
 /// What to run.
@@ -115,21 +122,47 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
-/// Times `steps` steps (after 2 warm-up steps) and returns (sorted ms per step, final frame).
-fn time_backend(b: &mut dyn Backend, steps: u64) -> Result<(Vec<f64>, Frame), String> {
+/// What [`time_backend`] measured.
+struct Timed {
+    /// Sorted wall ms per step.
+    ms: Vec<f64>,
+    /// Sorted device ms per step (GPU timestamps; empty without them).
+    device_ms: Vec<f64>,
+    /// Mean device ms per step of each stage.
+    stage_ms: Vec<(String, f64)>,
+    /// The state after the timed steps.
+    frame: Frame,
+}
+
+/// Times `steps` steps (after 2 warm-up steps): wall clock around each step and its device
+/// sync; GPU timestamps too where the backend has them, read after the wall measurement.
+fn time_backend(b: &mut dyn Backend, steps: u64) -> Result<Timed, String> {
+    let device = b.enable_device_time(true);
     for _ in 0..2 {
         b.step().map_err(|e| e.to_string())?;
     }
     b.sync();
-    let mut ms = Vec::new();
+    let _ = b.device_time();
+    let (mut ms, mut device_ms, mut stage_ms) = (Vec::new(), Vec::new(), Vec::<(String, f64)>::new());
     for _ in 0..steps {
         let t = Instant::now();
         b.step().map_err(|e| e.to_string())?;
         b.sync();
         ms.push(t.elapsed().as_secs_f64() * 1e3);
+        if let Some(d) = device.then(|| b.device_time()).flatten() {
+            device_ms.push(d.total_ms);
+            for (stage, x) in d.stages {
+                match stage_ms.iter_mut().find(|(s, _)| *s == stage) {
+                    Some(e) => e.1 += x / steps as f64,
+                    None => stage_ms.push((stage, x / steps as f64)),
+                }
+            }
+        }
     }
+    b.enable_device_time(false);
     ms.sort_by(f64::total_cmp);
-    Ok((ms, b.frame()))
+    device_ms.sort_by(f64::total_cmp);
+    Ok(Timed { ms, device_ms, stage_ms, frame: b.frame() })
 }
 
 struct Ctx<'a> {
@@ -147,7 +180,7 @@ impl Ctx<'_> {
     #[allow(clippy::too_many_arguments)]
     fn record(&mut self, experiment: &str, variant: String, backend: &str, precision: &str, mut b: Box<dyn Backend>, steps: u64, threads: usize) -> Result<Record, String> {
         b.restart_with_velocities(&self.vel0);
-        let (ms, frame) = time_backend(b.as_mut(), steps)?;
+        let Timed { ms, device_ms, stage_ms, frame } = time_backend(b.as_mut(), steps)?;
         let (ke_err, c_err) = match &self.reference {
             Some(r) => {
                 let (a, c) = (measure(&self.scene, &frame), measure(&self.scene, r));
@@ -183,12 +216,14 @@ impl Ctx<'_> {
             ms_per_step_median: median,
             ms_per_step_p10: percentile(&ms, 0.1),
             ms_per_step_p90: percentile(&ms, 0.9),
-            timing: "wall".into(),
+            timing: if device_ms.is_empty() { "wall" } else { "wall+timestamps" }.into(),
+            gpu_ms_per_step: (!device_ms.is_empty()).then(|| percentile(&device_ms, 0.5)),
             particle_evals_per_s: self.layout.pos.len() as f64 * evals / (median * 1e-3),
             ke_rel_error: ke_err,
             centroid_error_dx: c_err,
             commit: self.commit.clone(),
             date: self.date.clone(),
+            stage_ms,
         })
     }
 }
@@ -210,9 +245,7 @@ fn run_size(experiment: &str, nx: u32, opts: &StudyOptions, gpu: Option<&Arc<Gpu
     // The reference: CPU f64, one thread, cells.
     let mut r = cpu_backend(&c.scene, &c.layout, Exec::Serial, SearchKind::Cells, false);
     r.restart_with_velocities(&c.vel0);
-    let (ms, frame) = time_backend(r.as_mut(), opts.steps)?;
-    c.reference = Some(frame);
-    let _ = ms;
+    c.reference = Some(time_backend(r.as_mut(), opts.steps)?.frame);
     let push = |rec: Result<Record, String>, label: &str, out: &mut Vec<Record>| match rec {
         Ok(r) => {
             eprintln!("{experiment} nx={nx} {:<44} {:>10.3} ms/step", r.variant, r.ms_per_step_median);

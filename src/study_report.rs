@@ -1,6 +1,7 @@
 //! Writes the study's outputs: `records.csv` (STUDY.md §5, one row per backend × size),
 //! `summary.md` (E1 and E4 tables, speedups, what the numbers mean on this adapter) and SVG
-//! plots (scaling log-log, speed against error).
+//! plots (scaling log-log, speed against error); with GPU timestamps also `stage_times.csv`
+//! (device ms per step and share of each stage) and the E4 per-stage table by variant family.
 
 use crate::plot::{line_plot_svg, scatter_labeled_svg, PlotSpec, Series};
 use crate::study::Record;
@@ -21,6 +22,10 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
         w.serialize(r).map_err(|x| e(&csv_path, x))?;
     }
     w.flush().map_err(|x| e(&csv_path, x))?;
+    let timed = recs.iter().any(|r| !r.stage_ms.is_empty());
+    if timed {
+        write_stage_csv(&dir.join("stage_times.csv"), recs)?;
+    }
 
     let mut md = String::new();
     let first = recs.first();
@@ -41,7 +46,7 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
              correctness and relative cost between variants only.\n"
         );
     }
-    let _ = writeln!(md, "Scene: `oscillating-drop` (no relaxation, initial velocity field), time per step = median wall clock of the timed steps (each followed by a device sync). Errors: kinetic energy (relative) and centroid (in Δx) after the same steps, against the CPU f64 one-thread run.\n");
+    let _ = writeln!(md, "Scene: `oscillating-drop` (no relaxation, initial velocity field), time per step = median wall clock of the timed steps (each followed by a device sync){}. Errors: kinetic energy (relative) and centroid (in Δx) after the same steps, against the CPU f64 one-thread run.\n", if timed { "; device ms/step = median of the summed GPU timestamps of the stage passes (`stage_times.csv`)" } else { "" });
     for exp in ["e1", "e4", "scaling"] {
         let rows: Vec<&Record> = recs.iter().filter(|r| r.experiment == exp).collect();
         if rows.is_empty() {
@@ -53,15 +58,16 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
             _ => "Scaling — time per step against N",
         };
         let _ = writeln!(md, "## {title}\n");
-        let _ = writeln!(md, "| variant | N | ms/step (median) | p10 | p90 | particle-evals/s | speedup vs cpu1.cells.f64 | KE rel. error | centroid error (Δx) |\n|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(md, "| variant | N | ms/step (median) | p10 | p90 | particle-evals/s | speedup vs cpu1.cells.f64 | KE rel. error | centroid error (Δx) | device ms/step |\n|---|---|---|---|---|---|---|---|---|---|");
         let base: BTreeMap<usize, f64> =
             rows.iter().filter(|r| r.variant == "cpu1.cells.f64").map(|r| (r.n, r.ms_per_step_median)).collect();
         for r in &rows {
             let sp = base.get(&r.n).map_or("-".to_string(), |b| format!("{:.2}×", b / r.ms_per_step_median));
             let _ = writeln!(
                 md,
-                "| `{}` | {} | {:.3} | {:.3} | {:.3} | {:.3e} | {} | {:.1e} | {:.1e} |",
-                r.variant, r.n, r.ms_per_step_median, r.ms_per_step_p10, r.ms_per_step_p90, r.particle_evals_per_s, sp, r.ke_rel_error, r.centroid_error_dx
+                "| `{}` | {} | {:.3} | {:.3} | {:.3} | {:.3e} | {} | {:.1e} | {:.1e} | {} |",
+                r.variant, r.n, r.ms_per_step_median, r.ms_per_step_p10, r.ms_per_step_p90, r.particle_evals_per_s, sp, r.ke_rel_error, r.centroid_error_dx,
+                r.gpu_ms_per_step.map_or("-".to_string(), |x| format!("{x:.3}"))
             );
         }
         if exp == "e4" {
@@ -71,6 +77,9 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
             ) {
                 let _ = writeln!(md, "\nBest GPU variant: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS (thesis: 120× on a 2012 GPU against a 2012 CPU core).", best.variant, best.ms_per_step_median, b / best.ms_per_step_median);
             }
+        }
+        if exp == "e4" {
+            stage_table(&mut md, &rows);
         }
         let _ = writeln!(md);
     }
@@ -100,7 +109,58 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
             .map_err(|x| e(&p, x))?;
         let _ = writeln!(md, "![speed against error](speed_vs_error.svg)\n");
     }
-    let _ = writeln!(md, "Not implemented: E2 (stages moved to the GPU one group at a time) and E3 (subdomain budgets); GPU timestamp queries (all times are wall clock).");
+    let ts = if timed { "" } else { "; GPU timestamps (this adapter has none: all times are wall clock)" };
+    let _ = writeln!(md, "Not implemented: E2 (stages moved to the GPU one group at a time) and E3 (subdomain budgets){ts}.");
     let p = dir.join("summary.md");
     std::fs::write(&p, md).map_err(|x| e(&p, x))
+}
+
+/// `stage_times.csv`: experiment, variant, N, stage, device ms per step, share of the step.
+fn write_stage_csv(p: &Path, recs: &[Record]) -> Result<(), String> {
+    let mut w = csv::Writer::from_path(p).map_err(|x| e(p, x))?;
+    w.write_record(["experiment", "variant", "n", "stage", "device_ms_per_step", "share"]).map_err(|x| e(p, x))?;
+    for r in recs.iter().filter(|r| !r.stage_ms.is_empty()) {
+        let total: f64 = r.stage_ms.iter().map(|s| s.1).sum();
+        for (stage, ms) in &r.stage_ms {
+            let row = [r.experiment.clone(), r.variant.clone(), r.n.to_string(), stage.clone(), format!("{ms:.6}"), format!("{:.4}", ms / total.max(1e-300))];
+            w.write_record(&row).map_err(|x| e(p, x))?;
+        }
+    }
+    w.flush().map_err(|x| e(p, x))
+}
+
+/// The E4 per-stage table: device ms per step (share of the step) of each stage, averaged over
+/// the variants of each family (`{search}.{mapping}`).
+fn stage_table(md: &mut String, rows: &[&Record]) {
+    let mut fams: BTreeMap<String, Vec<&Record>> = BTreeMap::new();
+    for r in rows.iter().filter(|r| !r.stage_ms.is_empty()) {
+        let fam: Vec<&str> = r.variant.split('.').take(2).collect();
+        fams.entry(fam.join(".")).or_default().push(r);
+    }
+    if fams.is_empty() {
+        return;
+    }
+    let mut stages: Vec<&str> = Vec::new();
+    for r in fams.values().flatten() {
+        for (s, _) in &r.stage_ms {
+            if !stages.contains(&s.as_str()) {
+                stages.push(s);
+            }
+        }
+    }
+    let _ = writeln!(md, "\n### E4 — device time per stage (GPU timestamps; ms per step and share of the step, mean over the variants of each family)\n");
+    let heads: Vec<String> = fams.iter().map(|(f, v)| format!("`{f}` ({})", v.len())).collect();
+    let _ = writeln!(md, "| stage | {} |\n|---|{}", heads.join(" | "), "---|".repeat(heads.len()));
+    let mean = |v: &[&Record], f: &dyn Fn(&Record) -> f64| v.iter().map(|r| f(r)).sum::<f64>() / v.len() as f64;
+    let total = |r: &Record| r.stage_ms.iter().map(|s| s.1).sum::<f64>().max(1e-300);
+    let get = |r: &Record, s: &str| r.stage_ms.iter().find(|x| x.0 == s).map_or(0.0, |x| x.1);
+    for s in &stages {
+        let cells: Vec<String> = fams
+            .values()
+            .map(|v| format!("{:.3} ({:.1}%)", mean(v, &|r| get(r, s)), 100.0 * mean(v, &|r| get(r, s) / total(r))))
+            .collect();
+        let _ = writeln!(md, "| `{s}` | {} |", cells.join(" | "));
+    }
+    let cells: Vec<String> = fams.values().map(|v| format!("**{:.3}**", mean(v, &total))).collect();
+    let _ = writeln!(md, "| **step** | {} |", cells.join(" | "));
 }

@@ -11,6 +11,7 @@ mod readback;
 pub mod solver;
 pub mod solver_buffers;
 pub mod stages;
+pub mod timing;
 pub mod variant;
 pub mod variant_buffers;
 

@@ -11,10 +11,11 @@
 use super::params::{GridSpec, Params};
 use super::solver_buffers::{ctl, layouts, Bufs};
 use super::stages::{Domain, Pipelines};
+use super::timing::Timestamps;
 use super::variant::VariantSpec;
 use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
-use crate::backend::{Backend, Frame, SolverError};
+use crate::backend::{Backend, DeviceTimes, Frame, SolverError};
 use crate::cpu::stages::Fields;
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
 use crate::physics::timestep::DtLimits;
@@ -47,6 +48,8 @@ pub struct GpuSolver<T: Real> {
     pub(super) pending: Option<SolverError>,
     /// Read the blow-up flag back every this many steps (besides every `frame()`).
     pub check_every: u64,
+    /// Stage timestamps (off unless [`Self::enable_timestamps`]; `gpu::timing`).
+    pub(super) ts: Timestamps,
 }
 
 fn v2<T: Real>(p: &[f64; 2]) -> V2<T> {
@@ -99,6 +102,7 @@ impl<T: Real> GpuSolver<T> {
             have_acc: false,
             pending: None,
             check_every: 100,
+            ts: Timestamps::default(),
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
@@ -167,7 +171,9 @@ impl<T: Real> GpuSolver<T> {
         if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
             enc.clear_buffer(&self.vb.accum.buffer, 0, None);
         }
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(stage), timestamp_writes: None });
+        let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain).0 > 0);
+        let timestamp_writes = if dispatches { self.ts.writes(stage) } else { None };
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(stage), timestamp_writes });
         pass.set_bind_group(0, &self.bg, &[]);
         pass.set_bind_group(1, &self.vbg, &[]);
         for (kd, p) in kernels {
@@ -193,6 +199,7 @@ impl<T: Real> GpuSolver<T> {
     }
 
     pub(super) fn submit(&self, f: impl FnOnce(&mut wgpu::CommandEncoder)) -> Result<(), GpuError> {
+        self.ts.before_submit(&self.ctx)?;
         self.ctx.scoped(|d| {
             let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.step") });
             f(&mut enc);
@@ -333,6 +340,12 @@ impl<T: Real> Backend for GpuSolver<T> {
             self.pending = self.check_flags().err();
         }
         self.pending.take()
+    }
+    fn enable_device_time(&mut self, on: bool) -> bool {
+        self.enable_timestamps(on)
+    }
+    fn device_time(&mut self) -> Option<DeviceTimes> {
+        self.device_times()
     }
 }
 

@@ -1,0 +1,212 @@
+//! Device-side stage timing for [`GpuSolver`]: a timestamp-query pool, off by default (ordinary
+//! runs record no query at all), switched on by [`GpuSolver::enable_timestamps`] when the device
+//! has `Features::TIMESTAMP_QUERY`.
+//!
+//! **How a stage is bracketed.** [`GpuSolver::record`] already records each stage's dispatches
+//! in one compute pass of its own; with timing on, that pass gets `timestamp_writes` (a
+//! beginning-of-pass and an end-of-pass timestamp, two consecutive slots of one query set). That
+//! needs only `TIMESTAMP_QUERY`, not `TIMESTAMP_QUERY_INSIDE_PASSES` (`ComputePass::write_timestamp`)
+//! nor `TIMESTAMP_QUERY_INSIDE_ENCODERS` (`CommandEncoder::write_timestamp`), so it works on every
+//! adapter that has timestamps at all. What is timed is the compute pass: the buffer clears that
+//! precede some stages (cell counts, accumulators, control words) and the ṽ copy of a step
+//! without XSPH lie outside the passes and are not counted; a stage whose pass dispatches
+//! nothing (empty domain) is not bracketed.
+//!
+//! **Collection.** Slot pairs are handed out in recording order with the stage name noted on the
+//! host. The pool ([`CAPACITY`] queries, the wgpu maximum) is resolved only when it is nearly full
+//! (checked before each submission, never inside one) and at [`GpuSolver::take_stage_times`]:
+//! one `resolve_query_set` of the used range, a copy to a mappable buffer, a wait, and the
+//! differences end − start times `Queue::get_timestamp_period()` (ns per tick) are summed per
+//! stage name. Timing never touches the solver's buffers, so results are bit-identical with it
+//! on or off (`tests/gpu_timing.rs`).
+
+use super::solver::GpuSolver;
+use super::{GpuContext, GpuError};
+use crate::backend::DeviceTimes;
+use crate::real::Real;
+use std::sync::Mutex;
+
+/// Queries in the pool (the wgpu maximum per query set): 2,048 stage passes between resolves.
+pub const CAPACITY: u32 = wgpu::QUERY_SET_MAX_QUERIES;
+/// Free queries wanted before a submission (one step records well under 100 passes).
+const HEADROOM: u32 = 512;
+
+/// Host-side bookkeeping of the pool.
+#[derive(Default)]
+struct State {
+    /// Stage name of each slot pair written since the last resolve.
+    labels: Vec<String>,
+    /// Accumulated (stage, ns, passes) since the last take, in order of first appearance.
+    acc: Vec<(String, f64, u64)>,
+    /// Passes left untimed because the pool was full (never expected; reported by a warning).
+    missed: u64,
+    /// Solver step at the last take.
+    last_step: u64,
+}
+
+/// Per-stage (name, ns, passes) sums and the steps they cover.
+type Taken = (Vec<(String, f64, u64)>, u64);
+
+/// The query set and its buffers, present only while timing is on.
+struct Pool {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    staging: wgpu::Buffer,
+    period_ns: f64,
+    state: Mutex<State>,
+}
+
+/// The solver's timestamp pool (`None` inside: timing off).
+#[derive(Default)]
+pub struct Timestamps(Option<Pool>);
+
+impl Timestamps {
+    /// Timestamp writes for the next stage pass, or `None` when timing is off or the pool is full.
+    pub(super) fn writes(&self, stage: &str) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let pool = self.0.as_ref()?;
+        let mut s = pool.state.lock().unwrap_or_else(|p| p.into_inner());
+        let k = s.labels.len() as u32;
+        if 2 * k + 2 > CAPACITY {
+            s.missed += 1;
+            return None;
+        }
+        s.labels.push(stage.to_string());
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: &pool.set,
+            beginning_of_pass_write_index: Some(2 * k),
+            end_of_pass_write_index: Some(2 * k + 1),
+        })
+    }
+
+    /// Resolves the pool when fewer than [`HEADROOM`] queries are left (call before recording a
+    /// submission; the queries of earlier submissions are all submitted by then).
+    pub(super) fn before_submit(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+        let Some(pool) = &self.0 else { return Ok(()) };
+        let used = 2 * pool.state.lock().unwrap_or_else(|p| p.into_inner()).labels.len() as u32;
+        if used + HEADROOM > CAPACITY {
+            self.resolve(ctx)?;
+        }
+        Ok(())
+    }
+
+    /// Resolves every used query, reads the ticks back and adds them to the per-stage sums.
+    fn resolve(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+        let Some(pool) = &self.0 else { return Ok(()) };
+        let mut s = pool.state.lock().unwrap_or_else(|p| p.into_inner());
+        let used = 2 * s.labels.len() as u32;
+        if used == 0 {
+            return Ok(());
+        }
+        let bytes = used as u64 * wgpu::QUERY_SIZE as u64;
+        ctx.scoped(|d| {
+            let mut enc =
+                d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.timestamps") });
+            enc.resolve_query_set(&pool.set, 0..used, &pool.resolve, 0);
+            enc.copy_buffer_to_buffer(&pool.resolve, 0, &pool.staging, 0, bytes);
+            ctx.queue.submit([enc.finish()]);
+        })?;
+        let (tx, rx) = std::sync::mpsc::channel();
+        pool.staging.slice(..bytes).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        ctx.wait_idle()?;
+        rx.recv()
+            .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let ticks: Vec<u64> = {
+            let view = pool.staging.slice(..bytes).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
+            bytemuck::pod_collect_to_vec(&view[..])
+        };
+        pool.staging.unmap();
+        let labels = std::mem::take(&mut s.labels);
+        for (k, label) in labels.into_iter().enumerate() {
+            let ns = ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * pool.period_ns;
+            match s.acc.iter_mut().find(|(l, _, _)| *l == label) {
+                Some(e) => {
+                    e.1 += ns;
+                    e.2 += 1;
+                }
+                None => s.acc.push((label, ns, 1)),
+            }
+        }
+        Ok(())
+    }
+
+    /// Accumulated (stage, ns, passes) since the last take and the steps between the takes.
+    fn take(&self, ctx: &GpuContext, step: u64) -> Result<Option<Taken>, GpuError> {
+        let Some(pool) = &self.0 else { return Ok(None) };
+        self.resolve(ctx)?;
+        let mut s = pool.state.lock().unwrap_or_else(|p| p.into_inner());
+        if s.missed > 0 {
+            eprintln!("warning: {} stage passes were not timed (timestamp pool full)", s.missed);
+            s.missed = 0;
+        }
+        let steps = step.saturating_sub(s.last_step);
+        s.last_step = step;
+        Ok(Some((std::mem::take(&mut s.acc), steps)))
+    }
+}
+
+impl<T: Real> GpuSolver<T> {
+    /// Switches stage timing on or off; returns whether it is on (false when the device lacks
+    /// `TIMESTAMP_QUERY`: then nothing is timed and [`Self::take_stage_times`] returns `None`).
+    /// Switching on (again) starts from empty sums.
+    pub fn enable_timestamps(&mut self, on: bool) -> bool {
+        if !on || !self.ctx.has(wgpu::Features::TIMESTAMP_QUERY) {
+            self.ts = Timestamps(None);
+            return false;
+        }
+        let ctx = &self.ctx;
+        let bytes = CAPACITY as u64 * wgpu::QUERY_SIZE as u64;
+        let buffer = |label, usage| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as U;
+        let pool = Pool {
+            set: ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("sphlab.timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: CAPACITY,
+            }),
+            resolve: buffer("sphlab.timestamps.resolve", U::QUERY_RESOLVE | U::COPY_SRC),
+            staging: buffer("sphlab.timestamps.staging", U::MAP_READ | U::COPY_DST),
+            period_ns: ctx.queue.get_timestamp_period() as f64,
+            state: Mutex::new(State { last_step: self.step, ..State::default() }),
+        };
+        self.ts = Timestamps(Some(pool));
+        true
+    }
+
+    /// True while stage timing is on.
+    pub fn timestamps_enabled(&self) -> bool {
+        self.ts.0.is_some()
+    }
+
+    /// Device nanoseconds per stage name (`neighbour_search`, …, `midpoint_predict`, `check`),
+    /// summed over every pass recorded since the last call, in order of first appearance;
+    /// `None` when timing is off or unavailable (never estimated).
+    pub fn take_stage_times(&mut self) -> Result<Option<Vec<(String, f64)>>, GpuError> {
+        let taken = self.ts.take(&self.ctx, self.step)?;
+        Ok(taken.map(|(acc, _)| acc.into_iter().map(|(l, ns, _)| (l, ns)).collect()))
+    }
+
+    /// [`crate::backend::Backend::device_time`]: the stage sums in ms and the steps they cover.
+    pub(super) fn device_times(&mut self) -> Option<DeviceTimes> {
+        match self.ts.take(&self.ctx, self.step) {
+            Ok(Some((acc, steps))) => {
+                let stages: Vec<(String, f64)> = acc.into_iter().map(|(l, ns, _)| (l, ns * 1e-6)).collect();
+                Some(DeviceTimes { total_ms: stages.iter().map(|s| s.1).sum(), stages, steps })
+            }
+            Ok(None) => None,
+            Err(e) => {
+                eprintln!("warning: reading the GPU timestamps failed: {e}");
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,185 @@
+//! GPU stage timing (`gpu::timing`): with timestamps on, every dispatched stage has a positive
+//! device time, only the stages the scene activates appear, and the device total fits in the
+//! wall clock of the same steps; with them off nothing is reported; and timing never changes
+//! the physics (bit-identical states).
+
+mod common;
+
+use common::{gpu_or_skip, serial};
+use sphlab::backend::Backend;
+use sphlab::gpu::solver::GpuSolver;
+use sphlab::gpu::variant::VariantSpec;
+use sphlab::gpu::GpuContext;
+use sphlab::scene::build::{build_layout, Layout};
+use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Integrator, Scene};
+use std::sync::Arc;
+use std::time::Instant;
+
+fn scene(name: &str, sets: &[&str]) -> (Scene, Layout) {
+    let mut s = builtin(name).expect("builtin");
+    s.relax = None;
+    let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
+    let s = apply_overrides(&s, &sets).expect("overrides");
+    let mut l = build_layout(&s).expect("layout");
+    let v = sphlab::run::initial_velocities(&s, &l, None);
+    l.vel[..l.n_fluid].copy_from_slice(&v);
+    (s, l)
+}
+
+fn has_timestamps(ctx: &GpuContext) -> bool {
+    let ok = ctx.has(wgpu::Features::TIMESTAMP_QUERY);
+    if !ok {
+        eprintln!("SKIP: adapter {} has no TIMESTAMP_QUERY", ctx.describe());
+    }
+    ok
+}
+
+/// Stage names a step of `g` may record: the force stages, the integrator's, `check`, and
+/// `reduce_max` under automatic dt.
+fn allowed(g: &GpuSolver<f32>, s: &Scene) -> Vec<&'static str> {
+    let mut v = g.model.stages.names();
+    v.extend(integrator_stages(s));
+    v.push("check");
+    if g.model.dt_fixed <= 0.0 {
+        v.push("reduce_max");
+    }
+    v
+}
+
+fn integrator_stages(s: &Scene) -> [&'static str; 2] {
+    match s.time.integrator {
+        Integrator::Midpoint => ["midpoint_predict", "midpoint_correct"],
+        Integrator::Verlet => ["verlet_drift", "verlet_kick"],
+    }
+}
+
+#[test]
+fn stage_times_are_positive_scene_specific_and_within_wall_clock() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    if !has_timestamps(&ctx) {
+        return;
+    }
+    let ctx = Arc::new(ctx);
+    let cases: &[(&str, &[&str], &str)] = &[
+        ("oscillating-drop", &[], "cells.thread.recomputed.f32"),
+        ("poiseuille", &[], "cells.thread.recomputed.f32"),
+        ("oscillating-drop", &[], "tracking.block-tree.fixed.cached.f32"),
+    ];
+    for &(name, sets, id) in cases {
+        let (s, l) = scene(name, sets);
+        let spec: VariantSpec = id.parse().unwrap();
+        let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+        assert!(g.enable_timestamps(true), "adapter has TIMESTAMP_QUERY");
+        g.step().unwrap();
+        g.sync();
+        let _ = g.device_time().expect("device time while enabled");
+        let steps = 10;
+        let t0 = Instant::now();
+        for _ in 0..steps {
+            g.step().unwrap();
+        }
+        g.sync();
+        let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let d = g.device_time().expect("device time while enabled");
+        println!("{name} {id}: device {:.3} ms, wall {wall_ms:.3} ms over {steps} steps", d.total_ms);
+        for (stage, ms) in &d.stages {
+            println!("  {stage:<20} {ms:>9.4} ms");
+        }
+        assert_eq!(d.steps, steps);
+        let allowed = allowed(&g, &s);
+        for (stage, ms) in &d.stages {
+            assert!(allowed.contains(&stage.as_str()), "{name} {id}: stage `{stage}` not active in this scene");
+            assert!(*ms > 0.0, "{name} {id}: stage `{stage}` has {ms} ms");
+        }
+        let reported: Vec<&str> = d.stages.iter().map(|(s, _)| s.as_str()).collect();
+        let core = ["neighbour_search", "number_density", "equation_of_state", "acceleration", "check"];
+        for stage in core.iter().chain(&integrator_stages(&s)) {
+            assert!(reported.contains(stage), "{name} {id}: `{stage}` missing from {reported:?}");
+        }
+        let two_phase = name == "oscillating-drop";
+        assert_eq!(reported.contains(&"colour_gradient"), two_phase, "{name}: colour_gradient {reported:?}");
+        let sum: f64 = d.stages.iter().map(|s| s.1).sum();
+        assert!((sum - d.total_ms).abs() <= 1e-9 * sum.max(1.0));
+        // Device work cannot exceed the wall clock; slack for the two clock domains.
+        assert!(d.total_ms <= wall_ms * 1.05 + 0.5, "{name} {id}: device {} ms > wall {wall_ms} ms", d.total_ms);
+        // A second call covers only what ran since the first.
+        let again = g.device_time().expect("still enabled");
+        assert!(again.stages.is_empty() && again.steps == 0 && again.total_ms == 0.0);
+    }
+}
+
+#[test]
+fn timing_off_reports_nothing_and_does_not_change_results() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let (s, l) = scene("sessile-90", &["contact.mode=a", "domain.nx=33"]);
+    let run = |on: bool| {
+        let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        let enabled = g.enable_timestamps(on);
+        assert_eq!(enabled, on && ctx.has(wgpu::Features::TIMESTAMP_QUERY));
+        for _ in 0..12 {
+            g.step().unwrap();
+        }
+        let d = g.device_time();
+        assert_eq!(d.is_some(), enabled);
+        if !on {
+            assert!(g.take_stage_times().unwrap().is_none());
+        }
+        let f = g.frame();
+        (f.pos, f.vel, f.acc, f.rho, f.contacts)
+    };
+    let off = run(false);
+    let on = run(true);
+    assert!(off == on, "timestamps changed the results");
+    // Switching off again drops the pool.
+    let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+    g.enable_timestamps(true);
+    assert!(!g.enable_timestamps(false));
+    g.step().unwrap();
+    assert!(g.device_time().is_none() && !g.timestamps_enabled());
+}
+
+#[test]
+fn cpu_backend_has_no_device_time() {
+    let (s, l) = scene("poiseuille", &[]);
+    let mut c =
+        sphlab::cpu::CpuSolver::<f64>::new(&s, &l, sphlab::exec::Exec::Serial, sphlab::neighbours::SearchKind::Cells);
+    assert!(!c.enable_device_time(true));
+    c.step().unwrap();
+    assert!(c.device_time().is_none());
+}
+
+#[test]
+fn study_records_device_time_and_stage_table() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let timed = ctx.has(wgpu::Features::TIMESTAMP_QUERY);
+    drop(ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let opts = sphlab::study::StudyOptions {
+        experiments: vec!["e4".into()],
+        sizes: vec![],
+        steps: 2,
+        variants: vec![VariantSpec::default()],
+        out: dir.path().to_path_buf(),
+    };
+    let recs = sphlab::study::run_study(&opts).expect("study");
+    let gpu = recs.iter().find(|r| r.backend == "gpu").expect("a GPU record");
+    let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary");
+    let stages = dir.path().join("stage_times.csv");
+    assert!(recs.iter().filter(|r| r.backend != "gpu").all(|r| r.timing == "wall" && r.gpu_ms_per_step.is_none()));
+    if !timed {
+        assert!(gpu.timing == "wall" && gpu.gpu_ms_per_step.is_none() && !stages.exists());
+        return;
+    }
+    assert_eq!(gpu.timing, "wall+timestamps");
+    let d = gpu.gpu_ms_per_step.expect("device ms");
+    assert!(d > 0.0 && d <= gpu.ms_per_step_p90 * 1.05 + 0.5, "device {d} ms, wall p90 {} ms", gpu.ms_per_step_p90);
+    let csv = std::fs::read_to_string(stages).expect("stage_times.csv");
+    assert!(csv.starts_with("experiment,variant,n,stage,device_ms_per_step,share"), "{csv}");
+    let share: f64 = csv.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap()).sum();
+    assert!((share - 1.0).abs() < 1e-2, "shares sum to {share}");
+    assert!(csv.contains(",colour_gradient,") && md.contains("device time per stage"), "{md}");
+}
