@@ -153,12 +153,7 @@ fn solve_c(re: f64, we: f64, theta_rad: f64, branch: Branch) -> f64 {
 }
 
 /// 2D model (c), one branch only (both are plotted in the thesis's Fig. 5.5).
-pub fn spread_2d_c_branch(
-    re: f64,
-    we: f64,
-    theta_rad: f64,
-    branch: Branch,
-) -> Result<f64, AnalyticError> {
+pub fn spread_2d_c_branch(re: f64, we: f64, theta_rad: f64, branch: Branch) -> Result<f64, AnalyticError> {
     check(re, we, theta_rad)?;
     Ok(solve_c(re, we, theta_rad, branch))
 }
@@ -173,11 +168,7 @@ pub fn spread_2d_c(re: f64, we: f64, theta_rad: f64) -> Result<SpreadC, Analytic
         branch = Branch::ThinFilm;
         xi = solve_c(re, we, theta_rad, branch);
     }
-    Ok(SpreadC {
-        xi,
-        branch,
-        h_over_delta: h_over_delta(re, xi),
-    })
+    Ok(SpreadC { xi, branch, h_over_delta: h_over_delta(re, xi) })
 }
 
 /// All models at one (Re, We, θ).
@@ -254,11 +245,7 @@ pub struct CellComparison {
 
 impl CellComparison {
     fn new(thesis: f64, sphlab: f64) -> Self {
-        Self {
-            thesis,
-            sphlab,
-            rel_error: sphlab / thesis - 1.0,
-        }
+        Self { thesis, sphlab, rel_error: sphlab / thesis - 1.0 }
     }
 }
 
@@ -275,12 +262,7 @@ pub struct Table1Comparison {
 impl Table1Comparison {
     /// The four model cells with their column names.
     pub fn cells(&self) -> [(&'static str, CellComparison); 4] {
-        [
-            ("axisym", self.axisym),
-            ("model_a", self.model_a),
-            ("model_b", self.model_b),
-            ("model_c", self.model_c),
-        ]
+        [("axisym", self.axisym), ("model_a", self.model_a), ("model_b", self.model_b), ("model_c", self.model_c)]
     }
 }
 
@@ -313,11 +295,7 @@ pub fn worst_cell(rows: &[Table1Comparison]) -> Option<(usize, &'static str, Cel
 pub fn format_spread(s: &SpreadResult) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "Maximum spread D_max/D0 (thesis §5.1)");
-    let _ = writeln!(
-        o,
-        "  Re = {}   We = {}   θ = {:.2}° ({:.4} rad)",
-        s.re, s.we, s.theta_deg, s.theta_rad
-    );
+    let _ = writeln!(o, "  Re = {}   We = {}   θ = {:.2}° ({:.4} rad)", s.re, s.we, s.theta_deg, s.theta_rad);
     let lines = [
         ("axisymmetric (Pasandideh-Fard 1996)", s.axisym),
         ("2D (a) Pasandideh-Fard assumptions", s.model_a),
@@ -331,16 +309,8 @@ pub fn format_spread(s: &SpreadResult) -> String {
         "  {:<40} {:>8.3}   [{}, h/δ = {:.3}]",
         "2D (c) eq. (93)", s.model_c, s.model_c_branch, s.model_c_h_over_delta
     );
-    let _ = writeln!(
-        o,
-        "  {:<40} {:>8.3}",
-        "    branch h > δ (eq. 92)", s.model_c_thick
-    );
-    let _ = writeln!(
-        o,
-        "  {:<40} {:>8.3}",
-        "    branch h < δ (eq. 91)", s.model_c_thin
-    );
+    let _ = writeln!(o, "  {:<40} {:>8.3}", "    branch h > δ (eq. 92)", s.model_c_thick);
+    let _ = writeln!(o, "  {:<40} {:>8.3}", "    branch h < δ (eq. 91)", s.model_c_thin);
     o
 }
 
@@ -368,19 +338,9 @@ pub fn format_table1(rows: &[Table1Comparison]) -> String {
     o.push('\n');
     for r in rows {
         let row = &r.row;
-        let _ = write!(
-            o,
-            "{:>6} {:>4} {:>6} {:>5}",
-            row.re, row.we, row.theta_rad, row.reference
-        );
+        let _ = write!(o, "{:>6} {:>4} {:>6} {:>5}", row.re, row.we, row.theta_rad, row.reference);
         for (_, c) in r.cells() {
-            let _ = write!(
-                o,
-                " | {:>7} {:>7.3} {:>+7.2}%",
-                printed(c.thesis),
-                c.sphlab,
-                100.0 * c.rel_error
-            );
+            let _ = write!(o, " | {:>7} {:>7.3} {:>+7.2}%", printed(c.thesis), c.sphlab, 100.0 * c.rel_error);
         }
         o.push('\n');
     }

@@ -31,5 +31,5 @@ pub mod run;
 pub mod scene;
 pub mod study;
 pub mod study_report;
-pub mod verify;
 pub mod validate;
+pub mod verify;

@@ -285,8 +285,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     }
     let layout = build_layout(scene)?;
     let mut backend = make_backend(scene, &layout, opts)?;
-    std::fs::create_dir_all(&opts.out)
-        .map_err(|e| output::OutputError::Io { path: opts.out.clone(), source: e })?;
+    std::fs::create_dir_all(&opts.out).map_err(|e| output::OutputError::Io { path: opts.out.clone(), source: e })?;
     let model = crate::model::Model::<f64>::new(scene);
     let stages = model.stages.names();
     if !opts.quiet {
@@ -343,7 +342,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
 
     // Relaxation, then the initial velocity field.
     if let Some(r) = scene.relax.as_ref().filter(|r| r.t > 0.0) {
-        let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new((r.t / scene.time.dt.max(1e-300)) as u64, "relax") };
+        let bar = if opts.quiet {
+            output::Progress::hidden()
+        } else {
+            output::Progress::new((r.t / scene.time.dt.max(1e-300)) as u64, "relax")
+        };
         while backend.time() < r.t * (1.0 - 1e-12) {
             if let Err(e) = backend.step() {
                 return Err(fail(&mut summary, &mut backend, e, None));
@@ -359,7 +362,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     }
 
     let t_end = opts.t_end.unwrap_or(scene.time.t_end);
-    let total = opts.steps.unwrap_or_else(|| if scene.time.dt > 0.0 { (t_end / scene.time.dt).round() as u64 } else { 0 });
+    let total =
+        opts.steps.unwrap_or_else(|| if scene.time.dt > 0.0 { (t_end / scene.time.dt).round() as u64 } else { 0 });
     let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new(total, &scene.name) };
     let mut series = SeriesWriter::create(opts.out.join("series.csv"))?;
     let mut pvd = if opts.vtk { Some(PvdWriter::new(&opts.out)) } else { None };

@@ -114,7 +114,11 @@ pub fn study_scene(nx: u32) -> Scene {
 fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
         .unwrap_or_else(|| "unknown".into())
 }
 
@@ -178,14 +182,26 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     #[allow(clippy::too_many_arguments)]
-    fn record(&mut self, experiment: &str, variant: String, backend: &str, precision: &str, mut b: Box<dyn Backend>, steps: u64, threads: usize) -> Result<Record, String> {
+    fn record(
+        &mut self,
+        experiment: &str,
+        variant: String,
+        backend: &str,
+        precision: &str,
+        mut b: Box<dyn Backend>,
+        steps: u64,
+        threads: usize,
+    ) -> Result<Record, String> {
         b.restart_with_velocities(&self.vel0);
         let Timed { ms, device_ms, stage_ms, frame } = time_backend(b.as_mut(), steps)?;
         let (ke_err, c_err) = match &self.reference {
             Some(r) => {
                 let (a, c) = (measure(&self.scene, &frame), measure(&self.scene, r));
                 let dx = self.scene.domain.dx();
-                ((a.kinetic_energy - c.kinetic_energy).abs() / c.kinetic_energy.abs().max(1e-300), ((a.centroid_x - c.centroid_x).hypot(a.centroid_y - c.centroid_y)) / dx)
+                (
+                    (a.kinetic_energy - c.kinetic_energy).abs() / c.kinetic_energy.abs().max(1e-300),
+                    ((a.centroid_x - c.centroid_x).hypot(a.centroid_y - c.centroid_y)) / dx,
+                )
             }
             None => (0.0, 0.0),
         };
@@ -237,11 +253,28 @@ fn cpu_backend(scene: &Scene, layout: &Layout, exec: Exec, search: SearchKind, f
 }
 
 /// Runs one experiment at one size; appends records (and prints a line per record).
-fn run_size(experiment: &str, nx: u32, opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, cpu_searches: &[SearchKind], all_threads: bool, out: &mut Vec<Record>) -> Result<(), String> {
+fn run_size(
+    experiment: &str,
+    nx: u32,
+    opts: &StudyOptions,
+    gpu: Option<&Arc<GpuContext>>,
+    cpu_searches: &[SearchKind],
+    all_threads: bool,
+    out: &mut Vec<Record>,
+) -> Result<(), String> {
     let scene = study_scene(nx);
     let layout = build_layout(&scene).map_err(|e| e.to_string())?;
     let vel0 = initial_velocities(&scene, &layout, None);
-    let mut c = Ctx { scene, layout, vel0, reference: None, gpu, commit: crate::output::git_commit(), date: crate::output::now_utc_iso8601(), cpu_model: cpu_model() };
+    let mut c = Ctx {
+        scene,
+        layout,
+        vel0,
+        reference: None,
+        gpu,
+        commit: crate::output::git_commit(),
+        date: crate::output::now_utc_iso8601(),
+        cpu_model: cpu_model(),
+    };
     // The reference: CPU f64, one thread, cells.
     let mut r = cpu_backend(&c.scene, &c.layout, Exec::Serial, SearchKind::Cells, false);
     r.restart_with_velocities(&c.vel0);
@@ -275,7 +308,10 @@ fn run_size(experiment: &str, nx: u32, opts: &StudyOptions, gpu: Option<&Arc<Gpu
                 continue;
             }
             let label = spec.to_string();
-            if spec.search == crate::gpu::variant::SearchVariant::Direct && c.layout.pos.len() > DIRECT_MAX_N && opts.variants.is_empty() {
+            if spec.search == crate::gpu::variant::SearchVariant::Direct
+                && c.layout.pos.len() > DIRECT_MAX_N
+                && opts.variants.is_empty()
+            {
                 eprintln!("{experiment} nx={nx} {label}: skipped: direct search is O(N²); only run up to {DIRECT_MAX_N} particles unless named in --variants");
                 continue;
             }
@@ -284,7 +320,8 @@ fn run_size(experiment: &str, nx: u32, opts: &StudyOptions, gpu: Option<&Arc<Gpu
                 continue;
             }
             let b = crate::gpu::solver::new_backend(g.clone(), &c.scene, &c.layout, spec).map_err(|e| e.to_string());
-            let rec = b.and_then(|b| c.record(experiment, label.clone(), "gpu", spec.precision.name(), b, opts.steps, 1));
+            let rec =
+                b.and_then(|b| c.record(experiment, label.clone(), "gpu", spec.precision.name(), b, opts.steps, 1));
             push(rec, &label, out);
         }
     }

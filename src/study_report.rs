@@ -66,14 +66,24 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
             let _ = writeln!(
                 md,
                 "| `{}` | {} | {:.3} | {:.3} | {:.3} | {:.3e} | {} | {:.1e} | {:.1e} | {} |",
-                r.variant, r.n, r.ms_per_step_median, r.ms_per_step_p10, r.ms_per_step_p90, r.particle_evals_per_s, sp, r.ke_rel_error, r.centroid_error_dx,
+                r.variant,
+                r.n,
+                r.ms_per_step_median,
+                r.ms_per_step_p10,
+                r.ms_per_step_p90,
+                r.particle_evals_per_s,
+                sp,
+                r.ke_rel_error,
+                r.centroid_error_dx,
                 r.gpu_ms_per_step.map_or("-".to_string(), |x| format!("{x:.3}"))
             );
         }
         if exp == "e4" {
             if let (Some(b), Some(best)) = (
                 base.values().next(),
-                rows.iter().filter(|r| r.backend == "gpu").min_by(|a, b| a.ms_per_step_median.total_cmp(&b.ms_per_step_median)),
+                rows.iter()
+                    .filter(|r| r.backend == "gpu")
+                    .min_by(|a, b| a.ms_per_step_median.total_cmp(&b.ms_per_step_median)),
             ) {
                 let _ = writeln!(md, "\nBest GPU variant: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS (thesis: 120× on a 2012 GPU against a 2012 CPU core).", best.variant, best.ms_per_step_median, b / best.ms_per_step_median);
             }
@@ -105,12 +115,23 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
         .collect();
     if !pts.is_empty() {
         let p = dir.join("speed_vs_error.svg");
-        scatter_labeled_svg(&p, "Speed against error (E4)", "time per step (ms)", "kinetic-energy rel. error vs CPU f64", &pts, true, true)
-            .map_err(|x| e(&p, x))?;
+        scatter_labeled_svg(
+            &p,
+            "Speed against error (E4)",
+            "time per step (ms)",
+            "kinetic-energy rel. error vs CPU f64",
+            &pts,
+            true,
+            true,
+        )
+        .map_err(|x| e(&p, x))?;
         let _ = writeln!(md, "![speed against error](speed_vs_error.svg)\n");
     }
     let ts = if timed { "" } else { "; GPU timestamps (this adapter has none: all times are wall clock)" };
-    let _ = writeln!(md, "Not implemented: E2 (stages moved to the GPU one group at a time) and E3 (subdomain budgets){ts}.");
+    let _ = writeln!(
+        md,
+        "Not implemented: E2 (stages moved to the GPU one group at a time) and E3 (subdomain budgets){ts}."
+    );
     let p = dir.join("summary.md");
     std::fs::write(&p, md).map_err(|x| e(&p, x))
 }
@@ -122,7 +143,14 @@ fn write_stage_csv(p: &Path, recs: &[Record]) -> Result<(), String> {
     for r in recs.iter().filter(|r| !r.stage_ms.is_empty()) {
         let total: f64 = r.stage_ms.iter().map(|s| s.1).sum();
         for (stage, ms) in &r.stage_ms {
-            let row = [r.experiment.clone(), r.variant.clone(), r.n.to_string(), stage.clone(), format!("{ms:.6}"), format!("{:.4}", ms / total.max(1e-300))];
+            let row = [
+                r.experiment.clone(),
+                r.variant.clone(),
+                r.n.to_string(),
+                stage.clone(),
+                format!("{ms:.6}"),
+                format!("{:.4}", ms / total.max(1e-300)),
+            ];
             w.write_record(&row).map_err(|x| e(p, x))?;
         }
     }

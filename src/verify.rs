@@ -116,14 +116,28 @@ fn flat<T: Real>(f: &Fields<T>, name: &str, n_fluid: usize) -> Vec<f64> {
 }
 
 /// Compares every field of one evaluation (and the contact points).
-pub fn compare_fields<T: Real>(kind: &str, prefix: &str, gpu: &Fields<T>, cpu: &Fields<T>, n_fluid: usize, only: Option<&[&str]>) -> Vec<Check> {
+pub fn compare_fields<T: Real>(
+    kind: &str,
+    prefix: &str,
+    gpu: &Fields<T>,
+    cpu: &Fields<T>,
+    n_fluid: usize,
+    only: Option<&[&str]>,
+) -> Vec<Check> {
     let mut out = Vec::new();
     for &(name, tmax, tl2) in TOLERANCES {
         if only.is_some_and(|o| !o.contains(&name)) {
             continue;
         }
         let (m, l2) = field_error(&flat(gpu, name, n_fluid), &flat(cpu, name, n_fluid));
-        out.push(Check { kind: kind.into(), name: format!("{prefix}{name}"), max_rel: m, rel_l2: l2, tolerance: tmax, pass: m <= tmax && l2 <= tl2 });
+        out.push(Check {
+            kind: kind.into(),
+            name: format!("{prefix}{name}"),
+            max_rel: m,
+            rel_l2: l2,
+            tolerance: tmax,
+            pass: m <= tmax && l2 <= tl2,
+        });
     }
     if only.is_none_or(|o| o.contains(&"contacts")) {
         let same_count = gpu.contacts.len() == cpu.contacts.len();
@@ -133,7 +147,14 @@ pub fn compare_fields<T: Real>(kind: &str, prefix: &str, gpu: &Fields<T>, cpu: &
             .zip(&cpu.contacts)
             .map(|(a, b)| ((a.r - b.r).norm() / (b.r.norm() + T::c(1e-30))).f64() + (a.s - b.s).abs().f64())
             .fold(if same_count { 0.0 } else { f64::INFINITY }, f64::max);
-        out.push(Check { kind: kind.into(), name: format!("{prefix}contacts"), max_rel: worst, rel_l2: f64::NAN, tolerance: 1e-5, pass: worst <= 1e-5 });
+        out.push(Check {
+            kind: kind.into(),
+            name: format!("{prefix}contacts"),
+            max_rel: worst,
+            rel_l2: f64::NAN,
+            tolerance: 1e-5,
+            pass: worst <= 1e-5,
+        });
     }
     out
 }
@@ -159,17 +180,45 @@ fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
             "centroid_x" | "centroid_y" => (a - b).abs() / dx,
             _ => (a - b).abs(),
         };
-        out.push(Check { kind: "observable".into(), name: name.into(), max_rel: d, rel_l2: f64::NAN, tolerance: tol, pass: d <= tol });
+        out.push(Check {
+            kind: "observable".into(),
+            name: name.into(),
+            max_rel: d,
+            rel_l2: f64::NAN,
+            tolerance: tol,
+            pass: d <= tol,
+        });
     }
     let count = (g.pos.len() == c.pos.len() && g.n_fluid == c.n_fluid) as u8 as f64;
-    out.push(Check { kind: "invariant".into(), name: "particle_count".into(), max_rel: 1.0 - count, rel_l2: f64::NAN, tolerance: 0.0, pass: count == 1.0 });
+    out.push(Check {
+        kind: "invariant".into(),
+        name: "particle_count".into(),
+        max_rel: 1.0 - count,
+        rel_l2: f64::NAN,
+        tolerance: 0.0,
+        pass: count == 1.0,
+    });
     for (k, (a, b)) in [(rg.mass_phase0, rc.mass_phase0), (rg.mass_phase1, rc.mass_phase1)].into_iter().enumerate() {
-        out.push(Check { kind: "invariant".into(), name: format!("mass_phase{k}"), max_rel: (a - b).abs(), rel_l2: f64::NAN, tolerance: 0.0, pass: a == b });
+        out.push(Check {
+            kind: "invariant".into(),
+            name: format!("mass_phase{k}"),
+            max_rel: (a - b).abs(),
+            rel_l2: f64::NAN,
+            tolerance: 0.0,
+            pass: a == b,
+        });
     }
     out
 }
 
-fn verify_typed<T: Real>(ctx: &Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec, steps: u64, per_stage: bool) -> Result<Vec<Check>, String> {
+fn verify_typed<T: Real>(
+    ctx: &Arc<GpuContext>,
+    scene: &Scene,
+    layout: &Layout,
+    spec: VariantSpec,
+    steps: u64,
+    per_stage: bool,
+) -> Result<Vec<Check>, String> {
     let vel0 = initial_velocities(scene, layout, None);
     let mut cpu = CpuSolver::<T>::new(scene, layout, Exec::Parallel, SearchKind::Cells);
     cpu.restart_with_velocities(&vel0);
@@ -198,7 +247,14 @@ fn verify_typed<T: Real>(ctx: &Arc<GpuContext>, scene: &Scene, layout: &Layout, 
             }
             match gpu.run_stage_from(&pos, &vel, before, stage) {
                 Ok(g) => checks.extend(compare_fields("stage", &format!("{stage}:"), &g, after, nf, Some(outputs))),
-                Err(e) => checks.push(Check { kind: "stage".into(), name: format!("{stage}: {e}"), max_rel: f64::INFINITY, rel_l2: f64::NAN, tolerance: 0.0, pass: false }),
+                Err(e) => checks.push(Check {
+                    kind: "stage".into(),
+                    name: format!("{stage}: {e}"),
+                    max_rel: f64::INFINITY,
+                    rel_l2: f64::NAN,
+                    tolerance: 0.0,
+                    pass: false,
+                }),
             }
         }
         gpu.restart_with_velocities(&vel0);
@@ -213,7 +269,13 @@ fn verify_typed<T: Real>(ctx: &Arc<GpuContext>, scene: &Scene, layout: &Layout, 
 }
 
 /// Verifies one variant on `scene` (relaxation is skipped: the initial state is compared).
-pub fn verify_variant(ctx: &Arc<GpuContext>, scene: &Scene, spec: VariantSpec, steps: u64, per_stage: bool) -> VariantReport {
+pub fn verify_variant(
+    ctx: &Arc<GpuContext>,
+    scene: &Scene,
+    spec: VariantSpec,
+    steps: u64,
+    per_stage: bool,
+) -> VariantReport {
     let variant = spec.to_string();
     let mut s = scene.clone();
     s.relax = None;
@@ -240,7 +302,10 @@ pub fn verify_variant(ctx: &Arc<GpuContext>, scene: &Scene, spec: VariantSpec, s
 
 /// A terminal table: one line per variant with its worst field and observable.
 pub fn format_table(reports: &[VariantReport]) -> String {
-    let mut s = format!("{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n", "variant", "status", "σ relL2", "p relL2", "acc max", "acc relL2", "notes");
+    let mut s = format!(
+        "{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n",
+        "variant", "status", "σ relL2", "p relL2", "acc max", "acc relL2", "notes"
+    );
     for r in reports {
         let get = |n: &str| r.checks.iter().find(|c| c.name == n);
         let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2e}"));
@@ -260,16 +325,41 @@ pub fn format_table(reports: &[VariantReport]) -> String {
 
 /// Writes `verify.csv` (one row per check) and `verify.json` into `dir`, with the adapter, scene,
 /// git commit and date.
-pub fn write_outputs(dir: &std::path::Path, adapter: &str, scene: &Scene, reports: &[VariantReport]) -> Result<(), String> {
+pub fn write_outputs(
+    dir: &std::path::Path,
+    adapter: &str,
+    scene: &Scene,
+    reports: &[VariantReport],
+) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let (commit, date) = (crate::output::git_commit(), crate::output::now_utc_iso8601());
     let path = dir.join("verify.csv");
     let mut w = csv::Writer::from_path(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    w.write_record(["variant", "status", "kind", "check", "max_rel", "rel_l2", "tolerance", "pass", "scene", "adapter", "commit", "date"])
-        .map_err(|e| e.to_string())?;
+    w.write_record([
+        "variant",
+        "status",
+        "kind",
+        "check",
+        "max_rel",
+        "rel_l2",
+        "tolerance",
+        "pass",
+        "scene",
+        "adapter",
+        "commit",
+        "date",
+    ])
+    .map_err(|e| e.to_string())?;
     for r in reports {
         let rows: Vec<Check> = if r.checks.is_empty() {
-            vec![Check { kind: "-".into(), name: r.reason.clone(), max_rel: f64::NAN, rel_l2: f64::NAN, tolerance: f64::NAN, pass: r.status != "FAIL" && r.status != "error" }]
+            vec![Check {
+                kind: "-".into(),
+                name: r.reason.clone(),
+                max_rel: f64::NAN,
+                rel_l2: f64::NAN,
+                tolerance: f64::NAN,
+                pass: r.status != "FAIL" && r.status != "error",
+            }]
         } else {
             r.checks.clone()
         };

@@ -31,11 +31,7 @@ fn table1_all_model_cells_within_half_percent() {
         // Table 1 only exercises the thick-film branch.
         let c = spread_2d_c(r.row.re, r.row.we, r.row.theta_rad).unwrap();
         assert_eq!(c.branch, Branch::ThickFilm);
-        assert!(
-            (1.0..10.0).contains(&c.h_over_delta),
-            "h/δ {}",
-            c.h_over_delta
-        );
+        assert!((1.0..10.0).contains(&c.h_over_delta), "h/δ {}", c.h_over_delta);
     }
     let (i, name, c) = worst_cell(&rows).unwrap();
     println!(
@@ -64,13 +60,7 @@ fn impact_case_of_section_5_2() {
     for (deg, ax, a, b, thick, thin) in table {
         let s = spread_all(440.0, 6.86, f64::to_radians(deg)).unwrap();
         print!("{}", format_spread(&s));
-        let got = [
-            s.axisym,
-            s.model_a,
-            s.model_b,
-            s.model_c_thick,
-            s.model_c_thin,
-        ];
+        let got = [s.axisym, s.model_a, s.model_b, s.model_c_thick, s.model_c_thin];
         for (g, want) in got.into_iter().zip([ax, a, b, thick, thin]) {
             assert!((g - want).abs() <= 0.002, "θ {deg}°: got {g}, want {want}");
         }
@@ -94,22 +84,13 @@ fn bad_inputs_are_errors() {
     }
     for th in [0.0, PI, -0.5, 4.0, f64::NAN, f64::NEG_INFINITY] {
         assert!(matches!(spread_2d_c(100.0, 10.0, th), Err(InvalidTheta(_))));
-        assert!(matches!(
-            spread_2d_c_branch(100.0, 10.0, th, Branch::ThinFilm),
-            Err(InvalidTheta(_))
-        ));
+        assert!(matches!(spread_2d_c_branch(100.0, 10.0, th, Branch::ThinFilm), Err(InvalidTheta(_))));
     }
     let msg = spread_all(-3.0, 1.0, 1.0).unwrap_err().to_string();
     assert!(msg.contains("re"), "{msg}");
     // We = 0 is valid (no viscous work in the 2D models): ξ = π/(1 − cos θ) everywhere.
     let s = spread_all(100.0, 0.0, PI / 2.0).unwrap();
-    for v in [
-        s.model_a,
-        s.model_b,
-        s.model_c,
-        s.model_c_thick,
-        s.model_c_thin,
-    ] {
+    for v in [s.model_a, s.model_b, s.model_c, s.model_c_thick, s.model_c_thin] {
         assert!((v - PI).abs() < 1e-12, "{v}");
     }
 }
@@ -121,15 +102,9 @@ fn thin_film_branch_is_used_when_h_below_delta() {
     let c = spread_2d_c(re, we, th).unwrap();
     assert_eq!(c.branch, Branch::ThinFilm);
     assert!(c.h_over_delta < 1.0 && c.xi.is_finite() && c.xi > 0.0);
-    assert_eq!(
-        c.xi,
-        spread_2d_c_branch(re, we, th, Branch::ThinFilm).unwrap()
-    );
+    assert_eq!(c.xi, spread_2d_c_branch(re, we, th, Branch::ThinFilm).unwrap());
     let thick = spread_2d_c_branch(re, we, th, Branch::ThickFilm).unwrap();
-    assert!(
-        h_over_delta(re, thick) < 1.0,
-        "thick-film solution rejected"
-    );
+    assert!(h_over_delta(re, thick) < 1.0, "thick-film solution rejected");
 }
 
 #[test]

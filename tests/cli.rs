@@ -99,7 +99,19 @@ fn a_run_writes_series_snapshots_vtk_and_summary() {
     assert!(o.status.success(), "run succeeds: {}", stderr(&o));
     let series = std::fs::read_to_string(out.join("series.csv")).expect("series");
     let header = series.lines().next().expect("header");
-    for col in ["t", "step", "dt", "kinetic_energy", "centroid_x", "mass_phase0", "max_density_error", "theta_two_point", "theta_circle_fit", "theta_area", "spread_factor"] {
+    for col in [
+        "t",
+        "step",
+        "dt",
+        "kinetic_energy",
+        "centroid_x",
+        "mass_phase0",
+        "max_density_error",
+        "theta_two_point",
+        "theta_circle_fit",
+        "theta_area",
+        "spread_factor",
+    ] {
         assert!(header.split(',').any(|c| c == col), "series.csv has column {col}: {header}");
     }
     assert_eq!(series.lines().count(), 1 + 5, "t = 0 plus one row every 5 of 20 steps");
@@ -110,7 +122,8 @@ fn a_run_writes_series_snapshots_vtk_and_summary() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
     assert_eq!(summary["status"], "ok");
-    let stages: Vec<&str> = summary["active_stages"].as_array().expect("list").iter().filter_map(|v| v.as_str()).collect();
+    let stages: Vec<&str> =
+        summary["active_stages"].as_array().expect("list").iter().filter_map(|v| v.as_str()).collect();
     for s in ["contact_line", "wall_typing", "colour_gradient", "normal_correction", "surface_stress"] {
         assert!(stages.contains(&s), "Mode B runs {s}: {stages:?}");
     }
@@ -125,8 +138,13 @@ fn single_phase_scene_runs_no_surface_tension_stages() {
     assert!(o.status.success(), "{}", stderr(&o));
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
-    let stages: Vec<&str> = summary["active_stages"].as_array().expect("list").iter().filter_map(|v| v.as_str()).collect();
-    assert_eq!(stages, ["neighbour_search", "number_density", "equation_of_state", "acceleration"], "a single-phase scene never pays for surface tension");
+    let stages: Vec<&str> =
+        summary["active_stages"].as_array().expect("list").iter().filter_map(|v| v.as_str()).collect();
+    assert_eq!(
+        stages,
+        ["neighbour_search", "number_density", "equation_of_state", "acceleration"],
+        "a single-phase scene never pays for surface tension"
+    );
 }
 
 #[test]
@@ -141,7 +159,17 @@ fn scene_show_round_trips_through_toml_and_runs() {
         let file = dir.path().join(format!("{name}.toml"));
         std::fs::write(&file, &text).expect("write");
         let out = dir.path().join(format!("{name}-out"));
-        let o = sphlab(&["run", file.to_str().expect("utf8"), "--steps", "1", "--out", out.to_str().expect("utf8"), "--quiet", "--set", "domain.nx=24"]);
+        let o = sphlab(&[
+            "run",
+            file.to_str().expect("utf8"),
+            "--steps",
+            "1",
+            "--out",
+            out.to_str().expect("utf8"),
+            "--quiet",
+            "--set",
+            "domain.nx=24",
+        ]);
         assert!(o.status.success(), "{name} runs from its TOML: {}", stderr(&o));
     }
 }

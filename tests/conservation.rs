@@ -17,10 +17,7 @@ use sphlab::scene::overrides::apply_overrides;
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
 }
@@ -47,16 +44,9 @@ fn perturbed<T: Real>(extra: &[&str], seed: u64) -> CpuSolver<T> {
     let sets: Vec<String> = SETS.iter().chain(extra).map(|s| s.to_string()).collect();
     let scene = apply_overrides(&base, &sets).unwrap();
     let layout = build_layout(&scene).unwrap();
-    assert_eq!(
-        layout.n_wall(),
-        0,
-        "a fully periodic box must have no wall particles"
-    );
+    assert_eq!(layout.n_wall(), 0, "a fully periodic box must have no wall particles");
     let mut s = CpuSolver::<T>::new(&scene, &layout, Exec::Parallel, SearchKind::Cells);
-    assert!(
-        s.model.stages.surface_tension && s.model.stages.viscosity,
-        "surface tension and viscosity must be on"
-    );
+    assert!(s.model.stages.surface_tension && s.model.stages.viscosity, "surface tension and viscosity must be on");
     let mut rng = Lcg(seed);
     for i in 0..s.n_fluid {
         s.pos[i] += V2::from_f64(0.1 * (rng.next() - 0.5), 0.1 * (rng.next() - 0.5));
@@ -106,18 +96,9 @@ fn pair_forces_are_antisymmetric_f64() {
         let f = s.frame();
         let (sum, abs) = force_sum(&f);
         let rel = sum[0].hypot(sum[1]) / abs;
-        println!(
-            "seed {seed}: |Σ m a| = {:.3e}, Σ|m a| = {abs:.4e}, ratio {rel:.3e}",
-            sum[0].hypot(sum[1])
-        );
-        assert!(
-            abs > 1.0,
-            "the perturbed system should have sizeable forces, Σ|m a| = {abs}"
-        );
-        assert!(
-            rel < 1e-12,
-            "seed {seed}: Σ m a = {sum:?} (relative {rel:e}): pair forces not antisymmetric"
-        );
+        println!("seed {seed}: |Σ m a| = {:.3e}, Σ|m a| = {abs:.4e}, ratio {rel:.3e}", sum[0].hypot(sum[1]));
+        assert!(abs > 1.0, "the perturbed system should have sizeable forces, Σ|m a| = {abs}");
+        assert!(rel < 1e-12, "seed {seed}: Σ m a = {sum:?} (relative {rel:e}): pair forces not antisymmetric");
     }
 }
 
@@ -127,46 +108,18 @@ fn each_force_term_is_antisymmetric() {
     // (name, overrides, jitter positions and velocities). The unjittered lattice has p ≈ 0, so
     // the last case measures the surface term alone.
     let cases: [(&str, &[&str], bool); 4] = [
-        (
-            "pressure only",
-            &[
-                "surface_tension.sigma=0.0",
-                "phases.0.mu=0.0",
-                "phases.1.mu=0.0",
-            ],
-            true,
-        ),
+        ("pressure only", &["surface_tension.sigma=0.0", "phases.0.mu=0.0", "phases.1.mu=0.0"], true),
         (
             "pressure + viscosity (unequal μ)",
-            &[
-                "surface_tension.sigma=0.0",
-                "phases.0.mu=0.3",
-                "phases.1.mu=0.02",
-            ],
+            &["surface_tension.sigma=0.0", "phases.0.mu=0.3", "phases.1.mu=0.02"],
             true,
         ),
-        (
-            "pressure + surface tension",
-            &[
-                "phases.0.mu=0.0",
-                "phases.1.mu=0.0",
-                "surface_tension.sigma=3.0",
-            ],
-            true,
-        ),
-        (
-            "surface tension alone (lattice at rest)",
-            &["phases.0.mu=0.0", "phases.1.mu=0.0"],
-            false,
-        ),
+        ("pressure + surface tension", &["phases.0.mu=0.0", "phases.1.mu=0.0", "surface_tension.sigma=3.0"], true),
+        ("surface tension alone (lattice at rest)", &["phases.0.mu=0.0", "phases.1.mu=0.0"], false),
     ];
     for (name, extra, jitter) in cases {
         let base = builtin("oscillating-drop").unwrap();
-        let sets: Vec<String> = SETS
-            .iter()
-            .chain(extra.iter())
-            .map(|s| s.to_string())
-            .collect();
+        let sets: Vec<String> = SETS.iter().chain(extra.iter()).map(|s| s.to_string()).collect();
         let scene = apply_overrides(&base, &sets).unwrap();
         let layout = build_layout(&scene).unwrap();
         let mut s = CpuSolver::<f64>::new(&scene, &layout, Exec::Serial, SearchKind::Cells);
@@ -197,10 +150,7 @@ fn pair_forces_are_antisymmetric_f32() {
 
 #[test]
 fn momentum_and_mass_conserved_over_50_steps() {
-    for (search, exec) in [
-        (SearchKind::Cells, Exec::Parallel),
-        (SearchKind::Tracking, Exec::Serial),
-    ] {
+    for (search, exec) in [(SearchKind::Cells, Exec::Parallel), (SearchKind::Tracking, Exec::Serial)] {
         let mut s = perturbed::<f64>(&[], 5);
         s.search = sphlab::neighbours::Search::new(search);
         let f0 = s.frame();
@@ -226,12 +176,7 @@ fn momentum_and_mass_conserved_over_50_steps() {
                 dp / scale
             );
             let (m, n) = phase_mass(&f);
-            assert_eq!(
-                n,
-                n0,
-                "{search:?} step {}: particles per phase changed",
-                step + 1
-            );
+            assert_eq!(n, n0, "{search:?} step {}: particles per phase changed", step + 1);
             assert_eq!(
                 m,
                 m0,
@@ -242,22 +187,14 @@ fn momentum_and_mass_conserved_over_50_steps() {
             );
         }
         let f = s.frame();
-        let moved = (0..f.n_fluid)
-            .map(|i| (f.vel[i][0] - f0.vel[i][0]).hypot(f.vel[i][1] - f0.vel[i][1]))
-            .fold(0.0, f64::max);
-        let inside = (0..f.n_fluid)
-            .all(|i| (0.0..40.0).contains(&f.pos[i][0]) && (0.0..40.0).contains(&f.pos[i][1]));
+        let moved =
+            (0..f.n_fluid).map(|i| (f.vel[i][0] - f0.vel[i][0]).hypot(f.vel[i][1] - f0.vel[i][1])).fold(0.0, f64::max);
+        let inside = (0..f.n_fluid).all(|i| (0.0..40.0).contains(&f.pos[i][0]) && (0.0..40.0).contains(&f.pos[i][1]));
         println!(
             "{search:?}: P0 = ({:.3e}, {:.3e}), worst |ΔP|/Σm|v| = {worst:.3e} over 50 steps, max Σ|m a| {max_a:.3e}, max |Δv| {moved:.3e}, t = {:.3}",
             p0[0], p0[1], s.t
         );
-        assert!(
-            moved > 1e-3,
-            "the system should evolve (max |Δv| = {moved:e})"
-        );
-        assert!(
-            inside,
-            "periodic wrapping must keep every particle inside [0, 40)²"
-        );
+        assert!(moved > 1e-3, "the system should evolve (max |Δv| = {moved:e})");
+        assert!(inside, "periodic wrapping must keep every particle inside [0, 40)²");
     }
 }

@@ -19,11 +19,7 @@ fn cap_scene(dx: f64, side: f64, rc: f64, yc: f64) -> (Vec<[f64; 2]>, Vec<u32>) 
         for i in 0..n {
             let p = [(i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx];
             pos.push(p);
-            phase.push(if p[0] * p[0] + (p[1] - yc).powi(2) < rc * rc {
-                0
-            } else {
-                1
-            });
+            phase.push(if p[0] * p[0] + (p[1] - yc).powi(2) < rc * rc { 0 } else { 1 });
         }
     }
     for k in 0..3 {
@@ -130,12 +126,7 @@ fn measure_all_fast_on_1e5_particles() {
         last = measure_all(&pos, &phase, dx, 0.0, true);
         best = best.min(t0.elapsed().as_secs_f64());
     }
-    eprintln!(
-        "measure_all on {} particles: {:.2} ms, {:?}",
-        pos.len(),
-        1e3 * best,
-        last
-    );
+    eprintln!("measure_all on {} particles: {:.2} ms, {:?}", pos.len(), 1e3 * best, last);
     assert!(best < 0.05);
     assert!((last.circle_fit.unwrap() - 60.0).abs() < 1.0);
 }
@@ -145,17 +136,12 @@ fn empty_inputs_give_none() {
     assert!(two_point(&[], &[], DX, 0.0).is_none());
     assert!(circle_fit(&[], &[], DX, 0.0).is_none());
     assert!(contact_half_width(&[], &[], DX, 0.0).is_none());
-    assert_eq!(
-        measure_all(&[], &[], DX, 0.0, true),
-        ContactAngles::default()
-    );
+    assert_eq!(measure_all(&[], &[], DX, 0.0, true), ContactAngles::default());
     assert!(oscillation(&[], &[]).is_none());
     assert!(max_normal_deviation(&[], &[], &[], DX, 0.0, [0.0; 2]).is_none());
     assert!(centroid(&[], &[], &[], 0)[0].is_nan());
     assert_eq!(kinetic_energy(&[], &[], &[], 0), 0.0);
-    assert!(wall_shear_profile(&[], &[], &[], DX, 0.0, 0.5, 4)
-        .iter()
-        .all(|b| b.2 == 0));
+    assert!(wall_shear_profile(&[], &[], &[], DX, 0.0, 0.5, 4).iter().all(|b| b.2 == 0));
     // All-liquid: no gas, so no interface.
     let (pos, _) = cap_scene(DX, 0.1, 0.0, 0.0);
     let phase = vec![0; pos.len()];
@@ -170,8 +156,7 @@ fn poiseuille_series_limits() {
     for k in 0..=20 {
         let y = l * k as f64 / 20.0;
         let steady = g / (2.0 * nu) * y * (l - y);
-        worst_steady =
-            worst_steady.max((poiseuille_velocity(y, 1e3, l, nu, g) - steady).abs() / umax);
+        worst_steady = worst_steady.max((poiseuille_velocity(y, 1e3, l, nu, g) - steady).abs() / umax);
         worst_zero = worst_zero.max(poiseuille_velocity(y, 0.0, l, nu, g).abs() / umax);
     }
     let mid = poiseuille_velocity(0.5 * l, 0.1, l, nu, g) / umax;
@@ -212,9 +197,7 @@ fn noise(n: usize, sigma: f64, seed: u64) -> Vec<f64> {
         s ^= s << 17;
         ((s >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     };
-    (0..n)
-        .map(|_| sigma * (-2.0 * u().ln()).sqrt() * (2.0 * PI * u()).cos())
-        .collect()
+    (0..n).map(|_| sigma * (-2.0 * u().ln()).sqrt() * (2.0 * PI * u()).cos()).collect()
 }
 
 #[test]
@@ -222,20 +205,11 @@ fn oscillation_of_noisy_damped_cosine() {
     let (mean, a0, period, beta) = (0.0796, 0.012, 0.37, 1.5);
     let w = 2.0 * PI / period;
     let t: Vec<f64> = (0..=2000).map(|i| i as f64 * 1e-3).collect();
-    let clean: Vec<f64> = t
-        .iter()
-        .map(|&t| mean + a0 * (-beta * t).exp() * (w * t).cos())
-        .collect();
+    let clean: Vec<f64> = t.iter().map(|&t| mean + a0 * (-beta * t).exp() * (w * t).cos()).collect();
     // Truth: ½(max − min) of the clean signal over [0, T].
-    let first: Vec<f64> = clean
-        .iter()
-        .zip(&t)
-        .filter(|(_, &t)| t <= period)
-        .map(|(c, _)| *c)
-        .collect();
-    let amp_true = 0.5
-        * (first.iter().cloned().fold(f64::MIN, f64::max)
-            - first.iter().cloned().fold(f64::MAX, f64::min));
+    let first: Vec<f64> = clean.iter().zip(&t).filter(|(_, &t)| t <= period).map(|(c, _)| *c).collect();
+    let amp_true =
+        0.5 * (first.iter().cloned().fold(f64::MIN, f64::max) - first.iter().cloned().fold(f64::MAX, f64::min));
     // Worst case over 8 noise realisations.
     let mut o = oscillation(&t, &clean).expect("clean");
     eprintln!(
@@ -273,19 +247,13 @@ fn oscillation_of_noisy_damped_cosine() {
     let mut worst: f64 = 0.0;
     for seed in 0..8 {
         let eps = noise(ts.len(), 0.02 * a0, seed);
-        let xs: Vec<f64> = ts
-            .iter()
-            .zip(&eps)
-            .map(|(&t, e)| mean + a0 * (-beta * t).exp() * (w * t).sin() + e)
-            .collect();
+        let xs: Vec<f64> =
+            ts.iter().zip(&eps).map(|(&t, e)| mean + a0 * (-beta * t).exp() * (w * t).sin() + e).collect();
         let s = oscillation(&ts, &xs).expect("short record");
         assert_eq!(s.n_cycles, 1);
         worst = worst.max((s.period / period - 1.0).abs());
     }
-    eprintln!(
-        "oscillation, t in [0, 0.6], 8 noise seeds: worst period error {:.3}%",
-        100.0 * worst
-    );
+    eprintln!("oscillation, t in [0, 0.6], 8 noise seeds: worst period error {:.3}%", 100.0 * worst);
     assert!(worst < 0.01);
 }
 
@@ -298,10 +266,7 @@ fn wall_shear_profile_of_linear_shear() {
             *ph = 1; // mix phases: any fluid phase counts
         }
     }
-    let vel: Vec<[f64; 2]> = pos
-        .iter()
-        .map(|p| [if p[1] > 0.0 { gamma * p[1] } else { 0.0 }, 0.0])
-        .collect();
+    let vel: Vec<[f64; 2]> = pos.iter().map(|p| [if p[1] > 0.0 { gamma * p[1] } else { 0.0 }, 0.0]).collect();
     let prof = wall_shear_profile(&pos, &vel, &phase, DX, 0.0, 0.5, 20);
     let worst = prof.iter().map(|b| (b.1 - gamma).abs()).fold(0.0, f64::max);
     eprintln!(

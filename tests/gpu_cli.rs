@@ -25,7 +25,8 @@ fn verify_all(scene_args: &[&str]) {
     assert_eq!(reports.len(), ids.len(), "every variant is reported");
     let mut passed = 0;
     for r in reports {
-        let (v, status, reason) = (&r["variant"], r["status"].as_str().unwrap_or(""), r["reason"].as_str().unwrap_or(""));
+        let (v, status, reason) =
+            (&r["variant"], r["status"].as_str().unwrap_or(""), r["reason"].as_str().unwrap_or(""));
         match status {
             "pass" => passed += 1,
             "unsupported" => assert!(!reason.is_empty(), "{v}: unsupported needs a reason"),
@@ -37,7 +38,10 @@ fn verify_all(scene_args: &[&str]) {
     assert_eq!(o.status.code(), Some(0), "verify exits 0 when nothing fails: {}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(dir.path().join("verify.csv")).expect("verify.csv");
     assert!(csv.lines().count() > reports.len(), "one row per check");
-    assert!(csv.contains("llvmpipe") || csv.lines().nth(1).is_some_and(|l| l.split(',').count() >= 12), "adapter recorded");
+    assert!(
+        csv.contains("llvmpipe") || csv.lines().nth(1).is_some_and(|l| l.split(',').count() >= 12),
+        "adapter recorded"
+    );
 }
 
 #[test]
@@ -89,8 +93,21 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
     for backend in ["cpu", "gpu"] {
         let out = dir.path().join(backend);
         let o = sphlab(&[
-            "run", "sessile-90", "--set", "domain.nx=26", "--steps", "30", "--set", "output.every=10", "--backend", backend,
-            "--precision", "f32", "--out", out.to_str().expect("utf8"), "--quiet",
+            "run",
+            "sessile-90",
+            "--set",
+            "domain.nx=26",
+            "--steps",
+            "30",
+            "--set",
+            "output.every=10",
+            "--backend",
+            backend,
+            "--precision",
+            "f32",
+            "--out",
+            out.to_str().expect("utf8"),
+            "--quiet",
         ]);
         assert!(o.status.success(), "{backend}: {}", String::from_utf8_lossy(&o.stderr));
         let series = std::fs::read_to_string(out.join("series.csv")).expect("series");
@@ -110,8 +127,17 @@ fn study_writes_records() {
     }
     let dir = tempfile::tempdir().expect("tempdir");
     let o = sphlab(&[
-        "study", "--experiments", "scaling", "--sizes", "20", "--steps", "2", "--variants", "cells.thread.recomputed.f32",
-        "--out", dir.path().to_str().expect("utf8"),
+        "study",
+        "--experiments",
+        "scaling",
+        "--sizes",
+        "20",
+        "--steps",
+        "2",
+        "--variants",
+        "cells.thread.recomputed.f32",
+        "--out",
+        dir.path().to_str().expect("utf8"),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(dir.path().join("records.csv")).expect("records");

@@ -111,7 +111,14 @@ fn compare<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &Fields<T>, tol: (f64, f
     compare_fields(tag, &cpu.model, cpu.n_fluid, &cpu.f, gpu, tol)
 }
 
-fn compare_fields<T: Real>(tag: &str, model: &Model<T>, n_fluid: usize, cf: &Fields<T>, gpu: &Fields<T>, tol: (f64, f64, f64)) {
+fn compare_fields<T: Real>(
+    tag: &str,
+    model: &Model<T>,
+    n_fluid: usize,
+    cf: &Fields<T>,
+    gpu: &Fields<T>,
+    tol: (f64, f64, f64),
+) {
     let b = model.phases.iter().map(|p| (p.stiffness + p.p_b.abs()).f64()).fold(0.0, f64::max);
     assert_eq!(cf.colour, gpu.colour, "{tag}: colours");
     assert_eq!(cf.mass, gpu.mass, "{tag}: masses");
@@ -252,7 +259,10 @@ fn fifty_steps_observables_match_cpu() {
         let size = (s.domain.x[1] - s.domain.x[0]).max(s.domain.y[1] - s.domain.y[0]);
         let ke = (og.0 - oc.0).abs() / oc.0.max(1e-300);
         let cen = (og.1[0] - oc.1[0]).abs().max((og.1[1] - oc.1[1]).abs()) / size;
-        println!("{name} {sets:?}: 50 steps, {ms:.1} ms/step GPU; KE rel {ke:.2e}, centroid {cen:.2e}, t {} vs {}", fg.t, fc.t);
+        println!(
+            "{name} {sets:?}: 50 steps, {ms:.1} ms/step GPU; KE rel {ke:.2e}, centroid {cen:.2e}, t {} vs {}",
+            fg.t, fc.t
+        );
         assert_eq!((og.2, og.3), (oc.2, oc.3), "mass and particle count");
         assert!(ke < 1e-3 && cen < 1e-6, "{name}: KE rel {ke:e}, centroid {cen:e}");
         assert!((fg.t - fc.t).abs() <= 1e-6 * fc.t, "time {} vs {}", fg.t, fc.t);
@@ -290,6 +300,8 @@ fn unimplemented_and_bad_variants_are_errors() {
         let e = GpuSolver::<f64>::new(ctx.clone(), &s, &l, id.parse().unwrap()).err().expect("error");
         assert!(e.to_string().contains("not meaningful"), "{id}: {e}");
     }
-    let e = GpuSolver::<f32>::new(ctx.clone(), &s, &l, "cells.thread.recomputed.f64".parse().unwrap()).err().expect("error");
+    let e = GpuSolver::<f32>::new(ctx.clone(), &s, &l, "cells.thread.recomputed.f64".parse().unwrap())
+        .err()
+        .expect("error");
     assert!(e.to_string().contains("solver built for f32"), "{e}");
 }

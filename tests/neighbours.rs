@@ -19,10 +19,7 @@ impl Lcg {
         l
     }
     fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
 }
@@ -45,26 +42,11 @@ fn images<T: Real>(bc: Bc, l: f64) -> Images<T> {
     let m = |p: f64| Some(AxisMap::Mirror(T::c(p)));
     let s = |d: f64| Some(AxisMap::Shift(T::c(d)));
     match bc {
-        Bc::None => Images {
-            x: [None, None],
-            y: [None, None],
-        },
-        Bc::MirrorLow => Images {
-            x: [m(0.0), None],
-            y: [m(0.0), None],
-        },
-        Bc::MirrorAll => Images {
-            x: [m(0.0), m(l)],
-            y: [m(0.0), m(l)],
-        },
-        Bc::Periodic => Images {
-            x: [s(-l), s(l)],
-            y: [s(-l), s(l)],
-        },
-        Bc::Mixed => Images {
-            x: [m(0.0), None],
-            y: [s(-l), s(l)],
-        },
+        Bc::None => Images { x: [None, None], y: [None, None] },
+        Bc::MirrorLow => Images { x: [m(0.0), None], y: [m(0.0), None] },
+        Bc::MirrorAll => Images { x: [m(0.0), m(l)], y: [m(0.0), m(l)] },
+        Bc::Periodic => Images { x: [s(-l), s(l)], y: [s(-l), s(l)] },
+        Bc::Mixed => Images { x: [m(0.0), None], y: [s(-l), s(l)] },
     }
 }
 
@@ -86,16 +68,8 @@ fn oracle<T: Real>(im: &Images<T>, pos: &[V2<T>], r: T) -> NeighbourList {
         for ay in 0..3u32 {
             for ax in 0..3u32 {
                 for (j, &xj) in pos.iter().enumerate() {
-                    let x = if ax == 0 {
-                        Some(xj.x)
-                    } else {
-                        oracle_map(im.x[ax as usize - 1], xj.x)
-                    };
-                    let y = if ay == 0 {
-                        Some(xj.y)
-                    } else {
-                        oracle_map(im.y[ay as usize - 1], xj.y)
-                    };
+                    let x = if ax == 0 { Some(xj.x) } else { oracle_map(im.x[ax as usize - 1], xj.x) };
+                    let y = if ay == 0 { Some(xj.y) } else { oracle_map(im.y[ay as usize - 1], xj.y) };
                     if let (Some(x), Some(y)) = (x, y) {
                         let (dx, dy) = (xi.x - x, xi.y - y);
                         if dx * dx + dy * dy < r2 {
@@ -113,9 +87,7 @@ fn oracle<T: Real>(im: &Images<T>, pos: &[V2<T>], r: T) -> NeighbourList {
 
 fn random_cloud<T: Real>(n: usize, l: f64, seed: u64) -> Vec<V2<T>> {
     let mut rng = Lcg::new(seed);
-    (0..n)
-        .map(|_| V2::from_f64(rng.next() * l, rng.next() * l))
-        .collect()
+    (0..n).map(|_| V2::from_f64(rng.next() * l, rng.next() * l)).collect()
 }
 
 /// First particle whose list differs, for a readable failure message.
@@ -133,22 +105,13 @@ fn first_diff(a: &NeighbourList, b: &NeighbourList) -> String {
 }
 
 fn assert_same(what: &str, a: &NeighbourList, b: &NeighbourList) {
-    assert!(
-        a == b,
-        "{what}: lists differ ({}); entries {} vs {}",
-        first_diff(a, b),
-        a.entries.len(),
-        b.entries.len()
-    );
+    assert!(a == b, "{what}: lists differ ({}); entries {} vs {}", first_diff(a, b), a.entries.len(), b.entries.len());
 }
 
 /// All searches (both execs, a fresh tracking search) against the oracle.
 fn check_all<T: Real>(what: &str, im: &Images<T>, pos: &[V2<T>], r: T) -> NeighbourList {
     let o = oracle(im, pos, r);
-    assert!(
-        o.entries.len() >= pos.len(),
-        "{what}: oracle lost self entries"
-    );
+    assert!(o.entries.len() >= pos.len(), "{what}: oracle lost self entries");
     for exec in [Exec::Serial, Exec::Parallel] {
         let d = direct(exec, im, pos, r * r);
         assert_same(&format!("{what} direct {exec:?} vs oracle"), &d, &o);
@@ -157,11 +120,7 @@ fn check_all<T: Real>(what: &str, im: &Images<T>, pos: &[V2<T>], r: T) -> Neighb
         for kind in [SearchKind::Direct, SearchKind::Cells, SearchKind::Tracking] {
             let mut s = Search::<T>::new(kind);
             let l = s.update(exec, im, pos, r);
-            assert_same(
-                &format!("{what} Search::{kind:?} {exec:?} vs oracle"),
-                &l,
-                &o,
-            );
+            assert_same(&format!("{what} Search::{kind:?} {exec:?} vs oracle"), &l, &o);
         }
     }
     o
@@ -170,30 +129,12 @@ fn check_all<T: Real>(what: &str, im: &Images<T>, pos: &[V2<T>], r: T) -> Neighb
 #[test]
 fn random_clouds_all_searches_equal_oracle() {
     let l = 1.0;
-    for (n, seed) in [
-        (1usize, 1u64),
-        (2, 2),
-        (17, 3),
-        (250, 4),
-        (1013, 5),
-        (1013, 6),
-    ] {
-        for bc in [
-            Bc::None,
-            Bc::MirrorLow,
-            Bc::MirrorAll,
-            Bc::Periodic,
-            Bc::Mixed,
-        ] {
+    for (n, seed) in [(1usize, 1u64), (2, 2), (17, 3), (250, 4), (1013, 5), (1013, 6)] {
+        for bc in [Bc::None, Bc::MirrorLow, Bc::MirrorAll, Bc::Periodic, Bc::Mixed] {
             // mean neighbour count about 30 for N = 1013
             let r = 0.0971;
             let pos = random_cloud::<f64>(n, l, seed);
-            let o = check_all(
-                &format!("N={n} seed={seed} {bc:?}"),
-                &images(bc, l),
-                &pos,
-                r,
-            );
+            let o = check_all(&format!("N={n} seed={seed} {bc:?}"), &images(bc, l), &pos, r);
             if n == 1013 {
                 println!(
                     "N={n} seed={seed} {bc:?}: {} entries, mean {:.2}, max {}",
@@ -215,12 +156,7 @@ fn random_clouds_f32() {
     for (n, seed) in [(1013usize, 21u64), (333, 22)] {
         for bc in [Bc::MirrorLow, Bc::Periodic, Bc::Mixed] {
             let pos = random_cloud::<f32>(n, 1.0, seed);
-            check_all(
-                &format!("f32 N={n} {bc:?}"),
-                &images::<f32>(bc, 1.0),
-                &pos,
-                0.0971f32,
-            );
+            check_all(&format!("f32 N={n} {bc:?}"), &images::<f32>(bc, 1.0), &pos, 0.0971f32);
         }
     }
 }
@@ -233,11 +169,7 @@ fn large_radius_and_tiny_radius() {
     for bc in [Bc::Periodic, Bc::MirrorAll, Bc::Mixed] {
         check_all(&format!("r=0.45 {bc:?}"), &images(bc, 1.0), &pos, 0.45);
         let o = check_all(&format!("r=0.004 {bc:?}"), &images(bc, 1.0), &pos, 0.004);
-        assert!(
-            o.entries.len() < 2 * pos.len(),
-            "tiny radius gave {} entries",
-            o.entries.len()
-        );
+        assert!(o.entries.len() < 2 * pos.len(), "tiny radius gave {} entries", o.entries.len());
     }
 }
 
@@ -245,21 +177,10 @@ fn large_radius_and_tiny_radius() {
 fn particles_on_cell_edges_and_at_exact_radius() {
     let r = 0.25f64;
     let cell = r * 1.01;
-    for bc in [
-        Bc::None,
-        Bc::MirrorLow,
-        Bc::MirrorAll,
-        Bc::Periodic,
-        Bc::Mixed,
-    ] {
+    for bc in [Bc::None, Bc::MirrorLow, Bc::MirrorAll, Bc::Periodic, Bc::Mixed] {
         // lattice of multiples of the cell size (the grid origin is lo − cell, so these sit on
         // cell edges) and of the radius (pairs at exactly r: strict < excludes them)
-        for (name, step) in [
-            ("cell", cell),
-            ("radius", r),
-            ("half-radius", 0.5 * r),
-            ("third-radius", r / 3.0),
-        ] {
+        for (name, step) in [("cell", cell), ("radius", r), ("half-radius", 0.5 * r), ("third-radius", r / 3.0)] {
             let n = (1.0 / step).floor() as usize;
             let mut pos = Vec::new();
             for a in 0..=n {
@@ -272,39 +193,19 @@ fn particles_on_cell_edges_and_at_exact_radius() {
                 // no pair at exactly r may be counted: each particle has only itself at code 0
                 // (plus mirror images of itself when it sits on a plane: distance 0)
                 let within0 = o.entries.iter().filter(|&&e| unpack(e).1 == 0).count();
-                assert_eq!(
-                    within0,
-                    pos.len(),
-                    "{bc:?}: pairs at exactly r counted ({within0} identity entries)"
-                );
+                assert_eq!(within0, pos.len(), "{bc:?}: pairs at exactly r counted ({within0} identity entries)");
             }
         }
         // duplicates: two particles at the same point
-        let pos = vec![
-            V2::new(0.3, 0.3),
-            V2::new(0.3, 0.3),
-            V2::new(0.0, 0.0),
-            V2::new(1.0, 1.0),
-            V2::new(0.5, 1.0),
-        ];
+        let pos = vec![V2::new(0.3, 0.3), V2::new(0.3, 0.3), V2::new(0.0, 0.0), V2::new(1.0, 1.0), V2::new(0.5, 1.0)];
         check_all(&format!("duplicates {bc:?}"), &images(bc, 1.0), &pos, r);
     }
     // a particle exactly at r/2 from a mirror: its own image is at exactly r, excluded
     let im = images::<f64>(Bc::MirrorLow, 1.0);
     let pos = vec![V2::new(0.125, 0.6), V2::new(0.1249, 0.3)];
     let o = check_all("r/2 from mirror", &im, &pos, r);
-    assert_eq!(
-        o.of(0),
-        &[pack(0, 0)],
-        "image at exactly r must be excluded: {:?}",
-        o.of(0)
-    );
-    assert_eq!(
-        o.of(1),
-        &[pack(1, 0), pack(1, 1)],
-        "image just inside r must be included: {:?}",
-        o.of(1)
-    );
+    assert_eq!(o.of(0), &[pack(0, 0)], "image at exactly r must be excluded: {:?}", o.of(0));
+    assert_eq!(o.of(1), &[pack(1, 0), pack(1, 1)], "image just inside r must be included: {:?}", o.of(1));
 }
 
 #[test]
@@ -335,32 +236,16 @@ fn tracking_after_displacements_equals_direct() {
                 let t = tr.update(Exec::Serial, &im, &pos, r);
                 let tp = tr_par.update(Exec::Parallel, &im, &pos, r);
                 let d = direct(Exec::Serial, &im, &pos, r * r);
-                assert_same(
-                    &format!("{bc:?} {label} step {step}: tracking vs direct"),
-                    &t,
-                    &d,
-                );
-                assert_same(
-                    &format!("{bc:?} {label} step {step}: tracking parallel vs direct"),
-                    &tp,
-                    &d,
-                );
+                assert_same(&format!("{bc:?} {label} step {step}: tracking vs direct"), &t, &d);
+                assert_same(&format!("{bc:?} {label} step {step}: tracking parallel vs direct"), &tp, &d);
                 if step == 9 {
-                    assert_same(
-                        &format!("{bc:?} {label}: direct vs oracle"),
-                        &d,
-                        &oracle(&im, &pos, r),
-                    );
+                    assert_same(&format!("{bc:?} {label}: direct vs oracle"), &d, &oracle(&im, &pos, r));
                 }
             }
             println!("{bc:?} {label}: {} rebuilds in 10 updates", tr.rebuilds);
             // 10 steps of ≤ 0.03·skin per component stay below skin/2 (|d| ≤ 0.42 skin): no
             // rebuild after the first; 0.4·skin per step crosses skin/2 every step
-            assert!(
-                expect.contains(&tr.rebuilds),
-                "{bc:?} {label}: {} rebuilds, expected {expect:?}",
-                tr.rebuilds
-            );
+            assert!(expect.contains(&tr.rebuilds), "{bc:?} {label}: {} rebuilds, expected {expect:?}", tr.rebuilds);
         }
     }
 }
@@ -375,27 +260,15 @@ fn tracking_forced_rebuild_every_k_and_invalidate() {
         let t = tr.update(Exec::Serial, &im, &pos, 0.1);
         assert_same("static tracking", &t, &d);
     }
-    assert_eq!(
-        tr.rebuilds, 3,
-        "45 evaluations with every = 20 should rebuild 3 times, got {}",
-        tr.rebuilds
-    );
+    assert_eq!(tr.rebuilds, 3, "45 evaluations with every = 20 should rebuild 3 times, got {}", tr.rebuilds);
     tr.invalidate();
     tr.update(Exec::Serial, &im, &pos, 0.1);
-    assert_eq!(
-        tr.rebuilds, 4,
-        "invalidate() must force a rebuild, got {}",
-        tr.rebuilds
-    );
+    assert_eq!(tr.rebuilds, 4, "invalidate() must force a rebuild, got {}", tr.rebuilds);
     // moved by hand far beyond the skin: particles teleported (the invalidate use case)
     let mut moved = pos.clone();
     moved.reverse();
     let t = tr.update(Exec::Serial, &im, &moved, 0.1);
-    assert_same(
-        "teleported particles",
-        &t,
-        &direct(Exec::Serial, &im, &moved, 0.01),
-    );
+    assert_same("teleported particles", &t, &direct(Exec::Serial, &im, &moved, 0.01));
 }
 
 #[test]
@@ -418,10 +291,7 @@ fn lists_are_sorted_and_contain_self() {
     let l = cells(Exec::Parallel, &im, &pos, 0.0971);
     for i in 0..pos.len() {
         let row = l.of(i);
-        assert!(
-            row.windows(2).all(|w| w[0] < w[1]),
-            "row {i} not strictly sorted"
-        );
+        assert!(row.windows(2).all(|w| w[0] < w[1]), "row {i} not strictly sorted");
         assert!(row.contains(&pack(i, 0)), "row {i} lacks the self entry");
     }
 }

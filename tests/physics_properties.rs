@@ -78,15 +78,8 @@ fn kernel_integrates_to_one_by_radial_quadrature() {
         for h in [1.0, 1.3, 0.0123] {
             let m = radial_moment(kind, h, 0, 200);
             let exact = exact_mass(kind);
-            println!(
-                "{:>13} h={h}: ∫W dA = {m:.12} (expected {exact:.12})",
-                kind.name()
-            );
-            assert!(
-                (m - exact).abs() < 1e-6,
-                "{} h={h}: ∫W dA = {m:.10}, expected {exact:.10}",
-                kind.name()
-            );
+            println!("{:>13} h={h}: ∫W dA = {m:.12} (expected {exact:.12})", kind.name());
+            assert!((m - exact).abs() < 1e-6, "{} h={h}: ∫W dA = {m:.10}, expected {exact:.10}", kind.name());
         }
     }
 }
@@ -114,10 +107,7 @@ fn kernel_second_moment_matches_closed_form() {
             // two resolutions: the quadrature is converged, and it agrees with the closed form
             let coarse = radial_moment(kind, h, 2, 50) / (h * h);
             let fine = radial_moment(kind, h, 2, 400) / (h * h);
-            println!(
-                "{:>13} h={h}: ∫r²W dA/h² = {fine:.12} (closed form {exact:.12})",
-                kind.name()
-            );
+            println!("{:>13} h={h}: ∫r²W dA/h² = {fine:.12} (closed form {exact:.12})", kind.name());
             assert!(
                 (coarse - fine).abs() < 1e-10,
                 "{} h={h}: quadrature not converged: {coarse} vs {fine}",
@@ -147,43 +137,25 @@ fn lattice_sums_match_spec() {
         // scale invariance: Δx² Σ W is independent of Δx
         let dx = 0.0137;
         let s2 = lattice_sum(kind, ratio * dx, dx) * dx * dx;
-        println!(
-            "{:>13} h={ratio}Δx: Δx²ΣW = {s1:.6} (spec {want}), at Δx={dx}: {s2:.6}",
-            kind.name()
-        );
-        assert!(
-            (s1 - want).abs() < 1e-3,
-            "{} h={ratio}Δx: lattice sum {s1:.6}, spec {want}",
-            kind.name()
-        );
+        println!("{:>13} h={ratio}Δx: Δx²ΣW = {s1:.6} (spec {want}), at Δx={dx}: {s2:.6}", kind.name());
+        assert!((s1 - want).abs() < 1e-3, "{} h={ratio}Δx: lattice sum {s1:.6}, spec {want}", kind.name());
         assert!(
             (s1 - want).abs() < 1e-4,
             "{} h={ratio}Δx: lattice sum {s1:.6}, spec {want} (5-digit value)",
             kind.name()
         );
-        assert!(
-            (s1 - s2).abs() < 1e-9,
-            "{} h={ratio}Δx: Δx²ΣW depends on Δx: {s1} vs {s2}",
-            kind.name()
-        );
+        assert!((s1 - s2).abs() < 1e-9, "{} h={ratio}Δx: Δx²ΣW depends on Δx: {s1} vs {s2}", kind.name());
     }
 }
 
 #[test]
 fn self_values() {
-    for (kind, want) in [
-        (KernelKind::Quintic, 0.30766),
-        (KernelKind::CubicSpline, 0.45473),
-    ] {
+    for (kind, want) in [(KernelKind::Quintic, 0.30766), (KernelKind::CubicSpline, 0.45473)] {
         for h in [1.0, 0.37] {
             let kp = KernelParams::<f64>::new(kind, h);
             let w0 = kernel_w(&kp, 0.0) * h * h;
             println!("{:>13}: W(0)h² = {w0:.6} (spec {want})", kind.name());
-            assert!(
-                (w0 - want).abs() < 1e-5,
-                "{}: W(0)h² = {w0:.6}, spec {want}",
-                kind.name()
-            );
+            assert!((w0 - want).abs() < 1e-5, "{}: W(0)h² = {w0:.6}, spec {want}", kind.name());
         }
     }
 }
@@ -199,9 +171,7 @@ fn dwdr_matches_central_difference() {
         // alone is ~1e-6 relative near the support end, where F' → 0 like (κ − q)².
         let eps = 1e-4 * h;
         let cd = |r: f64, e: f64| (kernel_w(&kp, r + e) - kernel_w(&kp, r - e)) / (2.0 * e);
-        let fmax = (0..=1000)
-            .map(|k| kernel_dwdr(&kp, k as f64 * kappa * h / 1000.0).abs())
-            .fold(0.0, f64::max);
+        let fmax = (0..=1000).map(|k| kernel_dwdr(&kp, k as f64 * kappa * h / 1000.0).abs()).fold(0.0, f64::max);
         let mut worst: f64 = 0.0;
         let n = 2000;
         for k in 1..n {
@@ -214,16 +184,9 @@ fn dwdr_matches_central_difference() {
             let d = kernel_dwdr(&kp, r);
             let err = (fd - d).abs() / (d.abs() + 1e-6 * fmax);
             worst = worst.max(err);
-            assert!(
-                err < 1e-6,
-                "{} q={q}: dW/dr = {d:e}, central difference {fd:e} (rel err {err:e})",
-                kind.name()
-            );
+            assert!(err < 1e-6, "{} q={q}: dW/dr = {d:e}, central difference {fd:e} (rel err {err:e})", kind.name());
         }
-        println!(
-            "{:>13}: worst rel err of dW/dr vs central difference {worst:.2e}",
-            kind.name()
-        );
+        println!("{:>13}: worst rel err of dW/dr vs central difference {worst:.2e}", kind.name());
     }
 }
 
@@ -239,21 +202,12 @@ fn dwdr_is_nonpositive_everywhere() {
                 let d = kernel_dwdr(&kp, r);
                 let d32 = kernel_dwdr(&kp32, r as f32);
                 assert!(d <= 0.0, "{} h={h}: F'({r}) = {d:e} > 0", kind.name());
-                assert!(
-                    d32 <= 0.0,
-                    "{} h={h} f32: F'({r}) = {d32:e} > 0",
-                    kind.name()
-                );
+                assert!(d32 <= 0.0, "{} h={h} f32: F'({r}) = {d32:e} > 0", kind.name());
                 assert!(kernel_w(&kp, r) >= 0.0, "{} W({r}) < 0", kind.name());
             }
             let s = kind.support_factor() * h;
             assert_eq!(kernel_w(&kp, s), 0.0, "{}: W(κh) must be 0", kind.name());
-            assert_eq!(
-                kernel_dwdr(&kp, s * 1.0001),
-                0.0,
-                "{}: F' beyond support must be 0",
-                kind.name()
-            );
+            assert_eq!(kernel_dwdr(&kp, s * 1.0001), 0.0, "{}: F' beyond support must be 0", kind.name());
         }
     }
 }
@@ -262,10 +216,7 @@ fn dwdr_is_nonpositive_everywhere() {
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
 }
@@ -283,11 +234,7 @@ fn positive_pressure_pushes_i_away_from_j() {
             let x_ij = xi - xj;
             let r = x_ij.norm();
             let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
-            assert!(
-                gw.dot(x_ij) < 0.0,
-                "{}: ∇_iW_ij must point from i to j",
-                kind.name()
-            );
+            assert!(gw.dot(x_ij) < 0.0, "{}: ∇_iW_ij must point from i to j", kind.name());
             let (pi, pj) = (0.1 + rng.next(), 0.1 + rng.next());
             let (si, sj) = (0.8 + 0.4 * rng.next(), 0.8 + 0.4 * rng.next());
             let a = pressure_acc_ij(pi, 1.0 / (si * si), pj, 1.0 / (sj * sj), gw);
@@ -299,18 +246,11 @@ fn positive_pressure_pushes_i_away_from_j() {
             );
             // and negative pressure pulls
             let a2 = pressure_acc_ij(-pi, 1.0 / (si * si), -pj, 1.0 / (sj * sj), gw);
-            assert!(
-                a2.dot(x_ij) < 0.0,
-                "{}: tension must pull i towards j",
-                kind.name()
-            );
+            assert!(a2.dot(x_ij) < 0.0, "{}: tension must pull i towards j", kind.name());
             // antisymmetry: the reaction on j is equal and opposite
             let gw_ji = grad_w_ij(kernel_dwdr(&kp, r), -x_ij, r);
             let b = pressure_acc_ij(pj, 1.0 / (sj * sj), pi, 1.0 / (si * si), gw_ji);
-            assert!(
-                (a + b).norm() <= 1e-15 * a.norm(),
-                "pressure pair not antisymmetric: {a:?} vs {b:?}"
-            );
+            assert!((a + b).norm() <= 1e-15 * a.norm(), "pressure pair not antisymmetric: {a:?} vs {b:?}");
         }
     }
 }
@@ -325,56 +265,29 @@ fn viscosity_decelerates_i_relative_to_j() {
             let r = 0.02 + rng.next() * (kind.support_factor() * h - 0.05);
             let dwdr = kernel_dwdr(&kp, r);
             let fac = viscous_fac_ij(dwdr, r, h);
-            assert!(
-                fac < 0.0,
-                "{} r={r}: F'/r regularised = {fac} must be < 0",
-                kind.name()
-            );
+            assert!(fac < 0.0, "{} r={r}: F'/r regularised = {fac} must be < 0", kind.name());
             let reg = r * dwdr / (r * r + 0.01 * h * h);
-            assert!(
-                (fac - reg).abs() <= 1e-15 * reg.abs(),
-                "viscous_fac_ij {fac} ≠ rF'/(r²+0.01h²) {reg}"
-            );
+            assert!((fac - reg).abs() <= 1e-15 * reg.abs(), "viscous_fac_ij {fac} ≠ rF'/(r²+0.01h²) {reg}");
             let v_ij = V2::new(rng.next() - 0.5, rng.next() - 0.5);
             let (ei, ej) = (0.01 + rng.next(), 0.01 + rng.next());
             let eta = harmonic_viscosity(ei, ej);
-            assert!(
-                (eta - 2.0 * ei * ej / (ei + ej)).abs() < 1e-15,
-                "harmonic mean {eta}"
-            );
-            assert!(
-                eta <= ei.max(ej) && eta >= ei.min(ej),
-                "harmonic mean {eta} outside [{ei}, {ej}]"
-            );
+            assert!((eta - 2.0 * ei * ej / (ei + ej)).abs() < 1e-15, "harmonic mean {eta}");
+            assert!(eta <= ei.max(ej) && eta >= ei.min(ej), "harmonic mean {eta} outside [{ei}, {ej}]");
             let a = viscous_acc_ij(eta, 1.1, 0.9, fac, v_ij);
             let cos = a.dot(v_ij) / (a.norm() * v_ij.norm());
-            assert!(
-                (cos + 1.0).abs() < 1e-12,
-                "{}: viscous acc must oppose v_ij: cos = {cos}",
-                kind.name()
-            );
+            assert!((cos + 1.0).abs() < 1e-12, "{}: viscous acc must oppose v_ij: cos = {cos}", kind.name());
             let b = viscous_acc_ij(eta, 0.9, 1.1, fac, -v_ij);
-            assert!(
-                (a + b).norm() <= 1e-15 * a.norm(),
-                "viscous pair not antisymmetric"
-            );
+            assert!((a + b).norm() <= 1e-15 * a.norm(), "viscous pair not antisymmetric");
         }
     }
-    assert_eq!(
-        harmonic_viscosity(0.0, 0.0),
-        0.0,
-        "η̄(0,0) must be 0, not NaN"
-    );
+    assert_eq!(harmonic_viscosity(0.0, 0.0), 0.0, "η̄(0,0) must be 0, not NaN");
 }
 
 /// Independent full-matrix form `σ|g|(I/2 − n̂n̂)`.
 fn pi_matrix(g: V2<f64>, s: f64) -> [[f64; 2]; 2] {
     let m = g.norm();
     let (nx, ny) = (g.x / m, g.y / m);
-    [
-        [s * m * (0.5 - nx * nx), -s * m * nx * ny],
-        [-s * m * ny * nx, s * m * (0.5 - ny * ny)],
-    ]
+    [[s * m * (0.5 - nx * nx), -s * m * nx * ny], [-s * m * ny * nx, s * m * (0.5 - ny * ny)]]
 }
 
 #[test]
@@ -405,49 +318,28 @@ fn surface_stress_is_symmetric_traceless_and_matches_formula() {
             "independent formula trace {}",
             want[0][0] + want[1][1]
         );
-        assert!(
-            (got[0][1] - got[1][0]).abs() == 0.0,
-            "Π not symmetric: {:?}",
-            got
-        );
-        assert!(
-            (got[0][0] + got[1][1]).abs() < 1e-14 * scale,
-            "Π not traceless: trace {}",
-            got[0][0] + got[1][1]
-        );
+        assert!((got[0][1] - got[1][0]).abs() == 0.0, "Π not symmetric: {:?}", got);
+        assert!((got[0][0] + got[1][1]).abs() < 1e-14 * scale, "Π not traceless: trace {}", got[0][0] + got[1][1]);
         // eigenvectors: Π g = −σ|g|/2 g (compression along the normal), Π g⊥ = +σ|g|/2 g⊥
         let pg = t.mul_vec(g);
         let want_pg = g * (-0.5 * scale);
-        assert!(
-            (pg - want_pg).norm() < 1e-14 * scale * g.norm(),
-            "Π·g = {pg:?}, expected {want_pg:?}"
-        );
+        assert!((pg - want_pg).norm() < 1e-14 * scale * g.norm(), "Π·g = {pg:?}, expected {want_pg:?}");
         let gp = V2::new(-g.y, g.x);
         let pgp = t.mul_vec(gp);
-        assert!(
-            (pgp - gp * (0.5 * scale)).norm() < 1e-14 * scale * g.norm(),
-            "Π·g⊥ = {pgp:?}"
-        );
+        assert!((pgp - gp * (0.5 * scale)).norm() < 1e-14 * scale * g.norm(), "Π·g⊥ = {pgp:?}");
         // even in g, linear in |g| and σ
         let tm = surface_stress(-g, s);
-        assert!(
-            (tm.xx - t.xx).abs() < 1e-15 * scale && (tm.xy - t.xy).abs() < 1e-15 * scale,
-            "Π(−g) ≠ Π(g)"
-        );
+        assert!((tm.xx - t.xx).abs() < 1e-15 * scale && (tm.xy - t.xy).abs() < 1e-15 * scale, "Π(−g) ≠ Π(g)");
         let t3 = surface_stress(g * 3.0, s);
         assert!(
-            (t3.xx - 3.0 * t.xx).abs() < 1e-14 * scale
-                && (t3.xy - 3.0 * t.xy).abs() < 1e-14 * scale,
+            (t3.xx - 3.0 * t.xx).abs() < 1e-14 * scale && (t3.xy - 3.0 * t.xy).abs() < 1e-14 * scale,
             "Π(3g) ≠ 3Π(g)"
         );
     }
     let z = surface_stress(V2::<f64>::zero(), 1.0);
     assert_eq!(z, Sym2::zero(), "Π(g = 0) must be exactly 0, got {z:?}");
     let z32 = surface_stress(V2::<f32>::zero(), 1.0);
-    assert!(
-        z32.xx == 0.0 && z32.xy == 0.0 && z32.xx.is_finite(),
-        "f32 Π(0) = {z32:?}"
-    );
+    assert!(z32.xx == 0.0 && z32.xy == 0.0 && z32.xx.is_finite(), "f32 Π(0) = {z32:?}");
     // spec component form, horizontal interface: g = (0, 1) ⇒ Π_xx = σ/2, Π_xy = 0
     let t = surface_stress(V2::new(0.0, 1.0), 1.0);
     assert_eq!((t.xx, t.xy), (0.5, 0.0), "flat interface Π = {t:?}");
@@ -460,16 +352,10 @@ fn surface_pair_force_antisymmetric() {
     let r = x_ij.norm();
     let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
     let gw_ji = grad_w_ij(kernel_dwdr(&kp, r), -x_ij, r);
-    let (pi, pj) = (
-        surface_stress(V2::new(0.3, 0.2), 1.0),
-        surface_stress(V2::new(-0.1, 0.4), 1.0),
-    );
+    let (pi, pj) = (surface_stress(V2::new(0.3, 0.2), 1.0), surface_stress(V2::new(-0.1, 0.4), 1.0));
     let a = surface_acc_ij(pi, 1.2, pj, 0.8, gw);
     let b = surface_acc_ij(pj, 0.8, pi, 1.2, gw_ji);
-    assert!(
-        a.norm() > 0.0 && (a + b).norm() <= 1e-16 * a.norm(),
-        "surface pair not antisymmetric: {a:?} {b:?}"
-    );
+    assert!(a.norm() > 0.0 && (a + b).norm() <= 1e-16 * a.norm(), "surface pair not antisymmetric: {a:?} {b:?}");
 }
 
 #[test]
@@ -486,19 +372,11 @@ fn eos_rest_state_and_sound_speed() {
         let p0 = eos_pressure(rho0, rho0, b, gamma, p_b);
         assert_eq!(p0, p_b, "p(ρ0) = {p0}, expected p_b = {p_b}");
         let e = 1e-6 * rho0;
-        let dpdrho = (eos_pressure(rho0 + e, rho0, b, gamma, p_b)
-            - eos_pressure(rho0 - e, rho0, b, gamma, p_b))
-            / (2.0 * e);
+        let dpdrho =
+            (eos_pressure(rho0 + e, rho0, b, gamma, p_b) - eos_pressure(rho0 - e, rho0, b, gamma, p_b)) / (2.0 * e);
         let rel = (dpdrho - c0 * c0) / (c0 * c0);
-        println!(
-            "ρ0={rho0} c0={c0} γ={gamma}: dp/dρ = {dpdrho:.8} (c0² = {})",
-            c0 * c0
-        );
-        assert!(
-            rel.abs() < 1e-7,
-            "dp/dρ at ρ0 = {dpdrho}, c0² = {} (rel {rel:e})",
-            c0 * c0
-        );
+        println!("ρ0={rho0} c0={c0} γ={gamma}: dp/dρ = {dpdrho:.8} (c0² = {})", c0 * c0);
+        assert!(rel.abs() < 1e-7, "dp/dρ at ρ0 = {dpdrho}, c0² = {} (rel {rel:e})", c0 * c0);
         // monotone: compression raises pressure
         assert!(
             eos_pressure(1.01 * rho0, rho0, b, gamma, p_b) > p_b

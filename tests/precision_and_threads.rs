@@ -33,21 +33,12 @@ fn rod_velocity(layout: &Layout, h: f64) -> Vec<[f64; 2]> {
             let [x, y] = layout.pos[i];
             let r = (x * x + y * y + 1e-4 * h * h).sqrt();
             let e = (-r / r0).exp();
-            [
-                v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e,
-                -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e,
-            ]
+            [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e]
         })
         .collect()
 }
 
-fn solver<T: Real>(
-    sc: &Scene,
-    layout: &Layout,
-    exec: Exec,
-    search: SearchKind,
-    rod: bool,
-) -> CpuSolver<T> {
+fn solver<T: Real>(sc: &Scene, layout: &Layout, exec: Exec, search: SearchKind, rod: bool) -> CpuSolver<T> {
     let mut s = CpuSolver::<T>::new(sc, layout, exec, search);
     if rod {
         s.restart_with_velocities(&rod_velocity(layout, sc.h()));
@@ -88,40 +79,27 @@ fn one_step_f32_vs_f64(name: &str, rod: bool) -> (f64, f64) {
     // pairs at exactly κh on the lattice may round either way (W = F' = 0 there): report only
     let same_lists = a.nbrs == b.nbrs;
     let (dv, dx_rel, dx_dx) = compare(&fa, &fb, layout.dx);
-    let vmax = (0..fb.n_fluid)
-        .map(|i| fb.vel[i][0].hypot(fb.vel[i][1]))
-        .fold(0.0, f64::max);
-    let dp = (0..fb.pos.len())
-        .map(|i| (fa.p[i] - fb.p[i]).abs())
-        .fold(0.0, f64::max);
+    let vmax = (0..fb.n_fluid).map(|i| fb.vel[i][0].hypot(fb.vel[i][1])).fold(0.0, f64::max);
+    let dp = (0..fb.pos.len()).map(|i| (fa.p[i] - fb.p[i]).abs()).fold(0.0, f64::max);
     println!(
         "{name} rod={rod}: identical lists {same_lists}, dt {:.1e}, max|v| {vmax:.3e}; f32 vs f64: velocity rel L2 {dv:.3e}, max|Δx|/max|x| {dx_rel:.3e} ({dx_dx:.2e} Δx), max|Δp| {dp:.3e}",
         fb.dt
     );
     assert!(vmax > 0.0, "{name}: nothing moved");
-    assert!(
-        dx_rel < 4.0 * f32::EPSILON as f64,
-        "{name} rod={rod}: max |Δx|/max|x| = {dx_rel:e} ≥ 4ε32"
-    );
+    assert!(dx_rel < 4.0 * f32::EPSILON as f64, "{name} rod={rod}: max |Δx|/max|x| = {dx_rel:e} ≥ 4ε32");
     (dv, dx_rel)
 }
 
 #[test]
 fn f32_vs_f64_oscillating_drop_with_t84_velocity() {
     let (dv, _) = one_step_f32_vs_f64("oscillating-drop", true);
-    assert!(
-        dv < 1e-4,
-        "oscillating-drop (T84 field): velocity relative L2 f32 vs f64 = {dv:e} ≥ 1e-4"
-    );
+    assert!(dv < 1e-4, "oscillating-drop (T84 field): velocity relative L2 f32 vs f64 = {dv:e} ≥ 1e-4");
 }
 
 #[test]
 fn f32_vs_f64_sessile_90() {
     let (dv, _) = one_step_f32_vs_f64("sessile-90", false);
-    assert!(
-        dv < 1e-4,
-        "sessile-90: velocity relative L2 f32 vs f64 = {dv:e} ≥ 1e-4"
-    );
+    assert!(dv < 1e-4, "sessile-90: velocity relative L2 f32 vs f64 = {dv:e} ≥ 1e-4");
 }
 
 /// From rest the velocity is dt·a with a driven by surface tension only, and the f32 error is
@@ -143,9 +121,8 @@ fn f32_vs_f64_oscillating_drop_from_rest() {
     a.advance().unwrap();
     b.advance().unwrap();
     let (fa, fb) = (a.frame(), b.frame());
-    let dv_abs = (0..fb.n_fluid)
-        .map(|i| (fa.vel[i][0] - fb.vel[i][0]).hypot(fa.vel[i][1] - fb.vel[i][1]))
-        .fold(0.0, f64::max);
+    let dv_abs =
+        (0..fb.n_fluid).map(|i| (fa.vel[i][0] - fb.vel[i][0]).hypot(fa.vel[i][1] - fb.vel[i][1])).fold(0.0, f64::max);
     let xmax = layout.pos.iter().map(|p| p[0].abs().max(p[1].abs())).fold(0.0, f64::max);
     let (c0, rho0) = (sc.phases[0].c0, sc.phases[0].rho0);
     let dp_bound = c0 * c0 * rho0 * f32::EPSILON as f64 * xmax / layout.dx;
@@ -167,34 +144,23 @@ fn f32_pressure_noise_is_position_quantisation() {
         b.evaluate().unwrap();
         let (fa, fb) = (a.frame(), b.frame());
         let n = fb.pos.len();
-        let dp = (0..n)
-            .map(|i| (fa.p[i] - fb.p[i]).abs())
-            .fold(0.0, f64::max);
-        let ds = (0..n)
-            .map(|i| ((fa.sigma[i] - fb.sigma[i]) / fb.sigma[i]).abs())
-            .fold(0.0, f64::max);
-        let xmax = layout
-            .pos
-            .iter()
-            .map(|p| p[0].abs().max(p[1].abs()))
-            .fold(0.0, f64::max);
+        let dp = (0..n).map(|i| (fa.p[i] - fb.p[i]).abs()).fold(0.0, f64::max);
+        let ds = (0..n).map(|i| ((fa.sigma[i] - fb.sigma[i]) / fb.sigma[i]).abs()).fold(0.0, f64::max);
+        let xmax = layout.pos.iter().map(|p| p[0].abs().max(p[1].abs())).fold(0.0, f64::max);
         let c0 = sc.phases[0].c0;
         let bound = c0 * c0 * sc.phases[0].rho0 * f32::EPSILON as f64 * xmax / layout.dx;
-        println!("{name}: f32 vs f64 max|Δp| = {dp:.3e} (bound {bound:.3e}), max rel Δσ = {ds:.3e} (ε32·max|x|/Δx = {:.3e})", f32::EPSILON as f64 * xmax / layout.dx);
-        assert!(
-            dp < bound,
-            "{name}: f32 pressure error {dp:e} exceeds the position-quantisation bound {bound:e}"
+        println!(
+            "{name}: f32 vs f64 max|Δp| = {dp:.3e} (bound {bound:.3e}), max rel Δσ = {ds:.3e} (ε32·max|x|/Δx = {:.3e})",
+            f32::EPSILON as f64 * xmax / layout.dx
         );
+        assert!(dp < bound, "{name}: f32 pressure error {dp:e} exceeds the position-quantisation bound {bound:e}");
     }
 }
 
 /// Every field of a frame as bit patterns.
 fn bits(f: &Frame) -> Vec<u64> {
     let mut v = vec![f.step, f.t.to_bits(), f.dt.to_bits(), f.n_fluid as u64];
-    let v2 = |v: &mut Vec<u64>, a: &[[f64; 2]]| {
-        a.iter()
-            .for_each(|x| v.extend([x[0].to_bits(), x[1].to_bits()]))
-    };
+    let v2 = |v: &mut Vec<u64>, a: &[[f64; 2]]| a.iter().for_each(|x| v.extend([x[0].to_bits(), x[1].to_bits()]));
     v2(&mut v, &f.pos);
     v2(&mut v, &f.vel);
     v2(&mut v, &f.acc);
@@ -211,13 +177,7 @@ fn bits(f: &Frame) -> Vec<u64> {
     v
 }
 
-fn run20<T: Real>(
-    sc: &Scene,
-    layout: &Layout,
-    exec: Exec,
-    search: SearchKind,
-    rod: bool,
-) -> (Frame, u64) {
+fn run20<T: Real>(sc: &Scene, layout: &Layout, exec: Exec, search: SearchKind, rod: bool) -> (Frame, u64) {
     let mut s = solver::<T>(sc, layout, exec, search, rod);
     for _ in 0..20 {
         s.advance().unwrap();
@@ -228,10 +188,7 @@ fn run20<T: Real>(
 fn first_mismatch(a: &Frame, b: &Frame) -> String {
     for i in 0..a.pos.len() {
         if a.pos[i] != b.pos[i] || a.vel[i] != b.vel[i] || a.acc[i] != b.acc[i] {
-            return format!(
-                "particle {i}: x {:?} vs {:?}, v {:?} vs {:?}",
-                a.pos[i], b.pos[i], a.vel[i], b.vel[i]
-            );
+            return format!("particle {i}: x {:?} vs {:?}, v {:?} vs {:?}", a.pos[i], b.pos[i], a.vel[i], b.vel[i]);
         }
     }
     "a field other than x, v, a".into()
@@ -244,10 +201,7 @@ fn serial_and_parallel_bit_identical_after_20_steps() {
         let layout = build_layout(&sc).unwrap();
         let (a, _) = run20::<f64>(&sc, &layout, Exec::Serial, SearchKind::Cells, rod);
         let (b, _) = run20::<f64>(&sc, &layout, Exec::Parallel, SearchKind::Cells, rod);
-        println!(
-            "{name} f64: 20 steps, t = {:.2e}, contacts {:?}",
-            a.t, a.contacts
-        );
+        println!("{name} f64: 20 steps, t = {:.2e}, contacts {:?}", a.t, a.contacts);
         assert!(
             bits(&a) == bits(&b),
             "{name} f64: serial and parallel differ after 20 steps ({})",
@@ -274,18 +228,13 @@ fn searches_bit_identical_after_20_steps() {
         let moved = (0..d.n_fluid)
             .map(|i| (d.pos[i][0] - layout.pos[i][0]).hypot(d.pos[i][1] - layout.pos[i][1]))
             .fold(0.0, f64::max);
-        println!("{name}: max displacement in 20 steps {:.3e} Δx, tracking rebuilds {rebuilds} in 40 evaluations", moved / layout.dx);
+        println!(
+            "{name}: max displacement in 20 steps {:.3e} Δx, tracking rebuilds {rebuilds} in 40 evaluations",
+            moved / layout.dx
+        );
         assert!(moved > 0.0, "{name}: nothing moved");
-        assert!(
-            bits(&d) == bits(&c),
-            "{name}: direct vs cells differ after 20 steps ({})",
-            first_mismatch(&d, &c)
-        );
-        assert!(
-            bits(&d) == bits(&t),
-            "{name}: direct vs tracking differ after 20 steps ({})",
-            first_mismatch(&d, &t)
-        );
+        assert!(bits(&d) == bits(&c), "{name}: direct vs cells differ after 20 steps ({})", first_mismatch(&d, &c));
+        assert!(bits(&d) == bits(&t), "{name}: direct vs tracking differ after 20 steps ({})", first_mismatch(&d, &t));
         let (tf, _) = run20::<f32>(&sc, &layout, Exec::Serial, SearchKind::Tracking, rod);
         let (df, _) = run20::<f32>(&sc, &layout, Exec::Serial, SearchKind::Direct, rod);
         assert!(

@@ -12,13 +12,9 @@ const PRECISIONS: [&[&str]; 2] = [&[], &[F64]];
 fn every_shared_module_validates_in_f32_and_f64() {
     for (name, _) in SHADERS {
         for defines in PRECISIONS {
-            let c =
-                compose_mapped("<test>", &format!("#import {name}\n"), defines).expect("composes");
+            let c = compose_mapped("<test>", &format!("#import {name}\n"), defines).expect("composes");
             if let Err(e) = validate(&c) {
-                panic!(
-                    "shaders/{name}.wgsl with {defines:?} does not validate:\n{e}\n{}",
-                    c.source
-                );
+                panic!("shaders/{name}.wgsl with {defines:?} does not validate:\n{e}\n{}", c.source);
             }
         }
     }
@@ -26,10 +22,7 @@ fn every_shared_module_validates_in_f32_and_f64() {
 
 #[test]
 fn all_modules_together_validate() {
-    let entry: String = SHADERS
-        .iter()
-        .map(|(n, _)| format!("#import {n}\n"))
-        .collect();
+    let entry: String = SHADERS.iter().map(|(n, _)| format!("#import {n}\n")).collect();
     for defines in PRECISIONS {
         let c = compose_mapped("<test>", &entry, defines).expect("composes");
         validate(&c).unwrap_or_else(|e| panic!("{defines:?}: {e}"));
@@ -50,10 +43,7 @@ fn every_variant_file_validates() {
 fn shared_modules_have_no_bindings_or_entry_points() {
     for (name, src) in SHADERS {
         for bad in ["@group", "@binding", "@compute", "@vertex", "@fragment"] {
-            assert!(
-                !src.contains(bad),
-                "shaders/{name}.wgsl contains {bad}: shared modules hold functions only"
-            );
+            assert!(!src.contains(bad), "shaders/{name}.wgsl contains {bad}: shared modules hold functions only");
         }
     }
 }
@@ -62,84 +52,42 @@ fn shared_modules_have_no_bindings_or_entry_points() {
 fn precision_prelude_switches_real() {
     let f32src = compose("", &[]).expect("composes");
     let f64src = compose("", &[F64]).expect("composes");
-    assert!(
-        f32src.contains("alias real = f32;") && f32src.contains("alias real2 = vec2<f32>;"),
-        "{f32src}"
-    );
-    assert!(
-        f64src.contains("alias real = f64;") && f64src.contains("alias real2 = vec2<f64>;"),
-        "{f64src}"
-    );
+    assert!(f32src.contains("alias real = f32;") && f32src.contains("alias real2 = vec2<f32>;"), "{f32src}");
+    assert!(f64src.contains("alias real = f64;") && f64src.contains("alias real2 = vec2<f64>;"), "{f64src}");
 }
 
 #[test]
 fn ifdef_else_endif_select_lines() {
-    let src = "#ifdef A\nconst X: u32 = 1u;\n#else\nconst X: u32 = 2u;\n#endif\n#ifndef B\nconst Y: u32 = 3u;\n#endif\n";
+    let src =
+        "#ifdef A\nconst X: u32 = 1u;\n#else\nconst X: u32 = 2u;\n#endif\n#ifndef B\nconst Y: u32 = 3u;\n#endif\n";
     let a = compose(src, &["A"]).expect("composes");
-    assert!(
-        a.contains("X: u32 = 1u") && !a.contains("X: u32 = 2u") && a.contains("Y: u32 = 3u"),
-        "{a}"
-    );
+    assert!(a.contains("X: u32 = 1u") && !a.contains("X: u32 = 2u") && a.contains("Y: u32 = 3u"), "{a}");
     let b = compose(src, &["B"]).expect("composes");
-    assert!(
-        b.contains("X: u32 = 2u") && !b.contains("X: u32 = 1u") && !b.contains("Y: u32"),
-        "{b}"
-    );
+    assert!(b.contains("X: u32 = 2u") && !b.contains("X: u32 = 1u") && !b.contains("Y: u32"), "{b}");
     // Nested: the inner branch is dropped whenever the outer one is.
-    let nested =
-        "#ifdef A\n#ifdef B\nconst Z: u32 = 1u;\n#else\nconst Z: u32 = 2u;\n#endif\n#endif\n";
-    assert!(
-        !compose(nested, &["B"])
-            .expect("composes")
-            .contains("const Z"),
-        "outer A unset hides both"
-    );
-    assert!(
-        compose(nested, &["A"])
-            .expect("composes")
-            .contains("Z: u32 = 2u"),
-        "A set, B unset"
-    );
+    let nested = "#ifdef A\n#ifdef B\nconst Z: u32 = 1u;\n#else\nconst Z: u32 = 2u;\n#endif\n#endif\n";
+    assert!(!compose(nested, &["B"]).expect("composes").contains("const Z"), "outer A unset hides both");
+    assert!(compose(nested, &["A"]).expect("composes").contains("Z: u32 = 2u"), "A set, B unset");
     // An import inside a dropped branch is not expanded.
-    assert!(!compose("#ifdef NOPE\n#import kernel\n#endif\n", &[])
-        .expect("composes")
-        .contains("kernel_f"));
+    assert!(!compose("#ifdef NOPE\n#import kernel\n#endif\n", &[]).expect("composes").contains("kernel_f"));
 }
 
 #[test]
 fn duplicate_and_transitive_imports_are_deduplicated() {
     // pair imports stress; stress imported again explicitly, pair twice.
-    let src = compose(
-        "#import stress\n#import pair\n#import pair\n#import shaders/stress.wgsl\n",
-        &[],
-    )
-    .expect("composes");
+    let src =
+        compose("#import stress\n#import pair\n#import pair\n#import shaders/stress.wgsl\n", &[]).expect("composes");
     assert_eq!(src.matches("struct Sym2").count(), 1, "Sym2 once");
     assert_eq!(src.matches("fn grad_w_ij").count(), 1, "pair once");
     let c = compose_mapped("<test>", "#import pair\n", &[]).expect("composes");
-    assert!(
-        c.source.contains("struct Sym2"),
-        "pair pulls in stress transitively"
-    );
+    assert!(c.source.contains("struct Sym2"), "pair pulls in stress transitively");
     validate(&c).expect("valid");
 }
 
-fn expect_compose_error(
-    r: Result<impl std::fmt::Debug, GpuError>,
-    file: &str,
-    line: usize,
-) -> String {
+fn expect_compose_error(r: Result<impl std::fmt::Debug, GpuError>, file: &str, line: usize) -> String {
     match r {
-        Err(GpuError::ShaderCompose {
-            file: f,
-            line: l,
-            msg,
-        }) => {
-            assert_eq!(
-                (f.as_str(), l),
-                (file, line),
-                "error located at the wrong place: {msg}"
-            );
+        Err(GpuError::ShaderCompose { file: f, line: l, msg }) => {
+            assert_eq!((f.as_str(), l), (file, line), "error located at the wrong place: {msg}");
             msg
         }
         other => panic!("expected a ShaderCompose error at {file}:{line}, got {other:?}"),
@@ -148,36 +96,12 @@ fn expect_compose_error(
 
 #[test]
 fn composer_errors_name_file_and_line() {
-    expect_compose_error(
-        compose_mapped("broken.wgsl", "fn a() {}\n#import nowhere\n", &[]),
-        "broken.wgsl",
-        2,
-    );
-    expect_compose_error(
-        compose_mapped("broken.wgsl", "\n\n#ifdef A\nfn a() {}\n", &[]),
-        "broken.wgsl",
-        3,
-    );
-    expect_compose_error(
-        compose_mapped("broken.wgsl", "#endif\n", &[]),
-        "broken.wgsl",
-        1,
-    );
-    expect_compose_error(
-        compose_mapped("broken.wgsl", "#ifdef A\n#else\n#else\n#endif\n", &[]),
-        "broken.wgsl",
-        3,
-    );
-    expect_compose_error(
-        compose_mapped("broken.wgsl", "#pragma once\n", &[]),
-        "broken.wgsl",
-        1,
-    );
-    expect_compose_error(
-        compose_variant_mapped("nope.wgsl", &[]),
-        "kernels-variants/nope.wgsl",
-        0,
-    );
+    expect_compose_error(compose_mapped("broken.wgsl", "fn a() {}\n#import nowhere\n", &[]), "broken.wgsl", 2);
+    expect_compose_error(compose_mapped("broken.wgsl", "\n\n#ifdef A\nfn a() {}\n", &[]), "broken.wgsl", 3);
+    expect_compose_error(compose_mapped("broken.wgsl", "#endif\n", &[]), "broken.wgsl", 1);
+    expect_compose_error(compose_mapped("broken.wgsl", "#ifdef A\n#else\n#else\n#endif\n", &[]), "broken.wgsl", 3);
+    expect_compose_error(compose_mapped("broken.wgsl", "#pragma once\n", &[]), "broken.wgsl", 1);
+    expect_compose_error(compose_variant_mapped("nope.wgsl", &[]), "kernels-variants/nope.wgsl", 0);
 }
 
 #[test]
@@ -188,12 +112,8 @@ fn naga_errors_are_mapped_back_to_the_original_line() {
     let msg = expect_compose_error(validate(&c).map(|_| ()), "broken.wgsl", 4);
     assert!(!msg.is_empty(), "naga message kept");
     // A syntax error is located the same way.
-    let c = compose_mapped(
-        "syntax.wgsl",
-        "#import kernel\nfn x() -> real { return real(1.0) }\n",
-        &[],
-    )
-    .expect("composes");
+    let c =
+        compose_mapped("syntax.wgsl", "#import kernel\nfn x() -> real { return real(1.0) }\n", &[]).expect("composes");
     expect_compose_error(validate(&c).map(|_| ()), "syntax.wgsl", 2);
     // Unknown flat lines fall back to a placeholder rather than panicking.
     assert_eq!(c.locate(usize::MAX).0, "<composed>");

@@ -54,9 +54,7 @@ fn ray_integral(f: &Frame) -> f64 {
 
 /// `Σ_i |∇C_i| Δx²`.
 fn grad_c_integral(f: &Frame) -> f64 {
-    (0..f.n_fluid)
-        .map(|i| f.grad_c[i][0].hypot(f.grad_c[i][1]))
-        .sum()
+    (0..f.n_fluid).map(|i| f.grad_c[i][0].hypot(f.grad_c[i][1])).sum()
 }
 
 /// One Laplace case: returns (ray integral, ∫|∇C|dA/(2πR)) and prints the diagnostics.
@@ -83,18 +81,9 @@ fn laplace_case(kernel: &str, hr: f64, r: f64) -> (f64, f64) {
 /// value (the table has 3 significant digits), inward, and ∫|∇C|dA/(2πR) within 2 %.
 fn check_against_spec(kernel: &str, hr: f64, r: f64, spec_ray: f64, spec_gc: f64) {
     let (ray, gc) = laplace_case(kernel, hr, r);
-    assert!(
-        ray < 0.0,
-        "{kernel} R={r}: the surface force must point inward, ray integral {ray}"
-    );
-    assert!(
-        (ray - spec_ray).abs() < 1.5e-3,
-        "{kernel} h={hr} R={r}: ray integral {ray:.5} vs spec {spec_ray}"
-    );
-    assert!(
-        ((gc - spec_gc) / spec_gc).abs() < 0.02,
-        "{kernel} h={hr} R={r}: ∫|∇C|dA/(2πR) = {gc:.4}, spec {spec_gc}"
-    );
+    assert!(ray < 0.0, "{kernel} R={r}: the surface force must point inward, ray integral {ray}");
+    assert!((ray - spec_ray).abs() < 1.5e-3, "{kernel} h={hr} R={r}: ray integral {ray:.5} vs spec {spec_ray}");
+    assert!(((gc - spec_gc) / spec_gc).abs() < 0.02, "{kernel} h={hr} R={r}: ∫|∇C|dA/(2πR) = {gc:.4}, spec {spec_gc}");
 }
 
 #[test]
@@ -155,14 +144,8 @@ fn laplace_ray_integral_is_linear_in_sigma() {
     let r0 = ray_integral(&f0);
     let (r1, r3) = (ray_integral(&f1) - r0, ray_integral(&f3) - r0);
     println!("ray integral: σ=0 {r0:.3e}, σ=1 {r1:.6}, σ=3 {r3:.6}");
-    assert!(
-        r0.abs() < 1e-10,
-        "without surface tension the lattice drop feels no force, ray integral {r0:e}"
-    );
-    assert!(
-        (r3 - 3.0 * r1).abs() < 1e-10,
-        "ray integral not linear in σ: {r1} vs {r3}/3"
-    );
+    assert!(r0.abs() < 1e-10, "without surface tension the lattice drop feels no force, ray integral {r0:e}");
+    assert!((r3 - 3.0 * r1).abs() < 1e-10, "ray integral not linear in σ: {r1} vs {r3}/3");
 }
 
 /// One evaluation of a periodic L×L box (Δx = 1), phase 0 below y = L/2, phase 1 above.
@@ -200,10 +183,7 @@ fn rows(f: &Frame, n: usize, val: impl Fn(usize) -> f64, tol: f64, what: &str) -
         let v = val(i);
         match row[k] {
             None => row[k] = Some(v),
-            Some(r) => assert!(
-                (r - v).abs() <= tol,
-                "{what}: row {k} not uniform: {r} vs {v} (particle {i})"
-            ),
+            Some(r) => assert!((r - v).abs() <= tol, "{what}: row {k} not uniform: {r} vs {v} (particle {i})"),
         }
     }
     row.into_iter().map(|r| r.unwrap()).collect()
@@ -217,19 +197,9 @@ fn flat_interface_colour_gradient_profile() {
     // phases as intended
     for i in 0..f.n_fluid {
         let want = if f.pos[i][1] < half as f64 { 0 } else { 1 };
-        assert_eq!(
-            f.phase[i], want,
-            "particle {i} at y={} has phase {}",
-            f.pos[i][1], f.phase[i]
-        );
+        assert_eq!(f.phase[i], want, "particle {i} at y={} has phase {}", f.pos[i][1], f.phase[i]);
     }
-    let gmag = rows(
-        &f,
-        n,
-        |i| f.grad_c[i][0].hypot(f.grad_c[i][1]),
-        1e-14,
-        "|∇C|",
-    );
+    let gmag = rows(&f, n, |i| f.grad_c[i][0].hypot(f.grad_c[i][1]), 1e-14, "|∇C|");
     let gx = rows(&f, n, |i| f.grad_c[i][0], 1e-14, "∇C_x");
     // rows half−1 (y = L/2 − ½, phase 0) and half (phase 1) are the first rows of the middle
     // interface; rows 0 and n−1 belong to the periodic interface at y = 0.
@@ -237,47 +207,27 @@ fn flat_interface_colour_gradient_profile() {
     let below: f64 = gmag[half - 4..half].iter().sum();
     let above: f64 = gmag[half..half + 4].iter().sum();
     println!("flat quintic: first rows {b1:.5}/{a1:.5} (spec 0.4628), second rows {b2:.5}/{a2:.5} (spec 0.0375), third {:.2e}", gmag[half - 3]);
-    println!("flat quintic: Σ rows below {below:.5}, above {above:.5} (spec 0.5004 each), total {:.5} (spec 1.0007)", below + above);
+    println!(
+        "flat quintic: Σ rows below {below:.5}, above {above:.5} (spec 0.5004 each), total {:.5} (spec 1.0007)",
+        below + above
+    );
     for (k, g) in gmag.iter().enumerate() {
-        let dist = ((k as f64 + 0.5) - half as f64)
-            .abs()
-            .min(k as f64 + 0.5)
-            .min(n as f64 - k as f64 - 0.5);
+        let dist = ((k as f64 + 0.5) - half as f64).abs().min(k as f64 + 0.5).min(n as f64 - k as f64 - 0.5);
         if dist > 3.0 {
-            assert_eq!(
-                *g, 0.0,
-                "row {k} is beyond the support from both interfaces but |∇C| = {g}"
-            );
+            assert_eq!(*g, 0.0, "row {k} is beyond the support from both interfaces but |∇C| = {g}");
         }
     }
-    assert!(
-        gx.iter().all(|g| g.abs() < 1e-14),
-        "∇C_x must vanish on a flat interface: {gx:?}"
-    );
-    assert!(
-        (b1 - 0.4628).abs() < 1e-3 && (a1 - 0.4628).abs() < 1e-3,
-        "first-row |∇C|Δx = {b1}/{a1}, spec 0.4628"
-    );
-    assert!(
-        (b2 - 0.0375).abs() < 1e-3 && (a2 - 0.0375).abs() < 1e-3,
-        "second-row |∇C|Δx = {b2}/{a2}, spec 0.0375"
-    );
+    assert!(gx.iter().all(|g| g.abs() < 1e-14), "∇C_x must vanish on a flat interface: {gx:?}");
+    assert!((b1 - 0.4628).abs() < 1e-3 && (a1 - 0.4628).abs() < 1e-3, "first-row |∇C|Δx = {b1}/{a1}, spec 0.4628");
+    assert!((b2 - 0.0375).abs() < 1e-3 && (a2 - 0.0375).abs() < 1e-3, "second-row |∇C|Δx = {b2}/{a2}, spec 0.0375");
     assert!(
         (below - 0.5004).abs() < 1e-3 && (above - 0.5004).abs() < 1e-3,
         "Σ rows per side {below}/{above}, spec 0.5004"
     );
-    assert!(
-        (below + above - 1.0007).abs() < 1e-3,
-        "Σ rows total {}, spec 1.0007",
-        below + above
-    );
+    assert!((below + above - 1.0007).abs() < 1e-3, "Σ rows total {}, spec 1.0007", below + above);
     // the gradient points from phase k to the other phase
-    let gy_below = f.grad_c[(0..f.n_fluid)
-        .find(|&i| f.pos[i][1] == half as f64 - 0.5)
-        .unwrap()][1];
-    let gy_above = f.grad_c[(0..f.n_fluid)
-        .find(|&i| f.pos[i][1] == half as f64 + 0.5)
-        .unwrap()][1];
+    let gy_below = f.grad_c[(0..f.n_fluid).find(|&i| f.pos[i][1] == half as f64 - 0.5).unwrap()][1];
+    let gy_above = f.grad_c[(0..f.n_fluid).find(|&i| f.pos[i][1] == half as f64 + 0.5).unwrap()][1];
     assert!(
         gy_below > 0.0 && gy_above < 0.0,
         "∇C must point towards the other phase: below {gy_below}, above {gy_above}"
@@ -288,19 +238,10 @@ fn flat_interface_colour_gradient_profile() {
 fn flat_interface_cubic_total() {
     let n = 24usize;
     let f = flat_frame(n as u32, "cubic-spline", 1.2, 1.0);
-    let gmag = rows(
-        &f,
-        n,
-        |i| f.grad_c[i][0].hypot(f.grad_c[i][1]),
-        1e-14,
-        "|∇C|",
-    );
+    let gmag = rows(&f, n, |i| f.grad_c[i][0].hypot(f.grad_c[i][1]), 1e-14, "|∇C|");
     let tot: f64 = gmag[n / 2 - 4..n / 2 + 4].iter().sum();
     println!("flat cubic h=1.2Δx: Σ rows {tot:.5} (spec 0.991)");
-    assert!(
-        (tot - 0.991).abs() < 1e-3,
-        "cubic flat interface Σ rows |∇C|Δx = {tot}, spec 0.991"
-    );
+    assert!((tot - 0.991).abs() < 1e-3, "cubic flat interface Σ rows |∇C|Δx = {tot}, spec 0.991");
 }
 
 #[test]
@@ -324,26 +265,20 @@ fn flat_interface_surface_force() {
     // ~B = ρ0c0²/γ with p_b = B, so the floor is ~1e-16·B ≈ 1e-14; a real tangential error
     // would be of the size of a_y)
     for (k, a) in ax.iter().enumerate() {
-        assert!(
-            a.abs() < 1e-12,
-            "row {k}: tangential surface acceleration {a:e} ≠ 0 on a flat interface"
-        );
+        assert!(a.abs() < 1e-12, "row {k}: tangential surface acceleration {a:e} ≠ 0 on a flat interface");
     }
     // (2) the net normal force across one interface vanishes (Π → 0 on both sides)
     let m = f1.mass[0];
     let net: f64 = ay[half - 5..half + 5].iter().map(|a| a * m).sum();
-    println!("flat quintic: net normal surface force per column across the interface {net:.3e} (max row |m a_y| {:.3e})", m * amax);
-    assert!(
-        net.abs() < 1e-13,
-        "net normal surface force per column {net:e} ≠ 0"
+    println!(
+        "flat quintic: net normal surface force per column across the interface {net:.3e} (max row |m a_y| {:.3e})",
+        m * amax
     );
+    assert!(net.abs() < 1e-13, "net normal surface force per column {net:e} ≠ 0");
     // (3) mirror symmetry about the interface: a_y(L/2 − d) = −a_y(L/2 + d)
     for d in 0..5 {
         let (b, a) = (ay[half - 1 - d], ay[half + d]);
-        assert!(
-            (a + b).abs() < 1e-13,
-            "a_y not antisymmetric about the interface at d={d}: {b:e} vs {a:e}"
-        );
+        assert!((a + b).abs() < 1e-13, "a_y not antisymmetric about the interface at d={d}: {b:e} vs {a:e}");
     }
     // The per-row normal force is NOT zero: the traceless I/d part of Π acts like a pressure
     // −σ|∇C|/2 inside the band (PHYSICS.md §5.6 note); it is balanced by pressure at rest.

@@ -59,11 +59,7 @@ fn check<T: Real>(
             o
         })
         .collect();
-    let (tol, floor) = if is64::<T>() {
-        (tol.1, 1e-300)
-    } else {
-        (tol.0, 1e-30)
-    };
+    let (tol, floor) = if is64::<T>() { (tol.1, 1e-300) } else { (tol.0, 1e-30) };
     compare(t.name, &gpu, &want, cases, tol, floor)
 }
 
@@ -94,10 +90,7 @@ fn with_gpu<T: Real>(f: fn(&GpuContext)) {
     let _guard = serial();
     let Some(ctx) = gpu_or_skip() else { return };
     if is64::<T>() && !ctx.has(wgpu::Features::SHADER_F64) {
-        let msg = format!(
-            "\n!!!!!!!! SKIP f64 twins: adapter lacks SHADER_F64 ({}) !!!!!!!!\n",
-            ctx.describe()
-        );
+        let msg = format!("\n!!!!!!!! SKIP f64 twins: adapter lacks SHADER_F64 ({}) !!!!!!!!\n", ctx.describe());
         let _ = std::io::Write::write_all(&mut std::io::stderr(), msg.as_bytes()); // not captured
         return;
     }
@@ -146,9 +139,7 @@ fn kernel_df_mag(kind: KernelKind, q: f64) -> f64 {
     let p4 = |a: f64| a.powi(4);
     match kind {
         KernelKind::CubicSpline if q < 1.0 => 3.0 * q + 2.25 * q * q,
-        KernelKind::Quintic if q < 1.0 => {
-            5.0 * p4(3.0 - q) + 30.0 * p4(2.0 - q) + 75.0 * p4(1.0 - q)
-        }
+        KernelKind::Quintic if q < 1.0 => 5.0 * p4(3.0 - q) + 30.0 * p4(2.0 - q) + 75.0 * p4(1.0 - q),
         KernelKind::Quintic if q < 2.0 => 5.0 * p4(3.0 - q) + 30.0 * p4(2.0 - q),
         _ => kernel::kernel_df(kind, q).abs(),
     }
@@ -158,13 +149,7 @@ fn kernel_df_mag(kind: KernelKind, q: f64) -> f64 {
 /// denormal values, then uniform over [0, κ + 0.5].
 fn q_samples<T: Real>(rng: &mut Rng, kind: KernelKind) -> Vec<T> {
     let kappa = kind.support_factor();
-    let mut q: Vec<T> = vec![
-        T::zero(),
-        T::c(1e-30),
-        T::c(1e-7),
-        T::c(kappa + 1e-3),
-        T::c(kappa + 0.5),
-    ];
+    let mut q: Vec<T> = vec![T::zero(), T::c(1e-30), T::c(1e-7), T::c(kappa + 1e-3), T::c(kappa + 0.5)];
     for knot in [1.0, 2.0, 3.0] {
         q.extend([T::c(knot), next(knot, true), next(knot, false)]);
     }
@@ -179,52 +164,18 @@ fn kernel_twins<T: Real>(ctx: &GpuContext) {
     let mut rng = Rng::new(0x5e4_1ab);
     let exp_tol = (TOL32_EXP, TOL64_VIA_F32);
     for kind in KernelKind::ALL {
-        let tol = if kind == KernelKind::Gaussian {
-            exp_tol
-        } else {
-            (TOL32, TOL64)
-        };
-        let cases: Vec<Case<T>> = q_samples::<T>(&mut rng, kind)
-            .into_iter()
-            .map(|q| Case::new(vec![q], vec![kind.id()]))
-            .collect();
+        let tol = if kind == KernelKind::Gaussian { exp_tol } else { (TOL32, TOL64) };
+        let cases: Vec<Case<T>> =
+            q_samples::<T>(&mut rng, kind).into_iter().map(|q| Case::new(vec![q], vec![kind.id()])).collect();
         let label = |f: &str| format!("{f}[{}]", kind.name());
         let body_f = "put(i, 0u, kernel_f(n(i, 0u), a(i, 0u)));";
-        check(
-            ctx,
-            Twin {
-                name: &label("kernel_f"),
-                module: "kernel",
-                body: body_f,
-                nout: 1,
-            },
-            &cases,
-            tol,
-            |c| {
-                vec![(
-                    kernel::kernel_f(kind, c.args[0]),
-                    T::c(kernel_f_mag(kind, c.args[0].f64())),
-                )]
-            },
-        );
+        check(ctx, Twin { name: &label("kernel_f"), module: "kernel", body: body_f, nout: 1 }, &cases, tol, |c| {
+            vec![(kernel::kernel_f(kind, c.args[0]), T::c(kernel_f_mag(kind, c.args[0].f64())))]
+        });
         let body_df = "put(i, 0u, kernel_df(n(i, 0u), a(i, 0u)));";
-        check(
-            ctx,
-            Twin {
-                name: &label("kernel_df"),
-                module: "kernel",
-                body: body_df,
-                nout: 1,
-            },
-            &cases,
-            tol,
-            |c| {
-                vec![(
-                    kernel::kernel_df(kind, c.args[0]),
-                    T::c(kernel_df_mag(kind, c.args[0].f64())),
-                )]
-            },
-        );
+        check(ctx, Twin { name: &label("kernel_df"), module: "kernel", body: body_df, nout: 1 }, &cases, tol, |c| {
+            vec![(kernel::kernel_df(kind, c.args[0]), T::c(kernel_df_mag(kind, c.args[0].f64())))]
+        });
         // W and ∂W/∂r: h log-uniform in [1e-3, 1], r = q h plus r = 0, h, 2h, 3h, support, past it.
         let mut cases = Vec::new();
         for k in 0..N {
@@ -237,56 +188,23 @@ fn kernel_twins<T: Real>(ctx: &GpuContext) {
                 5 => next(kp.support.f64(), true),
                 _ => kp.h * rng.range::<T>(0.0, kind.support_factor() + 0.5),
             };
-            cases.push(Case::new(
-                vec![kp.h, kp.inv_h, kp.alpha, kp.support, r],
-                vec![kind.id()],
-            ));
+            cases.push(Case::new(vec![kp.h, kp.inv_h, kp.alpha, kp.support, r], vec![kind.id()]));
         }
-        let params = |c: &Case<T>| KernelParams {
-            kind,
-            h: c.args[0],
-            inv_h: c.args[1],
-            alpha: c.args[2],
-            support: c.args[3],
-        };
+        let params =
+            |c: &Case<T>| KernelParams { kind, h: c.args[0], inv_h: c.args[1], alpha: c.args[2], support: c.args[3] };
         let q = |c: &Case<T>| (c.args[4] * c.args[1]).f64();
         let kp = "KernelParams(n(i, 0u), a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u))";
         let body_w = format!("put(i, 0u, kernel_w({kp}, a(i, 4u)));");
-        check(
-            ctx,
-            Twin {
-                name: &label("kernel_w"),
-                module: "kernel",
-                body: &body_w,
-                nout: 1,
-            },
-            &cases,
-            tol,
-            |c| {
-                let p = params(c);
-                vec![(
-                    kernel::kernel_w(&p, c.args[4]),
-                    T::c(p.alpha.f64() * kernel_f_mag(kind, q(c))),
-                )]
-            },
-        );
+        check(ctx, Twin { name: &label("kernel_w"), module: "kernel", body: &body_w, nout: 1 }, &cases, tol, |c| {
+            let p = params(c);
+            vec![(kernel::kernel_w(&p, c.args[4]), T::c(p.alpha.f64() * kernel_f_mag(kind, q(c))))]
+        });
         let body_dw = format!("put(i, 0u, kernel_dwdr({kp}, a(i, 4u)));");
-        check(
-            ctx,
-            Twin {
-                name: &label("kernel_dwdr"),
-                module: "kernel",
-                body: &body_dw,
-                nout: 1,
-            },
-            &cases,
-            tol,
-            |c| {
-                let p = params(c);
-                let mag = p.alpha.f64() * p.inv_h.f64() * kernel_df_mag(kind, q(c));
-                vec![(kernel::kernel_dwdr(&p, c.args[4]), T::c(mag))]
-            },
-        );
+        check(ctx, Twin { name: &label("kernel_dwdr"), module: "kernel", body: &body_dw, nout: 1 }, &cases, tol, |c| {
+            let p = params(c);
+            let mag = p.alpha.f64() * p.inv_h.f64() * kernel_df_mag(kind, q(c));
+            vec![(kernel::kernel_dwdr(&p, c.args[4]), T::c(mag))]
+        });
     }
 }
 
@@ -297,47 +215,24 @@ fn eos_twins<T: Real>(ctx: &GpuContext) {
     let mut rng = Rng::new(0xe05);
     let body = "put(i, 0u, eos_pressure(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a(i, 4u)));";
     // Whole γ (repeated multiplication on the GPU) and non-integer γ (pow, f32 in f64 builds).
-    for (gammas, tol) in [
-        (&[7.0, 1.0, 2.0, 3.0][..], (TOL32, TOL64)),
-        (&[1.4, 2.5, 7.5][..], (TOL32_TRANSC, TOL64_VIA_F32)),
-    ] {
+    for (gammas, tol) in
+        [(&[7.0, 1.0, 2.0, 3.0][..], (TOL32, TOL64)), (&[1.4, 2.5, 7.5][..], (TOL32_TRANSC, TOL64_VIA_F32))]
+    {
         let cases: Vec<Case<T>> = (0..N)
             .map(|k| {
                 let gamma = gammas[k % gammas.len()];
                 let rho0 = rng.range::<f64>(1.0, 1500.0);
                 let b = eos::eos_stiffness(rho0, rng.range::<f64>(1.0, 50.0), gamma);
-                let rho = if k < 8 {
-                    rho0
-                } else {
-                    rho0 * rng.range::<f64>(0.8, 1.2)
-                };
-                let p_b = if k % 3 == 0 {
-                    0.0
-                } else {
-                    rng.range::<f64>(0.0, 0.1 * b)
-                };
-                Case::new(
-                    vec![T::c(rho), T::c(rho0), T::c(b), T::c(gamma), T::c(p_b)],
-                    vec![],
-                )
+                let rho = if k < 8 { rho0 } else { rho0 * rng.range::<f64>(0.8, 1.2) };
+                let p_b = if k % 3 == 0 { 0.0 } else { rng.range::<f64>(0.0, 0.1 * b) };
+                Case::new(vec![T::c(rho), T::c(rho0), T::c(b), T::c(gamma), T::c(p_b)], vec![])
             })
             .collect();
-        check(
-            ctx,
-            Twin {
-                name: "eos_pressure",
-                module: "eos",
-                body,
-                nout: 1,
-            },
-            &cases,
-            tol,
-            |c| {
-                let [rho, rho0, b, gamma, p_b] = [0, 1, 2, 3, 4].map(|k| c.args[k]);
-                let mag = b.f64() * ((rho / rho0).f64().powf(gamma.f64()) + 1.0) + p_b.f64().abs();
-                vec![(eos::eos_pressure(rho, rho0, b, gamma, p_b), T::c(mag))]
-            },
-        );
+        check(ctx, Twin { name: "eos_pressure", module: "eos", body, nout: 1 }, &cases, tol, |c| {
+            let [rho, rho0, b, gamma, p_b] = [0, 1, 2, 3, 4].map(|k| c.args[k]);
+            let mag = b.f64() * ((rho / rho0).f64().powf(gamma.f64()) + 1.0) + p_b.f64().abs();
+            vec![(eos::eos_pressure(rho, rho0, b, gamma, p_b), T::c(mag))]
+        });
     }
 }
 
@@ -347,36 +242,18 @@ fn eos_twins<T: Real>(ctx: &GpuContext) {
 fn harness_catches_unwritten_and_wrong_outputs() {
     let _guard = serial();
     let Some(ctx) = gpu_or_skip() else { return };
-    let cases: Vec<Case<f32>> = (0..100)
-        .map(|k| Case::new(vec![k as f32 + 1.0], vec![]))
-        .collect();
-    let t = Twin {
-        name: "harness",
-        module: "kernel",
-        body: "if i != 37u { put(i, 0u, a(i, 0u)); }",
-        nout: 1,
-    };
+    let cases: Vec<Case<f32>> = (0..100).map(|k| Case::new(vec![k as f32 + 1.0], vec![])).collect();
+    let t = Twin { name: "harness", module: "kernel", body: "if i != 37u { put(i, 0u, a(i, 0u)); }", nout: 1 };
     let gpu = run_twin(&ctx, &t, &cases);
-    assert!(
-        gpu[37].is_nan() && gpu[36] == 37.0,
-        "element 37 unwritten, the others copied"
-    );
+    assert!(gpu[37].is_nan() && gpu[36] == 37.0, "element 37 unwritten, the others copied");
     let exact: Vec<(f32, f32)> = cases.iter().map(|c| (c.args[0], c.args[0])).collect();
-    let poisoned =
-        std::panic::catch_unwind(|| compare("harness", &gpu, &exact, &cases, TOL32, 1e-30));
-    assert!(
-        poisoned.is_err(),
-        "a NaN left by an unwritten element must fail"
-    );
+    let poisoned = std::panic::catch_unwind(|| compare("harness", &gpu, &exact, &cases, TOL32, 1e-30));
+    assert!(poisoned.is_err(), "a NaN left by an unwritten element must fail");
     let mut good = gpu.clone();
     good[37] = 38.0 * (1.0 + f32::EPSILON);
-    assert!(
-        compare("harness", &good, &exact, &cases, TOL32, 1e-30) < TOL32,
-        "one ulp passes"
-    );
+    assert!(compare("harness", &good, &exact, &cases, TOL32, 1e-30) < TOL32, "one ulp passes");
     good[37] = 38.001;
-    let wrong =
-        std::panic::catch_unwind(|| compare("harness", &good, &exact, &cases, TOL32, 1e-30));
+    let wrong = std::panic::catch_unwind(|| compare("harness", &good, &exact, &cases, TOL32, 1e-30));
     assert!(wrong.is_err(), "a 3e-5 relative error must fail");
 }
 

@@ -161,7 +161,11 @@ impl<T: Real> CpuSolver<T> {
         let overflow = f.contact_overflow;
         self.f = f;
         if overflow > 0 {
-            return Err(SolverError::ContactOverflow { step: self.step, count: MAX_CONTACTS + overflow, cap: MAX_CONTACTS });
+            return Err(SolverError::ContactOverflow {
+                step: self.step,
+                count: MAX_CONTACTS + overflow,
+                cap: MAX_CONTACTS,
+            });
         }
         Ok(())
     }

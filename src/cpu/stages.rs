@@ -202,7 +202,12 @@ pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         out
     });
     let mut all: Vec<ContactPoint<T>> = found.into_iter().flatten().collect();
-    all.sort_by(|a, b| a.r.x.partial_cmp(&b.r.x).unwrap_or(std::cmp::Ordering::Equal).then(a.s.partial_cmp(&b.s).unwrap_or(std::cmp::Ordering::Equal)));
+    all.sort_by(|a, b| {
+        a.r.x
+            .partial_cmp(&b.r.x)
+            .unwrap_or(std::cmp::Ordering::Equal)
+            .then(a.s.partial_cmp(&b.s).unwrap_or(std::cmp::Ordering::Equal))
+    });
     f.contact_overflow = all.len().saturating_sub(MAX_CONTACTS);
     all.truncate(MAX_CONTACTS);
     f.contacts = all;

@@ -69,10 +69,5 @@ pub struct Cap {
 pub fn equilibrium_cap(area_full_drop: f64, theta_rad: f64) -> Cap {
     let (s, c) = theta_rad.sin_cos();
     let radius = (area_full_drop / (theta_rad - s * c)).sqrt();
-    Cap {
-        radius,
-        x_tp: radius * s,
-        apex: radius * (1.0 - c),
-        centre_y: -radius * c,
-    }
+    Cap { radius, x_tp: radius * s, apex: radius * (1.0 - c), centre_y: -radius * c }
 }

@@ -53,14 +53,7 @@ fn midpoint(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 /// Interface point of the band `lo < y − y_w ≤ hi` (§10.1 [P]): the outermost liquid particle,
 /// moved to the midpoint towards its nearest gas neighbour of the same band if one lies within
 /// 1.5Δx.
-fn band_point(
-    pos: &[[f64; 2]],
-    phase: &[u32],
-    dx: f64,
-    y_w: f64,
-    lo: f64,
-    hi: f64,
-) -> Option<[f64; 2]> {
+fn band_point(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, lo: f64, hi: f64) -> Option<[f64; 2]> {
     let n = pos.len().min(phase.len());
     let in_band = |i: usize| {
         let s = pos[i][1] - y_w;
@@ -86,12 +79,7 @@ fn band_point(
 
 /// The two interface points (P1, P2) of §10.1: first row `(0, 1.2Δx]` and band
 /// `(1.5Δx, 2.5Δx]` above the wall. Useful for averaging over a time window.
-pub fn two_point_points(
-    pos: &[[f64; 2]],
-    phase: &[u32],
-    dx: f64,
-    y_w: f64,
-) -> Option<([f64; 2], [f64; 2])> {
+pub fn two_point_points(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<([f64; 2], [f64; 2])> {
     if !(dx > 0.0) {
         return None;
     }
@@ -119,18 +107,14 @@ pub fn interface_points(pos: &[[f64; 2]], phase: &[u32], dx: f64) -> Vec<[f64; 2
     };
     (0..pos.len().min(phase.len()))
         .filter(|&i| phase[i] == LIQUID)
-        .filter_map(|i| {
-            grid.nearest(pos, pos[i], r)
-                .map(|j| midpoint(pos[i], pos[j]))
-        })
+        .filter_map(|i| grid.nearest(pos, pos[i], r).map(|j| midpoint(pos[i], pos[j])))
         .collect()
 }
 
 /// Solves the 3×3 system `a x = b` by Cramer's rule; `None` if singular.
 fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
     let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
     };
     let d = det(a);
@@ -156,9 +140,7 @@ pub fn fit_circle(pts: &[[f64; 2]]) -> Option<(f64, f64, f64)> {
         return None;
     }
     let n = pts.len() as f64;
-    let (mx, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |s, p| (s.0 + p[0] / n, s.1 + p[1] / n));
+    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p[0] / n, s.1 + p[1] / n));
     // Kåsa on centred coordinates: u² + v² + D u + E v + F = 0.
     let (mut a, mut b) = ([[0.0; 3]; 3], [0.0; 3]);
     for p in pts {
@@ -197,11 +179,7 @@ pub fn fit_circle(pts: &[[f64; 2]]) -> Option<(f64, f64, f64)> {
         yc += step[1];
         rad += step[2];
     }
-    (rad > 0.0 && rad.is_finite() && xc.is_finite() && yc.is_finite()).then_some((
-        xc + mx,
-        yc + my,
-        rad,
-    ))
+    (rad > 0.0 && rad.is_finite() && xc.is_finite() && yc.is_finite()).then_some((xc + mx, yc + my, rad))
 }
 
 /// §10.2 circle fit of the interface points above `y_w + 3Δx`, mirrored to (−x, y).
@@ -209,10 +187,8 @@ pub fn circle_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<
     if !(dx > 0.0) {
         return None;
     }
-    let mut pts: Vec<[f64; 2]> = interface_points(pos, phase, dx)
-        .into_iter()
-        .filter(|p| p[1] - y_w >= 3.0 * dx)
-        .collect();
+    let mut pts: Vec<[f64; 2]> =
+        interface_points(pos, phase, dx).into_iter().filter(|p| p[1] - y_w >= 3.0 * dx).collect();
     if pts.len() < 3 {
         return None;
     }
@@ -224,14 +200,7 @@ pub fn circle_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<
     let (xc, yc, radius) = fit_circle(&pts)?;
     let c = ((y_w - yc) / radius).clamp(-1.0, 1.0);
     let half_width = xc + (radius * radius - (y_w - yc).powi(2)).max(0.0).sqrt();
-    Some(CircleFit {
-        theta_deg: c.acos().to_degrees(),
-        xc,
-        yc,
-        radius,
-        half_width,
-        n_points: pts.len(),
-    })
+    Some(CircleFit { theta_deg: c.acos().to_degrees(), xc, yc, radius, half_width, n_points: pts.len() })
 }
 
 /// `(θ − sinθcosθ)/sin²θ`: full-drop cap area divided by the squared contact half-width.
@@ -272,18 +241,8 @@ pub fn contact_half_width(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) ->
 
 /// All three §10 estimates. Liquid area = n_liquid·Δx², doubled when the simulated domain is
 /// mirrored at x = 0 (`mirrored`), so that it is the full-drop area §10.3 expects.
-pub fn measure_all(
-    pos: &[[f64; 2]],
-    phase: &[u32],
-    dx: f64,
-    y_w: f64,
-    mirrored: bool,
-) -> ContactAngles {
-    let n_liquid = phase
-        .iter()
-        .take(pos.len())
-        .filter(|&&p| p == LIQUID)
-        .count();
+pub fn measure_all(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, mirrored: bool) -> ContactAngles {
+    let n_liquid = phase.iter().take(pos.len()).filter(|&&p| p == LIQUID).count();
     let area = n_liquid as f64 * dx * dx * if mirrored { 2.0 } else { 1.0 };
     ContactAngles {
         two_point: two_point(pos, phase, dx, y_w),

@@ -20,12 +20,7 @@ pub fn kinetic_energy(mass: &[f64], vel: &[[f64; 2]], phase: &[u32], which_phase
 /// quarter drop). `[NaN, NaN]` when the phase has no (positive) mass.
 pub fn centroid(mass: &[f64], pos: &[[f64; 2]], phase: &[u32], which_phase: u32) -> [f64; 2] {
     let (mut m, mut mx, mut my) = (0.0, 0.0, 0.0);
-    for ((mi, p), _) in mass
-        .iter()
-        .zip(pos)
-        .zip(phase)
-        .filter(|(_, &ph)| ph == which_phase)
-    {
+    for ((mi, p), _) in mass.iter().zip(pos).zip(phase).filter(|(_, &ph)| ph == which_phase) {
         m += mi;
         mx += mi * p[0];
         my += mi * p[1];
@@ -53,12 +48,7 @@ pub fn mass_per_phase(mass: &[f64], phase: &[u32], n_phases: usize) -> Vec<f64> 
 pub fn max_density_error(rho: &[f64], rho0_of_phase: &[f64], phase: &[u32]) -> f64 {
     rho.iter()
         .zip(phase)
-        .filter_map(|(r, &p)| {
-            rho0_of_phase
-                .get(p as usize)
-                .filter(|_| p != WALL)
-                .map(|r0| (r / r0 - 1.0).abs())
-        })
+        .filter_map(|(r, &p)| rho0_of_phase.get(p as usize).filter(|_| p != WALL).map(|r0| (r / r0 - 1.0).abs()))
         .fold(0.0, f64::max)
 }
 
@@ -91,11 +81,7 @@ pub fn wall_shear_profile(
     }
     (0..bins)
         .map(|b| {
-            let mean = if cnt[b] > 0 {
-                sum[b] / cnt[b] as f64
-            } else {
-                0.0
-            };
+            let mean = if cnt[b] > 0 { sum[b] / cnt[b] as f64 } else { 0.0 };
             ((b as f64 + 0.5) / bins as f64, mean, cnt[b])
         })
         .collect()
@@ -172,10 +158,7 @@ pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
         return None;
     }
     let (t, x) = (&t[..n], &x[..n]);
-    let d2: f64 = (1..n - 1)
-        .map(|i| (x[i + 1] - 2.0 * x[i] + x[i - 1]).powi(2))
-        .sum::<f64>()
-        / (n - 2) as f64;
+    let d2: f64 = (1..n - 1).map(|i| (x[i + 1] - 2.0 * x[i] + x[i - 1]).powi(2)).sum::<f64>() / (n - 2) as f64;
     let h = 3.0 * (d2 / 6.0).sqrt(); // white noise: var(Δ²x) = 6σ²
     let per_sample = (t[n - 1] - t[0]) / (n - 1) as f64;
     let mut mean = x.iter().sum::<f64>() / n as f64;
@@ -200,12 +183,7 @@ pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
         let mut peaks = Vec::new(); // (refined time, sample index)
         for s in bounds.windows(2).filter(|s| s[1] > s[0] + 1) {
             let k = (s[0]..=s[1]).fold(s[0], |m, i| if smooth[i] > smooth[m] { i } else { m });
-            if k > s[0]
-                && k < s[1]
-                && smooth[k] > mean + h
-                && t[k] - w >= t[0]
-                && t[k] + w <= t[n - 1]
-            {
+            if k > s[0] && k < s[1] && smooth[k] > mean + h && t[k] - w >= t[0] && t[k] + w <= t[n - 1] {
                 peaks.push((refine_peak(t, x, k, w), k));
             }
         }
@@ -244,22 +222,11 @@ pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
     let (peaks, smooth, n_cycles) = found?;
     let half_range = |a: usize, b: usize| {
         let s = &smooth[a..=b];
-        0.5 * (s.iter().cloned().fold(f64::MIN, f64::max)
-            - s.iter().cloned().fold(f64::MAX, f64::min))
+        0.5 * (s.iter().cloned().fold(f64::MIN, f64::max) - s.iter().cloned().fold(f64::MAX, f64::min))
     };
-    let amplitude = peaks
-        .windows(2)
-        .map(|w| half_range(w[0].1, w[1].1))
-        .sum::<f64>()
-        / (peaks.len() - 1) as f64;
+    let amplitude = peaks.windows(2).map(|w| half_range(w[0].1, w[1].1)).sum::<f64>() / (peaks.len() - 1) as f64;
     let end = t.iter().position(|&ti| ti > t[0] + period).unwrap_or(n - 1);
-    Some(Oscillation {
-        period,
-        amplitude,
-        amplitude_first_cycle: half_range(0, end),
-        mean,
-        n_cycles,
-    })
+    Some(Oscillation { period, amplitude, amplitude_first_cycle: half_range(0, end), mean, n_cycles })
 }
 
 /// Time of the maximum near sample `k`: vertex of the least-squares parabola through the

@@ -65,15 +65,7 @@ impl GasGrid {
             ids[fill[k]] = i;
             fill[k] += 1;
         }
-        Some(Self {
-            x0,
-            y0,
-            cell,
-            nx,
-            ny,
-            start,
-            ids,
-        })
+        Some(Self { x0, y0, cell, nx, ny, start, ids })
     }
 
     /// Nearest gas particle within `r` (`r` ≤ cell size) of `p`.

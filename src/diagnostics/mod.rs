@@ -11,14 +11,11 @@ pub mod contact_angle;
 pub mod flow;
 mod gas_grid;
 
-pub use analytic_flows::{
-    drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap,
-};
+pub use analytic_flows::{drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap};
 pub use contact_angle::{
-    area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit,
-    ContactAngles,
+    area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit, ContactAngles,
 };
 pub use flow::{
-    centroid, kinetic_energy, mass_per_phase, max_density_error, max_normal_deviation, oscillation,
-    wall_shear_profile, Oscillation,
+    centroid, kinetic_energy, mass_per_phase, max_density_error, max_normal_deviation, oscillation, wall_shear_profile,
+    Oscillation,
 };

@@ -11,22 +11,14 @@ use bytemuck::Pod;
 use std::marker::PhantomData;
 
 /// Usage of every [`GpuVec`]: storage, copy source/destination.
-const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
-    .union(wgpu::BufferUsages::COPY_SRC)
-    .union(wgpu::BufferUsages::COPY_DST);
+const STORAGE: wgpu::BufferUsages =
+    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_SRC).union(wgpu::BufferUsages::COPY_DST);
 
 /// Checks `bytes` against the device's storage binding and buffer limits.
 fn check_size(ctx: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
-    let limit = ctx
-        .limits
-        .max_storage_buffer_binding_size
-        .min(ctx.limits.max_buffer_size);
+    let limit = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
     if bytes > limit {
-        return Err(GpuError::TooLarge {
-            what: what.to_string(),
-            bytes,
-            limit,
-        });
+        return Err(GpuError::TooLarge { what: what.to_string(), bytes, limit });
     }
     Ok(())
 }
@@ -50,11 +42,7 @@ impl<T: Pod> GpuVec<T> {
             usage: STORAGE,
             mapped_at_creation: false,
         });
-        Ok(Self {
-            buffer,
-            len,
-            _t: PhantomData,
-        })
+        Ok(Self { buffer, len, _t: PhantomData })
     }
 
     /// A buffer holding a copy of `data`.
@@ -130,10 +118,7 @@ impl<T: Pod> GpuVec<T> {
             .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         let out = {
-            let view = staging
-                .slice(..)
-                .get_mapped_range()
-                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            let view = staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
             bytemuck::pod_collect_to_vec(&view[..bytes as usize])
         };
         staging.unmap();
@@ -157,10 +142,7 @@ impl<T: Pod> Uniform<T> {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let u = Self {
-            buffer,
-            _t: PhantomData,
-        };
+        let u = Self { buffer, _t: PhantomData };
         u.write(ctx, value);
         u
     }

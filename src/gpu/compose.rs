@@ -63,9 +63,7 @@ pub static VARIANT_FILES: &[(&str, &str)] = &[
 
 /// The source of a shared module by import name (`kernel`, `kernel.wgsl` or `shaders/kernel.wgsl`).
 pub fn shader_source(name: &str) -> Option<&'static str> {
-    let name = name
-        .trim_start_matches("shaders/")
-        .trim_end_matches(".wgsl");
+    let name = name.trim_start_matches("shaders/").trim_end_matches(".wgsl");
     SHADERS.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
 }
 
@@ -81,10 +79,7 @@ pub struct Composed {
 impl Composed {
     /// File and line of the 1-based flat line `line` (`("<prelude>", n)` for the prelude).
     pub fn locate(&self, line: usize) -> (String, usize) {
-        self.origin
-            .get(line.wrapping_sub(1))
-            .cloned()
-            .unwrap_or_else(|| ("<composed>".to_string(), line))
+        self.origin.get(line.wrapping_sub(1)).cloned().unwrap_or_else(|| ("<composed>".to_string(), line))
     }
 
     fn push(&mut self, file: &str, line: usize, text: &str) {
@@ -107,11 +102,8 @@ pub fn compose_variant(path: &str, defines: &[&str]) -> Result<String, GpuError>
 /// [`compose_variant`] keeping the line origins.
 pub fn compose_variant_mapped(path: &str, defines: &[&str]) -> Result<Composed, GpuError> {
     let path = path.trim_start_matches("kernels-variants/");
-    let src = VARIANT_FILES
-        .iter()
-        .find(|(p, _)| *p == path)
-        .map(|(_, s)| *s)
-        .ok_or_else(|| GpuError::ShaderCompose {
+    let src =
+        VARIANT_FILES.iter().find(|(p, _)| *p == path).map(|(_, s)| *s).ok_or_else(|| GpuError::ShaderCompose {
             file: format!("kernels-variants/{path}"),
             line: 0,
             msg: "no such embedded variant file".into(),
@@ -120,21 +112,10 @@ pub fn compose_variant_mapped(path: &str, defines: &[&str]) -> Result<Composed, 
 }
 
 /// Composes `entry_source` (named `file` in errors) and keeps the line origins.
-pub fn compose_mapped(
-    file: &str,
-    entry_source: &str,
-    defines: &[&str],
-) -> Result<Composed, GpuError> {
-    let mut out = Composed {
-        source: String::new(),
-        origin: Vec::new(),
-    };
+pub fn compose_mapped(file: &str, entry_source: &str, defines: &[&str]) -> Result<Composed, GpuError> {
+    let mut out = Composed { source: String::new(), origin: Vec::new() };
     let ty = if defines.contains(&F64) { "f64" } else { "f32" };
-    out.push(
-        "<prelude>",
-        1,
-        "// sphlab composed WGSL; precision prelude:",
-    );
+    out.push("<prelude>", 1, "// sphlab composed WGSL; precision prelude:");
     out.push("<prelude>", 2, &format!("alias real = {ty};"));
     out.push("<prelude>", 3, &format!("alias real2 = vec2<{ty}>;"));
     let mut seen = HashSet::new();
@@ -157,11 +138,7 @@ fn expand(
     seen: &mut HashSet<String>,
     out: &mut Composed,
 ) -> Result<(), GpuError> {
-    let err = |line: usize, msg: String| GpuError::ShaderCompose {
-        file: file.to_string(),
-        line,
-        msg,
-    };
+    let err = |line: usize, msg: String| GpuError::ShaderCompose { file: file.to_string(), line, msg };
     let mut stack: Vec<Cond> = Vec::new();
     for (k, text) in src.lines().enumerate() {
         let line = k + 1;
@@ -185,9 +162,7 @@ fn expand(
                     continue;
                 }
                 let name = name.trim_matches('"');
-                let key = name
-                    .trim_start_matches("shaders/")
-                    .trim_end_matches(".wgsl");
+                let key = name.trim_start_matches("shaders/").trim_end_matches(".wgsl");
                 // `common/x` names a shared file of kernels-variants/ (one that may hold the
                 // bindings of the solver stages, which shaders/ modules must not).
                 let (body, path) = if let Some(rest) = key.strip_prefix("common/") {
@@ -210,12 +185,7 @@ fn expand(
             ("ifdef" | "ifndef", Some(name)) => {
                 let set = defines.contains(&name);
                 let cond = if directive == "ifdef" { set } else { !set };
-                stack.push(Cond {
-                    line,
-                    keep: active && cond,
-                    parent_keep: active,
-                    in_else: false,
-                });
+                stack.push(Cond { line, keep: active && cond, parent_keep: active, in_else: false });
             }
             ("else", None) => match stack.last_mut() {
                 Some(c) if !c.in_else => {
@@ -230,12 +200,7 @@ fn expand(
                     return Err(err(line, "`#endif` without `#ifdef`".into()));
                 }
             }
-            _ => {
-                return Err(err(
-                    line,
-                    format!("unknown or malformed directive `{}`", trimmed.trim_end()),
-                ))
-            }
+            _ => return Err(err(line, format!("unknown or malformed directive `{}`", trimmed.trim_end()))),
         }
     }
     if let Some(c) = stack.last() {
@@ -250,14 +215,11 @@ pub fn validate(composed: &Composed) -> Result<wgpu::naga::Module, GpuError> {
     use wgpu::naga::{front::wgsl, valid};
     let src = &composed.source;
     let at = |loc: Option<wgpu::naga::SourceLocation>, msg: String| {
-        let (file, line) = loc.map_or(("<composed>".to_string(), 0), |l| {
-            composed.locate(l.line_number as usize)
-        });
+        let (file, line) = loc.map_or(("<composed>".to_string(), 0), |l| composed.locate(l.line_number as usize));
         GpuError::ShaderCompose { file, line, msg }
     };
     let module = wgsl::parse_str(src).map_err(|e| at(e.location(src), e.emit_to_string(src)))?;
     let mut v = valid::Validator::new(valid::ValidationFlags::all(), valid::Capabilities::all());
-    v.validate(&module)
-        .map_err(|e| at(e.location(src), e.emit_to_string(src)))?;
+    v.validate(&module).map_err(|e| at(e.location(src), e.emit_to_string(src)))?;
     Ok(module)
 }

@@ -17,8 +17,7 @@ pub const OPTIONAL_FEATURES: Features = Features::SHADER_F64
 
 /// True when a missing GPU must fail instead of skip: `SPHLAB_REQUIRE_GPU=1` or `CI=true`.
 pub fn gpu_required() -> bool {
-    std::env::var("SPHLAB_REQUIRE_GPU").is_ok_and(|v| v == "1")
-        || std::env::var("CI").is_ok_and(|v| v == "true")
+    std::env::var("SPHLAB_REQUIRE_GPU").is_ok_and(|v| v == "1") || std::env::var("CI").is_ok_and(|v| v == "true")
 }
 
 /// A headless device and queue with what was negotiated.
@@ -43,8 +42,7 @@ impl GpuContext {
     }
 
     async fn new_async() -> Result<Self, GpuError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = instance
             .request_adapter(&wgpu::RequestAdapterOptions {
                 power_preference: wgpu::PowerPreference::HighPerformance,
@@ -88,10 +86,7 @@ impl GpuContext {
     /// One line: "name (backend, device type, driver, driver_info)".
     pub fn describe(&self) -> String {
         let i = &self.adapter_info;
-        format!(
-            "{} ({:?}, {:?}, {}, {})",
-            i.name, i.backend, i.device_type, i.driver, i.driver_info
-        )
+        format!("{} ({:?}, {:?}, {}, {})", i.name, i.backend, i.device_type, i.driver, i.driver_info)
     }
 
     /// True when the device has every feature in `f`.
@@ -127,12 +122,7 @@ impl GpuContext {
     }
 
     /// Builds a compute pipeline (auto layout) from flat WGSL; a bad shader is an `Err`.
-    pub fn compute_pipeline(
-        &self,
-        label: &str,
-        wgsl: &str,
-        entry: &str,
-    ) -> Result<wgpu::ComputePipeline, GpuError> {
+    pub fn compute_pipeline(&self, label: &str, wgsl: &str, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
         self.scoped(|d| {
             let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
@@ -158,10 +148,7 @@ impl GpuContext {
         let entries: Vec<_> = buffers
             .iter()
             .enumerate()
-            .map(|(k, b)| wgpu::BindGroupEntry {
-                binding: k as u32,
-                resource: b.as_entire_binding(),
-            })
+            .map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() })
             .collect();
         self.scoped(|d| {
             d.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -13,7 +13,13 @@ impl<T: Real> GpuSolver<T> {
     /// Uploads CPU-produced inputs, runs the neighbour search and ONE named stage, and reads every
     /// field back. The stage's pure outputs are poisoned first (NaN, 0xFFFFFFFF), so an element the
     /// kernel forgets to write shows up in the comparison.
-    pub fn run_stage_from(&mut self, pos: &[V2<T>], vel: &[V2<T>], f: &Fields<T>, stage: &str) -> Result<Fields<T>, GpuError> {
+    pub fn run_stage_from(
+        &mut self,
+        pos: &[V2<T>],
+        vel: &[V2<T>],
+        f: &Fields<T>,
+        stage: &str,
+    ) -> Result<Fields<T>, GpuError> {
         let ctx = &*self.ctx;
         let b = &self.b;
         b.pos.upload(ctx, pos)?;
@@ -94,7 +100,9 @@ impl<T: Real> GpuSolver<T> {
             pi: b.pi.read_back(ctx)?.iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
             acc: b.acc.read_back(ctx)?,
             vt: b.vt.read_back(ctx)?,
-            contacts: (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
+            contacts: (0..kept)
+                .map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] })
+                .collect(),
             contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
         })
     }

@@ -350,7 +350,12 @@ impl<T: Real> Backend for GpuSolver<T> {
 }
 
 /// A boxed GPU backend for `spec` in its precision.
-pub fn new_backend(ctx: Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec) -> Result<Box<dyn Backend>, GpuError> {
+pub fn new_backend(
+    ctx: Arc<GpuContext>,
+    scene: &Scene,
+    layout: &Layout,
+    spec: VariantSpec,
+) -> Result<Box<dyn Backend>, GpuError> {
     Ok(match spec.precision {
         super::variant::Precision::F32 => Box::new(GpuSolver::<f32>::new(ctx, scene, layout, spec)?),
         super::variant::Precision::F64 => Box::new(GpuSolver::<f64>::new(ctx, scene, layout, spec)?),

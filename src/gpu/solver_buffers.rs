@@ -138,7 +138,11 @@ pub fn layouts(ctx: &GpuContext) -> Result<(wgpu::BindGroupLayout, wgpu::Pipelin
     let mut entries = vec![wgpu::BindGroupLayoutEntry {
         binding: 0,
         visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
         count: None,
     }];
     for k in 1..=N_STORAGE {
@@ -154,7 +158,10 @@ pub fn layouts(ctx: &GpuContext) -> Result<(wgpu::BindGroupLayout, wgpu::Pipelin
         });
     }
     ctx.scoped(|d| {
-        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("sphlab.state"), entries: &entries });
+        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sphlab.state"),
+            entries: &entries,
+        });
         let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sphlab.state"),
             bind_group_layouts: &[Some(&bgl)],

@@ -161,7 +161,8 @@ impl VariantSpec {
     /// `Err(reason)` when the adapter lacks a feature or a limit this variant needs.
     pub fn support(&self, ctx: &GpuContext) -> Result<(), String> {
         if self.mapping != Mapping::Thread {
-            let (inv, wgs) = (ctx.limits.max_compute_invocations_per_workgroup, ctx.limits.max_compute_workgroup_size_y);
+            let (inv, wgs) =
+                (ctx.limits.max_compute_invocations_per_workgroup, ctx.limits.max_compute_workgroup_size_y);
             if inv < 512 || wgs < 32 {
                 return Err(format!(
                     "{self}: the 16 × 32 block layout needs 512 invocations per workgroup (adapter: {inv}, y size {wgs})"
@@ -247,7 +248,12 @@ mod tests {
         }
         assert_eq!(VariantSpec::default().to_string(), DEFAULT_VARIANT);
         assert!("tracking.block-atomic.fixed.cached.f32".parse::<VariantSpec>().is_ok());
-        for bad in ["cells.thread.cas.recomputed.f32", "cells.block-tree.recomputed.f32", "x", "cells.thread.none.recomputed.f32"] {
+        for bad in [
+            "cells.thread.cas.recomputed.f32",
+            "cells.block-tree.recomputed.f32",
+            "x",
+            "cells.thread.none.recomputed.f32",
+        ] {
             assert!(bad.parse::<VariantSpec>().is_err(), "{bad}");
         }
     }

@@ -35,7 +35,8 @@ impl<T: Real> CellGrid<T> {
         let inv_cell = T::one() / cell;
         let nx = (((hi.x - origin.x) * inv_cell).to_f64().unwrap_or(0.0).floor() as i64 + 2).max(1);
         let ny = (((hi.y - origin.y) * inv_cell).to_f64().unwrap_or(0.0).floor() as i64 + 2).max(1);
-        let mut g = Self { origin, inv_cell, nx, ny, start: vec![0; (nx * ny + 1) as usize], sorted: vec![0; pos.len()] };
+        let mut g =
+            Self { origin, inv_cell, nx, ny, start: vec![0; (nx * ny + 1) as usize], sorted: vec![0; pos.len()] };
         let ids: Vec<usize> = pos.iter().map(|&p| g.cell_of(p)).collect();
         for &c in &ids {
             g.start[c + 1] += 1;

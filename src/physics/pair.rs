@@ -54,13 +54,7 @@ pub fn colour_gradient_ij<T: Real>(inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
 
 /// Surface term of (T76): `+(Π_i/σ_i² + Π_j/σ_j²) · ∇_iW_ij`. Sum over j, then × 1/m_i.
 #[inline(always)]
-pub fn surface_acc_ij<T: Real>(
-    pi_i: Sym2<T>,
-    inv_s2_i: T,
-    pi_j: Sym2<T>,
-    inv_s2_j: T,
-    grad_w: V2<T>,
-) -> V2<T> {
+pub fn surface_acc_ij<T: Real>(pi_i: Sym2<T>, inv_s2_i: T, pi_j: Sym2<T>, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
     (pi_i * inv_s2_i + pi_j * inv_s2_j).mul_vec(grad_w)
 }
 

@@ -42,7 +42,9 @@ fn fluid_pb(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
 pub fn oscillating_drop() -> Scene {
     Scene {
         name: "oscillating-drop".into(),
-        description: "Thesis §4.2.1 / Fig. 4.1: oscillating 2D drop (Adami 2010 rod), quarter domain with two symmetry planes".into(),
+        description:
+            "Thesis §4.2.1 / Fig. 4.1: oscillating 2D drop (Adami 2010 rod), quarter domain with two symmetry planes"
+                .into(),
         domain: Domain {
             x: [0.0, 0.5],
             y: [0.0, 0.5],
@@ -171,7 +173,8 @@ pub fn impact(theta_deg: f64) -> Scene {
 pub fn poiseuille() -> Scene {
     Scene {
         name: "poiseuille".into(),
-        description: "Single phase: body-force-driven Poiseuille flow between no-slip plates, periodic ends (Morris 1997)".into(),
+        description:
+            "Single phase: body-force-driven Poiseuille flow between no-slip plates, periodic ends (Morris 1997)".into(),
         domain: Domain {
             x: [0.0, 0.4],
             y: [0.0, 1.0],

@@ -168,7 +168,15 @@ pub struct Shape {
 impl Shape {
     /// A circle of `phase`.
     pub fn circle(centre: [f64; 2], radius: f64, phase: &str, velocity: [f64; 2]) -> Self {
-        Self { kind: ShapeKind::Circle, centre: Some(centre), radius: Some(radius), min: None, max: None, phase: phase.into(), velocity }
+        Self {
+            kind: ShapeKind::Circle,
+            centre: Some(centre),
+            radius: Some(radius),
+            min: None,
+            max: None,
+            phase: phase.into(),
+            velocity,
+        }
     }
     /// True when `(x, y)` lies inside (circle: |r − c| < R; rectangle: min ≤ r < max).
     pub fn contains(&self, x: f64, y: f64) -> bool {
@@ -542,7 +550,10 @@ impl Scene {
                     return Err(err("contact.mode", "a contact-angle mode needs [surface_tension]"));
                 }
                 if !self.domain.bottom.is_wall() {
-                    return Err(err("contact.mode", "the contact line lives on the bottom wall, which must be no-slip or free-slip"));
+                    return Err(err(
+                        "contact.mode",
+                        "the contact line lives on the bottom wall, which must be no-slip or free-slip",
+                    ));
                 }
             }
         }

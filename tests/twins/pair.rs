@@ -17,45 +17,22 @@ pub fn rand_vec<T: Real>(rng: &mut Rng, lo: f64, hi: f64) -> Vec<T> {
 pub fn pair_twins<T: Real>(ctx: &GpuContext) {
     let mut rng = Rng::new(0x9a1e);
     let tol = (TOL32, TOL64);
-    let pair = |name, body, nout| Twin {
-        name,
-        module: "pair",
-        body,
-        nout,
-    };
+    let pair = |name, body, nout| Twin { name, module: "pair", body, nout };
     let vabs = |v: V2<T>| V2::new(v.x.abs(), v.y.abs());
 
     // grad_w_ij(dwdr, x_ij, r): r = |x_ij|, edge x_ij = 0 (r = 0) and dwdr = 0.
     let cases: Vec<Case<T>> = (0..N)
         .map(|k| {
-            let x: Vec<T> = if k == 0 {
-                vec![T::zero(); 2]
-            } else {
-                rand_vec(&mut rng, 1e-5, 0.03)
-            };
+            let x: Vec<T> = if k == 0 { vec![T::zero(); 2] } else { rand_vec(&mut rng, 1e-5, 0.03) };
             let r = V2::new(x[0], x[1]).norm();
-            let dwdr = if k == 1 {
-                T::zero()
-            } else {
-                -rng.signed_log::<T>(1e-2, 1e6).abs()
-            };
+            let dwdr = if k == 1 { T::zero() } else { -rng.signed_log::<T>(1e-2, 1e6).abs() };
             Case::new(vec![dwdr, x[0], x[1], r], vec![])
         })
         .collect();
-    check(
-        ctx,
-        pair(
-            "grad_w_ij",
-            "put2(i, 0u, grad_w_ij(a(i, 0u), a2(i, 1u), a(i, 3u)));",
-            2,
-        ),
-        &cases,
-        tol,
-        |c| {
-            let g = pair::grad_w_ij(c.args[0], v2(c, 1), c.args[3]);
-            mv(g, g).to_vec()
-        },
-    );
+    check(ctx, pair("grad_w_ij", "put2(i, 0u, grad_w_ij(a(i, 0u), a2(i, 1u), a(i, 3u)));", 2), &cases, tol, |c| {
+        let g = pair::grad_w_ij(c.args[0], v2(c, 1), c.args[3]);
+        mv(g, g).to_vec()
+    });
     let grads = cases.clone();
 
     // pressure_acc_ij(p_i, inv_s2_i, p_j, inv_s2_j, grad_w): p of either sign (cancellation).
@@ -65,21 +42,14 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
             let g = pair::grad_w_ij(g.args[0], v2(g, 1), g.args[3]);
             let p = |r: &mut Rng| r.signed_log::<T>(1e-2, 1e5);
             let s = |r: &mut Rng| r.signed_log::<T>(1e2, 1e8).abs();
-            Case::new(
-                vec![p(&mut rng), s(&mut rng), p(&mut rng), s(&mut rng), g.x, g.y],
-                vec![],
-            )
+            Case::new(vec![p(&mut rng), s(&mut rng), p(&mut rng), s(&mut rng), g.x, g.y], vec![])
         })
         .collect();
     let body = "put2(i, 0u, pressure_acc_ij(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a2(i, 4u)));";
     check(ctx, pair("pressure_acc_ij", body, 2), &cases, tol, |c| {
         let [pi, si, pj, sj] = [0, 1, 2, 3].map(|k| c.args[k]);
         let g = v2(c, 4);
-        mv(
-            pair::pressure_acc_ij(pi, si, pj, sj, g),
-            vabs(g) * ((pi * si).abs() + (pj * sj).abs()),
-        )
-        .to_vec()
+        mv(pair::pressure_acc_ij(pi, si, pj, sj, g), vabs(g) * ((pi * si).abs() + (pj * sj).abs())).to_vec()
     });
 
     // harmonic_viscosity(eta_i, eta_j): edges (0, 0) → 0 and (0, η).
@@ -87,22 +57,12 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
         .map(|k| {
             let e = |r: &mut Rng| r.signed_log::<T>(1e-6, 10.0).abs();
             let (a, b) = (e(&mut rng), e(&mut rng));
-            Case::new(
-                vec![
-                    if k < 2 { T::zero() } else { a },
-                    if k == 0 { T::zero() } else { b },
-                ],
-                vec![],
-            )
+            Case::new(vec![if k < 2 { T::zero() } else { a }, if k == 0 { T::zero() } else { b }], vec![])
         })
         .collect();
     check(
         ctx,
-        pair(
-            "harmonic_viscosity",
-            "put(i, 0u, harmonic_viscosity(a(i, 0u), a(i, 1u)));",
-            1,
-        ),
+        pair("harmonic_viscosity", "put(i, 0u, harmonic_viscosity(a(i, 0u), a(i, 1u)));", 1),
         &cases,
         tol,
         |c| vec![m(pair::harmonic_viscosity(c.args[0], c.args[1]))],
@@ -112,32 +72,18 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
     let cases: Vec<Case<T>> = (0..N)
         .map(|k| {
             let h = rng.signed_log::<f64>(1e-3, 1e-1).abs();
-            let r = if k == 0 {
-                0.0
-            } else {
-                h * rng.range::<f64>(0.0, 3.0)
-            };
-            Case::new(
-                vec![-rng.signed_log::<T>(1e-2, 1e6).abs(), T::c(r), T::c(h)],
-                vec![],
-            )
+            let r = if k == 0 { 0.0 } else { h * rng.range::<f64>(0.0, 3.0) };
+            Case::new(vec![-rng.signed_log::<T>(1e-2, 1e6).abs(), T::c(r), T::c(h)], vec![])
         })
         .collect();
     check(
         ctx,
-        pair(
-            "viscous_fac_ij",
-            "put(i, 0u, viscous_fac_ij(a(i, 0u), a(i, 1u), a(i, 2u)));",
-            1,
-        ),
+        pair("viscous_fac_ij", "put(i, 0u, viscous_fac_ij(a(i, 0u), a(i, 1u), a(i, 2u)));", 1),
         &cases,
         tol,
         |c| vec![m(pair::viscous_fac_ij(c.args[0], c.args[1], c.args[2]))],
     );
-    let facs: Vec<T> = cases
-        .iter()
-        .map(|c| pair::viscous_fac_ij(c.args[0], c.args[1], c.args[2]))
-        .collect();
+    let facs: Vec<T> = cases.iter().map(|c| pair::viscous_fac_ij(c.args[0], c.args[1], c.args[2])).collect();
 
     // viscous_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij).
     let cases: Vec<Case<T>> = facs
@@ -146,14 +92,7 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
             let pos = |r: &mut Rng, lo, hi| r.signed_log::<T>(lo, hi).abs();
             let v = rand_vec::<T>(&mut rng, 1e-4, 10.0);
             Case::new(
-                vec![
-                    pos(&mut rng, 1e-6, 1.0),
-                    pos(&mut rng, 1e2, 1e8),
-                    pos(&mut rng, 1e2, 1e8),
-                    fac,
-                    v[0],
-                    v[1],
-                ],
+                vec![pos(&mut rng, 1e-6, 1.0), pos(&mut rng, 1e2, 1e8), pos(&mut rng, 1e2, 1e8), fac, v[0], v[1]],
                 vec![],
             )
         })
@@ -171,26 +110,13 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
             let g = pair::grad_w_ij(g.args[0], v2(g, 1), g.args[3]);
             let s = |r: &mut Rng| r.signed_log::<T>(1e2, 1e8).abs();
             let pi = |r: &mut Rng| r.signed_log::<T>(1e-6, 1e2);
-            let a = vec![
-                pi(&mut rng),
-                pi(&mut rng),
-                s(&mut rng),
-                pi(&mut rng),
-                pi(&mut rng),
-                s(&mut rng),
-                g.x,
-                g.y,
-            ];
+            let a = vec![pi(&mut rng), pi(&mut rng), s(&mut rng), pi(&mut rng), pi(&mut rng), s(&mut rng), g.x, g.y];
             Case::new(a, vec![])
         })
         .collect();
     check(
         ctx,
-        pair(
-            "colour_gradient_ij",
-            "put2(i, 0u, colour_gradient_ij(a(i, 2u), a2(i, 6u)));",
-            2,
-        ),
+        pair("colour_gradient_ij", "put2(i, 0u, colour_gradient_ij(a(i, 2u), a2(i, 6u)));", 2),
         &cases,
         tol,
         |c| {
@@ -205,10 +131,7 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
         let g = v2(c, 6);
         let xx = (pi.xx * a(2)).abs() + (pj.xx * a(5)).abs();
         let xy = (pi.xy * a(2)).abs() + (pj.xy * a(5)).abs();
-        let mag = V2::new(
-            xx * g.x.abs() + xy * g.y.abs(),
-            xy * g.x.abs() + xx * g.y.abs(),
-        );
+        let mag = V2::new(xx * g.x.abs() + xy * g.y.abs(), xy * g.x.abs() + xx * g.y.abs());
         mv(pair::surface_acc_ij(pi, a(2), pj, a(5), g), mag).to_vec()
     });
 
@@ -217,20 +140,9 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
         .map(|k| {
             let pos = |r: &mut Rng, lo, hi| r.signed_log::<T>(lo, hi).abs();
             let v = rand_vec::<T>(&mut rng, 1e-4, 10.0);
-            let w = if k == 0 {
-                T::zero()
-            } else {
-                pos(&mut rng, 1e-3, 1e5)
-            };
+            let w = if k == 0 { T::zero() } else { pos(&mut rng, 1e-3, 1e5) };
             Case::new(
-                vec![
-                    pos(&mut rng, 1e-6, 1.0),
-                    pos(&mut rng, 0.5, 2e3),
-                    pos(&mut rng, 0.5, 2e3),
-                    v[0],
-                    v[1],
-                    w,
-                ],
+                vec![pos(&mut rng, 1e-6, 1.0), pos(&mut rng, 0.5, 2e3), pos(&mut rng, 0.5, 2e3), v[0], v[1], w],
                 vec![],
             )
         })
