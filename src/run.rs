@@ -88,8 +88,8 @@ impl Default for RunOptions {
     }
 }
 
-/// One row of `series.csv`.
-#[derive(Clone, Debug, Serialize, Default)]
+/// One row of `series.csv` (read back by `validate`).
+#[derive(Clone, Debug, Serialize, serde::Deserialize, Default)]
 pub struct SeriesRow {
     /// Time.
     pub t: f64,

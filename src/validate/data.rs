@@ -5,38 +5,8 @@ use crate::scene::build::WALL;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// One `series.csv` row (the columns of [`crate::run::SeriesRow`]).
-#[derive(Clone, Debug, Deserialize)]
-pub struct Row {
-    /// Time.
-    pub t: f64,
-    /// Step.
-    pub step: u64,
-    /// Liquid kinetic energy.
-    pub kinetic_energy: f64,
-    /// Liquid centroid x.
-    pub centroid_x: f64,
-    /// Liquid centroid y.
-    pub centroid_y: f64,
-    /// Mass of phase 0.
-    pub mass_phase0: f64,
-    /// Mass of phase 1.
-    pub mass_phase1: f64,
-    /// max |ρ/ρ0 − 1|.
-    pub max_density_error: f64,
-    /// Max fluid speed.
-    pub max_speed: f64,
-    /// Two-point angle.
-    pub theta_two_point: Option<f64>,
-    /// Circle-fit angle.
-    pub theta_circle_fit: Option<f64>,
-    /// Area-inversion angle.
-    pub theta_area: Option<f64>,
-    /// Contact half-width.
-    pub x_tp: Option<f64>,
-    /// D/D0.
-    pub spread_factor: Option<f64>,
-}
+/// One `series.csv` row: the row type `sphlab run` writes.
+pub type Row = crate::run::SeriesRow;
 
 /// Reads `dir/series.csv` (rows that fail to parse, e.g. a half-written last line, end it).
 pub fn read_series(dir: &Path) -> Vec<Row> {
