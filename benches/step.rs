@@ -16,7 +16,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use sphlab::backend::Backend;
 use sphlab::run::{make_backend, RunOptions};
-use sphlab::scene::build::build_layout;
+use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use std::time::{Duration, Instant};
 
@@ -55,6 +55,36 @@ fn backends() -> Vec<(String, RunOptions)> {
     v
 }
 
+/// Builds a backend and takes one warm-up step (pipelines, neighbour structures); `None` with
+/// the reason printed when it cannot run.
+fn warm(
+    group: &str,
+    label: &str,
+    s: &Scene,
+    layout: &Layout,
+    opts: &RunOptions,
+    device_time: bool,
+) -> Option<Box<dyn Backend>> {
+    let n = layout.pos.len();
+    let mut b = match make_backend(s, layout, opts) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{group}/{label}/{n}: skipped: {e}");
+            return None;
+        }
+    };
+    if device_time && !b.enable_device_time(true) {
+        eprintln!("{group}/{label}/{n}: skipped: the adapter has no TIMESTAMP_QUERY (device time unavailable)");
+        return None;
+    }
+    if let Err(e) = b.step() {
+        eprintln!("{group}/{label}/{n}: skipped, first step failed: {e}");
+        return None;
+    }
+    b.sync();
+    Some(b)
+}
+
 fn bench_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("step");
     group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
@@ -64,19 +94,7 @@ fn bench_step(c: &mut Criterion) {
         let n = layout.pos.len() as u64;
         group.throughput(Throughput::Elements(n));
         for (label, opts) in backends() {
-            let mut b: Box<dyn Backend> = match make_backend(&s, &layout, &opts) {
-                Ok(b) => b,
-                Err(e) => {
-                    eprintln!("step/{label}/{n}: skipped: {e}");
-                    continue;
-                }
-            };
-            // Warm the pipelines and the neighbour structures.
-            if let Err(e) = b.step() {
-                eprintln!("step/{label}/{n}: skipped, first step failed: {e}");
-                continue;
-            }
-            b.sync();
+            let Some(mut b) = warm("step", &label, &s, &layout, &opts, false) else { continue };
             group.bench_with_input(BenchmarkId::new(&label, n), &n, |bench, _| {
                 bench.iter_custom(|iters| {
                     let t = Instant::now();
@@ -101,23 +119,7 @@ fn bench_step_device(c: &mut Criterion) {
         let n = layout.pos.len() as u64;
         group.throughput(Throughput::Elements(n));
         for (label, opts) in backends().into_iter().filter(|(_, o)| o.backend == "gpu") {
-            let mut b: Box<dyn Backend> = match make_backend(&s, &layout, &opts) {
-                Ok(b) => b,
-                Err(e) => {
-                    eprintln!("step_device/{label}/{n}: skipped: {e}");
-                    continue;
-                }
-            };
-            if !b.enable_device_time(true) {
-                eprintln!("step_device: skipped: the adapter has no TIMESTAMP_QUERY (device time unavailable)");
-                group.finish();
-                return;
-            }
-            if let Err(e) = b.step() {
-                eprintln!("step_device/{label}/{n}: skipped, first step failed: {e}");
-                continue;
-            }
-            b.sync();
+            let Some(mut b) = warm("step_device", &label, &s, &layout, &opts, true) else { continue };
             group.bench_with_input(BenchmarkId::new(&label, n), &n, |bench, _| {
                 bench.iter_custom(|iters| {
                     let _ = b.device_time();

@@ -3,6 +3,7 @@
 //! with poisoned outputs, 50-step observables, direct = cells, and bitwise reproducibility.
 
 mod common;
+use common::{errs, flat};
 
 use common::{gpu_or_skip, serial};
 use sphlab::backend::Backend;
@@ -16,7 +17,7 @@ use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
 use sphlab::model::Model;
 use sphlab::neighbours::SearchKind;
-use sphlab::real::{Real, V2};
+use sphlab::real::Real;
 use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use std::sync::Arc;
@@ -78,33 +79,6 @@ const SCENES: &[(&str, &[&str])] = &[
     ("sessile-90", &["contact.mode=a", "domain.nx=33"]),
     ("poiseuille", &[]),
 ];
-
-/// (max error, rel L2) of `gpu` vs `cpu` relative to `scale` (default: max |cpu|).
-fn errs(cpu: &[f64], gpu: &[f64], scale: Option<f64>) -> (f64, f64) {
-    assert_eq!(cpu.len(), gpu.len());
-    let s = scale.unwrap_or(0.0).max(cpu.iter().fold(0.0f64, |a, x| a.max(x.abs()))).max(1e-300);
-    let (mut mx, mut d2, mut c2) = (0.0f64, 0.0, 0.0);
-    for (c, g) in cpu.iter().zip(gpu) {
-        let e = if g.is_nan() { f64::INFINITY } else { (c - g).abs() };
-        mx = mx.max(e / s);
-        d2 += e * e;
-        c2 += c * c;
-    }
-    (mx, if d2 == 0.0 { 0.0 } else { (d2 / c2.max(s * s * 1e-30)).sqrt() })
-}
-
-fn flat<T: Real>(f: &Fields<T>, n_fluid: usize) -> Vec<(&'static str, Vec<f64>)> {
-    let v = |x: &[V2<T>]| x.iter().flat_map(|a| [a.x.f64(), a.y.f64()]).collect::<Vec<_>>();
-    vec![
-        ("sigma", f.sigma.iter().map(|x| x.f64()).collect()),
-        ("rho", f.rho.iter().map(|x| x.f64()).collect()),
-        ("p", f.p.iter().map(|x| x.f64()).collect()),
-        ("grad", f.grad.iter().flat_map(|g| [g[0].x.f64(), g[0].y.f64(), g[1].x.f64(), g[1].y.f64()]).collect()),
-        ("pi", f.pi.iter().flat_map(|t| [t.xx.f64(), t.xy.f64()]).collect()),
-        ("acc", v(&f.acc[..n_fluid])),
-        ("vt", v(&f.vt[..n_fluid])),
-    ]
-}
 
 /// Compares one evaluation; returns the worst (max, l2) and prints every field.
 fn compare<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &Fields<T>, tol: (f64, f64, f64)) {

@@ -2,9 +2,10 @@
 //! one WGSL library function on many inputs through an appended `@compute` test entry point.
 #![allow(dead_code, reason = "each test binary uses a different subset of the helpers")]
 
+use sphlab::cpu::stages::Fields;
 use sphlab::gpu::compose::{compose_mapped, validate, F64};
 use sphlab::gpu::{gpu_required, GpuContext, GpuVec};
-use sphlab::real::Real;
+use sphlab::real::{Real, V2};
 use std::sync::{Mutex, MutexGuard};
 
 /// GPU tests run one at a time (one device at a time on a software adapter keeps memory and
@@ -201,4 +202,33 @@ pub fn compare<T: Real>(name: &str, gpu: &[T], cpu: &[(T, T)], cases: &[Case<T>]
         panic!("{msg}");
     }
     max
+}
+
+/// GPU-vs-CPU field comparison shared by the GPU solver and variant tests.
+/// (max error, rel L2) of `gpu` vs `cpu` relative to `scale` (default: max |cpu|).
+pub fn errs(cpu: &[f64], gpu: &[f64], scale: Option<f64>) -> (f64, f64) {
+    let s = scale.unwrap_or(0.0).max(cpu.iter().fold(0.0f64, |a, x| a.max(x.abs()))).max(1e-300);
+    let (mut mx, mut d2, mut c2) = (0.0f64, 0.0, 0.0);
+    for (c, g) in cpu.iter().zip(gpu) {
+        let e = if g.is_nan() { f64::INFINITY } else { (c - g).abs() };
+        mx = mx.max(e / s);
+        d2 += e * e;
+        c2 += c * c;
+    }
+    (mx, if d2 == 0.0 { 0.0 } else { (d2 / c2.max(s * s * 1e-30)).sqrt() })
+}
+
+/// Every per-evaluation field as a flat f64 vector, by name (fluid-only for acc and ṽ).
+pub fn flat<T: Real>(f: &Fields<T>, n_fluid: usize) -> Vec<(&'static str, Vec<f64>)> {
+    let v = |x: &[V2<T>]| x.iter().flat_map(|a| [a.x.f64(), a.y.f64()]).collect::<Vec<_>>();
+    vec![
+        ("sigma", f.sigma.iter().map(|x| x.f64()).collect()),
+        ("chi", f.chi.iter().map(|x| x.f64()).collect()),
+        ("rho", f.rho.iter().map(|x| x.f64()).collect()),
+        ("p", f.p.iter().map(|x| x.f64()).collect()),
+        ("grad", f.grad.iter().flat_map(|g| [g[0].x.f64(), g[0].y.f64(), g[1].x.f64(), g[1].y.f64()]).collect()),
+        ("pi", f.pi.iter().flat_map(|t| [t.xx.f64(), t.xy.f64()]).collect()),
+        ("acc", v(&f.acc[..n_fluid])),
+        ("vt", v(&f.vt[..n_fluid])),
+    ]
 }
