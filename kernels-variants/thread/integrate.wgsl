@@ -78,7 +78,11 @@ fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>) {
     if i >= params.n_fluid {
         return;
     }
-    store_fixed(i, pos[i], integrate_kick(vel[i], acc[i], params.dt));
+    // The transport velocity follows the kick (ṽ − v keeps the evaluation's XSPH correction for
+    // the next drift), as in the CPU reference's Verlet.
+    let vn = integrate_kick(vel[i], acc[i], params.dt);
+    vt[i] = vt[i] + (vn - vel[i]);
+    store_fixed(i, pos[i], vn);
 }
 
 // Non-finite test on the f32 bits (NaN/inf comparisons may be folded away by the compiler);

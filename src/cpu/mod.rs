@@ -294,8 +294,14 @@ impl<T: Real> CpuSolver<T> {
                 });
                 self.apply_boundaries();
                 self.evaluate()?;
-                let acc = self.f.acc.clone();
-                self.fluid_update(|i, r, v| (r, integrate_kick(v, acc[i], dtt)));
+                // Closing half kick. The transport velocity follows it, so that ṽ − v keeps the XSPH
+                // correction of the evaluation and the next drift moves with v_{n+½} + (ṽ − v)
+                // (with ṽ − v taken at the stale v_n instead, positions were first order in dt).
+                for i in 0..self.n_fluid {
+                    let v = integrate_kick(self.vel[i], self.f.acc[i], dtt);
+                    self.f.vt[i] = self.f.vt[i] + (v - self.vel[i]);
+                    self.vel[i] = v;
+                }
                 self.have_acc = true;
                 self.dt = dt;
             }
