@@ -19,7 +19,7 @@ fn contact_side(r_w: real2, r_tp: real2, n_theta: real2) -> real {
 }
 
 // Algorithm 1: keep |g|, replace its direction by +n̂_θ (liquid) or −n̂_θ (gas).
-fn normal_correction(g: real2, n_theta: real2, liquid: bool) -> real2 {
+fn corrected_normal(g: real2, n_theta: real2, liquid: bool) -> real2 {
     let m = sqrt(g.x * g.x + g.y * g.y);
     if liquid {
         return n_theta * m;

@@ -1,5 +1,5 @@
 // stress.wgsl: Hu–Adams surface stress tensor (PHYSICS.md §5.3, thesis T73–T74).
-// WGSL twin of src/physics/stress.rs (surface_stress) and of `Sym2` in src/real.rs.
+// WGSL twin of src/physics/stress.rs (stress_tensor) and of `Sym2` in src/real.rs.
 // Library module: functions and structs only (no bindings, no entry points).
 
 // Symmetric traceless 2×2 tensor [[xx, xy], [xy, −xx]] (twin of `Sym2<T>`).
@@ -25,7 +25,7 @@ fn sym2_add(a: Sym2, b: Sym2) -> Sym2 {
 
 // Π = σ (|g|² I/2 − g⊗g)/|g| for a colour gradient g (T73–T74, 2D, traceless):
 // Π_xx = σ(g_y² − g_x²)/(2|g|), Π_xy = −σ g_x g_y/|g|. Zero when g = 0.
-fn surface_stress(g: real2, sigma_kl: real) -> Sym2 {
+fn stress_tensor(g: real2, sigma_kl: real) -> Sym2 {
     let n2 = g.x * g.x + g.y * g.y;
     if n2 > real(0.0) {
         let inv = sigma_kl / sqrt(n2);

@@ -2,7 +2,7 @@
 //! the particle state in f64 for output and diagnostics, and errors that name the step and
 //! particle when a run blows up.
 
-use crate::cpu::stages::Fields;
+use crate::fields::Fields;
 use crate::real::{Real, V2};
 use serde::Serialize;
 

@@ -165,7 +165,8 @@ impl<T: Real> Images<T> {
     }
 }
 
-/// Which stages a scene needs (PHYSICS.md §12). Printed and written into the run summary.
+/// Which stages a scene needs (PHYSICS.md §12); the stage list follows from it in
+/// [`crate::stage`]. Printed and written into the run summary.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct ActiveStages {
     /// Holmes state ratio χ (with the density summation).
@@ -188,35 +189,6 @@ pub struct ActiveStages {
     pub xsph: bool,
     /// Automatic dt (max |v|, |a| reductions).
     pub adaptive_dt: bool,
-}
-
-impl ActiveStages {
-    /// The ordered list of stage names of one force evaluation.
-    pub fn names(&self) -> Vec<&'static str> {
-        let mut v = vec!["neighbour_search", "number_density"];
-        if self.contact_line {
-            v.push("contact_line");
-        }
-        if self.wall_typing {
-            v.push("wall_typing");
-        }
-        v.push("equation_of_state");
-        if self.wall_pressure {
-            v.push("wall_pressure");
-        }
-        if self.surface_tension {
-            v.push("colour_gradient");
-            if self.normal_correction {
-                v.push("normal_correction");
-            }
-            v.push("surface_stress");
-        }
-        v.push("acceleration");
-        if self.xsph {
-            v.push("xsph");
-        }
-        v
-    }
 }
 
 /// All solver constants of a scene.

@@ -9,14 +9,14 @@
 //!    (`GpuSolver::run_stage_from`, outputs poisoned first), to pinpoint a disagreeing stage.
 
 use crate::backend::{Backend, Frame};
-use crate::cpu::stages::Fields;
+use crate::fields::{Field, Fields};
 use crate::cpu::CpuSolver;
 use crate::exec::Exec;
 use crate::gpu::solver::GpuSolver;
 use crate::gpu::variant::{Precision, VariantSpec};
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
-use crate::real::{Real, V2};
+use crate::real::Real;
 use crate::run::{initial_velocities, measure};
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::Scene;
@@ -31,13 +31,13 @@ use std::sync::Arc;
 /// terms of both signs that cancel to a small fraction of their size (the pressure term with
 /// p_b = B cancels to ~1e-3), so the reordering error of the large terms shows at 1e-4–1e-3 of the
 /// result's scale.
-pub const TOLERANCES: &[(&str, f64, f64)] = &[
-    ("sigma", 1e-5, 1e-6),
-    ("rho", 1e-5, 1e-6),
-    ("p", 1e-4, 1e-5),
-    ("grad_c", 1e-3, 1e-4),
-    ("pi", 1e-3, 1e-4),
-    ("acc", 5e-3, 5e-4),
+pub const TOLERANCES: &[(Field, f64, f64)] = &[
+    (Field::Sigma, 1e-5, 1e-6),
+    (Field::Rho, 1e-5, 1e-6),
+    (Field::P, 1e-4, 1e-5),
+    (Field::Grad, 1e-3, 1e-4),
+    (Field::Pi, 1e-3, 1e-4),
+    (Field::Acc, 5e-3, 5e-4),
 ];
 
 /// Observable tolerances after N steps: `(name, tolerance, unit)`. Trajectories of two summation
@@ -102,19 +102,6 @@ pub fn field_error(gpu: &[f64], cpu: &[f64]) -> (f64, f64) {
     (dmax / scale, (d2 / r2).sqrt())
 }
 
-fn flat<T: Real>(f: &Fields<T>, name: &str, n_fluid: usize) -> Vec<f64> {
-    let v2 = |v: &V2<T>| [v.x.f64(), v.y.f64()];
-    match name {
-        "sigma" => f.sigma.iter().map(|x| x.f64()).collect(),
-        "rho" => f.rho.iter().map(|x| x.f64()).collect(),
-        "p" => f.p.iter().map(|x| x.f64()).collect(),
-        "grad_c" => f.grad.iter().flat_map(|g| v2(&g[0]).into_iter().chain(v2(&g[1]))).collect(),
-        "pi" => f.pi.iter().flat_map(|t| [t.xx.f64(), t.xy.f64()]).collect(),
-        "acc" => f.acc[..n_fluid].iter().flat_map(v2).collect(),
-        _ => Vec::new(),
-    }
-}
-
 /// Compares every field of one evaluation (and the contact points).
 pub fn compare_fields<T: Real>(
     kind: &str,
@@ -122,14 +109,15 @@ pub fn compare_fields<T: Real>(
     gpu: &Fields<T>,
     cpu: &Fields<T>,
     n_fluid: usize,
-    only: Option<&[&str]>,
+    only: Option<&[Field]>,
 ) -> Vec<Check> {
     let mut out = Vec::new();
-    for &(name, tmax, tl2) in TOLERANCES {
-        if only.is_some_and(|o| !o.contains(&name)) {
+    for &(field, tmax, tl2) in TOLERANCES {
+        if only.is_some_and(|o| !o.contains(&field)) {
             continue;
         }
-        let (m, l2) = field_error(&flat(gpu, name, n_fluid), &flat(cpu, name, n_fluid));
+        let name = field.name();
+        let (m, l2) = field_error(&gpu.flat(field, n_fluid), &cpu.flat(field, n_fluid));
         out.push(Check {
             kind: kind.into(),
             name: format!("{prefix}{name}"),
@@ -139,7 +127,7 @@ pub fn compare_fields<T: Real>(
             pass: m <= tmax && l2 <= tl2,
         });
     }
-    if only.is_none_or(|o| o.contains(&"contacts")) {
+    if only.is_none_or(|o| o.contains(&Field::Contacts)) {
         let same_count = gpu.contacts.len() == cpu.contacts.len();
         let worst = gpu
             .contacts
@@ -149,7 +137,7 @@ pub fn compare_fields<T: Real>(
             .fold(if same_count { 0.0 } else { f64::INFINITY }, f64::max);
         out.push(Check {
             kind: kind.into(),
-            name: format!("{prefix}contacts"),
+            name: format!("{prefix}{}", Field::Contacts.name()),
             max_rel: worst,
             rel_l2: f64::NAN,
             tolerance: 1e-5,
@@ -233,20 +221,12 @@ fn verify_typed<T: Real>(
         let (pos, vel) = (cpu.pos.clone(), cpu.vel.clone());
         for w in stagewise.windows(2) {
             let ((_, before), (stage, after)) = (&w[0], &w[1]);
-            let outputs: &[&str] = match *stage {
-                "number_density" => &["sigma"],
-                "equation_of_state" | "wall_pressure" => &["rho", "p"],
-                "colour_gradient" | "normal_correction" => &["grad_c"],
-                "surface_stress" => &["pi"],
-                "acceleration" => &["acc"],
-                "contact_line" => &["contacts"],
-                _ => &[],
-            };
-            if outputs.is_empty() {
+            let outputs: Vec<Field> = stage.outputs().collect();
+            if !outputs.iter().any(|f| *f == Field::Contacts || TOLERANCES.iter().any(|t| t.0 == *f)) {
                 continue;
             }
-            match gpu.run_stage_from(&pos, &vel, before, stage) {
-                Ok(g) => checks.extend(compare_fields("stage", &format!("{stage}:"), &g, after, nf, Some(outputs))),
+            match gpu.run_stage_from(&pos, &vel, before, *stage) {
+                Ok(g) => checks.extend(compare_fields("stage", &format!("{stage}:"), &g, after, nf, Some(&outputs))),
                 Err(e) => checks.push(Check {
                     kind: "stage".into(),
                     name: format!("{stage}: {e}"),
@@ -307,16 +287,16 @@ pub fn format_table(reports: &[VariantReport]) -> String {
         "variant", "status", "σ relL2", "p relL2", "acc max", "acc relL2", "notes"
     );
     for r in reports {
-        let get = |n: &str| r.checks.iter().find(|c| c.name == n);
+        let get = |f: Field| r.checks.iter().find(|c| c.name == f.name());
         let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2e}"));
         s += &format!(
             "{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n",
             r.variant,
             r.status,
-            f(get("sigma").map(|c| c.rel_l2)),
-            f(get("p").map(|c| c.rel_l2)),
-            f(get("acc").map(|c| c.max_rel)),
-            f(get("acc").map(|c| c.rel_l2)),
+            f(get(Field::Sigma).map(|c| c.rel_l2)),
+            f(get(Field::P).map(|c| c.rel_l2)),
+            f(get(Field::Acc).map(|c| c.max_rel)),
+            f(get(Field::Acc).map(|c| c.rel_l2)),
             r.reason
         );
     }

@@ -7,7 +7,7 @@
 use sphlab::physics::eos::{eos_pressure, eos_stiffness};
 use sphlab::physics::kernel::{kernel_dwdr, kernel_w, lattice_sum, KernelKind, KernelParams};
 use sphlab::physics::pair::*;
-use sphlab::physics::stress::surface_stress;
+use sphlab::physics::stress::stress_tensor;
 use sphlab::real::{Sym2, V2};
 use std::f64::consts::PI;
 
@@ -291,12 +291,12 @@ fn pi_matrix(g: V2<f64>, s: f64) -> [[f64; 2]; 2] {
 }
 
 #[test]
-fn surface_stress_is_symmetric_traceless_and_matches_formula() {
+fn stress_tensor_is_symmetric_traceless_and_matches_formula() {
     let mut rng = Lcg(3);
     for _ in 0..500 {
         let g = V2::new(rng.next() * 2.0 - 1.0, rng.next() * 2.0 - 1.0);
         let s = 0.1 + rng.next();
-        let t = surface_stress(g, s);
+        let t = stress_tensor(g, s);
         let want = pi_matrix(g, s);
         // full matrix through mul_vec on the basis vectors
         let c0 = t.mul_vec(V2::new(1.0, 0.0));
@@ -328,20 +328,20 @@ fn surface_stress_is_symmetric_traceless_and_matches_formula() {
         let pgp = t.mul_vec(gp);
         assert!((pgp - gp * (0.5 * scale)).norm() < 1e-14 * scale * g.norm(), "Π·g⊥ = {pgp:?}");
         // even in g, linear in |g| and σ
-        let tm = surface_stress(-g, s);
+        let tm = stress_tensor(-g, s);
         assert!((tm.xx - t.xx).abs() < 1e-15 * scale && (tm.xy - t.xy).abs() < 1e-15 * scale, "Π(−g) ≠ Π(g)");
-        let t3 = surface_stress(g * 3.0, s);
+        let t3 = stress_tensor(g * 3.0, s);
         assert!(
             (t3.xx - 3.0 * t.xx).abs() < 1e-14 * scale && (t3.xy - 3.0 * t.xy).abs() < 1e-14 * scale,
             "Π(3g) ≠ 3Π(g)"
         );
     }
-    let z = surface_stress(V2::<f64>::zero(), 1.0);
+    let z = stress_tensor(V2::<f64>::zero(), 1.0);
     assert_eq!(z, Sym2::zero(), "Π(g = 0) must be exactly 0, got {z:?}");
-    let z32 = surface_stress(V2::<f32>::zero(), 1.0);
+    let z32 = stress_tensor(V2::<f32>::zero(), 1.0);
     assert!(z32.xx == 0.0 && z32.xy == 0.0 && z32.xx.is_finite(), "f32 Π(0) = {z32:?}");
     // spec component form, horizontal interface: g = (0, 1) ⇒ Π_xx = σ/2, Π_xy = 0
-    let t = surface_stress(V2::new(0.0, 1.0), 1.0);
+    let t = stress_tensor(V2::new(0.0, 1.0), 1.0);
     assert_eq!((t.xx, t.xy), (0.5, 0.0), "flat interface Π = {t:?}");
 }
 
@@ -352,7 +352,7 @@ fn surface_pair_force_antisymmetric() {
     let r = x_ij.norm();
     let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
     let gw_ji = grad_w_ij(kernel_dwdr(&kp, r), -x_ij, r);
-    let (pi, pj) = (surface_stress(V2::new(0.3, 0.2), 1.0), surface_stress(V2::new(-0.1, 0.4), 1.0));
+    let (pi, pj) = (stress_tensor(V2::new(0.3, 0.2), 1.0), stress_tensor(V2::new(-0.1, 0.4), 1.0));
     let a = surface_acc_ij(pi, 1.2, pj, 0.8, gw);
     let b = surface_acc_ij(pj, 0.8, pi, 1.2, gw_ji);
     assert!(a.norm() > 0.0 && (a + b).norm() <= 1e-16 * a.norm(), "surface pair not antisymmetric: {a:?} {b:?}");

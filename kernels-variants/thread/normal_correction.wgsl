@@ -8,7 +8,7 @@
 #import contact
 
 @compute @workgroup_size(64)
-fn stage_normal_correction(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn normal_correction(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if i >= params.n {
         return;
@@ -25,5 +25,5 @@ fn stage_normal_correction(@builtin(global_invocation_id) gid: vec3<u32>) {
     if cp < 0 {
         return;
     }
-    grad[2u * i] = normal_correction(g, contact_normal_of(cp), k == 0);
+    grad[2u * i] = corrected_normal(g, contact_normal_of(cp), k == 0);
 }

@@ -5,7 +5,7 @@
 #import common/bindings
 
 @compute @workgroup_size(64)
-fn stage_surface_stress(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn surface_stress(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if i >= params.n {
         return;
@@ -16,7 +16,7 @@ fn stage_surface_stress(@builtin(global_invocation_id) gid: vec3<u32>) {
         for (var slot = 0; slot < 2; slot++) {
             let l = select(slot + 1, slot, slot < k);
             if l < 3 {
-                t = sym2_add(t, surface_stress(grad[2u * i + u32(slot)], params_sigma(params, k, l)));
+                t = sym2_add(t, stress_tensor(grad[2u * i + u32(slot)], params_sigma(params, k, l)));
             }
         }
     }

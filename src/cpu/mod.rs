@@ -1,5 +1,5 @@
 //! The CPU reference solver: the physics truth every GPU variant is judged against. Runs the
-//! stages of [`stages`] in the order of PHYSICS.md §12, in `f64` or `f32`, on all cores or one
+//! stages of the stage table ([`crate::stage`]; functions in [`stages`]) in the order of PHYSICS.md §12, in `f64` or `f32`, on all cores or one
 //! thread, with any of the three neighbour searches (identical results).
 
 pub mod stages;
@@ -13,7 +13,9 @@ use crate::physics::timestep::DtLimits;
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{Integrator, Scene};
-use stages::*;
+use crate::fields::Fields;
+use crate::stage::Stage;
+use stages::{assign_colours, evaluation_fn, Ctx};
 use std::time::{Duration, Instant};
 
 /// Wall-clock time spent per stage (for profiles; not a benchmark).
@@ -111,53 +113,46 @@ impl<T: Real> CpuSolver<T> {
         }
     }
 
-    /// One force evaluation at the current positions and velocities: every active stage.
+    /// One force evaluation at the current positions and velocities: every active stage of
+    /// the stage table, in order.
     pub fn evaluate(&mut self) -> Result<(), SolverError> {
-        self.evaluated = true;
-        let t0 = Instant::now();
-        self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support());
-        if self.profile {
-            self.clock.add("neighbour_search", t0.elapsed());
-        }
-        let mut f = std::mem::take(&mut self.f);
-        let st = self.model.stages;
         let profile = self.profile;
         let mut clock = std::mem::take(&mut self.clock);
-        {
-            let c = self.ctx();
-            let mut run = |name: &'static str, stage: fn(&Ctx<T>, &mut Fields<T>), f: &mut Fields<T>| {
-                let t = Instant::now();
-                stage(&c, f);
-                if profile {
-                    clock.add(name, t.elapsed());
-                }
-            };
-            run("number_density", number_density, &mut f);
-            if st.contact_line {
-                run("contact_line", contact_line, &mut f);
+        let r = self.run_evaluation(|stage, _, d| {
+            if profile {
+                clock.add(stage.name(), d);
             }
-            if st.wall_typing {
-                run("wall_typing", wall_typing, &mut f);
-            }
-            run("equation_of_state", equation_of_state, &mut f);
-            if st.wall_pressure {
-                run("wall_pressure", wall_pressure, &mut f);
-            }
-            if st.surface_tension {
-                run("colour_gradient", colour_gradient, &mut f);
-                if st.normal_correction {
-                    run("normal_correction", normal_correction, &mut f);
-                }
-                run("surface_stress", surface_stress, &mut f);
-            }
-            run("acceleration", acceleration, &mut f);
-            if st.xsph {
-                run("xsph", xsph, &mut f);
-            } else {
-                f.vt[..self.n_fluid].copy_from_slice(&self.vel[..self.n_fluid]);
-            }
-        }
+        });
         self.clock = clock;
+        r
+    }
+
+    /// One force evaluation that also returns the fields after every stage, in order (for the
+    /// per-stage GPU check: stage k's inputs are the fields after stage k − 1).
+    pub fn evaluate_stagewise(&mut self) -> Result<Vec<(Stage, Fields<T>)>, SolverError> {
+        let mut out = Vec::new();
+        self.run_evaluation(|stage, f, _| out.push((stage, f.clone())))?;
+        Ok(out)
+    }
+
+    /// Runs the active evaluation stages; `after(stage, fields, time)` sees each one's result.
+    /// Without XSPH, ṽ = v afterwards.
+    fn run_evaluation(&mut self, mut after: impl FnMut(Stage, &Fields<T>, Duration)) -> Result<(), SolverError> {
+        self.evaluated = true;
+        let mut f = std::mem::take(&mut self.f);
+        for stage in self.model.stages.evaluation() {
+            let t = Instant::now();
+            match evaluation_fn::<T>(stage) {
+                Some(run) => run(&self.ctx(), &mut f),
+                None => {
+                    self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support())
+                }
+            }
+            after(stage, &f, t.elapsed());
+        }
+        if !self.model.stages.xsph {
+            f.vt[..self.n_fluid].copy_from_slice(&self.vel[..self.n_fluid]);
+        }
         let overflow = f.contact_overflow;
         self.f = f;
         if overflow > 0 {
@@ -170,48 +165,12 @@ impl<T: Real> CpuSolver<T> {
         Ok(())
     }
 
-    /// One force evaluation that also returns the fields after every stage, in order (for the
-    /// per-stage GPU check: stage k's inputs are the fields after stage k − 1).
-    pub fn evaluate_stagewise(&mut self) -> Result<Vec<(&'static str, Fields<T>)>, SolverError> {
-        self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support());
-        self.evaluated = true;
-        let mut f = std::mem::take(&mut self.f);
-        let mut out = vec![("neighbour_search", f.clone())];
-        {
-            let c = self.ctx();
-            let st = self.model.stages;
-            let mut list: Vec<(&'static str, fn(&Ctx<T>, &mut Fields<T>))> = vec![("number_density", number_density)];
-            if st.contact_line {
-                list.push(("contact_line", contact_line));
-            }
-            if st.wall_typing {
-                list.push(("wall_typing", wall_typing));
-            }
-            list.push(("equation_of_state", equation_of_state));
-            if st.wall_pressure {
-                list.push(("wall_pressure", wall_pressure));
-            }
-            if st.surface_tension {
-                list.push(("colour_gradient", colour_gradient));
-                if st.normal_correction {
-                    list.push(("normal_correction", normal_correction));
-                }
-                list.push(("surface_stress", surface_stress));
-            }
-            list.push(("acceleration", acceleration));
-            if st.xsph {
-                list.push(("xsph", xsph));
-            }
-            for (name, stage) in list {
-                stage(&c, &mut f);
-                out.push((name, f.clone()));
-            }
-        }
-        if !self.model.stages.xsph {
-            f.vt[..self.n_fluid].copy_from_slice(&self.vel[..self.n_fluid]);
-        }
-        self.f = f;
-        Ok(out)
+    /// `reduce_max`: max |v| and max |a| over the fluid particles.
+    pub fn reduce_max(&self) -> (f64, f64) {
+        let nf = self.n_fluid;
+        let vmax = self.vel[..nf].iter().map(|v| v.norm().f64()).fold(0.0, f64::max);
+        let amax = self.f.acc[..nf].iter().map(|a| a.norm().f64()).fold(0.0, f64::max);
+        (vmax, amax)
     }
 
     /// The dt of the next step: fixed, or the minimum of the limits at the current state.
@@ -219,9 +178,7 @@ impl<T: Real> CpuSolver<T> {
         if self.model.dt_fixed > 0.0 {
             return self.model.dt_fixed;
         }
-        let nf = self.n_fluid;
-        let vmax = self.vel[..nf].iter().map(|v| v.norm().f64()).fold(0.0, f64::max);
-        let amax = self.f.acc[..nf].iter().map(|a| a.norm().f64()).fold(0.0, f64::max);
+        let (vmax, amax) = self.reduce_max();
         let m = &self.model;
         DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max).min()
     }
@@ -265,47 +222,69 @@ impl<T: Real> CpuSolver<T> {
         }
     }
 
-    /// One time step of the scene's integrator.
+    /// `midpoint_predict`: half step from the evaluation at the start of the step.
+    pub fn midpoint_predict(&mut self, dt: T) {
+        let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
+        self.fluid_update(|i, r, v| integrate_predict(r, v, vt[i], acc[i], dt));
+    }
+
+    /// `midpoint_correct`: the full step from the start state `(r0, v0)` with the midpoint
+    /// evaluation.
+    pub fn midpoint_correct(&mut self, r0: &[V2<T>], v0: &[V2<T>], dt: T) {
+        let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
+        self.fluid_update(|i, _, _| integrate_correct(r0[i], v0[i], vt[i], acc[i], dt));
+    }
+
+    /// `verlet_drift`: opening half kick, then the drift with v_{n+½} plus the evaluation's
+    /// XSPH correction ṽ − v.
+    pub fn verlet_drift(&mut self, dt: T) {
+        let (vt, acc, v0) = (self.f.vt.clone(), self.f.acc.clone(), self.vel.clone());
+        self.fluid_update(|i, r, v| {
+            let vh = integrate_kick(v, acc[i], dt);
+            (integrate_drift(r, vh + (vt[i] - v0[i]), dt), vh)
+        });
+    }
+
+    /// `verlet_kick`: closing half kick. The transport velocity follows it, so that ṽ − v keeps
+    /// the XSPH correction of the evaluation and the next drift moves with v_{n+½} + (ṽ − v)
+    /// (with ṽ − v taken at the stale v_n instead, positions were first order in dt).
+    pub fn verlet_kick(&mut self, dt: T) {
+        for i in 0..self.n_fluid {
+            let v = integrate_kick(self.vel[i], self.f.acc[i], dt);
+            self.f.vt[i] = self.f.vt[i] + (v - self.vel[i]);
+            self.vel[i] = v;
+        }
+    }
+
+    /// One time step of the scene's integrator: (first evaluation,) the integrator's opening
+    /// stage, boundaries, the evaluation, its closing stage, boundaries, `check`.
     pub fn advance(&mut self) -> Result<(), SolverError> {
-        match self.integrator {
-            Integrator::Midpoint => {
-                self.evaluate()?;
-                let dt = self.next_dt();
-                let dtt = T::c(dt);
-                let (r0, v0) = (self.pos.clone(), self.vel.clone());
-                let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
-                self.fluid_update(|i, r, v| integrate_predict(r, v, vt[i], acc[i], dtt));
+        if self.integrator == Integrator::Midpoint || !self.have_acc {
+            self.evaluate()?;
+        }
+        let dt = self.next_dt();
+        let dtt = T::c(dt);
+        let (open, close) = Stage::step_pair(self.integrator);
+        let (r0, v0) = if close == Stage::MidpointCorrect {
+            (self.pos.clone(), self.vel.clone())
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        for (k, stage) in [open, close].into_iter().enumerate() {
+            if k == 1 {
                 self.apply_boundaries();
                 self.evaluate()?;
-                let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
-                self.fluid_update(|i, _, _| integrate_correct(r0[i], v0[i], vt[i], acc[i], dtt));
-                self.dt = dt;
             }
-            Integrator::Verlet => {
-                if !self.have_acc {
-                    self.evaluate()?;
-                }
-                let dt = self.next_dt();
-                let dtt = T::c(dt);
-                let (vt, acc, v0) = (self.f.vt.clone(), self.f.acc.clone(), self.vel.clone());
-                self.fluid_update(|i, r, v| {
-                    let vh = integrate_kick(v, acc[i], dtt);
-                    (integrate_drift(r, vh + (vt[i] - v0[i]), dtt), vh)
-                });
-                self.apply_boundaries();
-                self.evaluate()?;
-                // Closing half kick. The transport velocity follows it, so that ṽ − v keeps the XSPH
-                // correction of the evaluation and the next drift moves with v_{n+½} + (ṽ − v)
-                // (with ṽ − v taken at the stale v_n instead, positions were first order in dt).
-                for i in 0..self.n_fluid {
-                    let v = integrate_kick(self.vel[i], self.f.acc[i], dtt);
-                    self.f.vt[i] = self.f.vt[i] + (v - self.vel[i]);
-                    self.vel[i] = v;
-                }
-                self.have_acc = true;
-                self.dt = dt;
+            match stage {
+                Stage::MidpointPredict => self.midpoint_predict(dtt),
+                Stage::MidpointCorrect => self.midpoint_correct(&r0, &v0, dtt),
+                Stage::VerletDrift => self.verlet_drift(dtt),
+                Stage::VerletKick => self.verlet_kick(dtt),
+                other => unreachable!("{other} is not an integrator stage"),
             }
         }
+        self.have_acc = true;
+        self.dt = dt;
         self.apply_boundaries();
         self.step += 1;
         self.t += self.dt;

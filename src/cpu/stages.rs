@@ -1,80 +1,42 @@
-//! The stages of one force evaluation on the CPU (PHYSICS.md §12), one function per stage,
-//! named as the WGSL entry points, pipeline labels, bench ids and CSV columns. Every stage is a
+//! The stages of one force evaluation on the CPU (PHYSICS.md §12), one function per stage of
+//! [`crate::stage::TABLE`], named as the stage. Every stage is a
 //! gather over the neighbour list of each particle, so `Exec::Serial` and `Exec::Parallel`
 //! give identical bits. Boundary images enter through `model.images`.
 
 use crate::exec::{self, Exec};
+pub use crate::fields::{ContactPoint, Fields};
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
 use crate::neighbours::{unpack, NeighbourList};
-use crate::physics::contact::{contact_normal, contact_side, normal_correction as correct_normal};
+use crate::physics::contact::{contact_normal, contact_side, corrected_normal};
 use crate::physics::eos::eos_pressure;
 use crate::physics::kernel::{kernel_dwdr, kernel_w};
 use crate::physics::pair::*;
-use crate::physics::stress::surface_stress as stress_of;
+use crate::physics::stress::stress_tensor;
 use crate::physics::wall::{holmes_beta, lj_wall_acc, noslip_beta, wall_relative_velocity};
 use crate::real::{Real, Sym2, V2};
 use crate::scene::{ContactMode, WallVelocity};
+use crate::stage::Stage;
 
-/// A contact point of the liquid (phase 0) on the bottom wall (§8.4 step 2).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactPoint<T> {
-    /// Position (y = y_w).
-    pub r: V2<T>,
-    /// +1 when the liquid lies on the −x side, −1 otherwise.
-    pub s: T,
-}
+/// A CPU evaluation stage: reads the context, updates the fields.
+pub type StageFn<T> = fn(&Ctx<T>, &mut Fields<T>);
 
-/// Per-evaluation fields (all particles: fluid first, then walls).
-#[derive(Clone, Debug, Default)]
-pub struct Fields<T> {
-    /// Number density σ.
-    pub sigma: Vec<T>,
-    /// Holmes state ratio χ (when active).
-    pub chi: Vec<T>,
-    /// Current particle mass (walls take the mass of their typed phase, T83).
-    pub mass: Vec<T>,
-    /// Colour index (0, 1 fluid phases; 2 wall phase S; −1 none).
-    pub colour: Vec<i32>,
-    /// Density ρ = mσ.
-    pub rho: Vec<T>,
-    /// Pressure.
-    pub p: Vec<T>,
-    /// Colour gradients towards the other colours, by slot.
-    pub grad: Vec<[V2<T>; 2]>,
-    /// Surface stress Π.
-    pub pi: Vec<Sym2<T>>,
-    /// Acceleration (fluids; zero for walls).
-    pub acc: Vec<V2<T>>,
-    /// Advection velocity ṽ (XSPH or v).
-    pub vt: Vec<V2<T>>,
-    /// Contact points, sorted by x.
-    pub contacts: Vec<ContactPoint<T>>,
-    /// Contact points found beyond [`MAX_CONTACTS`] in the last evaluation.
-    pub contact_overflow: usize,
-}
-
-impl<T: Real> Fields<T> {
-    /// Zeroed fields for `n` particles.
-    pub fn new(n: usize) -> Self {
-        Self {
-            sigma: vec![T::zero(); n],
-            chi: vec![T::zero(); n],
-            mass: vec![T::zero(); n],
-            colour: vec![NO_COLOUR; n],
-            rho: vec![T::zero(); n],
-            p: vec![T::zero(); n],
-            grad: vec![[V2::zero(); 2]; n],
-            pi: vec![Sym2::zero(); n],
-            acc: vec![V2::zero(); n],
-            vt: vec![V2::zero(); n],
-            contacts: Vec::new(),
-            contact_overflow: 0,
-        }
-    }
-    /// Sum of the colour-gradient slots (the gradient towards every other colour).
-    pub fn grad_c(&self, i: usize) -> V2<T> {
-        self.grad[i][0] + self.grad[i][1]
-    }
+/// The CPU function of an evaluation stage of [`crate::stage::TABLE`] (each named as its stage);
+/// `None` for the neighbour search (the solver's `Search::update`) and the step stages (methods
+/// of `CpuSolver`).
+pub fn evaluation_fn<T: Real>(stage: Stage) -> Option<StageFn<T>> {
+    Some(match stage {
+        Stage::NumberDensity => number_density,
+        Stage::ContactLine => contact_line,
+        Stage::WallTyping => wall_typing,
+        Stage::EquationOfState => equation_of_state,
+        Stage::WallPressure => wall_pressure,
+        Stage::ColourGradient => colour_gradient,
+        Stage::NormalCorrection => normal_correction,
+        Stage::SurfaceStress => surface_stress,
+        Stage::Acceleration => acceleration,
+        Stage::Xsph => xsph,
+        _ => return None,
+    })
 }
 
 /// Read-only inputs shared by the stages.
@@ -339,7 +301,7 @@ pub fn normal_correction<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             continue;
         }
         let cp = nearest_contact(&f.contacts, c.pos[i]).expect("contacts non-empty");
-        f.grad[i][0] = correct_normal(f.grad[i][0], contact_normal(m.theta, cp.s), k == 0);
+        f.grad[i][0] = corrected_normal(f.grad[i][0], contact_normal(m.theta, cp.s), k == 0);
     }
 }
 
@@ -353,7 +315,7 @@ pub fn surface_stress<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             for slot in 0..2 {
                 let l = slot_colour(k, slot);
                 if (l as usize) < crate::model::N_COLOURS {
-                    pi = pi + stress_of(f.grad[i][slot], m.sigma[k as usize][l as usize]);
+                    pi = pi + stress_tensor(f.grad[i][slot], m.sigma[k as usize][l as usize]);
                 }
             }
         }

@@ -5,20 +5,21 @@
 use super::solver::GpuSolver;
 use super::solver_buffers::ctl;
 use super::GpuError;
-use crate::cpu::stages::{ContactPoint, Fields};
+use crate::fields::{ContactPoint, Field, Fields};
 use crate::model::MAX_CONTACTS;
 use crate::real::{Real, Sym2, V2};
+use crate::stage::Stage;
 
 impl<T: Real> GpuSolver<T> {
-    /// Uploads CPU-produced inputs, runs the neighbour search and ONE named stage, and reads every
-    /// field back. The stage's pure outputs are poisoned first (NaN, 0xFFFFFFFF), so an element the
-    /// kernel forgets to write shows up in the comparison.
+    /// Uploads CPU-produced inputs, runs the neighbour search and ONE stage, and reads every
+    /// field back. The stage's pure outputs (the stage table's) are poisoned first (NaN), so an
+    /// element the kernel forgets to write shows up in the comparison.
     pub fn run_stage_from(
         &mut self,
         pos: &[V2<T>],
         vel: &[V2<T>],
         f: &Fields<T>,
-        stage: &str,
+        stage: Stage,
     ) -> Result<Fields<T>, GpuError> {
         let ctx = &*self.ctx;
         let b = &self.b;
@@ -38,29 +39,28 @@ impl<T: Real> GpuSolver<T> {
         self.upload_contacts(&f.contacts)?;
         let nan = T::nan();
         let nan2 = V2::new(nan, nan);
-        match stage {
-            "number_density" => {
-                b.sigma.fill(ctx, nan)?;
-                b.chi.fill(ctx, nan)?;
+        for field in stage.pure_outputs() {
+            match field {
+                Field::Sigma => b.sigma.fill(ctx, nan)?,
+                Field::Chi => b.chi.fill(ctx, nan)?,
+                Field::Mass => b.mass.fill(ctx, nan)?,
+                Field::Rho => b.rho.fill(ctx, nan)?,
+                Field::P => b.p.fill(ctx, nan)?,
+                Field::Grad => b.grad.fill(ctx, nan2)?,
+                Field::Pi => b.pi.fill(ctx, nan2)?,
+                Field::Acc => b.acc.fill(ctx, nan2)?,
+                Field::Vt => b.vt.fill(ctx, nan2)?,
+                Field::Contacts => b.contacts.fill(ctx, nan)?,
+                Field::Colour => b.colour.fill(ctx, -1)?,
             }
-            "contact_line" => b.contacts.fill(ctx, nan)?,
-            "equation_of_state" => {
-                b.rho.fill(ctx, nan)?;
-                b.p.fill(ctx, nan)?;
-            }
-            "colour_gradient" => b.grad.fill(ctx, nan2)?,
-            "surface_stress" => b.pi.fill(ctx, nan2)?,
-            "acceleration" => b.acc.fill(ctx, nan2)?,
-            "xsph" => b.vt.fill(ctx, nan2)?,
-            _ => {}
         }
-        if !self.pipes.stages.contains_key(stage) {
+        if !self.pipes.stages.contains_key(&stage) {
             return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
         }
         self.vb.invalidate(ctx)?;
         self.submit(|enc| {
-            self.record(enc, "neighbour_search");
-            if stage != "neighbour_search" {
+            self.record(enc, Stage::NeighbourSearch);
+            if stage != Stage::NeighbourSearch {
                 self.record(enc, stage);
             }
         })?;

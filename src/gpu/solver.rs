@@ -16,12 +16,13 @@ use super::variant::VariantSpec;
 use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
 use crate::backend::{Backend, DeviceTimes, Frame, SolverError};
-use crate::cpu::stages::Fields;
+use crate::fields::Fields;
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
 use crate::physics::timestep::DtLimits;
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{ContactMode, Integrator, Scene};
+use crate::stage::{Clear, Stage};
 use std::sync::Arc;
 
 /// The GPU solver in storage precision `T` (f32 or f64, as the variant says).
@@ -156,24 +157,28 @@ impl<T: Real> GpuSolver<T> {
         self.vb.rebuilds(&self.ctx)
     }
 
-    /// Records the kernels of one stage (by CPU name) into `enc`.
-    pub(super) fn record(&self, enc: &mut wgpu::CommandEncoder, stage: &str) {
-        let Some(kernels) = self.pipes.stages.get(stage) else { return };
-        if stage == "neighbour_search" && !kernels.is_empty() {
-            enc.clear_buffer(&self.b.cell_count.buffer, 0, None);
+    /// Records the kernels of one stage into `enc`: the table's clears (when the stage has
+    /// kernels), the block accumulator clear (block kernels), then one compute pass.
+    pub(super) fn record(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
+        let Some(kernels) = self.pipes.stages.get(&stage) else { return };
+        if kernels.is_empty() {
+            return;
         }
-        if stage == "contact_line" {
-            enc.clear_buffer(&self.b.ctl.buffer, 0, Some(4));
-        }
-        if stage == "reduce_max" {
-            enc.clear_buffer(&self.b.ctl.buffer, 4 * ctl::VMAX as u64, Some(8));
+        for clear in stage.def().clears {
+            let (buffer, offset, size) = match clear {
+                Clear::CellCounts => (&self.b.cell_count.buffer, 0, None),
+                Clear::ContactsFound => (&self.b.ctl.buffer, 4 * ctl::CONTACTS_FOUND as u64, Some(4)),
+                Clear::Maxima => (&self.b.ctl.buffer, 4 * ctl::VMAX as u64, Some(8)),
+            };
+            enc.clear_buffer(buffer, offset, size);
         }
         if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
             enc.clear_buffer(&self.vb.accum.buffer, 0, None);
         }
         let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain).0 > 0);
-        let timestamp_writes = if dispatches { self.ts.writes(stage) } else { None };
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(stage), timestamp_writes });
+        let timestamp_writes = if dispatches { self.ts.writes(stage.name()) } else { None };
+        let desc = wgpu::ComputePassDescriptor { label: Some(stage.name()), timestamp_writes };
+        let mut pass = enc.begin_compute_pass(&desc);
         pass.set_bind_group(0, &self.bg, &[]);
         pass.set_bind_group(1, &self.vbg, &[]);
         for (kd, p) in kernels {
@@ -187,8 +192,8 @@ impl<T: Real> GpuSolver<T> {
 
     /// Records one force evaluation: every active stage in the CPU order, then ṽ.
     fn record_evaluate(&self, enc: &mut wgpu::CommandEncoder) {
-        for name in self.model.stages.names() {
-            self.record(enc, name);
+        for stage in self.model.stages.evaluation() {
+            self.record(enc, stage);
         }
         if !self.model.stages.xsph {
             let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
@@ -223,7 +228,7 @@ impl<T: Real> GpuSolver<T> {
 
     /// Adaptive dt from the GPU maxima of |v| and |a| (f32 bits) after an evaluation.
     fn adaptive_dt(&self) -> Result<f64, GpuError> {
-        self.submit(|enc| self.record(enc, "reduce_max"))?;
+        self.submit(|enc| self.record(enc, Stage::ReduceMax))?;
         let w = self.b.ctl.read_back(&self.ctx)?;
         let (vmax, amax) = (f32::from_bits(w[ctl::VMAX]) as f64, f32::from_bits(w[ctl::AMAX]) as f64);
         let m = &self.model;
@@ -270,10 +275,7 @@ impl<T: Real> GpuSolver<T> {
             self.model.dt_fixed
         };
         self.write_params(dt, next);
-        let (pre, post) = match self.integrator {
-            Integrator::Midpoint => ("midpoint_predict", "midpoint_correct"),
-            Integrator::Verlet => ("verlet_drift", "verlet_kick"),
-        };
+        let (pre, post) = Stage::step_pair(self.integrator);
         self.submit(|enc| {
             if first_eval && !adaptive {
                 self.record_evaluate(enc);
@@ -281,7 +283,7 @@ impl<T: Real> GpuSolver<T> {
             self.record(enc, pre);
             self.record_evaluate(enc);
             self.record(enc, post);
-            self.record(enc, "check");
+            self.record(enc, Stage::Check);
         })
         .map_err(gpu)?;
         let _ = self.ctx.device.poll(wgpu::PollType::Poll);

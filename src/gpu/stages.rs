@@ -1,16 +1,17 @@
-//! The table of GPU kernels per variant: which entry point of which `kernels-variants/` file runs
-//! for each CPU stage name, over which index range, compiled with which defines. The `thread`
-//! table is the base; the search adds its kernels to `neighbour_search` (tracking lists, the
-//! explicit 64-slot lists), and the mapping / kernel-value axes replace the three pair-sum
-//! stages (number_density, colour_gradient, acceleration) by their own kernels
-//! ([`pair_stage`]); the other stages keep the thread kernels over the search's iterator. Every pipeline shares the one explicit layout of
-//! [`super::solver_buffers`]; labels are `sphlab.<variant>.<stage>` (`.<entry>` added
-//! when a stage has several kernels or its entry differs: `stage_<name>` avoids a clash with a
-//! library function of the same name).
+//! The GPU kernels of each stage of [`crate::stage::TABLE`] per variant: which entry point of which
+//! `kernels-variants/` file runs, over which index range, compiled with which defines. The
+//! `thread` table is the base (a stage's thread kernel is the entry point named as the stage);
+//! the search adds its kernels to `neighbour_search` (tracking lists, the explicit 64-slot
+//! lists), and the mapping / kernel-value axes replace the three pair-sum stages
+//! ([`PAIR_STAGES`]) by their own kernels ([`pair_stage`]); the other stages keep the thread
+//! kernels over the search's iterator. Every pipeline shares the one explicit layout of
+//! [`super::solver_buffers`]; labels are `sphlab.<variant>.<stage>`, with `.<entry>` added for
+//! a kernel whose entry point is not the stage name.
 
 use super::compose::{compose_variant, F64};
 use super::variant::{Accumulation, KernelValues, Mapping, Precision, SearchVariant, VariantSpec};
 use super::{GpuContext, GpuError};
+use crate::stage::Stage;
 use std::collections::HashMap;
 
 /// The index range a kernel is dispatched over (64 threads per workgroup unless noted).
@@ -55,30 +56,35 @@ pub const CELLS_SEARCH: &[KernelDef] = &[
     k("cell_sort", "search/cell_scatter.wgsl", Domain::Cells),
 ];
 
-/// The `thread` mapping: CPU stage name → kernels in dispatch order.
-pub const THREAD_STAGES: &[(&str, &[KernelDef])] = &[
-    ("number_density", &[k("number_density", "thread/number_density.wgsl", Domain::All)]),
+/// The thread kernel of stage `s` (entry point = stage name) in `file`.
+const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
+    k(s.name(), file, domain)
+}
+
+/// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
+pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
+    (Stage::NumberDensity, &[t(Stage::NumberDensity, "thread/number_density.wgsl", Domain::All)]),
     (
-        "contact_line",
+        Stage::ContactLine,
         &[
-            k("contact_line", "thread/contact_line.wgsl", Domain::Fluid),
+            t(Stage::ContactLine, "thread/contact_line.wgsl", Domain::Fluid),
             k("contact_sort", "thread/contact_line.wgsl", Domain::One),
         ],
     ),
-    ("wall_typing", &[k("wall_typing", "thread/wall_typing.wgsl", Domain::Wall)]),
-    ("equation_of_state", &[k("equation_of_state", "thread/equation_of_state.wgsl", Domain::All)]),
-    ("wall_pressure", &[k("wall_pressure", "thread/wall_pressure.wgsl", Domain::Wall)]),
-    ("colour_gradient", &[k("colour_gradient", "thread/colour_gradient.wgsl", Domain::All)]),
-    ("normal_correction", &[k("stage_normal_correction", "thread/normal_correction.wgsl", Domain::All)]),
-    ("surface_stress", &[k("stage_surface_stress", "thread/surface_stress.wgsl", Domain::All)]),
-    ("acceleration", &[k("acceleration", "thread/acceleration.wgsl", Domain::All)]),
-    ("xsph", &[k("xsph", "thread/xsph.wgsl", Domain::Fluid)]),
-    ("midpoint_predict", &[k("midpoint_predict", "thread/integrate.wgsl", Domain::Fluid)]),
-    ("midpoint_correct", &[k("midpoint_correct", "thread/integrate.wgsl", Domain::Fluid)]),
-    ("verlet_drift", &[k("verlet_drift", "thread/integrate.wgsl", Domain::Fluid)]),
-    ("verlet_kick", &[k("verlet_kick", "thread/integrate.wgsl", Domain::Fluid)]),
-    ("check", &[k("check", "thread/integrate.wgsl", Domain::Fluid)]),
-    ("reduce_max", &[k("reduce_max", "thread/integrate.wgsl", Domain::Fluid)]),
+    (Stage::WallTyping, &[t(Stage::WallTyping, "thread/wall_typing.wgsl", Domain::Wall)]),
+    (Stage::EquationOfState, &[t(Stage::EquationOfState, "thread/equation_of_state.wgsl", Domain::All)]),
+    (Stage::WallPressure, &[t(Stage::WallPressure, "thread/wall_pressure.wgsl", Domain::Wall)]),
+    (Stage::ColourGradient, &[t(Stage::ColourGradient, "thread/colour_gradient.wgsl", Domain::All)]),
+    (Stage::NormalCorrection, &[t(Stage::NormalCorrection, "thread/normal_correction.wgsl", Domain::All)]),
+    (Stage::SurfaceStress, &[t(Stage::SurfaceStress, "thread/surface_stress.wgsl", Domain::All)]),
+    (Stage::Acceleration, &[t(Stage::Acceleration, "thread/acceleration.wgsl", Domain::All)]),
+    (Stage::Xsph, &[t(Stage::Xsph, "thread/xsph.wgsl", Domain::Fluid)]),
+    (Stage::MidpointPredict, &[t(Stage::MidpointPredict, "thread/integrate.wgsl", Domain::Fluid)]),
+    (Stage::MidpointCorrect, &[t(Stage::MidpointCorrect, "thread/integrate.wgsl", Domain::Fluid)]),
+    (Stage::VerletDrift, &[t(Stage::VerletDrift, "thread/integrate.wgsl", Domain::Fluid)]),
+    (Stage::VerletKick, &[t(Stage::VerletKick, "thread/integrate.wgsl", Domain::Fluid)]),
+    (Stage::Check, &[t(Stage::Check, "thread/integrate.wgsl", Domain::Fluid)]),
+    (Stage::ReduceMax, &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid)]),
 ];
 
 /// Tracking lists, before the cell sort: displacement reduction and the rebuild decision.
@@ -92,21 +98,21 @@ pub const TRACKING_POST: &[KernelDef] =
 /// The explicit lists (and cached kernel values), built last in `neighbour_search`.
 pub const NBR_BUILD: KernelDef = k("nbr_build", "search/nbr_list.wgsl", Domain::All);
 
-/// The pair-sum stages whose kernels depend on the mapping and the kernel values.
-pub const PAIR_STAGES: [&str; 3] = ["number_density", "colour_gradient", "acceleration"];
+/// The pair-sum stages whose kernels depend on the mapping and the kernel values, each with
+/// the entry point that finalises a block accumulation.
+pub const PAIR_STAGES: [(Stage, &str); 3] = [
+    (Stage::NumberDensity, "finalize_density"),
+    (Stage::ColourGradient, "finalize_gradient"),
+    (Stage::Acceleration, "finalize_acceleration"),
+];
 
-/// Kernels of pair-sum stage `name` for `spec`; `None` keeps the thread kernels.
-pub fn pair_stage(spec: &VariantSpec, name: &'static str) -> Option<Vec<KernelDef>> {
-    let fin = match name {
-        "number_density" => "finalize_density",
-        "colour_gradient" => "finalize_gradient",
-        "acceleration" => "finalize_acceleration",
-        _ => return None,
-    };
-    let block = |file| vec![k(name, file, Domain::Block), k(fin, "block/finalize.wgsl", Domain::All)];
+/// Kernels of pair-sum stage `stage` for `spec`; `None` keeps the thread kernels.
+pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
+    let fin = PAIR_STAGES.iter().find(|(s, _)| *s == stage)?.1;
+    let block = |file| vec![k(stage.name(), file, Domain::Block), k(fin, "block/finalize.wgsl", Domain::All)];
     match spec.mapping {
         Mapping::Thread if spec.kernel_values == KernelValues::Cached => {
-            Some(vec![k(name, "list/pair_sums.wgsl", Domain::All)])
+            Some(vec![k(stage.name(), "list/pair_sums.wgsl", Domain::All)])
         }
         Mapping::Thread => None,
         Mapping::BlockAtomic => Some(block("block/atomic.wgsl")),
@@ -114,8 +120,8 @@ pub fn pair_stage(spec: &VariantSpec, name: &'static str) -> Option<Vec<KernelDe
     }
 }
 
-/// The stage table of a variant: `neighbour_search` first, then the stages by CPU name.
-pub fn kernel_table(spec: &VariantSpec) -> Result<Vec<(&'static str, Vec<KernelDef>)>, String> {
+/// The kernels of every stage of a variant: `neighbour_search` first, then the table's order.
+pub fn kernel_table(spec: &VariantSpec) -> Result<Vec<(Stage, Vec<KernelDef>)>, String> {
     spec.implemented()?;
     let mut search = match spec.search {
         SearchVariant::Direct => Vec::new(),
@@ -125,8 +131,8 @@ pub fn kernel_table(spec: &VariantSpec) -> Result<Vec<(&'static str, Vec<KernelD
     if spec.has_lists() {
         search.push(NBR_BUILD);
     }
-    let mut t = vec![("neighbour_search", search)];
-    t.extend(THREAD_STAGES.iter().map(|(n, ks)| (*n, pair_stage(spec, n).unwrap_or_else(|| ks.to_vec()))));
+    let mut t = vec![(Stage::NeighbourSearch, search)];
+    t.extend(THREAD_STAGES.iter().map(|(s, ks)| (*s, pair_stage(spec, *s).unwrap_or_else(|| ks.to_vec()))));
     Ok(t)
 }
 
@@ -152,20 +158,20 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     d
 }
 
-/// The compiled pipelines of a variant, by stage name.
+/// The compiled pipelines of a variant, by stage.
 pub struct Pipelines {
-    /// Stage name → (kernel, pipeline) in dispatch order.
-    pub stages: HashMap<&'static str, Vec<(KernelDef, wgpu::ComputePipeline)>>,
+    /// Stage → (kernel, pipeline) in dispatch order.
+    pub stages: HashMap<Stage, Vec<(KernelDef, wgpu::ComputePipeline)>>,
 }
 
 impl Pipelines {
     /// Composes and compiles every kernel of `spec` against `layout` (one module per file).
     pub fn build(ctx: &GpuContext, spec: &VariantSpec, layout: &wgpu::PipelineLayout) -> Result<Self, GpuError> {
-        let table: Vec<(&'static str, Vec<KernelDef>)> = kernel_table(spec).map_err(GpuError::Unsupported)?;
+        let table: Vec<(Stage, Vec<KernelDef>)> = kernel_table(spec).map_err(GpuError::Unsupported)?;
         let defs = defines(spec);
         let mut modules: HashMap<&'static str, wgpu::ShaderModule> = HashMap::new();
         let mut stages = HashMap::new();
-        for (name, kernels) in table {
+        for (stage, kernels) in table {
             let mut v = Vec::new();
             for kd in kernels {
                 if !modules.contains_key(kd.file) {
@@ -179,10 +185,10 @@ impl Pipelines {
                     })?;
                     modules.insert(kd.file, m);
                 }
-                let label = if kd.entry.ends_with(name) {
-                    format!("sphlab.{spec}.{name}")
+                let label = if kd.entry == stage.name() {
+                    format!("sphlab.{spec}.{stage}")
                 } else {
-                    format!("sphlab.{spec}.{name}.{}", kd.entry)
+                    format!("sphlab.{spec}.{stage}.{}", kd.entry)
                 };
                 let p = ctx
                     .scoped(|d| {
@@ -198,7 +204,7 @@ impl Pipelines {
                     .map_err(|e| GpuError::Validation(format!("{label}: {e}")))?;
                 v.push((kd, p));
             }
-            stages.insert(name, v);
+            stages.insert(stage, v);
         }
         Ok(Self { stages })
     }

@@ -20,7 +20,7 @@ pub fn contact_side<T: Real>(r_w: V2<T>, r_tp: V2<T>, n_theta: V2<T>) -> T {
 /// Algorithm 1: keep the magnitude of `g`, replace its direction by `±n̂_θ`
 /// (`+` for liquid or LIQUID-typed particles, `−` for gas or GAS-typed ones).
 #[inline(always)]
-pub fn normal_correction<T: Real>(g: V2<T>, n_theta: V2<T>, liquid: bool) -> V2<T> {
+pub fn corrected_normal<T: Real>(g: V2<T>, n_theta: V2<T>, liquid: bool) -> V2<T> {
     let m = g.norm();
     if liquid {
         n_theta * m

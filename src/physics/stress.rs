@@ -6,7 +6,7 @@ use crate::real::{Real, Sym2, V2};
 /// `Π^{kl} = σ^{kl} (|g|² I/2 − g⊗g)/|g|` for a colour gradient `g` (2D, traceless):
 /// `Π_xx = σ(g_y² − g_x²)/(2|g|)`, `Π_xy = −σ g_x g_y/|g|`. Zero when `g = 0`.
 #[inline(always)]
-pub fn surface_stress<T: Real>(g: V2<T>, sigma_kl: T) -> Sym2<T> {
+pub fn stress_tensor<T: Real>(g: V2<T>, sigma_kl: T) -> Sym2<T> {
     let n2 = g.norm2();
     if n2 > T::zero() {
         let inv = sigma_kl / n2.sqrt();

@@ -10,7 +10,7 @@ use sphlab::real::{Real, Sym2, V2};
 pub fn stress_twins<T: Real>(ctx: &GpuContext) {
     let mut rng = Rng::new(0x57e55);
     let tol = (TOL32, TOL64);
-    // surface_stress(g, σ): edges g = 0 (→ 0), one zero component, σ = 0.
+    // stress_tensor(g, σ): edges g = 0 (→ 0), one zero component, σ = 0.
     let cases: Vec<Case<T>> = (0..N)
         .map(|k| {
             let mut g = rand_vec::<T>(&mut rng, 1e-3, 1e5);
@@ -24,10 +24,10 @@ pub fn stress_twins<T: Real>(ctx: &GpuContext) {
             Case::new(vec![g[0], g[1], sigma], vec![])
         })
         .collect();
-    let body = "let s = surface_stress(a2(i, 0u), a(i, 2u)); put(i, 0u, s.xx); put(i, 1u, s.xy);";
-    check(ctx, Twin { name: "surface_stress", module: "stress", body, nout: 2 }, &cases, tol, |c| {
+    let body = "let s = stress_tensor(a2(i, 0u), a(i, 2u)); put(i, 0u, s.xx); put(i, 1u, s.xy);";
+    check(ctx, Twin { name: "stress_tensor", module: "stress", body, nout: 2 }, &cases, tol, |c| {
         let g = v2(c, 0);
-        let s = stress::surface_stress(g, c.args[2]);
+        let s = stress::stress_tensor(g, c.args[2]);
         let n = g.norm2();
         let mag_xx = if n > T::zero() { T::c(0.5) * n * c.args[2] / n.sqrt() } else { T::zero() };
         vec![(s.xx, mag_xx), m(s.xy)]
@@ -168,7 +168,7 @@ pub fn contact_twins<T: Real>(ctx: &GpuContext) {
         let d = w - tp;
         vec![(contact::contact_side(w, tp, nrm), (d.x * nrm.x).abs() + (d.y * nrm.y).abs())]
     });
-    // normal_correction(g, n̂_θ, liquid): both signs, g = 0 edge.
+    // corrected_normal(g, n̂_θ, liquid): both signs, g = 0 edge.
     let cases: Vec<Case<T>> = normals
         .iter()
         .enumerate()
@@ -177,9 +177,9 @@ pub fn contact_twins<T: Real>(ctx: &GpuContext) {
             Case::new(vec![g[0], g[1], nrm.x, nrm.y], vec![rng.bit()])
         })
         .collect();
-    let body = "put2(i, 0u, normal_correction(a2(i, 0u), a2(i, 2u), n(i, 0u) == 1u));";
-    check(ctx, contact("normal_correction", body, 2), &cases, tol, |c| {
-        let r = contact::normal_correction(v2(c, 0), v2(c, 2), c.ints[0] == 1);
+    let body = "put2(i, 0u, corrected_normal(a2(i, 0u), a2(i, 2u), n(i, 0u) == 1u));";
+    check(ctx, contact("corrected_normal", body, 2), &cases, tol, |c| {
+        let r = contact::corrected_normal(v2(c, 0), v2(c, 2), c.ints[0] == 1);
         mv(r, r).to_vec()
     });
 }

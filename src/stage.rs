@@ -1,0 +1,250 @@
+//! The stage table: the one place that names the stages of a time step and says, for each, when
+//! it runs, what it reads and writes, and which control words it clears first. The name is the
+//! WGSL entry point of its thread kernel, the CPU function, the pipeline label, the timestamp
+//! pass, the profile and bench label and the CSV column; no other Rust file spells it. The CPU
+//! loops (`cpu::CpuSolver::evaluate`, `evaluate_stagewise`), the GPU pipelines and readback
+//! poisoning (`gpu::stages`, `gpu::readback`), `verify`'s per-stage outputs and the tests all
+//! follow from it.
+
+use crate::fields::Field;
+use crate::model::ActiveStages;
+use crate::scene::Integrator;
+
+/// One stage of a time step: the force-evaluation stages in the order of PHYSICS.md §12, then
+/// the integrator's, the blow-up check and the dt reduction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Stage {
+    /// Neighbour lists (CPU) or cell ranges / lists (GPU).
+    NeighbourSearch,
+    /// σ and Holmes χ.
+    NumberDensity,
+    /// Contact points (Mode B).
+    ContactLine,
+    /// Wall colours by the interpolation line (Mode B, Algorithm 2).
+    WallTyping,
+    /// ρ = mσ and the pressure.
+    EquationOfState,
+    /// Adami wall pressure (R-wall).
+    WallPressure,
+    /// Colour gradients.
+    ColourGradient,
+    /// Algorithm 1 (Mode B).
+    NormalCorrection,
+    /// Surface stress tensor Π.
+    SurfaceStress,
+    /// Accelerations of the fluid particles.
+    Acceleration,
+    /// XSPH advection velocity.
+    Xsph,
+    /// Midpoint predictor half step.
+    MidpointPredict,
+    /// Midpoint corrector.
+    MidpointCorrect,
+    /// Velocity Verlet opening kick and drift.
+    VerletDrift,
+    /// Velocity Verlet closing kick.
+    VerletKick,
+    /// Blow-up check (non-finite or escaped particles).
+    Check,
+    /// max |v|, max |a| for the automatic dt.
+    ReduceMax,
+}
+
+/// How a stage writes a field: every element (the readback poisons it before a lone run), or
+/// only some (fluid rows, wall rows, or a correction in place).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Write {
+    /// Every particle's element (or the whole contact list).
+    All(Field),
+    /// The fluid rows.
+    Fluid(Field),
+    /// Some rows only (walls, or an in-place correction).
+    Part(Field),
+}
+
+impl Write {
+    /// The field written.
+    pub fn field(self) -> Field {
+        match self {
+            Write::All(f) | Write::Fluid(f) | Write::Part(f) => f,
+        }
+    }
+    /// True when no element the comparison reads survives from the input (poison before a run).
+    pub fn is_pure(self) -> bool {
+        !matches!(self, Write::Part(_))
+    }
+}
+
+/// Control words a stage resets before it runs (GPU: `ctl` words of `common/bindings.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clear {
+    /// The cell counts of the counting sort.
+    CellCounts,
+    /// The count of contact points found.
+    ContactsFound,
+    /// The max |v| and max |a| words.
+    Maxima,
+}
+
+/// Everything the table says about one stage.
+#[derive(Clone, Copy, Debug)]
+pub struct StageDef {
+    /// The stage.
+    pub stage: Stage,
+    /// Its name (entry point, CPU function, label, CSV column).
+    pub name: &'static str,
+    /// Fields it reads (besides positions, velocities and the neighbour structure).
+    pub reads: &'static [Field],
+    /// Fields it writes.
+    pub writes: &'static [Write],
+    /// Control words reset before it runs.
+    pub clears: &'static [Clear],
+}
+
+use Field as F;
+use Write::{All, Fluid, Part};
+
+const fn def(
+    stage: Stage,
+    name: &'static str,
+    reads: &'static [Field],
+    writes: &'static [Write],
+    clears: &'static [Clear],
+) -> StageDef {
+    StageDef { stage, name, reads, writes, clears }
+}
+
+/// The table, in [`Stage`] order.
+pub static TABLE: [StageDef; 17] = [
+    def(Stage::NeighbourSearch, "neighbour_search", &[], &[], &[Clear::CellCounts]),
+    def(Stage::NumberDensity, "number_density", &[], &[All(F::Sigma), All(F::Chi)], &[]),
+    def(Stage::ContactLine, "contact_line", &[], &[All(F::Contacts)], &[Clear::ContactsFound]),
+    def(Stage::WallTyping, "wall_typing", &[F::Contacts], &[Part(F::Colour), Part(F::Mass)], &[]),
+    def(Stage::EquationOfState, "equation_of_state", &[F::Sigma, F::Mass, F::Colour], &[All(F::Rho), All(F::P)], &[]),
+    def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]),
+    def(Stage::ColourGradient, "colour_gradient", &[F::Sigma, F::Colour], &[All(F::Grad)], &[]),
+    def(Stage::NormalCorrection, "normal_correction", &[F::Grad, F::Colour, F::Contacts], &[Part(F::Grad)], &[]),
+    def(Stage::SurfaceStress, "surface_stress", &[F::Grad, F::Colour], &[All(F::Pi)], &[]),
+    def(
+        Stage::Acceleration,
+        "acceleration",
+        &[F::Sigma, F::Chi, F::Mass, F::P, F::Pi],
+        &[Fluid(F::Acc)],
+        &[],
+    ),
+    def(Stage::Xsph, "xsph", &[F::Mass, F::Rho], &[Fluid(F::Vt)], &[]),
+    def(Stage::MidpointPredict, "midpoint_predict", &[F::Acc, F::Vt], &[], &[]),
+    def(Stage::MidpointCorrect, "midpoint_correct", &[F::Acc, F::Vt], &[], &[]),
+    def(Stage::VerletDrift, "verlet_drift", &[F::Acc, F::Vt], &[], &[]),
+    def(Stage::VerletKick, "verlet_kick", &[F::Acc], &[Part(F::Vt)], &[]),
+    def(Stage::Check, "check", &[F::Acc], &[], &[]),
+    def(Stage::ReduceMax, "reduce_max", &[F::Acc], &[], &[Clear::Maxima]),
+];
+
+impl Stage {
+    /// Every stage, in table order.
+    pub const ALL: [Stage; 17] = {
+        let mut all = [Stage::NeighbourSearch; 17];
+        let mut k = 0;
+        while k < 17 {
+            all[k] = TABLE[k].stage;
+            k += 1;
+        }
+        all
+    };
+
+    /// The stages of one force evaluation, in order (whether active or not).
+    pub const EVALUATION: [Stage; 11] = [
+        Stage::NeighbourSearch,
+        Stage::NumberDensity,
+        Stage::ContactLine,
+        Stage::WallTyping,
+        Stage::EquationOfState,
+        Stage::WallPressure,
+        Stage::ColourGradient,
+        Stage::NormalCorrection,
+        Stage::SurfaceStress,
+        Stage::Acceleration,
+        Stage::Xsph,
+    ];
+
+    /// The table row.
+    pub const fn def(self) -> &'static StageDef {
+        &TABLE[self as usize]
+    }
+
+    /// The name.
+    pub const fn name(self) -> &'static str {
+        self.def().name
+    }
+
+    /// The stage of a name.
+    pub fn from_name(name: &str) -> Option<Stage> {
+        TABLE.iter().find(|d| d.name == name).map(|d| d.stage)
+    }
+
+    /// True when a force evaluation of a scene with `st` runs this stage (evaluation stages
+    /// only; the step stages follow from [`Stage::step_pair`]).
+    pub fn is_active(self, st: &ActiveStages) -> bool {
+        match self {
+            Stage::ContactLine => st.contact_line,
+            Stage::WallTyping => st.wall_typing,
+            Stage::WallPressure => st.wall_pressure,
+            Stage::ColourGradient | Stage::SurfaceStress => st.surface_tension,
+            Stage::NormalCorrection => st.surface_tension && st.normal_correction,
+            Stage::Xsph => st.xsph,
+            Stage::NeighbourSearch | Stage::NumberDensity | Stage::EquationOfState | Stage::Acceleration => true,
+            _ => false,
+        }
+    }
+
+    /// The (before, after) stages around the second evaluation of a step of `integrator`.
+    pub fn step_pair(integrator: Integrator) -> (Stage, Stage) {
+        match integrator {
+            Integrator::Midpoint => (Stage::MidpointPredict, Stage::MidpointCorrect),
+            Integrator::Verlet => (Stage::VerletDrift, Stage::VerletKick),
+        }
+    }
+
+    /// Fields written to every element (poisoned before a lone GPU run).
+    pub fn pure_outputs(self) -> impl Iterator<Item = Field> {
+        self.def().writes.iter().filter(|w| w.is_pure()).map(|w| w.field())
+    }
+
+    /// Every field written.
+    pub fn outputs(self) -> impl Iterator<Item = Field> {
+        self.def().writes.iter().map(|w| w.field())
+    }
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl ActiveStages {
+    /// The stages of one force evaluation of this scene, in order.
+    pub fn evaluation(&self) -> Vec<Stage> {
+        Stage::EVALUATION.into_iter().filter(|s| s.is_active(self)).collect()
+    }
+
+    /// Their names (printed and written into the run summary).
+    pub fn names(&self) -> Vec<&'static str> {
+        self.evaluation().into_iter().map(Stage::name).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_rows_follow_the_enum_and_names_are_unique() {
+        for (k, d) in TABLE.iter().enumerate() {
+            assert_eq!(d.stage as usize, k, "{}", d.name);
+            assert_eq!(Stage::from_name(d.name), Some(d.stage));
+        }
+        assert!(Stage::EVALUATION.windows(2).all(|w| w[0] < w[1]));
+    }
+}
