@@ -1,8 +1,10 @@
 //! Criterion bench of a full time step (STUDY.md §4, Fig. 6.3/6.9 style): every supported GPU
 //! variant and the CPU reference (one thread and all threads, f64 and f32) on the same scene
 //! (`oscillating-drop` after relaxation is skipped: the drop at rest with its initial velocity
-//! field) at a few sizes, in one group `step` with `BenchmarkId::new(backend, n)` and throughput
-//! in particles. GPU time is wall clock over `iters` steps followed by a device sync.
+//! field) at a few sizes, in one group `step` with `BenchmarkId::new(backend id, n)` (the
+//! [`BackendId`] of `sphlab study` and `records.csv`: `cpu1.cells.f64`, `cells.thread.recomputed.f32`,
+//! …) and throughput in particles. GPU time is wall clock over `iters` steps followed by a
+//! device sync.
 //!
 //! A second group `step_device` times the same GPU cases by GPU timestamps (`gpu::timing`): the
 //! summed device time of every stage pass of the `iters` steps (`Backend::device_time`), so
@@ -14,8 +16,10 @@
 //! skips the GPU). `cargo bench --bench step -- --test` runs each case once (smoke test).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use sphlab::backend::Backend;
-use sphlab::run::{make_backend, RunOptions};
+use sphlab::backend::{Backend, BackendId};
+use sphlab::exec::Exec;
+use sphlab::gpu::variant::{Precision, VariantSpec};
+use sphlab::neighbours::SearchKind;
 use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use std::time::{Duration, Instant};
@@ -32,41 +36,33 @@ fn sizes() -> Vec<u32> {
         .unwrap_or_else(|| vec![30, 60, 120])
 }
 
-/// (label, options) of every backend to time.
-fn backends() -> Vec<(String, RunOptions)> {
+/// Every backend to time: the CPU (one thread and all threads, f64 and f32, cells) and the GPU
+/// variants.
+fn backends() -> Vec<BackendId> {
     let mut v = Vec::new();
-    for backend in ["cpu1", "cpu"] {
-        for precision in ["f64", "f32"] {
-            let o = RunOptions { backend: backend.into(), precision: precision.into(), ..RunOptions::default() };
-            v.push((format!("{backend}.{precision}"), o));
+    for exec in [Exec::Serial, Exec::Parallel] {
+        for precision in [Precision::F64, Precision::F32] {
+            v.push(BackendId::Cpu { exec, search: SearchKind::Cells, precision });
         }
     }
     let only = std::env::var("SPHLAB_BENCH_VARIANTS").ok();
     if only.as_deref() == Some("none") {
         return v;
     }
-    for id in sphlab::gpu::variant::VariantSpec::all().iter().map(|s| s.to_string()) {
-        if only.as_ref().is_some_and(|o| !o.split(',').any(|x| x == id)) {
+    for spec in VariantSpec::all() {
+        if only.as_ref().is_some_and(|o| !o.split(',').any(|x| x == spec.to_string())) {
             continue;
         }
-        let o = RunOptions { backend: "gpu".into(), variant: Some(id.clone()), ..RunOptions::default() };
-        v.push((id, o));
+        v.push(BackendId::Gpu(spec));
     }
     v
 }
 
 /// Builds a backend and takes one warm-up step (pipelines, neighbour structures); `None` with
 /// the reason printed when it cannot run.
-fn warm(
-    group: &str,
-    label: &str,
-    s: &Scene,
-    layout: &Layout,
-    opts: &RunOptions,
-    device_time: bool,
-) -> Option<Box<dyn Backend>> {
+fn warm(group: &str, label: &BackendId, s: &Scene, layout: &Layout, device_time: bool) -> Option<Box<dyn Backend>> {
     let n = layout.pos.len();
-    let mut b = match make_backend(s, layout, opts) {
+    let mut b = match label.build(s, layout, None) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("{group}/{label}/{n}: skipped: {e}");
@@ -93,9 +89,9 @@ fn bench_step(c: &mut Criterion) {
         let layout = build_layout(&s).expect("layout");
         let n = layout.pos.len() as u64;
         group.throughput(Throughput::Elements(n));
-        for (label, opts) in backends() {
-            let Some(mut b) = warm("step", &label, &s, &layout, &opts, false) else { continue };
-            group.bench_with_input(BenchmarkId::new(&label, n), &n, |bench, _| {
+        for label in backends() {
+            let Some(mut b) = warm("step", &label, &s, &layout, false) else { continue };
+            group.bench_with_input(BenchmarkId::new(label.to_string(), n), &n, |bench, _| {
                 bench.iter_custom(|iters| {
                     let t = Instant::now();
                     for _ in 0..iters {
@@ -118,9 +114,9 @@ fn bench_step_device(c: &mut Criterion) {
         let layout = build_layout(&s).expect("layout");
         let n = layout.pos.len() as u64;
         group.throughput(Throughput::Elements(n));
-        for (label, opts) in backends().into_iter().filter(|(_, o)| o.backend == "gpu") {
-            let Some(mut b) = warm("step_device", &label, &s, &layout, &opts, true) else { continue };
-            group.bench_with_input(BenchmarkId::new(&label, n), &n, |bench, _| {
+        for label in backends().into_iter().filter(|id| matches!(id, BackendId::Gpu(_))) {
+            let Some(mut b) = warm("step_device", &label, &s, &layout, true) else { continue };
+            group.bench_with_input(BenchmarkId::new(label.to_string(), n), &n, |bench, _| {
                 bench.iter_custom(|iters| {
                     let _ = b.device_time();
                     for _ in 0..iters {

@@ -1,10 +1,156 @@
 //! What every backend (CPU reference, GPU variants) offers the run driver: stepping, a frame of
 //! the particle state in f64 for output and diagnostics, and errors that name the step and
-//! particle when a run blows up.
+//! particle when a run blows up; and [`BackendId`], the one typed id of a backend
+//! (`cpu1.cells.f64`, `cpu.tracking.f32`, `tracking.thread.recomputed.f32`, …) that the CLI
+//! parses once and `run`, `verify`, `study`, the bench and `records.csv` use.
 
+use crate::cpu::CpuSolver;
+use crate::exec::Exec;
 use crate::fields::Fields;
+use crate::gpu::variant::{Precision, VariantSpec, DEFAULT_VARIANT};
+use crate::gpu::GpuContext;
+use crate::neighbours::SearchKind;
 use crate::real::{Real, V2};
+use crate::scene::build::Layout;
+use crate::scene::Scene;
 use serde::Serialize;
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+
+/// A backend: the CPU reference (execution, neighbour search, precision), written
+/// `{cpu|cpu1}.{search}.{precision}`, or a GPU variant, written as its [`VariantSpec`] id.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BackendId {
+    /// The CPU reference.
+    Cpu {
+        /// All cores (`cpu`) or one thread (`cpu1`).
+        exec: Exec,
+        /// Neighbour search.
+        search: SearchKind,
+        /// Working precision.
+        precision: Precision,
+    },
+    /// A GPU variant.
+    Gpu(VariantSpec),
+}
+
+impl Default for BackendId {
+    fn default() -> Self {
+        BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 }
+    }
+}
+
+impl fmt::Display for BackendId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BackendId::Cpu { exec, search, precision } => {
+                write!(f, "{}.{}.{}", exec.name(), search.name(), precision.name())
+            }
+            BackendId::Gpu(spec) => write!(f, "{spec}"),
+        }
+    }
+}
+
+impl FromStr for BackendId {
+    type Err = String;
+    /// Parses an id; a GPU id must name an implemented variant.
+    fn from_str(id: &str) -> Result<Self, String> {
+        let parts: Vec<&str> = id.split('.').collect();
+        let exec = match parts[0] {
+            "cpu" => Some(Exec::Parallel),
+            "cpu1" => Some(Exec::Serial),
+            _ => None,
+        };
+        let Some(exec) = exec else {
+            return id.parse::<VariantSpec>().map(BackendId::Gpu);
+        };
+        let bad = || format!("unknown CPU backend `{id}`: {{cpu|cpu1}}.{{direct|cells|tracking}}.{{f64|f32}}");
+        let [_, search, precision] = parts.as_slice() else { return Err(bad()) };
+        let search = SearchKind::parse(search).ok_or_else(bad)?;
+        let precision = Precision::ALL.iter().copied().find(|p| p.name() == *precision).ok_or_else(bad)?;
+        Ok(BackendId::Cpu { exec, search, precision })
+    }
+}
+
+impl Serialize for BackendId {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl BackendId {
+    /// The id of the command-line flags `--backend` (`cpu`, `cpu1`, `gpu` or a full id),
+    /// `--variant` (GPU; default [`DEFAULT_VARIANT`]), `--precision` and `--search` (CPU);
+    /// errors name the flag.
+    pub fn from_cli(backend: &str, variant: Option<&str>, precision: &str, search: &str) -> Result<Self, String> {
+        let exec = match backend {
+            "cpu" => Exec::Parallel,
+            "cpu1" => Exec::Serial,
+            "gpu" => {
+                let id = variant.unwrap_or(DEFAULT_VARIANT);
+                return id.parse::<VariantSpec>().map(BackendId::Gpu).map_err(|e| format!("--variant: {e}"));
+            }
+            id if id.contains('.') => return id.parse().map_err(|e| format!("--backend: {e}")),
+            other => {
+                return Err(format!(
+                    "--backend: unknown backend `{other}` (cpu, cpu1, gpu, or a full id such as cpu1.cells.f64 \
+                     or {DEFAULT_VARIANT})"
+                ))
+            }
+        };
+        let search = SearchKind::parse(search)
+            .ok_or_else(|| format!("--search: unknown search `{search}` (direct, cells, tracking)"))?;
+        let precision = Precision::ALL
+            .iter()
+            .copied()
+            .find(|p| p.name() == precision)
+            .ok_or_else(|| format!("--precision: unknown precision `{precision}` (f64, f32)"))?;
+        Ok(BackendId::Cpu { exec, search, precision })
+    }
+
+    /// `cpu`, `cpu1` or `gpu`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            BackendId::Cpu { exec, .. } => exec.name(),
+            BackendId::Gpu(_) => "gpu",
+        }
+    }
+
+    /// The working precision.
+    pub fn precision(&self) -> Precision {
+        match self {
+            BackendId::Cpu { precision, .. } => *precision,
+            BackendId::Gpu(spec) => spec.precision,
+        }
+    }
+
+    /// Builds the backend for `scene`'s `layout`; a GPU backend on `gpu` (a new context when
+    /// `None`). Errors say why (no adapter, unsupported variant).
+    pub fn build(
+        &self,
+        scene: &Scene,
+        layout: &Layout,
+        gpu: Option<&Arc<GpuContext>>,
+    ) -> Result<Box<dyn Backend>, String> {
+        Ok(match *self {
+            BackendId::Cpu { exec, search, precision: Precision::F64 } => {
+                Box::new(CpuSolver::<f64>::new(scene, layout, exec, search))
+            }
+            BackendId::Cpu { exec, search, precision: Precision::F32 } => {
+                Box::new(CpuSolver::<f32>::new(scene, layout, exec, search))
+            }
+            BackendId::Gpu(spec) => {
+                let ctx = match gpu {
+                    Some(c) => c.clone(),
+                    None => Arc::new(GpuContext::new().map_err(|e| format!("{self}: {e}"))?),
+                };
+                spec.support(&ctx).map_err(|e| format!("unsupported on this adapter: {e}"))?;
+                crate::gpu::solver::new_backend(ctx, scene, layout, spec).map_err(|e| e.to_string())?
+            }
+        })
+    }
+}
 
 /// A read-back of the particle state, in f64, fluids first.
 #[derive(Clone, Debug, Default, Serialize)]

@@ -8,12 +8,23 @@
 //! Module map:
 //! * [`physics`]: pure physics functions (kernels, EOS, pair terms, stress, walls, contact
 //!   angle, integrators): the CPU twins of `shaders/*.wgsl`;
+//! * [`real`]: the working precision (`f64`/`f32`), 2-vectors and the symmetric tensor;
 //! * [`scene`]: scene description (TOML), built-in scenes, particle layout;
 //! * [`model`]: the scene turned into solver constants in the working precision;
+//! * [`stage`]: the stage table, the one source of each stage's name, activity, inputs, outputs
+//!   and clears; [`fields`]: the per-evaluation fields both backends share;
 //! * [`neighbours`]: direct, cell-grid and tracking-list neighbour searches with boundary images;
+//! * [`exec`]: one thread or all cores for the CPU loops;
 //! * [`cpu`]: the CPU reference solver, stage by stage;
-//! * [`run`]: the `sphlab run` driver and its outputs;
-//! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports.
+//! * [`gpu`]: the wgpu solver and its variants (WGSL composition, buffers, kernels per stage,
+//!   timestamps);
+//! * [`backend`]: what the run driver steps, and [`backend::BackendId`], the typed backend id;
+//! * [`run`]: the `sphlab run` driver and its outputs ([`output`], [`diagnostics`]);
+//! * [`verify`]: `sphlab verify`, every GPU variant against the CPU reference (the one
+//!   comparison measure and tolerance table, also used by the GPU tests);
+//! * [`study`]: `sphlab study`, the Chapter 6 timing study and its report;
+//! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports;
+//! * [`analytic`]: analytic drop-spread models; [`plot`]: SVG plots of the reports.
 
 pub mod analytic;
 pub mod backend;
@@ -32,6 +43,5 @@ pub mod run;
 pub mod scene;
 pub mod stage;
 pub mod study;
-pub mod study_report;
 pub mod validate;
 pub mod verify;

@@ -3,7 +3,8 @@
 //! that blows up exits 3 with the step and particle named.
 
 use clap::{Args, Parser, Subcommand};
-use sphlab::neighbours::SearchKind;
+use sphlab::backend::BackendId;
+use sphlab::gpu::variant::VariantSpec;
 use sphlab::run::{RunError, RunOptions};
 use sphlab::scene::{builtin, overrides::apply_overrides, Scene};
 use std::path::PathBuf;
@@ -45,7 +46,8 @@ struct RunArgs {
     /// Built-in scene name (see `sphlab scene list`) or a scene TOML file.
     #[arg(default_value = "oscillating-drop")]
     scene: String,
-    /// cpu (all cores), cpu1 (one thread) or gpu.
+    /// cpu (all cores), cpu1 (one thread), gpu, or a full backend id (`cpu1.cells.f64`,
+    /// `cells.thread.recomputed.f32`, …).
     #[arg(long, default_value = "cpu")]
     backend: String,
     /// GPU variant id (see `sphlab variants`).
@@ -232,21 +234,12 @@ fn cmd_run(a: RunArgs) -> ExitCode {
         Ok(s) => s,
         Err(e) => return fail(2, e),
     };
-    let Some(search) = SearchKind::parse(&a.search) else {
-        return fail(2, format!("--search: unknown search `{}` (direct, cells, tracking)", a.search));
+    let backend = match BackendId::from_cli(&a.backend, a.variant.as_deref(), &a.precision, &a.search) {
+        Ok(b) => b,
+        Err(e) => return fail(2, e),
     };
-    let opts = RunOptions {
-        backend: a.backend,
-        variant: a.variant,
-        precision: a.precision,
-        t_end: a.t_end,
-        steps: a.steps,
-        out: a.out,
-        every: a.every,
-        vtk: a.vtk,
-        search,
-        quiet: a.quiet,
-    };
+    let opts =
+        RunOptions { backend, t_end: a.t_end, steps: a.steps, out: a.out, every: a.every, vtk: a.vtk, quiet: a.quiet };
     match sphlab::run::run(&scene, &opts) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e @ RunError::BlowUp(_)) => fail(3, format!("{e}; outputs so far are in {}", opts.out.display())),
@@ -259,11 +252,13 @@ fn cmd_validate(a: ValidateArgs) -> ExitCode {
     if a.t_end.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
         return fail(2, "--t-end: must be positive");
     }
+    let backend = match BackendId::from_cli(&a.backend, a.variant.as_deref(), &a.precision, "cells") {
+        Ok(b) => b,
+        Err(e) => return fail(2, e),
+    };
     let opts = ValidateOptions {
         quick: a.quick,
-        backend: a.backend,
-        variant: a.variant,
-        precision: a.precision,
+        backend,
         out: a.out,
         reuse: a.reuse,
         skip_missing: a.skip_missing,
@@ -338,29 +333,38 @@ fn gpu_context() -> Result<std::sync::Arc<sphlab::gpu::GpuContext>, String> {
     sphlab::gpu::GpuContext::new().map(std::sync::Arc::new).map_err(|e| e.to_string())
 }
 
+/// GPU variant ids of `--variants` (`all` or comma-separated); a CPU id or a bad id is an
+/// error naming the flag.
+fn gpu_variants(list: &str) -> Result<Vec<VariantSpec>, String> {
+    if list == "all" {
+        return Ok(VariantSpec::all());
+    }
+    let mut v = Vec::new();
+    for id in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        match id.parse::<BackendId>() {
+            Ok(BackendId::Gpu(s)) => v.push(s),
+            Ok(cpu) => return Err(format!("--variants: `{cpu}` is a CPU backend, not a GPU variant")),
+            Err(e) => return Err(format!("--variants: {e}")),
+        }
+    }
+    Ok(v)
+}
+
 fn cmd_variants() -> ExitCode {
-    use sphlab::gpu::variant::VariantSpec;
     let ctx = gpu_context();
     match &ctx {
         Ok(c) => println!("adapter: {}", c.describe()),
         Err(e) => println!("adapter: none ({e})"),
     }
     for v in VariantSpec::all() {
-        let status = match (&ctx, v.implemented()) {
-            (_, Err(e)) => format!("unsupported: {e}"),
-            (Err(_), Ok(())) => "unknown: no adapter".to_string(),
-            (Ok(c), Ok(())) => match v.support(c) {
+        let status = match &ctx {
+            Err(_) => "unknown: no adapter".to_string(),
+            Ok(c) => match v.support(c) {
                 Ok(()) => "supported".to_string(),
                 Err(e) => format!("unsupported: {e}"),
             },
         };
-        let mut needs = vec![];
-        if v.precision == sphlab::gpu::variant::Precision::F64 {
-            needs.push("SHADER_F64");
-        }
-        if v.accumulation == sphlab::gpu::variant::Accumulation::Native {
-            needs.push("SHADER_FLOAT32_ATOMIC");
-        }
+        let needs: Vec<&str> = v.features().into_iter().map(|(_, name)| name).collect();
         let needs = if needs.is_empty() { "-".to_string() } else { needs.join("+") };
         println!("{:<44} needs {:<34} {status}", v.to_string(), needs);
     }
@@ -368,22 +372,13 @@ fn cmd_variants() -> ExitCode {
 }
 
 fn cmd_verify(a: VerifyArgs) -> ExitCode {
-    use sphlab::gpu::variant::VariantSpec;
     let scene = match load_scene(&a.scene, &a.sets) {
         Ok(s) => s,
         Err(e) => return fail(2, e),
     };
-    let specs: Vec<VariantSpec> = if a.variants == "all" {
-        VariantSpec::all()
-    } else {
-        let mut v = Vec::new();
-        for id in a.variants.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-            match id.parse() {
-                Ok(s) => v.push(s),
-                Err(e) => return fail(2, format!("--variants: {e}")),
-            }
-        }
-        v
+    let specs = match gpu_variants(&a.variants) {
+        Ok(v) => v,
+        Err(e) => return fail(2, e),
     };
     let ctx = match gpu_context() {
         Ok(c) => c,
@@ -434,15 +429,13 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     if a.steps == 0 {
         return fail(2, "--steps: must be at least 1");
     }
-    let mut variants = Vec::new();
-    if a.variants != "all" {
-        for id in a.variants.split(',') {
-            match id.trim().parse() {
-                Ok(v) => variants.push(v),
-                Err(e) => return fail(2, format!("--variants: {e}")),
-            }
-        }
-    }
+    let variants = match a.variants.as_str() {
+        "all" => Vec::new(),
+        list => match gpu_variants(list) {
+            Ok(v) => v,
+            Err(e) => return fail(2, e),
+        },
+    };
     let opts = sphlab::study::StudyOptions { experiments, sizes, steps: a.steps, variants, out: a.out };
     match sphlab::study::run_study(&opts) {
         Ok(r) => {

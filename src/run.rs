@@ -3,11 +3,8 @@
 //! `.pvd` series) and `summary.json`. A blow-up keeps every file written so far, writes a final
 //! snapshot and a summary naming the step and particle, and maps to exit code 3.
 
-use crate::backend::{Backend, Frame, SolverError};
-use crate::cpu::CpuSolver;
+use crate::backend::{Backend, BackendId, Frame, SolverError};
 use crate::diagnostics::{contact_angle, flow};
-use crate::exec::Exec;
-use crate::neighbours::SearchKind;
 use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::{ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side};
@@ -49,12 +46,8 @@ impl RunError {
 /// Options of `sphlab run`.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunOptions {
-    /// cpu, cpu1 or gpu.
-    pub backend: String,
-    /// GPU variant id.
-    pub variant: Option<String>,
-    /// f64 or f32.
-    pub precision: String,
+    /// The backend (`cpu.cells.f64`, a GPU variant id, …).
+    pub backend: BackendId,
     /// Overrides the scene's end time.
     pub t_end: Option<f64>,
     /// Run exactly this many steps instead.
@@ -65,8 +58,6 @@ pub struct RunOptions {
     pub every: u64,
     /// Also write VTK.
     pub vtk: bool,
-    /// CPU neighbour search.
-    pub search: SearchKind,
     /// No progress bar, no console lines.
     pub quiet: bool,
 }
@@ -74,15 +65,12 @@ pub struct RunOptions {
 impl Default for RunOptions {
     fn default() -> Self {
         Self {
-            backend: "cpu".into(),
-            variant: None,
-            precision: "f64".into(),
+            backend: BackendId::default(),
             t_end: None,
             steps: None,
             out: PathBuf::from("out"),
             every: 10,
             vtk: false,
-            search: SearchKind::Cells,
             quiet: true,
         }
     }
@@ -207,7 +195,7 @@ pub struct Summary {
     pub particles_per_phase: Vec<(String, usize)>,
     /// Wall particles.
     pub wall_particles: usize,
-    /// Backend name (cpu, cpu1, or variant id).
+    /// Backend id (`cpu.cells.f64`, a GPU variant id, …).
     pub backend: String,
     /// Precision.
     pub precision: String,
@@ -231,32 +219,10 @@ pub struct Summary {
     pub status: String,
 }
 
-/// Builds the backend named in the options.
+/// Builds the backend named in the options; one it cannot build (no adapter, a variant the
+/// adapter cannot run) is an input error (exit 2) with the reason.
 pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result<Box<dyn Backend>, RunError> {
-    let exec = match opts.backend.as_str() {
-        "cpu" => Exec::Parallel,
-        "cpu1" => Exec::Serial,
-        "gpu" => return make_gpu_backend(scene, layout, opts),
-        other => return Err(RunError::Input(format!("--backend: unknown backend `{other}` (cpu, cpu1, gpu)"))),
-    };
-    Ok(match opts.precision.as_str() {
-        "f64" => Box::new(CpuSolver::<f64>::new(scene, layout, exec, opts.search)),
-        "f32" => Box::new(CpuSolver::<f32>::new(scene, layout, exec, opts.search)),
-        other => return Err(RunError::Input(format!("--precision: unknown precision `{other}` (f64, f32)"))),
-    })
-}
-
-/// The GPU backend of `--variant` (default [`DEFAULT_VARIANT`]): a bad id or a variant this
-/// build or adapter cannot run is an input error (exit 2) with the reason.
-fn make_gpu_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result<Box<dyn Backend>, RunError> {
-    use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
-    let id = opts.variant.as_deref().unwrap_or(DEFAULT_VARIANT);
-    let spec: VariantSpec = id.parse().map_err(|e: String| RunError::Input(format!("--variant: {e}")))?;
-    spec.implemented().map_err(|e| RunError::Input(format!("--variant: {e}")))?;
-    let ctx = crate::gpu::GpuContext::new().map_err(|e| RunError::Input(format!("--backend gpu: {e}")))?;
-    spec.support(&ctx).map_err(|e| RunError::Input(format!("--variant: unsupported on this adapter: {e}")))?;
-    crate::gpu::solver::new_backend(std::sync::Arc::new(ctx), scene, layout, spec)
-        .map_err(|e| RunError::Input(format!("--backend gpu: {e}")))
+    opts.backend.build(scene, layout, None).map_err(|e| RunError::Input(format!("--backend {}: {e}", opts.backend)))
 }
 
 fn snapshot(fr: &Frame) -> Snapshot {
@@ -311,7 +277,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             .map(|(p, n)| (p.name.clone(), n))
             .collect(),
         wall_particles: layout.n_wall(),
-        backend: backend.name(),
+        backend: opts.backend.to_string(),
         precision: backend.precision().to_string(),
         dt_last: 0.0,
         steps: 0,

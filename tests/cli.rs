@@ -124,8 +124,11 @@ fn a_run_writes_series_snapshots_vtk_and_summary() {
     assert_eq!(summary["status"], "ok");
     let stages: Vec<&str> =
         summary["active_stages"].as_array().expect("list").iter().filter_map(|v| v.as_str()).collect();
-    for s in ["contact_line", "wall_typing", "colour_gradient", "normal_correction", "surface_stress"] {
-        assert!(stages.contains(&s), "Mode B runs {s}: {stages:?}");
+    use sphlab::stage::Stage;
+    for s in
+        [Stage::ContactLine, Stage::WallTyping, Stage::ColourGradient, Stage::NormalCorrection, Stage::SurfaceStress]
+    {
+        assert!(stages.contains(&s.name()), "Mode B runs {s}: {stages:?}");
     }
     assert!(summary["git_commit"].is_string() && summary["wall_particles"].as_u64().unwrap_or(0) > 0);
 }
@@ -140,11 +143,9 @@ fn single_phase_scene_runs_no_surface_tension_stages() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
     let stages: Vec<&str> =
         summary["active_stages"].as_array().expect("list").iter().filter_map(|v| v.as_str()).collect();
-    assert_eq!(
-        stages,
-        ["neighbour_search", "number_density", "equation_of_state", "acceleration"],
-        "a single-phase scene never pays for surface tension"
-    );
+    use sphlab::stage::Stage;
+    let always = [Stage::NeighbourSearch, Stage::NumberDensity, Stage::EquationOfState, Stage::Acceleration];
+    assert_eq!(stages, always.map(Stage::name), "a single-phase scene never pays for surface tension");
 }
 
 #[test]

@@ -1,13 +1,12 @@
 //! The GPU solver against the CPU reference (ARCHITECTURE.md ladder, steps 3–5): the `Params`
 //! layout (no GPU), one force evaluation per field and scene, every stage alone from CPU inputs
-//! with poisoned outputs, 50-step observables, direct = cells, and bitwise reproducibility.
+//! with poisoned outputs (all by `sphlab::verify`'s measure and tolerances; neighbour structures
+//! exactly), 50-step observables, direct = cells, and bitwise reproducibility.
 
 mod common;
-use common::{errs, flat};
 
-use common::{gpu_or_skip, serial};
+use common::{assert_fields_match, assert_neighbours_match, gpu_or_skip, serial};
 use sphlab::backend::Backend;
-use sphlab::cpu::stages::Fields;
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::gpu::compose::{compose_mapped, compose_variant_mapped, validate, F64, VARIANT_FILES};
@@ -15,23 +14,11 @@ use sphlab::gpu::params::{field_offsets, Params};
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
-use sphlab::model::Model;
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Real;
 use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use std::sync::Arc;
-
-/// Tolerances of one evaluation in f32 (relative to the field's max magnitude): GPU and CPU sum
-/// in a different order (cells) and the EOS power differs by a few ulp (repeated multiplication
-/// vs powf), so agreement is at the f32 rounding level, not bitwise. The pressure is measured
-/// against the EOS scale B (its terms cancel near ρ0, see shaders/eos.wgsl), and the
-/// acceleration inherits that pressure rounding (hence its looser bound, for max-rel and L2).
-const TOL_L2: f64 = 1e-5;
-const TOL_MAX: f64 = 1e-4;
-const TOL_MAX_ACC: f64 = 1e-3;
-/// f64 shaders (f32 exp/pow fallbacks are not used by these scenes' quintic kernel and γ = 7).
-const TOL_F64: f64 = 1e-9;
 
 #[test]
 fn params_layout_matches_wgsl() {
@@ -80,41 +67,16 @@ const SCENES: &[(&str, &[&str])] = &[
     ("poiseuille", &[]),
 ];
 
-/// Compares one evaluation; returns the worst (max, l2) and prints every field.
-fn compare<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &Fields<T>, tol: (f64, f64, f64)) {
-    compare_fields(tag, &cpu.model, cpu.n_fluid, &cpu.f, gpu, tol)
-}
-
-fn compare_fields<T: Real>(
-    tag: &str,
-    model: &Model<T>,
-    n_fluid: usize,
-    cf: &Fields<T>,
-    gpu: &Fields<T>,
-    tol: (f64, f64, f64),
-) {
-    let b = model.phases.iter().map(|p| (p.stiffness + p.p_b.abs()).f64()).fold(0.0, f64::max);
-    assert_eq!(cf.colour, gpu.colour, "{tag}: colours");
-    assert_eq!(cf.mass, gpu.mass, "{tag}: masses");
-    assert_eq!(cf.contacts.len(), gpu.contacts.len(), "{tag}: contact count");
-    for (c, g) in cf.contacts.iter().zip(&gpu.contacts) {
-        let e = (c.r - g.r).norm().f64() / c.r.norm().f64().max(model.dx.f64());
-        assert!(e < 1e-5 && c.s == g.s, "{tag}: contact {c:?} vs {g:?}");
-    }
-    for ((name, c), (_, g)) in flat(cf, n_fluid).into_iter().zip(flat(gpu, n_fluid)) {
-        let (mx, l2) = errs(&c, &g, if name == "p" { Some(b) } else { None });
-        println!("{tag:<48} {name:<6} max-rel {mx:.2e} rel-L2 {l2:.2e}");
-        let (tmax, tl2) = if name == "acc" { (tol.2, tol.2) } else { (tol.1, tol.0) };
-        assert!(mx <= tmax && l2 <= tl2, "{tag} {name}: max-rel {mx:e} rel-L2 {l2:e}");
-    }
-}
-
-fn evaluate_both<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, id: &str) -> (CpuSolver<T>, Fields<T>) {
+/// One evaluation on both sides, compared by `sphlab::verify`'s measure and tolerances; the
+/// neighbour structures exactly.
+fn evaluate_both<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, id: &str, tag: &str) {
     let mut cpu = CpuSolver::<T>::new(s, l, Exec::Parallel, SearchKind::Cells);
     cpu.evaluate().expect("cpu evaluate");
     let mut gpu = GpuSolver::<T>::new(ctx.clone(), s, l, id.parse().unwrap()).expect("gpu solver");
     gpu.evaluate_once().expect("gpu evaluate");
-    (cpu, gpu.read_fields().expect("read back"))
+    let f = gpu.read_fields().expect("read back");
+    assert_fields_match(tag, &cpu.model, cpu.n_fluid, &cpu.f, &f, None);
+    assert_neighbours_match(tag, &cpu, &gpu);
 }
 
 #[test]
@@ -125,8 +87,7 @@ fn one_evaluation_matches_cpu_f32() {
     for (name, sets) in SCENES {
         let (s, l) = scene(name, sets);
         for id in ["cells.thread.recomputed.f32", "direct.thread.recomputed.f32"] {
-            let (cpu, gpu) = evaluate_both::<f32>(&ctx, &s, &l, id);
-            compare(&format!("{name} {sets:?} {id}"), &cpu, &gpu, (TOL_L2, TOL_MAX, TOL_MAX_ACC));
+            evaluate_both::<f32>(&ctx, &s, &l, id, &format!("{name} {sets:?} {id}"));
         }
     }
 }
@@ -142,56 +103,28 @@ fn one_evaluation_matches_cpu_f64() {
     let ctx = Arc::new(ctx);
     for (name, sets) in &SCENES[1..2] {
         let (s, l) = scene(name, sets);
-        let (cpu, gpu) = evaluate_both::<f64>(&ctx, &s, &l, "cells.thread.recomputed.f64");
-        compare(&format!("{name} {sets:?} f64"), &cpu, &gpu, (TOL_F64, TOL_F64, TOL_F64));
+        evaluate_both::<f64>(&ctx, &s, &l, "cells.thread.recomputed.f64", &format!("{name} {sets:?} f64"));
     }
 }
 
-/// Every stage alone, from the CPU's inputs to that stage, outputs poisoned before the run.
+/// Every active stage alone, from the CPU's inputs to that stage (the stage table's order),
+/// outputs poisoned before the run; every field compared after it.
 #[test]
 fn every_stage_alone_matches_cpu() {
-    use sphlab::cpu::stages::{self as st, Ctx};
     let _g = serial();
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    type StageFn = fn(&Ctx<f32>, &mut Fields<f32>);
-    let all: &[(&str, StageFn)] = &[
-        ("number_density", st::number_density),
-        ("contact_line", st::contact_line),
-        ("wall_typing", st::wall_typing),
-        ("equation_of_state", st::equation_of_state),
-        ("wall_pressure", st::wall_pressure),
-        ("colour_gradient", st::colour_gradient),
-        ("normal_correction", st::normal_correction),
-        ("surface_stress", st::surface_stress),
-        ("acceleration", st::acceleration),
-        ("xsph", st::xsph),
-    ];
     for (name, sets) in SCENES {
         let (s, l) = scene(name, sets);
         let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Serial, SearchKind::Cells);
-        let mut f = cpu.f.clone();
-        cpu.evaluate().unwrap();
-        f.vt[..cpu.n_fluid].copy_from_slice(&cpu.vel[..cpu.n_fluid]);
-        let active = cpu.model.stages.names();
+        let stagewise = cpu.evaluate_stagewise().unwrap();
         for id in ["cells.thread.recomputed.f32", "direct.thread.recomputed.f32"] {
             let mut gpu = GpuSolver::<f32>::new(ctx.clone(), &s, &l, id.parse().unwrap()).unwrap();
-            let mut fc = f.clone();
-            for (stage, run) in all.iter().filter(|(n, _)| active.contains(n)) {
-                let before = fc.clone();
-                let c = Ctx {
-                    m: &cpu.model,
-                    pos: &cpu.pos,
-                    vel: &cpu.vel,
-                    phase: &cpu.phase,
-                    n_fluid: cpu.n_fluid,
-                    nbrs: &cpu.nbrs,
-                    exec: Exec::Serial,
-                };
-                run(&c, &mut fc);
-                let g = gpu.run_stage_from(&cpu.pos, &cpu.vel, &before, stage).unwrap();
+            for w in stagewise.windows(2) {
+                let ((_, before), (stage, after)) = (&w[0], &w[1]);
+                let g = gpu.run_stage_from(&cpu.pos, &cpu.vel, before, *stage).unwrap();
                 let tag = format!("{name} {sets:?} {id} {stage}");
-                compare_fields(&tag, &cpu.model, cpu.n_fluid, &fc, &g, (TOL_L2, TOL_MAX, TOL_MAX_ACC));
+                assert_fields_match(&tag, &cpu.model, cpu.n_fluid, after, &g, None);
             }
         }
     }
@@ -270,8 +203,11 @@ fn unimplemented_and_bad_variants_are_errors() {
     let (s, l) = scene("poiseuille", &[]);
     // Every id of `VariantSpec::all()` is implemented (tests/gpu_variants.rs); f64 float
     // atomics are refused with a reason, and so is a precision the solver was not built for.
-    for id in ["cells.block-atomic.cas.recomputed.f64", "tracking.block-tree.native.cached.f64"] {
-        let e = GpuSolver::<f64>::new(ctx.clone(), &s, &l, id.parse().unwrap()).err().expect("error");
+    for id in ["cells.block-atomic.cas.recomputed.f32", "tracking.block-tree.native.cached.f32"] {
+        let spec =
+            VariantSpec { precision: sphlab::gpu::variant::Precision::F64, ..id.parse::<VariantSpec>().unwrap() };
+        assert!(spec.to_string().parse::<VariantSpec>().unwrap_err().contains("not meaningful"), "{spec}");
+        let e = GpuSolver::<f64>::new(ctx.clone(), &s, &l, spec).err().expect("error");
         assert!(e.to_string().contains("not meaningful"), "{id}: {e}");
     }
     let e = GpuSolver::<f32>::new(ctx.clone(), &s, &l, "cells.thread.recomputed.f64".parse().unwrap())

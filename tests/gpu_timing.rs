@@ -11,7 +11,8 @@ use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
 use sphlab::scene::build::{build_layout, Layout};
-use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Integrator, Scene};
+use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use sphlab::stage::Stage;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -39,18 +40,16 @@ fn has_timestamps(ctx: &GpuContext) -> bool {
 fn allowed(g: &GpuSolver<f32>, s: &Scene) -> Vec<&'static str> {
     let mut v = g.model.stages.names();
     v.extend(integrator_stages(s));
-    v.push("check");
+    v.push(Stage::Check.name());
     if g.model.dt_fixed <= 0.0 {
-        v.push("reduce_max");
+        v.push(Stage::ReduceMax.name());
     }
     v
 }
 
 fn integrator_stages(s: &Scene) -> [&'static str; 2] {
-    match s.time.integrator {
-        Integrator::Midpoint => ["midpoint_predict", "midpoint_correct"],
-        Integrator::Verlet => ["verlet_drift", "verlet_kick"],
-    }
+    let (open, close) = Stage::step_pair(s.time.integrator);
+    [open.name(), close.name()]
 }
 
 #[test]
@@ -93,12 +92,15 @@ fn stage_times_are_positive_scene_specific_and_within_wall_clock() {
             assert!(*ms > 0.0, "{name} {id}: stage `{stage}` has {ms} ms");
         }
         let reported: Vec<&str> = d.stages.iter().map(|(s, _)| s.as_str()).collect();
-        let core = ["neighbour_search", "number_density", "equation_of_state", "acceleration", "check"];
+        let core =
+            [Stage::NeighbourSearch, Stage::NumberDensity, Stage::EquationOfState, Stage::Acceleration, Stage::Check]
+                .map(Stage::name);
         for stage in core.iter().chain(&integrator_stages(&s)) {
             assert!(reported.contains(stage), "{name} {id}: `{stage}` missing from {reported:?}");
         }
         let two_phase = name == "oscillating-drop";
-        assert_eq!(reported.contains(&"colour_gradient"), two_phase, "{name}: colour_gradient {reported:?}");
+        let colour = Stage::ColourGradient.name();
+        assert_eq!(reported.contains(&colour), two_phase, "{name}: {colour} {reported:?}");
         let sum: f64 = d.stages.iter().map(|s| s.1).sum();
         assert!((sum - d.total_ms).abs() <= 1e-9 * sum.max(1.0));
         // Device work cannot exceed the wall clock; slack for the two clock domains.
@@ -181,5 +183,6 @@ fn study_records_device_time_and_stage_table() {
     assert!(csv.starts_with("experiment,variant,n,stage,device_ms_per_step,share"), "{csv}");
     let share: f64 = csv.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap()).sum();
     assert!((share - 1.0).abs() < 1e-2, "shares sum to {share}");
-    assert!(csv.contains(",colour_gradient,") && md.contains("device time per stage"), "{md}");
+    let column = format!(",{},", Stage::ColourGradient);
+    assert!(csv.contains(&column) && md.contains("device time per stage"), "{md}");
 }

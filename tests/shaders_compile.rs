@@ -1,5 +1,7 @@
 //! Ladder step 1 (no GPU): every WGSL file composes and validates with naga in f32 and f64,
-//! and the preprocessor behaves (`#ifdef`, de-duplicated imports, errors naming file and line).
+//! the preprocessor behaves (`#ifdef`, de-duplicated imports, errors naming file and line), and
+//! every constant WGSL shares with Rust (stage flags, enumerated `Params` codes, `ctl`/`vctl`
+//! words, list slots, the neighbour packing, colours, kernel ids) has Rust's value.
 
 use sphlab::gpu::compose::{
     self, compose, compose_mapped, compose_variant_mapped, validate, F64, SHADERS, VARIANT_FILES,
@@ -118,4 +120,88 @@ fn naga_errors_are_mapped_back_to_the_original_line() {
     // Unknown flat lines fall back to a placeholder rather than panicking.
     assert_eq!(c.locate(usize::MAX).0, "<composed>");
     let _ = compose::shader_source("kernel").expect("kernel is embedded");
+}
+
+/// The value of every `u32`/`i32` constant of a composed module, by name.
+fn wgsl_constants(entry: &str) -> std::collections::HashMap<String, i64> {
+    use wgpu::naga::{Expression, Literal};
+    let m = validate(&compose_mapped("<constants>", entry, &[]).expect("composes")).expect("validates");
+    let mut out = std::collections::HashMap::new();
+    for (_, c) in m.constants.iter() {
+        let v = match m.global_expressions[c.init] {
+            Expression::Literal(Literal::U32(v)) => v as i64,
+            Expression::Literal(Literal::I32(v)) => v as i64,
+            _ => continue,
+        };
+        out.insert(c.name.clone().expect("named constant"), v);
+    }
+    out
+}
+
+#[test]
+fn wgsl_constants_equal_rust_values() {
+    use sphlab::gpu::params::{code, flags};
+    use sphlab::gpu::solver_buffers::ctl;
+    use sphlab::gpu::variant_buffers::{vctl, CAND_SLOTS, NBR_SLOTS};
+    use sphlab::model::{COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
+    use sphlab::neighbours::{IMAGE_SHIFT, INDEX_MASK};
+    use sphlab::physics::kernel::KernelKind;
+    let w = wgsl_constants("#import common/variant_bindings\n");
+    let rust: &[(&str, i64)] = &[
+        ("STAGE_HOLMES", flags::HOLMES as i64),
+        ("STAGE_CONTACT_LINE", flags::CONTACT_LINE as i64),
+        ("STAGE_WALL_TYPING", flags::WALL_TYPING as i64),
+        ("STAGE_WALL_PRESSURE", flags::WALL_PRESSURE as i64),
+        ("STAGE_SURFACE", flags::SURFACE as i64),
+        ("STAGE_NORMAL_CORRECTION", flags::NORMAL_CORRECTION as i64),
+        ("STAGE_VISCOSITY", flags::VISCOSITY as i64),
+        ("STAGE_LJ", flags::LJ as i64),
+        ("STAGE_XSPH", flags::XSPH as i64),
+        ("IMAGE_NONE", code::IMAGE_NONE as i64),
+        ("IMAGE_MIRROR", code::IMAGE_MIRROR as i64),
+        ("IMAGE_SHIFT", code::IMAGE_SHIFT as i64),
+        ("CONTACT_MODE_NONE", code::CONTACT_MODE_NONE as i64),
+        ("CONTACT_MODE_A", code::CONTACT_MODE_A as i64),
+        ("CONTACT_MODE_B", code::CONTACT_MODE_B as i64),
+        ("WALL_VELOCITY_MORRIS", code::WALL_VELOCITY_MORRIS as i64),
+        ("WALL_VELOCITY_HOLMES", code::WALL_VELOCITY_HOLMES as i64),
+        ("NO_COLOUR", NO_COLOUR as i64),
+        ("COLOUR_WALL", COLOUR_WALL as i64),
+        ("MAX_CONTACTS", MAX_CONTACTS as i64),
+        ("KERNEL_CUBIC_SPLINE", KernelKind::CubicSpline.id() as i64),
+        ("KERNEL_QUINTIC", KernelKind::Quintic.id() as i64),
+        ("KERNEL_JOHNSON", KernelKind::Johnson.id() as i64),
+        ("KERNEL_GAUSSIAN", KernelKind::Gaussian.id() as i64),
+        ("KERNEL_WENDLAND_C2", KernelKind::WendlandC2.id() as i64),
+        ("CTL_CONTACTS_FOUND", ctl::CONTACTS_FOUND as i64),
+        ("CTL_CONTACTS", ctl::CONTACTS as i64),
+        ("CTL_BAD_STEP", ctl::BAD_STEP as i64),
+        ("CTL_BAD", ctl::BAD as i64),
+        ("CTL_VMAX", ctl::VMAX as i64),
+        ("CTL_AMAX", ctl::AMAX as i64),
+        ("CTL_CONTACTS_MAX", ctl::CONTACTS_MAX as i64),
+        ("NBR_SLOTS", NBR_SLOTS as i64),
+        ("CAND_SLOTS", CAND_SLOTS as i64),
+        ("PACK_SHIFT", IMAGE_SHIFT as i64),
+        ("PACK_MASK", INDEX_MASK as i64),
+        ("V_NBR_OVER", vctl::NBR_OVER as i64),
+        ("V_NBR_MAX", vctl::NBR_MAX as i64),
+        ("V_CAND_OVER", vctl::CAND_OVER as i64),
+        ("V_CAND_MAX", vctl::CAND_MAX as i64),
+        ("V_REBUILD", vctl::REBUILD as i64),
+        ("V_SINCE", vctl::SINCE as i64),
+        ("V_DISP2", vctl::DISP2 as i64),
+        ("V_REBUILDS", vctl::REBUILDS as i64),
+        ("V_EVERY", vctl::EVERY as i64),
+        ("V_FIXED_OVER", vctl::FIXED_OVER as i64),
+        ("V_CAND_STALE", vctl::CAND_STALE as i64),
+    ];
+    for (name, value) in rust {
+        assert_eq!(w.get(*name), Some(value), "WGSL `{name}` differs from Rust");
+    }
+    // Every stage flag, ctl and vctl word of WGSL is tied above.
+    for name in w.keys().filter(|n| n.starts_with("STAGE_") || n.starts_with("CTL_") || n.starts_with("V_")) {
+        assert!(rust.iter().any(|(r, _)| r == name), "WGSL `{name}` has no Rust twin in this test");
+    }
+    assert!((ctl::CONTACTS_MAX as i64) < ctl::LEN as i64 && (vctl::CAND_STALE as i64) < vctl::LEN as i64);
 }

@@ -6,6 +6,7 @@ pub mod stages;
 
 use crate::backend::{Backend, Frame, SolverError};
 use crate::exec::Exec;
+use crate::fields::Fields;
 use crate::model::{AxisMap, Model, MAX_CONTACTS};
 use crate::neighbours::{NeighbourList, Search, SearchKind};
 use crate::physics::integrate::*;
@@ -13,7 +14,6 @@ use crate::physics::timestep::DtLimits;
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{Integrator, Scene};
-use crate::fields::Fields;
 use crate::stage::Stage;
 use stages::{assign_colours, evaluation_fn, Ctx};
 use std::time::{Duration, Instant};
@@ -144,9 +144,7 @@ impl<T: Real> CpuSolver<T> {
             let t = Instant::now();
             match evaluation_fn::<T>(stage) {
                 Some(run) => run(&self.ctx(), &mut f),
-                None => {
-                    self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support())
-                }
+                None => self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support()),
             }
             after(stage, &f, t.elapsed());
         }

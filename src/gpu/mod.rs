@@ -18,6 +18,7 @@ pub mod variant_buffers;
 pub use buffers::{GpuVec, Uniform};
 pub use compose::{compose, compose_variant, Composed};
 pub use context::{gpu_required, GpuContext};
+pub use readback::NeighbourView;
 
 /// Everything that can go wrong on the GPU side.
 #[derive(Debug, thiserror::Error)]

@@ -30,6 +30,27 @@ pub mod flags {
     pub const XSPH: u32 = 256;
 }
 
+/// Codes of the enumerated `Params` words (`IMAGE_*`, `CONTACT_MODE_*`, `WALL_VELOCITY_*` in
+/// `shaders/types.wgsl`).
+pub mod code {
+    /// No image across this side.
+    pub const IMAGE_NONE: u32 = 0;
+    /// Mirror plane.
+    pub const IMAGE_MIRROR: u32 = 1;
+    /// Periodic shift.
+    pub const IMAGE_SHIFT: u32 = 2;
+    /// No contact-angle model.
+    pub const CONTACT_MODE_NONE: u32 = 0;
+    /// Mode A (wall phase S).
+    pub const CONTACT_MODE_A: u32 = 1;
+    /// Mode B (contact line, typing, correction).
+    pub const CONTACT_MODE_B: u32 = 2;
+    /// Morris wall ghost velocities.
+    pub const WALL_VELOCITY_MORRIS: u32 = 0;
+    /// Holmes wall ghost velocities.
+    pub const WALL_VELOCITY_HOLMES: u32 = 1;
+}
+
 /// The uniform. `#[repr(C)]`, every field a u32 or `T` or `[_; 4]`; the u32 block is 32 words so
 /// the reals start 32-byte aligned (vec4<f64> alignment), the real scalars are 24 (a multiple of 4).
 #[repr(C)]
@@ -138,9 +159,9 @@ impl<T: Real> GridSpec<T> {
 
 fn axis_map<T: Real>(m: Option<AxisMap<T>>) -> (u32, T) {
     match m {
-        None => (0, T::zero()),
-        Some(AxisMap::Mirror(p)) => (1, p),
-        Some(AxisMap::Shift(s)) => (2, s),
+        None => (code::IMAGE_NONE, T::zero()),
+        Some(AxisMap::Mirror(p)) => (code::IMAGE_MIRROR, p),
+        Some(AxisMap::Shift(s)) => (code::IMAGE_SHIFT, s),
     }
 }
 
@@ -154,9 +175,9 @@ impl<T: Real> Params<T> {
         p.n_fluid = n_fluid as u32;
         p.wall_phase = m.wall_phase as u32;
         p.contact_mode = match m.contact_mode {
-            ContactMode::None => 0,
-            ContactMode::A => 1,
-            ContactMode::B => 2,
+            ContactMode::None => code::CONTACT_MODE_NONE,
+            ContactMode::A => code::CONTACT_MODE_A,
+            ContactMode::B => code::CONTACT_MODE_B,
         };
         p.n_walls = m.walls.len().min(4) as u32;
         let st = m.stages;
@@ -173,8 +194,8 @@ impl<T: Real> Params<T> {
         ];
         p.stages = bits.iter().filter(|b| b.0).fold(0, |a, b| a | b.1);
         p.wall_velocity = match m.wall_velocity {
-            WallVelocity::Morris => 0,
-            WallVelocity::Holmes => 1,
+            WallVelocity::Morris => code::WALL_VELOCITY_MORRIS,
+            WallVelocity::Holmes => code::WALL_VELOCITY_HOLMES,
         };
         (p.grid_nx, p.grid_ny) = (grid.nx, grid.ny);
         p.n_phases = m.phases.len().min(4) as u32;

@@ -1,14 +1,27 @@
 //! Moving data between the host and a [`GpuSolver`]: reading the fields and the state back,
 //! and the per-stage check of `sphlab verify` (upload CPU-produced inputs, run ONE stage with its
-//! outputs poisoned, read everything back).
+//! outputs poisoned, read everything back), and the neighbour structures for their exact check.
 
 use super::solver::GpuSolver;
 use super::solver_buffers::ctl;
+use super::variant::SearchVariant;
+use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
 use crate::model::MAX_CONTACTS;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
+
+/// The GPU neighbour structures after an evaluation.
+#[derive(Clone, Debug)]
+pub struct NeighbourView {
+    /// Offsets of each cell in `sorted` (n_cells + 1; empty for the `direct` search).
+    pub cell_start: Vec<u32>,
+    /// Particles by cell, increasing within a cell.
+    pub sorted: Vec<u32>,
+    /// Each particle's explicit list, packed `j | code << 28`, sorted (list variants only).
+    pub lists: Option<Vec<Vec<u32>>>,
+}
 
 impl<T: Real> GpuSolver<T> {
     /// Uploads CPU-produced inputs, runs the neighbour search and ONE stage, and reads every
@@ -105,6 +118,28 @@ impl<T: Real> GpuSolver<T> {
                 .collect(),
             contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
         })
+    }
+
+    /// The neighbour structures of the last evaluation (for the exact comparison with the CPU).
+    pub fn read_neighbours(&self) -> Result<NeighbourView, GpuError> {
+        let ctx = &*self.ctx;
+        let (cell_start, sorted) = if self.spec.search == SearchVariant::Direct {
+            (Vec::new(), Vec::new())
+        } else {
+            (self.b.cell_start.read_back(ctx)?, self.b.sorted.read_back(ctx)?)
+        };
+        let lists = if self.spec.has_lists() {
+            let (counts, nbr) = (self.vb.counts.read_back(ctx)?, self.vb.nbr.read_back(ctx)?);
+            let list = |i: usize| {
+                let mut l = nbr[i * NBR_SLOTS..i * NBR_SLOTS + (counts[i] as usize).min(NBR_SLOTS)].to_vec();
+                l.sort_unstable();
+                l
+            };
+            Some((0..self.n).map(list).collect())
+        } else {
+            None
+        };
+        Ok(NeighbourView { cell_start, sorted, lists })
     }
 
     /// Positions and velocities.

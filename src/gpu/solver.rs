@@ -347,7 +347,29 @@ impl<T: Real> Backend for GpuSolver<T> {
         self.enable_timestamps(on)
     }
     fn device_time(&mut self) -> Option<DeviceTimes> {
-        self.device_times()
+        self.ts.device_times(&self.ctx, self.step)
+    }
+}
+
+impl<T: Real> GpuSolver<T> {
+    /// Switches stage timing on or off; returns whether it is on (false when the device lacks
+    /// `TIMESTAMP_QUERY`: then nothing is timed and [`Self::take_stage_times`] returns `None`).
+    /// Switching on (again) starts from empty sums.
+    pub fn enable_timestamps(&mut self, on: bool) -> bool {
+        self.ts = if on { Timestamps::new(&self.ctx, self.step) } else { Timestamps::default() };
+        self.ts.is_on()
+    }
+
+    /// True while stage timing is on.
+    pub fn timestamps_enabled(&self) -> bool {
+        self.ts.is_on()
+    }
+
+    /// Device nanoseconds per stage name (`neighbour_search`, …, `midpoint_predict`, `check`),
+    /// summed over every pass recorded since the last call, in order of first appearance;
+    /// `None` when timing is off or unavailable (never estimated).
+    pub fn take_stage_times(&mut self) -> Result<Option<Vec<(String, f64)>>, GpuError> {
+        self.ts.stage_times(&self.ctx, self.step)
     }
 }
 

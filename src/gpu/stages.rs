@@ -121,8 +121,7 @@ pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
 }
 
 /// The kernels of every stage of a variant: `neighbour_search` first, then the table's order.
-pub fn kernel_table(spec: &VariantSpec) -> Result<Vec<(Stage, Vec<KernelDef>)>, String> {
-    spec.implemented()?;
+pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     let mut search = match spec.search {
         SearchVariant::Direct => Vec::new(),
         SearchVariant::Cells => CELLS_SEARCH.to_vec(),
@@ -133,7 +132,7 @@ pub fn kernel_table(spec: &VariantSpec) -> Result<Vec<(Stage, Vec<KernelDef>)>, 
     }
     let mut t = vec![(Stage::NeighbourSearch, search)];
     t.extend(THREAD_STAGES.iter().map(|(s, ks)| (*s, pair_stage(spec, *s).unwrap_or_else(|| ks.to_vec()))));
-    Ok(t)
+    t
 }
 
 /// Composition defines of a variant.
@@ -167,7 +166,7 @@ pub struct Pipelines {
 impl Pipelines {
     /// Composes and compiles every kernel of `spec` against `layout` (one module per file).
     pub fn build(ctx: &GpuContext, spec: &VariantSpec, layout: &wgpu::PipelineLayout) -> Result<Self, GpuError> {
-        let table: Vec<(Stage, Vec<KernelDef>)> = kernel_table(spec).map_err(GpuError::Unsupported)?;
+        let table = kernel_table(spec);
         let defs = defines(spec);
         let mut modules: HashMap<&'static str, wgpu::ShaderModule> = HashMap::new();
         let mut stages = HashMap::new();

@@ -1,8 +1,8 @@
-//! Device-side stage timing for [`GpuSolver`]: a timestamp-query pool, off by default (ordinary
-//! runs record no query at all), switched on by [`GpuSolver::enable_timestamps`] when the device
-//! has `Features::TIMESTAMP_QUERY`.
+//! Device-side stage timing: [`Timestamps`], a self-contained timestamp-query pool that the GPU
+//! solver holds, off by default (ordinary runs record no query at all), switched on by
+//! `GpuSolver::enable_timestamps` when the device has `Features::TIMESTAMP_QUERY`.
 //!
-//! **How a stage is bracketed.** [`GpuSolver::record`] already records each stage's dispatches
+//! **How a stage is bracketed.** `GpuSolver::record` already records each stage's dispatches
 //! in one compute pass of its own; with timing on, that pass gets `timestamp_writes` (a
 //! beginning-of-pass and an end-of-pass timestamp, two consecutive slots of one query set). That
 //! needs only `TIMESTAMP_QUERY`, not `TIMESTAMP_QUERY_INSIDE_PASSES` (`ComputePass::write_timestamp`)
@@ -14,16 +14,14 @@
 //!
 //! **Collection.** Slot pairs are handed out in recording order with the stage name noted on the
 //! host. The pool ([`CAPACITY`] queries, the wgpu maximum) is resolved only when it is nearly full
-//! (checked before each submission, never inside one) and at [`GpuSolver::take_stage_times`]:
+//! (checked before each submission, never inside one) and at each take ([`Timestamps::stage_times`]):
 //! one `resolve_query_set` of the used range, a copy to a mappable buffer, a wait, and the
 //! differences end − start times `Queue::get_timestamp_period()` (ns per tick) are summed per
 //! stage name. Timing never touches the solver's buffers, so results are bit-identical with it
 //! on or off (`tests/gpu_timing.rs`).
 
-use super::solver::GpuSolver;
 use super::{GpuContext, GpuError};
 use crate::backend::DeviceTimes;
-use crate::real::Real;
 use std::sync::Mutex;
 
 /// Queries in the pool (the wgpu maximum per query set): 2,048 stage passes between resolves.
@@ -147,16 +145,13 @@ impl Timestamps {
     }
 }
 
-impl<T: Real> GpuSolver<T> {
-    /// Switches stage timing on or off; returns whether it is on (false when the device lacks
-    /// `TIMESTAMP_QUERY`: then nothing is timed and [`Self::take_stage_times`] returns `None`).
-    /// Switching on (again) starts from empty sums.
-    pub fn enable_timestamps(&mut self, on: bool) -> bool {
-        if !on || !self.ctx.has(wgpu::Features::TIMESTAMP_QUERY) {
-            self.ts = Timestamps(None);
-            return false;
+impl Timestamps {
+    /// A pool on `ctx` whose first take covers the steps after `step`; off (nothing is timed)
+    /// when the device lacks `TIMESTAMP_QUERY`.
+    pub fn new(ctx: &GpuContext, step: u64) -> Self {
+        if !ctx.has(wgpu::Features::TIMESTAMP_QUERY) {
+            return Timestamps(None);
         }
-        let ctx = &self.ctx;
         let bytes = CAPACITY as u64 * wgpu::QUERY_SIZE as u64;
         let buffer = |label, usage| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -167,7 +162,7 @@ impl<T: Real> GpuSolver<T> {
             })
         };
         use wgpu::BufferUsages as U;
-        let pool = Pool {
+        Timestamps(Some(Pool {
             set: ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("sphlab.timestamps"),
                 ty: wgpu::QueryType::Timestamp,
@@ -176,28 +171,25 @@ impl<T: Real> GpuSolver<T> {
             resolve: buffer("sphlab.timestamps.resolve", U::QUERY_RESOLVE | U::COPY_SRC),
             staging: buffer("sphlab.timestamps.staging", U::MAP_READ | U::COPY_DST),
             period_ns: ctx.queue.get_timestamp_period() as f64,
-            state: Mutex::new(State { last_step: self.step, ..State::default() }),
-        };
-        self.ts = Timestamps(Some(pool));
-        true
+            state: Mutex::new(State { last_step: step, ..State::default() }),
+        }))
     }
 
-    /// True while stage timing is on.
-    pub fn timestamps_enabled(&self) -> bool {
-        self.ts.0.is_some()
+    /// True while timing is on.
+    pub fn is_on(&self) -> bool {
+        self.0.is_some()
     }
 
-    /// Device nanoseconds per stage name (`neighbour_search`, …, `midpoint_predict`, `check`),
-    /// summed over every pass recorded since the last call, in order of first appearance;
-    /// `None` when timing is off or unavailable (never estimated).
-    pub fn take_stage_times(&mut self) -> Result<Option<Vec<(String, f64)>>, GpuError> {
-        let taken = self.ts.take(&self.ctx, self.step)?;
+    /// Device nanoseconds per stage name summed over every pass recorded since the last take,
+    /// in order of first appearance; `None` when timing is off (never estimated).
+    pub fn stage_times(&self, ctx: &GpuContext, step: u64) -> Result<Option<Vec<(String, f64)>>, GpuError> {
+        let taken = self.take(ctx, step)?;
         Ok(taken.map(|(acc, _)| acc.into_iter().map(|(l, ns, _)| (l, ns)).collect()))
     }
 
     /// [`crate::backend::Backend::device_time`]: the stage sums in ms and the steps they cover.
-    pub(super) fn device_times(&mut self) -> Option<DeviceTimes> {
-        match self.ts.take(&self.ctx, self.step) {
+    pub fn device_times(&self, ctx: &GpuContext, step: u64) -> Option<DeviceTimes> {
+        match self.take(ctx, step) {
             Ok(Some((acc, steps))) => {
                 let stages: Vec<(String, f64)> = acc.into_iter().map(|(l, ns, _)| (l, ns * 1e-6)).collect();
                 Some(DeviceTimes { total_ms: stages.iter().map(|s| s.1).sum(), stages, steps })

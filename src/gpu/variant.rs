@@ -158,6 +158,18 @@ impl VariantSpec {
         Ok(())
     }
 
+    /// The optional adapter features this variant needs, with their names.
+    pub fn features(&self) -> Vec<(wgpu::Features, &'static str)> {
+        let mut v = Vec::new();
+        if self.precision == Precision::F64 {
+            v.push((wgpu::Features::SHADER_F64, "SHADER_F64"));
+        }
+        if self.accumulation == Accumulation::Native {
+            v.push((wgpu::Features::SHADER_FLOAT32_ATOMIC, "SHADER_FLOAT32_ATOMIC"));
+        }
+        v
+    }
+
     /// `Err(reason)` when the adapter lacks a feature or a limit this variant needs.
     pub fn support(&self, ctx: &GpuContext) -> Result<(), String> {
         if self.mapping != Mapping::Thread {
@@ -177,17 +189,17 @@ impl VariantSpec {
                 ));
             }
         }
-        if self.precision == Precision::F64 && !ctx.has(wgpu::Features::SHADER_F64) {
-            return Err(format!("{self}: the adapter lacks SHADER_F64"));
-        }
-        if self.accumulation == Accumulation::Native && !ctx.has(wgpu::Features::SHADER_FLOAT32_ATOMIC) {
-            return Err(format!("{self}: the adapter lacks SHADER_FLOAT32_ATOMIC"));
+        for (feature, name) in self.features() {
+            if !ctx.has(feature) {
+                return Err(format!("{self}: the adapter lacks {name}"));
+            }
         }
         Ok(())
     }
 
     /// `Err(reason)` when this build has no implementation of the variant: every consistent,
-    /// meaningful id is implemented.
+    /// meaningful id is implemented. Parsing an id checks it; [`super::solver::GpuSolver::new`]
+    /// checks a spec built field by field.
     pub fn implemented(&self) -> Result<(), String> {
         if !self.is_consistent() {
             return Err(format!("{self}: an accumulation belongs to the block mappings only"));
@@ -226,6 +238,7 @@ impl FromStr for VariantSpec {
         if !spec.is_consistent() {
             return Err(bad());
         }
+        spec.meaningful()?;
         Ok(spec)
     }
 }
@@ -241,8 +254,12 @@ mod tests {
         // values × (3 accumulations in f32 + fixed in f64).
         assert_eq!(all.len(), 3 * 2 * 2 + 3 * 2 * 2 * 4);
         assert!(all.iter().all(|s| s.implemented().is_ok()));
-        let f64cas: VariantSpec = "cells.block-atomic.cas.recomputed.f64".parse().unwrap();
+        let f64cas = VariantSpec {
+            precision: Precision::F64,
+            ..all.iter().find(|s| s.accumulation == Accumulation::Cas).copied().unwrap()
+        };
         assert!(f64cas.implemented().is_err() && !all.contains(&f64cas));
+        assert!(f64cas.to_string().parse::<VariantSpec>().unwrap_err().contains("not meaningful"));
         for s in &all {
             assert_eq!(s.to_string().parse::<VariantSpec>().unwrap(), *s, "{s}");
         }

@@ -52,6 +52,12 @@ impl<T: Real> CellGrid<T> {
         g
     }
 
+    /// The cell ranges: `start` (n_cells + 1 offsets) and `sorted` (particles by cell, increasing
+    /// within a cell), for the exact comparison with the GPU's counting sort.
+    pub fn ranges(&self) -> (&[u32], &[u32]) {
+        (&self.start, &self.sorted)
+    }
+
     fn coords(&self, p: V2<T>) -> (i64, i64) {
         let fx = ((p.x - self.origin.x) * self.inv_cell).to_f64().unwrap_or(-1.0).floor();
         let fy = ((p.y - self.origin.y) * self.inv_cell).to_f64().unwrap_or(-1.0).floor();

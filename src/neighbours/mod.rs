@@ -8,7 +8,7 @@
 //! same expression in every search; each list is sorted by the packed value, so every search
 //! yields the same lists in the same order and the physics is bit-identical.
 
-mod cells;
+pub mod cells;
 
 pub use cells::CellGrid;
 

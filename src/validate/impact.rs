@@ -68,8 +68,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                     steps: Some(100),
                     every: 0,
                     out: dir.clone(),
-                    backend: ctx.opts.backend.clone(),
-                    precision: ctx.opts.precision.clone(),
+                    backend: ctx.opts.backend,
                     ..RunOptions::default()
                 };
                 crate::run::run(&scene, &opts).map_err(|err| ValidateError::Run { id: "probe".into(), err })?;

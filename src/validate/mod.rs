@@ -37,12 +37,8 @@ pub const CASES: [&str; 7] =
 pub struct ValidateOptions {
     /// Coarse, short runs (test-suite size).
     pub quick: bool,
-    /// cpu, cpu1 or gpu.
-    pub backend: String,
-    /// GPU variant id.
-    pub variant: Option<String>,
-    /// f64 or f32.
-    pub precision: String,
+    /// The backend of every run.
+    pub backend: crate::backend::BackendId,
     /// Report root (`reports/validation`).
     pub out: PathBuf,
     /// Reuse matching finished runs.
@@ -63,9 +59,7 @@ impl Default for ValidateOptions {
     fn default() -> Self {
         Self {
             quick: false,
-            backend: "cpu".into(),
-            variant: None,
-            precision: "f64".into(),
+            backend: crate::backend::BackendId::default(),
             out: PathBuf::from("reports/validation"),
             reuse: false,
             t_end_long: None,
@@ -197,9 +191,7 @@ impl<'a> Ctx<'a> {
             return Err(ValidateError::Skipped(spec.id.clone()));
         }
         let opts = RunOptions {
-            backend: self.opts.backend.clone(),
-            variant: self.opts.variant.clone(),
-            precision: self.opts.precision.clone(),
+            backend: self.opts.backend,
             t_end: spec.t_end,
             steps: None,
             out: dir.clone(),

@@ -132,7 +132,11 @@ impl RunRecord {
             command: command.into(),
             adapter: if backend.starts_with("cpu") { "CPU".into() } else { backend.clone() },
             backend,
-            variant: v["options"]["variant"].as_str().unwrap_or("—").to_string(),
+            variant: v["options"]["variant"]
+                .as_str()
+                .or_else(|| v["options"]["backend"].as_str().filter(|b| !b.starts_with("cpu")))
+                .unwrap_or("—")
+                .to_string(),
             precision: s("precision"),
             git_commit: s("git_commit"),
             date: s("date"),

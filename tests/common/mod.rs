@@ -1,11 +1,17 @@
-//! Shared test helpers: GPU presence rule, a seeded RNG, and the wgebra-style harness that runs
-//! one WGSL library function on many inputs through an appended `@compute` test entry point.
+//! Shared test helpers: GPU presence rule, a seeded RNG, the wgebra-style harness that runs
+//! one WGSL library function on many inputs through an appended `@compute` test entry point, and
+//! the GPU-vs-CPU field and neighbour comparison (through `sphlab::verify`).
 #![allow(dead_code, reason = "each test binary uses a different subset of the helpers")]
 
-use sphlab::cpu::stages::Fields;
+use sphlab::cpu::CpuSolver;
+use sphlab::fields::{Field, Fields};
 use sphlab::gpu::compose::{compose_mapped, validate, F64};
+use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::{gpu_required, GpuContext, GpuVec};
-use sphlab::real::{Real, V2};
+use sphlab::model::Model;
+use sphlab::neighbours::cells::CellGrid;
+use sphlab::real::Real;
+use sphlab::verify::compare_fields;
 use std::sync::{Mutex, MutexGuard};
 
 /// GPU tests run one at a time (one device at a time on a software adapter keeps memory and
@@ -204,31 +210,43 @@ pub fn compare<T: Real>(name: &str, gpu: &[T], cpu: &[(T, T)], cases: &[Case<T>]
     max
 }
 
-/// GPU-vs-CPU field comparison shared by the GPU solver and variant tests.
-/// (max error, rel L2) of `gpu` vs `cpu` relative to `scale` (default: max |cpu|).
-pub fn errs(cpu: &[f64], gpu: &[f64], scale: Option<f64>) -> (f64, f64) {
-    let s = scale.unwrap_or(0.0).max(cpu.iter().fold(0.0f64, |a, x| a.max(x.abs()))).max(1e-300);
-    let (mut mx, mut d2, mut c2) = (0.0f64, 0.0, 0.0);
-    for (c, g) in cpu.iter().zip(gpu) {
-        let e = if g.is_nan() { f64::INFINITY } else { (c - g).abs() };
-        mx = mx.max(e / s);
-        d2 += e * e;
-        c2 += c * c;
-    }
-    (mx, if d2 == 0.0 { 0.0 } else { (d2 / c2.max(s * s * 1e-30)).sqrt() })
+/// GPU-vs-CPU comparison of one evaluation by `sphlab::verify`'s measure and tolerance table:
+/// prints every check on one line and panics with the failing ones; returns the worst
+/// (max-rel, rel-L2) over the fields.
+pub fn assert_fields_match<T: Real>(
+    tag: &str,
+    model: &Model<T>,
+    n_fluid: usize,
+    cpu: &Fields<T>,
+    gpu: &Fields<T>,
+    only: Option<&[Field]>,
+) -> (f64, f64) {
+    let checks = compare_fields("field", "", gpu, cpu, model, n_fluid, only);
+    let line: String = checks.iter().map(|c| format!(" {} {:.1e}/{:.1e}", c.name, c.max_rel, c.rel_l2)).collect();
+    println!("{tag:<46}{line}");
+    let failed: Vec<String> = checks
+        .iter()
+        .filter(|c| !c.pass)
+        .map(|c| format!("{} max-rel {:e} rel-L2 {:e} (tol {:e})", c.name, c.max_rel, c.rel_l2, c.tolerance))
+        .collect();
+    assert!(failed.is_empty(), "{tag}: {}", failed.join("; "));
+    let finite = |x: f64| if x.is_nan() { 0.0 } else { x };
+    checks.iter().fold((0.0, 0.0), |(m, l), c| (m.max(c.max_rel), l.max(finite(c.rel_l2))))
 }
 
-/// Every per-evaluation field as a flat f64 vector, by name (fluid-only for acc and ṽ).
-pub fn flat<T: Real>(f: &Fields<T>, n_fluid: usize) -> Vec<(&'static str, Vec<f64>)> {
-    let v = |x: &[V2<T>]| x.iter().flat_map(|a| [a.x.f64(), a.y.f64()]).collect::<Vec<_>>();
-    vec![
-        ("sigma", f.sigma.iter().map(|x| x.f64()).collect()),
-        ("chi", f.chi.iter().map(|x| x.f64()).collect()),
-        ("rho", f.rho.iter().map(|x| x.f64()).collect()),
-        ("p", f.p.iter().map(|x| x.f64()).collect()),
-        ("grad", f.grad.iter().flat_map(|g| [g[0].x.f64(), g[0].y.f64(), g[1].x.f64(), g[1].y.f64()]).collect()),
-        ("pi", f.pi.iter().flat_map(|t| [t.xx.f64(), t.xy.f64()]).collect()),
-        ("acc", v(&f.acc[..n_fluid])),
-        ("vt", v(&f.vt[..n_fluid])),
-    ]
+/// The GPU neighbour structures equal the CPU's exactly: the cell ranges of the `cells` grid
+/// (same counting sort over the same grid) and, for list variants, every particle's list as a set.
+pub fn assert_neighbours_match<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &GpuSolver<T>) {
+    let v = gpu.read_neighbours().expect("read neighbours");
+    if !v.cell_start.is_empty() {
+        let grid = CellGrid::build(&cpu.pos, cpu.model.support());
+        let (start, sorted) = grid.ranges();
+        assert!(v.cell_start == start, "{tag}: cell ranges differ");
+        assert!(v.sorted == sorted, "{tag}: particles by cell differ");
+    }
+    if let Some(lists) = &v.lists {
+        for (i, l) in lists.iter().enumerate() {
+            assert_eq!(l.as_slice(), cpu.nbrs.of(i), "{tag}: neighbour list of particle {i}");
+        }
+    }
 }

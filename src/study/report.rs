@@ -3,8 +3,8 @@
 //! plots (scaling log-log, speed against error); with GPU timestamps also `stage_times.csv`
 //! (device ms per step and share of each stage) and the E4 per-stage table by variant family.
 
+use super::Record;
 use crate::plot::{line_plot_svg, scatter_labeled_svg, PlotSpec, Series};
-use crate::study::Record;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::Path;

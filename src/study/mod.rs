@@ -15,12 +15,15 @@
 //! pass (`gpu::timing`): `gpu_ms_per_step` (median) and `stage_times.csv`. The error columns
 //! compare the backend's state after the timed steps with the CPU f64 one-thread run of the
 //! same steps (kinetic energy, centroid). Absolute GPU times mean something only on a real GPU; on lavapipe (a CPU emulation of Vulkan) read ratios and
-//! correctness only. E2 (residency hybrids) and E3 (subdomains) are not implemented.
+//! correctness only. E2 (residency hybrids) and E3 (subdomains) are not implemented. Every
+//! backend is named by its [`BackendId`] (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …),
+//! the same id the CLI, the bench and `records.csv` use; the outputs are written by [`report`].
 
-use crate::backend::{Backend, Frame};
-use crate::cpu::CpuSolver;
+pub mod report;
+
+use crate::backend::{Backend, BackendId, Frame};
 use crate::exec::Exec;
-use crate::gpu::variant::VariantSpec;
+use crate::gpu::variant::{Precision, SearchVariant, VariantSpec};
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::run::{initial_velocities, measure};
@@ -38,7 +41,7 @@ pub const DIRECT_MAX_N: usize = 3000;
 pub struct Record {
     /// Experiment (e1, e4, scaling).
     pub experiment: String,
-    /// Backend or variant id (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …).
+    /// Backend id (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …; [`BackendId`]).
     pub variant: String,
     /// Scene name.
     pub scene: String,
@@ -181,17 +184,8 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    #[allow(clippy::too_many_arguments)]
-    fn record(
-        &mut self,
-        experiment: &str,
-        variant: String,
-        backend: &str,
-        precision: &str,
-        mut b: Box<dyn Backend>,
-        steps: u64,
-        threads: usize,
-    ) -> Result<Record, String> {
+    fn record(&mut self, experiment: &str, id: BackendId, steps: u64, threads: usize) -> Result<Record, String> {
+        let mut b = id.build(&self.scene, &self.layout, self.gpu)?;
         b.restart_with_velocities(&self.vel0);
         let Timed { ms, device_ms, stage_ms, frame } = time_backend(b.as_mut(), steps)?;
         let (ke_err, c_err) = match &self.reference {
@@ -207,8 +201,8 @@ impl Ctx<'_> {
         };
         let median = percentile(&ms, 0.5);
         let evals = if self.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
-        let (adapter, driver, device_type) = match (backend, self.gpu) {
-            ("gpu", Some(g)) => {
+        let (adapter, driver, device_type) = match (id, self.gpu) {
+            (BackendId::Gpu(_), Some(g)) => {
                 let i = &g.adapter_info;
                 (i.name.clone(), format!("{} {}", i.driver, i.driver_info), format!("{:?}", i.device_type))
             }
@@ -216,19 +210,19 @@ impl Ctx<'_> {
         };
         Ok(Record {
             experiment: experiment.into(),
-            variant,
+            variant: id.to_string(),
             scene: self.scene.name.clone(),
             nx: self.scene.domain.nx,
             n: self.layout.pos.len(),
             n_fluid: self.layout.n_fluid,
             steps,
-            backend: backend.into(),
+            backend: id.kind().into(),
             adapter,
             driver,
             device_type,
             cpu_model: self.cpu_model.clone(),
             cpu_threads: threads,
-            precision: precision.into(),
+            precision: id.precision().name().into(),
             ms_per_step_median: median,
             ms_per_step_p10: percentile(&ms, 0.1),
             ms_per_step_p90: percentile(&ms, 0.9),
@@ -241,14 +235,6 @@ impl Ctx<'_> {
             date: self.date.clone(),
             stage_ms,
         })
-    }
-}
-
-fn cpu_backend(scene: &Scene, layout: &Layout, exec: Exec, search: SearchKind, f32: bool) -> Box<dyn Backend> {
-    if f32 {
-        Box::new(CpuSolver::<f32>::new(scene, layout, exec, search))
-    } else {
-        Box::new(CpuSolver::<f64>::new(scene, layout, exec, search))
     }
 }
 
@@ -276,53 +262,40 @@ fn run_size(
         cpu_model: cpu_model(),
     };
     // The reference: CPU f64, one thread, cells.
-    let mut r = cpu_backend(&c.scene, &c.layout, Exec::Serial, SearchKind::Cells, false);
+    let reference = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
+    let mut r = reference.build(&c.scene, &c.layout, None)?;
     r.restart_with_velocities(&c.vel0);
     c.reference = Some(time_backend(r.as_mut(), opts.steps)?.frame);
-    let push = |rec: Result<Record, String>, label: &str, out: &mut Vec<Record>| match rec {
+    let push = |rec: Result<Record, String>, id: BackendId, out: &mut Vec<Record>| match rec {
         Ok(r) => {
             eprintln!("{experiment} nx={nx} {:<44} {:>10.3} ms/step", r.variant, r.ms_per_step_median);
             out.push(r);
         }
-        Err(e) => eprintln!("{experiment} nx={nx} {label}: skipped: {e}"),
+        Err(e) => eprintln!("{experiment} nx={nx} {id}: skipped: {e}"),
     };
-    for &s in cpu_searches {
-        let label = format!("cpu1.{}.f64", s.name());
-        let b = cpu_backend(&c.scene, &c.layout, Exec::Serial, s, false);
-        let rec = c.record(experiment, label.clone(), "cpu1", "f64", b, opts.steps, 1);
-        push(rec, &label, out);
+    for &search in cpu_searches {
+        let id = BackendId::Cpu { exec: Exec::Serial, search, precision: Precision::F64 };
+        push(c.record(experiment, id, opts.steps, 1), id, out);
     }
     if all_threads {
-        for f32 in [false, true] {
-            let p = if f32 { "f32" } else { "f64" };
-            let label = format!("cpu.cells.{p}");
-            let b = cpu_backend(&c.scene, &c.layout, Exec::Parallel, SearchKind::Cells, f32);
-            let rec = c.record(experiment, label.clone(), "cpu", p, b, opts.steps, rayon::current_num_threads());
-            push(rec, &label, out);
+        for precision in [Precision::F64, Precision::F32] {
+            let id = BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision };
+            push(c.record(experiment, id, opts.steps, rayon::current_num_threads()), id, out);
         }
     }
-    if let Some(g) = gpu {
+    if gpu.is_some() {
         let specs: Vec<VariantSpec> = if opts.variants.is_empty() { VariantSpec::all() } else { opts.variants.clone() };
         for spec in specs {
-            if experiment == "e1" && spec.to_string() != format!("{}.thread.recomputed.f32", spec.search.name()) {
+            // E1 compares the searches: the default variant of each.
+            if experiment == "e1" && spec != (VariantSpec { search: spec.search, ..VariantSpec::default() }) {
                 continue;
             }
-            let label = spec.to_string();
-            if spec.search == crate::gpu::variant::SearchVariant::Direct
-                && c.layout.pos.len() > DIRECT_MAX_N
-                && opts.variants.is_empty()
-            {
-                eprintln!("{experiment} nx={nx} {label}: skipped: direct search is O(N²); only run up to {DIRECT_MAX_N} particles unless named in --variants");
+            let id = BackendId::Gpu(spec);
+            if spec.search == SearchVariant::Direct && c.layout.pos.len() > DIRECT_MAX_N && opts.variants.is_empty() {
+                eprintln!("{experiment} nx={nx} {id}: skipped: direct search is O(N²); only run up to {DIRECT_MAX_N} particles unless named in --variants");
                 continue;
             }
-            if let Err(e) = spec.implemented().and_then(|_| spec.support(g)) {
-                eprintln!("{experiment} nx={nx} {label}: skipped: {e}");
-                continue;
-            }
-            let b = crate::gpu::solver::new_backend(g.clone(), &c.scene, &c.layout, spec).map_err(|e| e.to_string());
-            let rec =
-                b.and_then(|b| c.record(experiment, label.clone(), "gpu", spec.precision.name(), b, opts.steps, 1));
-            push(rec, &label, out);
+            push(c.record(experiment, id, opts.steps, 1), id, out);
         }
     }
     Ok(())
@@ -345,6 +318,6 @@ pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
             other => return Err(format!("--experiments: unknown experiment `{other}` (e1, e4, scaling)")),
         }
     }
-    crate::study_report::write(&opts.out, &recs, gpu.as_ref().map(|g| g.describe()))?;
+    report::write(&opts.out, &recs, gpu.as_ref().map(|g| g.describe()))?;
     Ok(recs)
 }
