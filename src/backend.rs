@@ -80,18 +80,38 @@ impl Serialize for BackendId {
 }
 
 impl BackendId {
-    /// The id of the command-line flags `--backend` (`cpu`, `cpu1`, `gpu` or a full id),
-    /// `--variant` (GPU; default [`DEFAULT_VARIANT`]), `--precision` and `--search` (CPU);
-    /// errors name the flag.
-    pub fn from_cli(backend: &str, variant: Option<&str>, precision: &str, search: &str) -> Result<Self, String> {
+    /// The backend of the command-line options: `--backend` is `cpu`, `cpu1`, `gpu` or a full
+    /// id; `--variant` (a GPU variant id, default [`DEFAULT_VARIANT`]) applies only to `gpu`;
+    /// `--precision` and `--search` (defaults f64, cells) only to `cpu`/`cpu1`. Each option is
+    /// `Some` only when the user gave it: one that does not apply is an error, never ignored.
+    pub fn from_cli(
+        backend: &str,
+        variant: Option<&str>,
+        precision: Option<&str>,
+        search: Option<&str>,
+    ) -> Result<Self, String> {
+        let not_cpu = |what: &str, v: &str| {
+            format!("--{what} {v}: applies only to --backend cpu or cpu1 (a full id or a GPU variant id carries its own)")
+        };
         let exec = match backend {
             "cpu" => Exec::Parallel,
             "cpu1" => Exec::Serial,
-            "gpu" => {
-                let id = variant.unwrap_or(DEFAULT_VARIANT);
-                return id.parse::<VariantSpec>().map(BackendId::Gpu).map_err(|e| format!("--variant: {e}"));
+            _ if backend == "gpu" || backend.contains('.') => {
+                if let Some(p) = precision {
+                    return Err(not_cpu("precision", p));
+                }
+                if let Some(k) = search {
+                    return Err(not_cpu("search", k));
+                }
+                if backend == "gpu" {
+                    let id = variant.unwrap_or(DEFAULT_VARIANT);
+                    return id.parse::<VariantSpec>().map(BackendId::Gpu).map_err(|e| format!("--variant: {e}"));
+                }
+                if let Some(v) = variant {
+                    return Err(format!("--variant {v}: applies only to --backend gpu (the backend is the full id {backend})"));
+                }
+                return backend.parse().map_err(|e| format!("--backend: {e}"));
             }
-            id if id.contains('.') => return id.parse().map_err(|e| format!("--backend: {e}")),
             other => {
                 return Err(format!(
                     "--backend: unknown backend `{other}` (cpu, cpu1, gpu, or a full id such as cpu1.cells.f64 \
@@ -99,8 +119,13 @@ impl BackendId {
                 ))
             }
         };
+        if let Some(v) = variant {
+            return Err(format!("--variant {v}: applies only to --backend gpu (the backend is {backend})"));
+        }
+        let search = search.unwrap_or("cells");
         let search = SearchKind::parse(search)
             .ok_or_else(|| format!("--search: unknown search `{search}` (direct, cells, tracking)"))?;
+        let precision = precision.unwrap_or("f64");
         let precision = Precision::ALL
             .iter()
             .copied()

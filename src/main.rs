@@ -1,18 +1,30 @@
-//! The `sphlab` command line: `run`, `scene`, `analytic` (and, as they land, `variants`,
-//! `verify`, `validate`, `study`). Bad input exits 2 with a message naming what is wrong; a run
-//! that blows up exits 3 with the step and particle named.
+//! The `sphlab` command line: `run`, `scene`, `analytic`, `variants`, `verify`, `validate`,
+//! `study` and `info`. Exit codes mean one thing each: 0 success, 2 bad input of any kind
+//! (scene fields, options, `--out`, variant ids, a resource plan over the limits), always before
+//! an output directory is created; 3 a numerical blow-up naming step and particle; 130 an
+//! interrupt (Ctrl-C) after a final snapshot and `status: "interrupted"`; 1 anything else
+//! (an output that cannot be written, a failed verification).
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use sphlab::backend::BackendId;
 use sphlab::gpu::variant::VariantSpec;
+use sphlab::plan::{parse_bytes, Limits};
+use sphlab::provenance::{self, GpuInfo, Provenance};
 use sphlab::run::{RunError, RunOptions};
 use sphlab::scene::{builtin, overrides::apply_overrides, Scene};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "sphlab", version, about = "GPU-vs-CPU performance laboratory for 2D multiphase SPH")]
+#[command(
+    name = "sphlab",
+    version = provenance::long_version(),
+    about = "GPU-vs-CPU performance laboratory for 2D multiphase SPH"
+)]
 struct Cli {
+    /// Worker threads of the CPU backend (default: every logical CPU); recorded in every output.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    threads: Option<u16>,
     #[command(subcommand)]
     cmd: Cmd,
 }
@@ -27,7 +39,11 @@ enum Cmd {
         cmd: SceneCmd,
     },
     /// List the GPU variants, what each needs, and whether this adapter runs it.
-    Variants,
+    Variants {
+        /// JSON output.
+        #[arg(long)]
+        json: bool,
+    },
     /// Check GPU variants against the CPU reference (fields, stages, observables).
     Verify(VerifyArgs),
     /// The Chapter 6 timing study: E1 (search × backend), E4 (speedup), scaling; records.csv + summary.md.
@@ -39,6 +55,105 @@ enum Cmd {
         #[command(subcommand)]
         cmd: AnalyticCmd,
     },
+    /// The machine: build commit, CPU and threads, memory, every GPU adapter with its features and limits.
+    Info {
+        /// JSON output.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Working precision of the CPU backends.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Precision {
+    F64,
+    F32,
+}
+
+impl Precision {
+    fn as_str(self) -> &'static str {
+        match self {
+            Precision::F64 => "f64",
+            Precision::F32 => "f32",
+        }
+    }
+}
+
+/// CPU neighbour search.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Search {
+    /// All pairs, O(N²).
+    Direct,
+    /// Uniform cell grid rebuilt every evaluation.
+    Cells,
+    /// Tracking lists with a skin (thesis §6.3).
+    Tracking,
+}
+
+impl Search {
+    fn as_str(self) -> &'static str {
+        match self {
+            Search::Direct => "direct",
+            Search::Cells => "cells",
+            Search::Tracking => "tracking",
+        }
+    }
+}
+
+/// Study experiments.
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+enum Experiment {
+    /// Search × backend at 2,025 fluid particles.
+    E1,
+    /// Every GPU variant against the single-thread CPU at 10,000.
+    E4,
+    /// Time per step against N.
+    Scaling,
+    /// e1, e4 and scaling.
+    All,
+}
+
+/// Validation cases.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Case {
+    Oscillation,
+    #[value(name = "sessile-90")]
+    Sessile90,
+    #[value(name = "relax-60")]
+    Relax60,
+    Convergence,
+    Impact,
+    Spurious,
+    SpeedVsError,
+    All,
+}
+
+/// Analytic spread models.
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+enum Model {
+    All,
+    Axisym,
+    A,
+    B,
+    C,
+}
+
+/// `--max-particles` and `--max-memory`: the limits of the resource plan.
+#[derive(Args)]
+struct LimitArgs {
+    /// Refuse scenes of more particles (fluid + wall) than this (default and most: 2^28 − 1).
+    #[arg(long)]
+    max_particles: Option<u64>,
+    /// Refuse scenes whose planned host memory exceeds this (e.g. 4G, 512M; default: 80% of the
+    /// available memory).
+    #[arg(long, value_parser = parse_bytes)]
+    max_memory: Option<u64>,
+}
+
+impl LimitArgs {
+    fn limits(&self) -> Result<Limits, String> {
+        Limits::with(self.max_particles, self.max_memory)
+    }
 }
 
 #[derive(Args)]
@@ -46,16 +161,15 @@ struct RunArgs {
     /// Built-in scene name (see `sphlab scene list`) or a scene TOML file.
     #[arg(default_value = "oscillating-drop")]
     scene: String,
-    /// cpu (all cores), cpu1 (one thread), gpu, or a full backend id (`cpu1.cells.f64`,
-    /// `cells.thread.recomputed.f32`, …).
+    /// cpu (all cores), cpu1 (one thread) or gpu.
     #[arg(long, default_value = "cpu")]
     backend: String,
-    /// GPU variant id (see `sphlab variants`).
+    /// GPU variant id (see `sphlab variants`); only with --backend gpu.
     #[arg(long)]
     variant: Option<String>,
-    /// f64 or f32 (CPU backends).
-    #[arg(long, default_value = "f64")]
-    precision: String,
+    /// Precision of the CPU backends (default f64); a GPU variant's is part of its id.
+    #[arg(long, value_enum)]
+    precision: Option<Precision>,
     /// End time (overrides the scene's time.t_end).
     #[arg(long, conflicts_with = "steps")]
     t_end: Option<f64>,
@@ -68,18 +182,20 @@ struct RunArgs {
     /// Output directory.
     #[arg(long, default_value = "out")]
     out: PathBuf,
-    /// A particle snapshot every N series rows (0: only the first and the last).
-    #[arg(long, default_value_t = 10)]
+    /// A particle snapshot at every step that is a multiple of N (0: only the first and the last).
+    #[arg(long, default_value_t = 1000)]
     every: u64,
-    /// Also write VTK (.vtu + .pvd) snapshots.
+    /// Also write VTK (.vtu + .pvd) snapshots (binary from 20,000 particles).
     #[arg(long)]
     vtk: bool,
-    /// CPU neighbour search: direct, cells or tracking.
-    #[arg(long, default_value = "cells")]
-    search: String,
+    /// CPU neighbour search (default cells); a GPU variant's is part of its id.
+    #[arg(long, value_enum)]
+    search: Option<Search>,
     /// No progress bar or console lines.
     #[arg(long)]
     quiet: bool,
+    #[command(flatten)]
+    limits: LimitArgs,
 }
 
 #[derive(Args)]
@@ -91,12 +207,12 @@ struct VerifyArgs {
     #[arg(long, default_value = "all")]
     variants: String,
     /// Steps for the observable comparison.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
     /// Override a scene field by its TOML path.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Print JSON instead of the table.
+    /// Print JSON (the same document as verify.json) instead of the table.
     #[arg(long)]
     json: bool,
     /// Also run every stage alone on the CPU's inputs (pinpoints a disagreeing stage).
@@ -105,18 +221,20 @@ struct VerifyArgs {
     /// Write verify.csv and verify.json here.
     #[arg(long)]
     out: Option<PathBuf>,
+    #[command(flatten)]
+    limits: LimitArgs,
 }
 
 #[derive(Args)]
 struct StudyArgs {
-    /// Experiments: e1, e4, scaling (comma-separated) or all.
-    #[arg(long, default_value = "all")]
-    experiments: String,
+    /// Experiments (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "all")]
+    experiments: Vec<Experiment>,
     /// Scaling resolutions (particles across the box).
     #[arg(long, default_value = "30,60,120")]
     sizes: String,
     /// Timed steps per backend.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
     /// GPU variants: `all` or comma-separated ids.
     #[arg(long, default_value = "all")]
@@ -124,24 +242,27 @@ struct StudyArgs {
     /// Output directory.
     #[arg(long, default_value = "reports/study")]
     out: PathBuf,
+    #[command(flatten)]
+    limits: LimitArgs,
 }
 
 #[derive(Args)]
 struct ValidateArgs {
-    /// oscillation, sessile-90, relax-60, convergence, impact, spurious, speed-vs-error or all.
-    case: String,
+    /// The case.
+    #[arg(value_enum)]
+    case: Case,
     /// Coarse resolution and short times (seconds per case; direction and rough size only).
     #[arg(long)]
     quick: bool,
     /// cpu, cpu1 or gpu.
     #[arg(long, default_value = "cpu")]
     backend: String,
-    /// GPU variant id.
+    /// GPU variant id; only with --backend gpu.
     #[arg(long)]
     variant: Option<String>,
-    /// f64 or f32.
-    #[arg(long, default_value = "f64")]
-    precision: String,
+    /// Precision of the CPU backends (default f64).
+    #[arg(long, value_enum)]
+    precision: Option<Precision>,
     /// Report directory.
     #[arg(long, default_value = "reports/validation")]
     out: PathBuf,
@@ -169,7 +290,11 @@ struct ValidateArgs {
 #[derive(Subcommand)]
 enum SceneCmd {
     /// List the built-in scenes.
-    List,
+    List {
+        /// JSON output.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print a built-in scene as TOML (edit it and pass the file to `sphlab run`).
     Show {
         /// Scene name.
@@ -193,16 +318,16 @@ enum AnalyticCmd {
         /// Contact angle in radians.
         #[arg(long)]
         theta_rad: Option<f64>,
-        /// all, axisym, a, b or c.
-        #[arg(long, default_value = "all")]
-        model: String,
-        /// JSON output.
+        /// The model.
+        #[arg(long, value_enum, default_value = "all")]
+        model: Model,
+        /// JSON output (with the provenance envelope).
         #[arg(long)]
         json: bool,
     },
     /// The thesis's Table 1 beside sphlab's values, with the relative error of each cell.
     Table1 {
-        /// JSON output.
+        /// JSON output (with the provenance envelope).
         #[arg(long)]
         json: bool,
     },
@@ -212,9 +337,11 @@ enum AnalyticCmd {
 fn load_scene(name: &str, sets: &[String]) -> Result<Scene, String> {
     let base = if let Some(s) = builtin::builtin(name) {
         s
-    } else if std::path::Path::new(name).exists() {
+    } else if Path::new(name).is_file() {
         let text = std::fs::read_to_string(name).map_err(|e| format!("cannot read scene file {name}: {e}"))?;
         Scene::from_toml(&text).map_err(|e| format!("{name}: {e}"))?
+    } else if Path::new(name).exists() {
+        return Err(format!("scene `{name}` is not a regular file"));
     } else {
         return Err(format!(
             "unknown scene `{name}`: not a built-in ({}) and no such file",
@@ -229,30 +356,80 @@ fn fail(code: u8, msg: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(code)
 }
 
+/// Exit code and message of a run error.
+fn run_failure(e: RunError, out: &Path) -> ExitCode {
+    match e {
+        e @ RunError::BlowUp(_) => fail(3, format!("{e}; outputs so far are in {}", out.display())),
+        e @ RunError::Interrupted { .. } => fail(130, format!("{e} in {}", out.display())),
+        e => fail(e.exit_code() as u8, e),
+    }
+}
+
+/// Ctrl-C asks the running simulation to stop after its current step (final snapshot, summary
+/// `interrupted`, exit 130); a second Ctrl-C exits at once. The `ctrlc` crate does this
+/// portably in a few lines (a dedicated handler thread, no unsafe code here).
+fn install_interrupt_handler() {
+    let _ = ctrlc::set_handler(|| {
+        if sphlab::run::request_interrupt() {
+            std::process::exit(130);
+        }
+        eprintln!("\ninterrupt: stopping after this step (Ctrl-C again to quit at once)");
+    });
+}
+
+/// `--out DIR` checked before anything else happens (exit 2 names the option).
+fn check_out(opt: &str, dir: &Path) -> Result<(), String> {
+    sphlab::output::check_out_dir(dir).map_err(|e| format!("{opt}: {e}"))
+}
+
 fn cmd_run(a: RunArgs) -> ExitCode {
+    if let Err(e) = check_out("--out", &a.out) {
+        return fail(2, e);
+    }
+    let limits = match a.limits.limits() {
+        Ok(l) => l,
+        Err(e) => return fail(2, e),
+    };
+    let backend = match BackendId::from_cli(
+        &a.backend,
+        a.variant.as_deref(),
+        a.precision.map(Precision::as_str),
+        a.search.map(Search::as_str),
+    ) {
+        Ok(b) => b,
+        Err(e) => return fail(2, e),
+    };
     let scene = match load_scene(&a.scene, &a.sets) {
         Ok(s) => s,
         Err(e) => return fail(2, e),
     };
-    let backend = match BackendId::from_cli(&a.backend, a.variant.as_deref(), &a.precision, &a.search) {
-        Ok(b) => b,
-        Err(e) => return fail(2, e),
+    let opts = RunOptions {
+        backend,
+        t_end: a.t_end,
+        steps: a.steps,
+        out: a.out,
+        every: a.every,
+        vtk: a.vtk,
+        quiet: a.quiet,
+        limits,
     };
-    let opts =
-        RunOptions { backend, t_end: a.t_end, steps: a.steps, out: a.out, every: a.every, vtk: a.vtk, quiet: a.quiet };
+    install_interrupt_handler();
     match sphlab::run::run(&scene, &opts) {
         Ok(_) => ExitCode::SUCCESS,
-        Err(e @ RunError::BlowUp(_)) => fail(3, format!("{e}; outputs so far are in {}", opts.out.display())),
-        Err(e) => fail(e.exit_code() as u8, e),
+        Err(e) => run_failure(e, &opts.out),
     }
 }
 
 fn cmd_validate(a: ValidateArgs) -> ExitCode {
     use sphlab::validate::{self, ValidateError, ValidateOptions};
     if a.t_end.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-        return fail(2, "--t-end: must be positive");
+        return fail(2, "--t-end: must be a positive finite time");
     }
-    let backend = match BackendId::from_cli(&a.backend, a.variant.as_deref(), &a.precision, "cells") {
+    if let Err(e) = check_out("--out", &a.out) {
+        return fail(2, e);
+    }
+    let backend = match BackendId::from_cli(&a.backend, a.variant.as_deref(), a.precision.map(Precision::as_str), None)
+    {
         Ok(b) => b,
         Err(e) => return fail(2, e),
     };
@@ -267,52 +444,74 @@ fn cmd_validate(a: ValidateArgs) -> ExitCode {
         full_impact: a.full_impact,
         quiet: a.quiet,
     };
-    let res = if a.case == "all" {
+    install_interrupt_handler();
+    let case = a.case.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
+    let res = if case == "all" {
         validate::run_all(&opts).map(|r| r.len())
     } else {
-        validate::run_case(&a.case, &opts).map(|_| 1)
+        validate::run_case(&case, &opts).map(|_| 1)
     };
     match res {
         Ok(n) => {
+            // Every run's summary.json carries its own envelope; this one is the report's.
+            let prov =
+                Provenance::new(format!("validate --backend {}", opts.backend), None, provenance::VALIDATE_UNITS);
+            if let Err(e) = sphlab::output::write_json(opts.out.join("provenance.json"), &prov) {
+                return fail(1, e);
+            }
             if !opts.quiet {
                 eprintln!("{n} case(s) written under {}", opts.out.display());
             }
             ExitCode::SUCCESS
         }
+        Err(ValidateError::Run { err: RunError::Interrupted { .. }, id }) => fail(130, format!("run {id} interrupted")),
         Err(e @ ValidateError::Input(_)) => fail(2, e),
+        Err(ValidateError::Run { err: e @ RunError::Input(_), id }) => fail(2, format!("run {id}: {e}")),
         Err(e) => fail(1, e),
+    }
+}
+
+/// A JSON value with the provenance envelope added: objects get a `provenance` key, anything
+/// else becomes `{"provenance": …, "result": …}`.
+fn with_provenance(v: serde_json::Value, prov: &Provenance) -> serde_json::Value {
+    let p = serde_json::to_value(prov).expect("provenance serialises");
+    match v {
+        serde_json::Value::Object(mut m) => {
+            m.insert("provenance".into(), p);
+            serde_json::Value::Object(m)
+        }
+        other => serde_json::json!({ "provenance": p, "result": other }),
     }
 }
 
 fn cmd_analytic(cmd: AnalyticCmd) -> ExitCode {
     use sphlab::analytic;
+    let prov = || Provenance::new("analytic", None, provenance::ANALYTIC_UNITS);
     match cmd {
         AnalyticCmd::Spread { re, we, theta_deg, theta_rad, model, json } => {
             let theta = theta_rad.unwrap_or_else(|| theta_deg.unwrap_or(f64::NAN).to_radians());
-            if !["all", "axisym", "a", "b", "c"].contains(&model.as_str()) {
-                return fail(2, format!("--model: unknown model `{model}` (all, axisym, a, b, c)"));
-            }
             let r = match analytic::spread_all(re, we, theta) {
                 Ok(r) => r,
                 Err(e) => return fail(2, e),
             };
             if json {
                 let v = serde_json::to_value(&r).expect("serialisable");
-                let v = match model.as_str() {
-                    "axisym" => serde_json::json!({"model": "axisym", "xi": r.axisym}),
-                    "a" => serde_json::json!({"model": "a", "xi": r.model_a}),
-                    "b" => serde_json::json!({"model": "b", "xi": r.model_b}),
-                    "c" => serde_json::json!({"model": "c", "xi": r.model_c}),
-                    _ => v,
+                let v = match model {
+                    Model::Axisym => serde_json::json!({"model": "axisym", "xi": r.axisym}),
+                    Model::A => serde_json::json!({"model": "a", "xi": r.model_a}),
+                    Model::B => serde_json::json!({"model": "b", "xi": r.model_b}),
+                    Model::C => serde_json::json!({"model": "c", "xi": r.model_c}),
+                    Model::All => v,
                 };
+                let v = with_provenance(v, &prov());
                 println!("{}", serde_json::to_string_pretty(&v).expect("json"));
             } else {
-                match model.as_str() {
-                    "axisym" => println!("D_max/D0 (axisymmetric) = {:.4}", r.axisym),
-                    "a" => println!("D_max/D0 (2D a) = {:.4}", r.model_a),
-                    "b" => println!("D_max/D0 (2D b) = {:.4}", r.model_b),
-                    "c" => println!("D_max/D0 (2D c, eq. 93) = {:.4}", r.model_c),
-                    _ => print!("{}", analytic::format_spread(&r)),
+                match model {
+                    Model::Axisym => println!("D_max/D0 (axisymmetric) = {:.4}", r.axisym),
+                    Model::A => println!("D_max/D0 (2D a) = {:.4}", r.model_a),
+                    Model::B => println!("D_max/D0 (2D b) = {:.4}", r.model_b),
+                    Model::C => println!("D_max/D0 (2D c, eq. 93) = {:.4}", r.model_c),
+                    Model::All => print!("{}", analytic::format_spread(&r)),
                 }
             }
             ExitCode::SUCCESS
@@ -320,7 +519,8 @@ fn cmd_analytic(cmd: AnalyticCmd) -> ExitCode {
         AnalyticCmd::Table1 { json } => {
             let rows = analytic::table1_comparison();
             if json {
-                println!("{}", serde_json::to_string_pretty(&rows).expect("json"));
+                let v = serde_json::json!({ "rows": rows });
+                println!("{}", serde_json::to_string_pretty(&with_provenance(v, &prov())).expect("json"));
             } else {
                 print!("{}", analytic::format_table1(&rows));
             }
@@ -333,8 +533,47 @@ fn gpu_context() -> Result<std::sync::Arc<sphlab::gpu::GpuContext>, String> {
     sphlab::gpu::GpuContext::new().map(std::sync::Arc::new).map_err(|e| e.to_string())
 }
 
-/// GPU variant ids of `--variants` (`all` or comma-separated); a CPU id or a bad id is an
-/// error naming the flag.
+fn cmd_variants(json: bool) -> ExitCode {
+    let ctx = gpu_context();
+    let mut rows = Vec::new();
+    for v in VariantSpec::all() {
+        let status = match &ctx {
+            Err(_) => "unknown: no adapter".to_string(),
+            Ok(c) => match v.support(c) {
+                Ok(()) => "supported".to_string(),
+                Err(e) => format!("unsupported: {e}"),
+            },
+        };
+        let needs: Vec<&str> = v.features().into_iter().map(|(_, name)| name).collect();
+        rows.push((v.to_string(), needs, status));
+    }
+    if json {
+        let gpu = ctx.as_ref().ok().map(|c| GpuInfo::from_adapter(&c.adapter_info));
+        let variants: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|(id, needs, status)| serde_json::json!({"id": id, "needs": needs, "status": status}))
+            .collect();
+        let doc = serde_json::json!({
+            "adapter_error": ctx.as_ref().err(),
+            "variants": variants,
+        });
+        let doc = with_provenance(doc, &Provenance::new("variants", gpu, &[]));
+        println!("{}", serde_json::to_string_pretty(&doc).expect("json"));
+        return ExitCode::SUCCESS;
+    }
+    match &ctx {
+        Ok(c) => println!("adapter: {}", c.describe()),
+        Err(e) => println!("adapter: none ({e})"),
+    }
+    for (id, needs, status) in rows {
+        let needs = if needs.is_empty() { "-".to_string() } else { needs.join("+") };
+        println!("{id:<44} needs {needs:<34} {status}");
+    }
+    ExitCode::SUCCESS
+}
+
+/// GPU variant ids of `--variants` (`all` or comma-separated); a CPU id, a bad id or an empty
+/// list is an error naming the flag.
 fn gpu_variants(list: &str) -> Result<Vec<VariantSpec>, String> {
     if list == "all" {
         return Ok(VariantSpec::all());
@@ -347,35 +586,31 @@ fn gpu_variants(list: &str) -> Result<Vec<VariantSpec>, String> {
             Err(e) => return Err(format!("--variants: {e}")),
         }
     }
+    if v.is_empty() {
+        return Err("--variants: give `all` or at least one variant id".into());
+    }
     Ok(v)
 }
 
-fn cmd_variants() -> ExitCode {
-    let ctx = gpu_context();
-    match &ctx {
-        Ok(c) => println!("adapter: {}", c.describe()),
-        Err(e) => println!("adapter: none ({e})"),
-    }
-    for v in VariantSpec::all() {
-        let status = match &ctx {
-            Err(_) => "unknown: no adapter".to_string(),
-            Ok(c) => match v.support(c) {
-                Ok(()) => "supported".to_string(),
-                Err(e) => format!("unsupported: {e}"),
-            },
-        };
-        let needs: Vec<&str> = v.features().into_iter().map(|(_, name)| name).collect();
-        let needs = if needs.is_empty() { "-".to_string() } else { needs.join("+") };
-        println!("{:<44} needs {:<34} {status}", v.to_string(), needs);
-    }
-    ExitCode::SUCCESS
-}
-
 fn cmd_verify(a: VerifyArgs) -> ExitCode {
+    if let Some(dir) = &a.out {
+        if let Err(e) = check_out("--out", dir) {
+            return fail(2, e);
+        }
+    }
+    let limits = match a.limits.limits() {
+        Ok(l) => l,
+        Err(e) => return fail(2, e),
+    };
     let scene = match load_scene(&a.scene, &a.sets) {
         Ok(s) => s,
         Err(e) => return fail(2, e),
     };
+    // The CPU f64 reference and a GPU variant run side by side: plan both.
+    let plan = sphlab::plan::Plan::new(&scene, 8, false);
+    if let Err(e) = plan.check(&limits) {
+        return fail(2, e);
+    }
     let specs = match gpu_variants(&a.variants) {
         Ok(v) => v,
         Err(e) => return fail(2, e),
@@ -384,6 +619,10 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
         Ok(c) => c,
         Err(e) => return fail(2, format!("no GPU adapter: {e}")),
     };
+    let gplan = sphlab::plan::Plan::new(&scene, 4, true);
+    if let Err(e) = gplan.check_gpu(ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size)) {
+        return fail(2, e);
+    }
     if !a.json {
         eprintln!("adapter: {}; scene {}; {} variants; {} steps", ctx.describe(), scene.name, specs.len(), a.steps);
     }
@@ -396,13 +635,18 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
         reports.push(r);
     }
     let failed = reports.iter().any(|r| r.status == "FAIL" || r.status == "error");
+    // One document for --json and verify.json.
+    let prov = Provenance::new("verify", Some(GpuInfo::from_adapter(&ctx.adapter_info)), provenance::VERIFY_UNITS);
+    let doc = with_provenance(serde_json::json!({"scene": scene.name, "steps": a.steps, "variants": reports}), &prov);
     if let Some(dir) = &a.out {
-        if let Err(e) = sphlab::verify::write_outputs(dir, &ctx.describe(), &scene, &reports) {
+        let written = sphlab::verify::write_outputs(dir, &ctx.describe(), &scene, &reports)
+            .and_then(|()| sphlab::output::write_json(dir.join("verify.json"), &doc).map_err(|e| e.to_string()));
+        if let Err(e) = written {
             return fail(1, e);
         }
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&reports).expect("json"));
+        println!("{}", serde_json::to_string_pretty(&doc).expect("json"));
     } else {
         print!("{}", sphlab::verify::format_table(&reports));
     }
@@ -414,20 +658,34 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
 }
 
 fn cmd_study(a: StudyArgs) -> ExitCode {
-    let experiments: Vec<String> = if a.experiments == "all" {
+    if let Err(e) = check_out("--out", &a.out) {
+        return fail(2, e);
+    }
+    let limits = match a.limits.limits() {
+        Ok(l) => l,
+        Err(e) => return fail(2, e),
+    };
+    let experiments: Vec<String> = if a.experiments.contains(&Experiment::All) {
         vec!["e1".into(), "e4".into(), "scaling".into()]
     } else {
-        a.experiments.split(',').map(|s| s.trim().to_string()).collect()
+        a.experiments.iter().filter_map(|e| e.to_possible_value()).map(|v| v.get_name().to_string()).collect()
     };
     let mut sizes = Vec::new();
+    let base = builtin::builtin("oscillating-drop").expect("built-in");
     for s in a.sizes.split(',') {
-        match s.trim().parse::<u32>() {
-            Ok(n) if n >= 10 => sizes.push(n),
+        let n = match s.trim().parse::<u32>() {
+            Ok(n) if n >= 10 => n,
             _ => return fail(2, format!("--sizes: `{s}` is not a resolution ≥ 10")),
+        };
+        // The study scene at this size must be a valid scene within the resource limits.
+        let scene = match apply_overrides(&base, &[format!("domain.nx={n}")]) {
+            Ok(sc) => sc,
+            Err(e) => return fail(2, format!("--sizes {n}: {e}")),
+        };
+        if let Err(e) = sphlab::plan::Plan::new(&scene, 8, false).check(&limits) {
+            return fail(2, format!("--sizes {n}: {e}"));
         }
-    }
-    if a.steps == 0 {
-        return fail(2, "--steps: must be at least 1");
+        sizes.push(n);
     }
     let variants = match a.variants.as_str() {
         "all" => Vec::new(),
@@ -439,6 +697,11 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     let opts = sphlab::study::StudyOptions { experiments, sizes, steps: a.steps, variants, out: a.out };
     match sphlab::study::run_study(&opts) {
         Ok(r) => {
+            let gpu = gpu_context().ok().map(|c| GpuInfo::from_adapter(&c.adapter_info));
+            let prov = Provenance::new("study", gpu, provenance::STUDY_UNITS);
+            if let Err(e) = sphlab::output::write_json(opts.out.join("provenance.json"), &prov) {
+                return fail(1, e);
+            }
             eprintln!("{} records; {}", r.len(), opts.out.join("summary.md").display());
             ExitCode::SUCCESS
         }
@@ -447,17 +710,109 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     }
 }
 
+/// Every adapter wgpu finds, with the features and limits sphlab cares about.
+fn adapters_json() -> Vec<serde_json::Value> {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    adapters
+        .iter()
+        .map(|ad| {
+            let l = ad.limits();
+            let features: Vec<&str> = ad.features().iter_names().map(|(n, _)| n).collect();
+            serde_json::json!({
+                "adapter": GpuInfo::from_adapter(&ad.get_info()),
+                "features": features,
+                "limits": {
+                    "max_buffer_size": l.max_buffer_size,
+                    "max_storage_buffer_binding_size": l.max_storage_buffer_binding_size,
+                    "max_storage_buffers_per_shader_stage": l.max_storage_buffers_per_shader_stage,
+                    "max_compute_workgroup_storage_size": l.max_compute_workgroup_storage_size,
+                    "max_compute_invocations_per_workgroup": l.max_compute_invocations_per_workgroup,
+                    "max_compute_workgroup_size_x": l.max_compute_workgroup_size_x,
+                    "max_compute_workgroups_per_dimension": l.max_compute_workgroups_per_dimension,
+                },
+            })
+        })
+        .collect()
+}
+
+fn cmd_info(json: bool) -> ExitCode {
+    let prov = Provenance::new("info", None, &[]);
+    let limits = Limits::default();
+    let adapters = adapters_json();
+    let doc = with_provenance(
+        serde_json::json!({
+            "memory_available_bytes": sphlab::plan::available_memory(),
+            "default_limits": limits,
+            "adapters": adapters,
+        }),
+        &prov,
+    );
+    if json {
+        println!("{}", serde_json::to_string_pretty(&doc).expect("json"));
+        return ExitCode::SUCCESS;
+    }
+    println!("sphlab {}", provenance::long_version());
+    println!(
+        "host: {} ({} logical CPUs, {} worker threads, {})",
+        prov.host.cpu, prov.host.cpus, prov.host.threads, prov.host.os
+    );
+    println!(
+        "memory: {} available; default limits: {} particles, {} ({})",
+        sphlab::plan::available_memory().map_or("unknown".into(), |b| sphlab::plan::fmt_bytes(b as f64)),
+        limits.max_particles,
+        sphlab::plan::fmt_bytes(limits.max_memory as f64),
+        limits.memory_source
+    );
+    if adapters.is_empty() {
+        println!("GPU adapters: none");
+    }
+    for a in &adapters {
+        let ad = &a["adapter"];
+        println!(
+            "adapter: {} ({}, {}, driver {})",
+            ad["adapter"].as_str().unwrap_or(""),
+            ad["api"].as_str().unwrap_or(""),
+            ad["device_type"].as_str().unwrap_or(""),
+            ad["driver"].as_str().unwrap_or("")
+        );
+        let f: Vec<&str> =
+            a["features"].as_array().map(|v| v.iter().filter_map(|x| x.as_str()).collect()).unwrap_or_default();
+        println!("  features: {}", if f.is_empty() { "-".into() } else { f.join(" ") });
+        if let Some(l) = a["limits"].as_object() {
+            for (k, v) in l {
+                println!("  {k}: {v}");
+            }
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn cmd_scene_list(json: bool) -> ExitCode {
+    let rows: Vec<(&str, String)> =
+        builtin::BUILTIN.iter().map(|n| (*n, builtin::builtin(n).expect("built-in").description)).collect();
+    if json {
+        let v: Vec<serde_json::Value> =
+            rows.iter().map(|(n, d)| serde_json::json!({"name": n, "description": d})).collect();
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "scenes": v })).expect("json"));
+    } else {
+        for (n, d) in rows {
+            println!("{n:18} {d}");
+        }
+    }
+    ExitCode::SUCCESS
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(n) = cli.threads {
+        if let Err(e) = rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global() {
+            return fail(2, format!("--threads: {e}"));
+        }
+    }
     match cli.cmd {
         Cmd::Run(a) => cmd_run(a),
-        Cmd::Scene { cmd: SceneCmd::List } => {
-            for n in builtin::BUILTIN {
-                let s = builtin::builtin(n).expect("built-in");
-                println!("{n:18} {}", s.description);
-            }
-            ExitCode::SUCCESS
-        }
+        Cmd::Scene { cmd: SceneCmd::List { json } } => cmd_scene_list(json),
         Cmd::Scene { cmd: SceneCmd::Show { name } } => match builtin::builtin(&name) {
             Some(s) => {
                 print!("{}", s.to_toml());
@@ -466,9 +821,10 @@ fn main() -> ExitCode {
             None => fail(2, format!("unknown scene `{name}` (built-in: {})", builtin::BUILTIN.join(", "))),
         },
         Cmd::Analytic { cmd } => cmd_analytic(cmd),
-        Cmd::Variants => cmd_variants(),
+        Cmd::Variants { json } => cmd_variants(json),
         Cmd::Study(a) => cmd_study(a),
         Cmd::Verify(a) => cmd_verify(a),
         Cmd::Validate(a) => cmd_validate(a),
+        Cmd::Info { json } => cmd_info(json),
     }
 }

@@ -1,16 +1,35 @@
 //! The `sphlab run` driver: builds the scene, relaxes it if asked, applies the initial velocity
 //! field, steps a backend and writes `series.csv`, particle snapshots (CSV, optional VTK with a
-//! `.pvd` series) and `summary.json`. A blow-up keeps every file written so far, writes a final
-//! snapshot and a summary naming the step and particle, and maps to exit code 3.
+//! `.pvd` series) and `summary.json`. Before anything big is allocated the scene's resource
+//! plan ([`crate::plan`]) is checked against the limits (exit 2). A blow-up keeps every file
+//! written so far, writes a final snapshot and a summary naming the step and particle, and maps
+//! to exit code 3; an interrupt ([`request_interrupt`], Ctrl-C) stops at the next step with a
+//! final snapshot and `status: "interrupted"` (exit 130).
 
 use crate::backend::{Backend, BackendId, Frame, SolverError};
 use crate::diagnostics::{contact_angle, flow};
 use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
+use crate::plan::{Limits, Plan};
+use crate::provenance::{GpuInfo, Provenance, RUN_UNITS};
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::{ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side};
 use serde::Serialize;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
+
+static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+/// Asks a running [`run`] to stop after its current step (the Ctrl-C handler calls this).
+/// Returns true when an interrupt had already been requested.
+pub fn request_interrupt() -> bool {
+    INTERRUPT.swap(true, Ordering::SeqCst)
+}
+
+/// True once an interrupt was requested.
+pub fn interrupt_requested() -> bool {
+    INTERRUPT.load(Ordering::SeqCst)
+}
 
 /// Errors of a run, with their exit codes.
 #[derive(Debug, thiserror::Error)]
@@ -24,6 +43,14 @@ pub enum RunError {
     /// Writing an output failed (exit 1).
     #[error("{0}")]
     Output(#[from] output::OutputError),
+    /// Stopped by an interrupt (exit 130) after `step` steps; outputs so far are kept.
+    #[error("interrupted at step {step} (t = {t:.6e}); a final snapshot and summary.json were written")]
+    Interrupted {
+        /// Steps taken.
+        step: u64,
+        /// Time reached.
+        t: f64,
+    },
 }
 
 impl From<SceneError> for RunError {
@@ -39,6 +66,7 @@ impl RunError {
             RunError::Input(_) => 2,
             RunError::BlowUp(_) => 3,
             RunError::Output(_) => 1,
+            RunError::Interrupted { .. } => 130,
         }
     }
 }
@@ -54,12 +82,15 @@ pub struct RunOptions {
     pub steps: Option<u64>,
     /// Output directory.
     pub out: PathBuf,
-    /// A particle snapshot every this many series rows (0: only at the end).
+    /// A particle snapshot at every step that is a multiple of this (0: only the first and the
+    /// last); the first (step 0) and the last step always get one.
     pub every: u64,
     /// Also write VTK.
     pub vtk: bool,
     /// No progress bar, no console lines.
     pub quiet: bool,
+    /// Particle and memory limits of the resource plan.
+    pub limits: Limits,
 }
 
 impl Default for RunOptions {
@@ -72,6 +103,7 @@ impl Default for RunOptions {
             every: 10,
             vtk: false,
             quiet: true,
+            limits: Limits::default(),
         }
     }
 }
@@ -195,9 +227,9 @@ pub struct Summary {
     pub particles_per_phase: Vec<(String, usize)>,
     /// Wall particles.
     pub wall_particles: usize,
-    /// Backend id (`cpu.cells.f64`, a GPU variant id, …).
+    /// Backend name (cpu, cpu1, or variant id).
     pub backend: String,
-    /// Precision.
+    /// Precision the backend computes in (f64, f32; a GPU variant's own).
     pub precision: String,
     /// dt of the last step.
     pub dt_last: f64,
@@ -211,21 +243,53 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Wall time per step (ms).
     pub ms_per_step: f64,
-    /// git commit.
-    pub git_commit: String,
-    /// UTC date.
-    pub date: String,
-    /// "ok" or the error.
+    /// "running", "ok", "interrupted" or "blow-up: …".
     pub status: String,
+    /// The resource plan the run was admitted with.
+    pub plan: Plan,
+    /// Commit, date, host, GPU and units.
+    pub provenance: Provenance,
 }
 
-/// Builds the backend named in the options; one it cannot build (no adapter, a variant the
-/// adapter cannot run) is an input error (exit 2) with the reason.
+/// Builds the backend named in the options.
 pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result<Box<dyn Backend>, RunError> {
-    opts.backend.build(scene, layout, None).map_err(|e| RunError::Input(format!("--backend {}: {e}", opts.backend)))
+    make_backend_with_gpu_info(scene, layout, opts, None).map(|(b, _)| b)
 }
 
-fn snapshot(fr: &Frame) -> Snapshot {
+/// [`make_backend`], also returning the adapter where a GPU was used; with `plan`, the GPU's
+/// buffers are checked against the adapter's limits first (exit 2 with the numbers). A GPU
+/// variant this adapter cannot run is an input error (exit 2) with the reason.
+pub fn make_backend_with_gpu_info(
+    scene: &Scene,
+    layout: &Layout,
+    opts: &RunOptions,
+    plan: Option<&Plan>,
+) -> Result<(Box<dyn Backend>, Option<GpuInfo>), RunError> {
+    let input = |e: String| RunError::Input(format!("--backend {}: {e}", opts.backend));
+    let BackendId::Gpu(spec) = opts.backend else {
+        return Ok((opts.backend.build(scene, layout, None).map_err(input)?, None));
+    };
+    let ctx = crate::gpu::GpuContext::new().map_err(|e| input(e.to_string()))?;
+    spec.support(&ctx).map_err(|e| input(format!("unsupported on this adapter: {e}")))?;
+    if let Some(p) = plan {
+        let max = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+        p.check_gpu(max).map_err(RunError::Input)?;
+    }
+    let info = GpuInfo::from_adapter(&ctx.adapter_info);
+    let b = opts.backend.build(scene, layout, Some(&std::sync::Arc::new(ctx))).map_err(input)?;
+    Ok((b, Some(info)))
+}
+
+/// The resource plan of `scene` under `opts` (backend and precision), checked against
+/// `opts.limits`: an input error with every number when it does not fit.
+pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
+    let real = if opts.backend.precision() == crate::gpu::variant::Precision::F32 { 4 } else { 8 };
+    let plan = Plan::new(scene, real, opts.backend.kind() == "gpu");
+    plan.check(&opts.limits).map_err(RunError::Input)?;
+    Ok(plan)
+}
+
+fn snapshot(fr: &Frame, h: f64) -> Snapshot {
     Snapshot {
         step: fr.step,
         t: fr.t,
@@ -235,23 +299,37 @@ fn snapshot(fr: &Frame) -> Snapshot {
         p: fr.p.clone(),
         phase: fr.phase.clone(),
         grad_c: fr.grad_c.clone(),
+        mass: fr.mass.clone(),
+        h,
     }
 }
 
 /// Runs a scene with outputs in `opts.out`. Returns the summary (also written to disk).
+///
+/// Order: every input is checked (scene fields, options, the resource plan against the limits)
+/// before the particles are laid out and before the output directory is created.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     scene.validate()?;
     if let Some(t) = opts.t_end {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(RunError::Input(format!("--t-end: must be positive, got {t}")));
+        if !(t.is_finite() && t > 0.0 && t <= crate::scene::validate::MAX_TIME) {
+            return Err(RunError::Input(format!(
+                "--t-end: must be a finite number in (0, {:e}], got {t}",
+                crate::scene::validate::MAX_TIME
+            )));
+        }
+        if t <= scene.time.dt {
+            return Err(RunError::Input(format!("--t-end: must exceed time.dt = {:e}, got {t}", scene.time.dt)));
         }
     }
     if opts.steps == Some(0) {
         return Err(RunError::Input("--steps: must be at least 1".into()));
     }
+    output::check_out_dir(&opts.out).map_err(|e| RunError::Input(format!("--out: {e}")))?;
+    let plan = plan_for(scene, opts)?;
     let layout = build_layout(scene)?;
-    let mut backend = make_backend(scene, &layout, opts)?;
-    std::fs::create_dir_all(&opts.out).map_err(|e| output::OutputError::Io { path: opts.out.clone(), source: e })?;
+    let (mut backend, gpu) = make_backend_with_gpu_info(scene, &layout, opts, Some(&plan))?;
+    std::fs::create_dir_all(&opts.out)
+        .map_err(|e| RunError::Input(format!("--out: cannot create {}: {e}", opts.out.display())))?;
     let model = crate::model::Model::<f64>::new(scene);
     let stages = model.stages.names();
     if !opts.quiet {
@@ -285,25 +363,46 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         t_final: 0.0,
         wall_time_s: 0.0,
         ms_per_step: 0.0,
-        git_commit: output::git_commit(),
-        date: output::now_utc_iso8601(),
         status: "running".into(),
+        plan,
+        provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
+    let h = scene.h();
 
-    let fail = |summary: &mut Summary, backend: &mut Box<dyn Backend>, e: SolverError, pvd: Option<&mut PvdWriter>| {
+    // A failed or interrupted run keeps a final snapshot and a summary saying why it stopped.
+    let stop = |summary: &mut Summary,
+                backend: &mut Box<dyn Backend>,
+                status: String,
+                pvd: Option<&mut PvdWriter>|
+     -> Result<(), RunError> {
         let fr = backend.frame();
-        let snap = snapshot(&fr);
-        let _ = output::write_particles_csv(&opts.out, &snap);
+        let snap = snapshot(&fr, h);
+        output::write_particles_csv(&opts.out, &snap)?;
         if let Some(p) = pvd {
-            let _ = p.add_snapshot(&snap);
+            p.add_snapshot(&snap)?;
         }
-        summary.status = format!("blow-up: {e}");
+        summary.status = status;
         summary.steps = backend.steps();
         summary.t_final = backend.time();
-        let _ = output::write_json(&summary_path, &*summary);
+        summary.dt_last = fr.dt;
+        summary.ms_per_step = 1e3 * summary.wall_time_s / summary.steps.max(1) as f64;
+        output::write_json(&summary_path, &*summary)?;
+        Ok(())
+    };
+    let fail = |summary: &mut Summary, backend: &mut Box<dyn Backend>, e: SolverError, pvd: Option<&mut PvdWriter>| {
+        let _ = stop(summary, backend, format!("blow-up: {e}"), pvd);
         RunError::BlowUp(e)
+    };
+    let interrupted = |summary: &mut Summary, backend: &mut Box<dyn Backend>, pvd: Option<&mut PvdWriter>| match stop(
+        summary,
+        backend,
+        "interrupted".into(),
+        pvd,
+    ) {
+        Ok(()) => RunError::Interrupted { step: backend.steps(), t: backend.time() },
+        Err(e) => e,
     };
 
     // Relaxation, then the initial velocity field.
@@ -311,11 +410,15 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         let bar = if opts.quiet {
             output::Progress::hidden()
         } else {
-            output::Progress::new((r.t / scene.time.dt.max(1e-300)) as u64, "relax")
+            output::Progress::new((r.t / scene.time.dt.max(1e-300)).min(1e12) as u64, "relax")
         };
         while backend.time() < r.t * (1.0 - 1e-12) {
             if let Err(e) = backend.step() {
                 return Err(fail(&mut summary, &mut backend, e, None));
+            }
+            if interrupt_requested() {
+                summary.relax_steps = backend.steps();
+                return Err(interrupted(&mut summary, &mut backend, None));
             }
             bar.inc(1);
         }
@@ -328,13 +431,18 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     }
 
     let t_end = opts.t_end.unwrap_or(scene.time.t_end);
-    let total =
-        opts.steps.unwrap_or_else(|| if scene.time.dt > 0.0 { (t_end / scene.time.dt).round() as u64 } else { 0 });
+    let total = opts.steps.unwrap_or_else(|| {
+        if scene.time.dt > 0.0 {
+            (t_end / scene.time.dt).round().min(1e12) as u64
+        } else {
+            0
+        }
+    });
     let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new(total, &scene.name) };
     let mut series = SeriesWriter::create(opts.out.join("series.csv"))?;
     let mut pvd = if opts.vtk { Some(PvdWriter::new(&opts.out)) } else { None };
     let write_frame = |fr: &Frame, pvd: &mut Option<PvdWriter>| -> Result<(), RunError> {
-        let snap = snapshot(fr);
+        let snap = snapshot(fr, h);
         output::write_particles_csv(&opts.out, &snap)?;
         if let Some(p) = pvd.as_mut() {
             p.add_snapshot(&snap)?;
@@ -344,7 +452,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     let fr = backend.frame();
     series.write(&measure(scene, &fr))?;
     write_frame(&fr, &mut pvd)?;
-    let mut rows = 1u64;
     let start = Instant::now();
     let done = |b: &Box<dyn Backend>| match opts.steps {
         Some(n) => b.steps() >= n,
@@ -356,13 +463,31 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
         }
         bar.inc(1);
-        if backend.steps() % scene.output.every == 0 || done(&backend) {
+        let step = backend.steps();
+        let last = done(&backend);
+        let row_due = step % scene.output.every == 0 || last;
+        let snap_due = last || (opts.every > 0 && step % opts.every == 0);
+        if row_due || snap_due {
             let fr = backend.frame();
-            series.write(&measure(scene, &fr))?;
-            rows += 1;
-            if done(&backend) || (opts.every > 0 && rows % opts.every == 0) {
+            if let Some(e) = backend.take_error() {
+                summary.wall_time_s = start.elapsed().as_secs_f64();
+                return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+            }
+            if row_due {
+                series.write(&measure(scene, &fr))?;
+            }
+            if snap_due {
                 write_frame(&fr, &mut pvd)?;
             }
+        }
+        if interrupt_requested() && !last {
+            summary.wall_time_s = start.elapsed().as_secs_f64();
+            let fr = backend.frame();
+            if !row_due {
+                series.write(&measure(scene, &fr))?;
+            }
+            series.finish()?;
+            return Err(interrupted(&mut summary, &mut backend, pvd.as_mut()));
         }
     }
     bar.finish();

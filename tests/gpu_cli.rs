@@ -19,8 +19,13 @@ fn verify_all(scene_args: &[&str]) {
     args.extend_from_slice(&["--variants", "all", "--steps", "20", "--json", "--out", &out]);
     let o = sphlab(&args);
     let text = String::from_utf8_lossy(&o.stdout);
-    let reports: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("JSON ({e}): {text}"));
-    let reports = reports.as_array().expect("a list of variant reports");
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("JSON ({e}): {text}"));
+    let reports = doc["variants"].as_array().expect("a list of variant reports");
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("verify.json")).expect("verify.json"))
+            .expect("verify.json parses");
+    assert_eq!(written["variants"], doc["variants"], "--json and --out write one schema");
+    assert!(doc["provenance"]["commit"].is_string() && doc["provenance"]["gpu"]["adapter"].is_string());
     let ids = sphlab::gpu::variant::VariantSpec::all();
     assert_eq!(reports.len(), ids.len(), "every variant is reported");
     let mut passed = 0;
@@ -92,23 +97,29 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
     let mut rows = Vec::new();
     for backend in ["cpu", "gpu"] {
         let out = dir.path().join(backend);
-        let o = sphlab(&[
-            "run",
-            "sessile-90",
-            "--set",
-            "domain.nx=26",
-            "--steps",
-            "30",
-            "--set",
-            "output.every=10",
-            "--backend",
-            backend,
-            "--precision",
-            "f32",
-            "--out",
-            out.to_str().expect("utf8"),
-            "--quiet",
-        ]);
+        // A GPU variant's precision is part of its id: --precision applies to the CPU only.
+        let precision: &[&str] = if backend == "cpu" { &["--precision", "f32"] } else { &[] };
+        let o = sphlab(
+            &[
+                precision,
+                &[
+                    "run",
+                    "sessile-90",
+                    "--set",
+                    "domain.nx=26",
+                    "--steps",
+                    "30",
+                    "--set",
+                    "output.every=10",
+                    "--backend",
+                    backend,
+                    "--out",
+                    out.to_str().expect("utf8"),
+                    "--quiet",
+                ],
+            ]
+            .concat(),
+        );
         assert!(o.status.success(), "{backend}: {}", String::from_utf8_lossy(&o.stderr));
         let series = std::fs::read_to_string(out.join("series.csv")).expect("series");
         assert!(out.join("particles_00000030.csv").exists() && out.join("summary.json").exists());

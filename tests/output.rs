@@ -21,6 +21,8 @@ fn snapshot(n: usize, step: u64) -> Snapshot {
         p: (0..n).map(|i| 10.0 * i as f64).collect(),
         phase: (0..n).map(|i| if i % 4 == 3 { u32::MAX } else { (i % 2) as u32 }).collect(),
         grad_c: (0..n).map(|i| [0.5 * i as f64, 1.0]).collect(),
+        mass: (0..n).map(|i| 0.01 * (1 + i % 3) as f64).collect(),
+        h: 0.02,
     }
 }
 
@@ -181,6 +183,107 @@ fn vtu_is_well_formed() {
     assert!(find("p").3[3].parse::<f64>().unwrap().is_nan());
     assert!(find("types").3.iter().all(|t| t == "1"));
     assert_eq!(find("offsets").3.last().unwrap(), &n.to_string());
+    // Particle id, mass and smoothing length.
+    assert_eq!(find("id").3, (0..n).map(|i| i.to_string()).collect::<Vec<_>>());
+    assert_eq!(find("mass").3[4].parse::<f64>().unwrap(), snap.mass[4]);
+    assert!(find("h").3.iter().all(|t| t.parse::<f64>().unwrap() == 0.02));
+}
+
+/// Decodes standard base64 (the inverse of `output::base64_into`), for the test only.
+fn base64_decode(text: &str) -> Vec<u8> {
+    let val = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let bytes: Vec<u8> = text.bytes().filter(|c| !c.is_ascii_whitespace()).collect();
+    let mut out = Vec::new();
+    for q in bytes.chunks(4) {
+        let pad = q.iter().filter(|&&c| c == b'=').count();
+        let v = q.iter().take(4 - pad).enumerate().fold(0u32, |a, (k, &c)| a | (val(c) as u32) << (18 - 6 * k));
+        out.extend_from_slice(&v.to_be_bytes()[1..4 - pad]);
+    }
+    out
+}
+
+#[test]
+fn base64_matches_rfc4648_vectors() {
+    for (raw, enc) in [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foobar", "Zm9vYmFy")] {
+        let mut s = String::new();
+        output::base64_into(&mut s, raw.as_bytes());
+        assert_eq!(s, enc);
+        assert_eq!(base64_decode(enc), raw.as_bytes());
+    }
+}
+
+#[test]
+fn binary_vtu_holds_the_same_values_as_ascii() {
+    let n = 37;
+    let snap = snapshot(n, 7);
+    let ascii = data_arrays(&output::vtu_text(&snap, false));
+    let binary = data_arrays(&output::vtu_text(&snap, true));
+    assert_eq!(ascii.len(), binary.len());
+    for ((aa, ab), (ba, bb)) in ascii.iter().zip(&binary) {
+        let name = attr(aa, "Name").unwrap();
+        if attr(aa, "NumberOfTuples").is_some() {
+            continue; // field data stays ASCII
+        }
+        assert_eq!(attr(ba, "format"), Some("binary"), "{name}");
+        let raw = base64_decode(bb);
+        let len = u64::from_le_bytes(raw[..8].try_into().unwrap()) as usize;
+        assert_eq!(len, raw.len() - 8, "{name}: UInt64 byte-count header");
+        let tokens: Vec<&str> = ab.split_whitespace().collect();
+        let ty = attr(aa, "type").unwrap();
+        let width = match ty {
+            "Float64" | "Int64" => 8,
+            "Int32" => 4,
+            "UInt8" => 1,
+            t => panic!("type {t}"),
+        };
+        assert_eq!(len, tokens.len() * width, "{name}");
+        for (k, t) in tokens.iter().enumerate() {
+            let b = &raw[8 + k * width..8 + (k + 1) * width];
+            match ty {
+                "Float64" => {
+                    let v = f64::from_le_bytes(b.try_into().unwrap());
+                    let a: f64 = t.parse().unwrap();
+                    assert!(v == a || (v.is_nan() && a.is_nan()), "{name}[{k}]: {v} vs {a}");
+                }
+                "Int64" => assert_eq!(i64::from_le_bytes(b.try_into().unwrap()).to_string(), *t, "{name}[{k}]"),
+                "Int32" => assert_eq!(i32::from_le_bytes(b.try_into().unwrap()).to_string(), *t, "{name}[{k}]"),
+                _ => assert_eq!(b[0].to_string(), *t, "{name}[{k}]"),
+            }
+        }
+    }
+    // Large snapshots go binary on their own.
+    let dir = tempfile::tempdir().unwrap();
+    let big = snapshot(output::VTK_BINARY_MIN, 1);
+    let xml = fs::read_to_string(write_vtu(dir.path(), &big).unwrap()).unwrap();
+    assert!(xml.contains("format=\"binary\"") && !xml.contains("format=\"ascii\">\n"));
+}
+
+#[test]
+fn out_dir_problems_are_named_before_anything_is_created() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("f");
+    fs::write(&file, "x").unwrap();
+    let bad = [
+        (file.clone(), "not a directory"),
+        (file.join("sub"), "not a directory"),
+        (Path::new("/dev/null").to_path_buf(), "not a directory"),
+        (Path::new("/proc/sphlab-out").to_path_buf(), "/proc"),
+        (dir.path().join("a".repeat(300)), "255"),
+        (Path::new("").to_path_buf(), "empty"),
+    ];
+    for (p, needle) in bad {
+        let e = output::check_out_dir(&p).expect_err(&format!("{} must be refused", p.display()));
+        assert!(e.contains(needle), "{}: {e}", p.display());
+    }
+    assert!(output::check_out_dir(&dir.path().join("new/deeper")).is_ok());
+    assert!(!dir.path().join("new").exists(), "checking creates nothing");
 }
 
 #[test]
@@ -302,6 +405,7 @@ fn git_commit_env_override_and_fallback() {
     std::env::remove_var("SPHLAB_GIT_COMMIT");
     let c = output::git_commit();
     assert!(!c.is_empty() && !c.contains('\n'));
+    assert_eq!(c, sphlab::provenance::commit_label(), "the commit baked in at build time");
     std::env::set_var("SPHLAB_GIT_COMMIT", "abc1234");
     assert_eq!(output::git_commit(), "abc1234");
     std::env::remove_var("SPHLAB_GIT_COMMIT");

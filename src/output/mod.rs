@@ -17,7 +17,10 @@ use std::path::{Path, PathBuf};
 
 pub use progress::Progress;
 pub use series::SeriesWriter;
-pub use snapshot::{particles_csv_name, vtu_name, write_particles_csv, write_vtu, PvdWriter, Snapshot};
+pub use snapshot::{
+    base64_into, particles_csv_name, vtu_name, vtu_text, write_particles_csv, write_vtu, PvdWriter, Snapshot,
+    VTK_BINARY_MIN,
+};
 pub use summary::{git_commit, iso8601_from_unix, now_utc_iso8601, write_json};
 
 /// An error while writing an output file; every variant names the path involved.
@@ -75,6 +78,58 @@ impl OutputError {
             | OutputError::Plot { path, .. }
             | OutputError::Data { path, .. } => path,
         }
+    }
+}
+
+/// Longest file-name component most file systems accept (bytes).
+pub const MAX_NAME_BYTES: usize = 255;
+
+/// Checks, without creating anything, that `dir` can be an output directory: a non-empty path,
+/// no component longer than [`MAX_NAME_BYTES`], not an existing non-directory, not under a
+/// virtual file system (`/proc`, `/sys`, `/dev`), and its nearest existing ancestor a directory.
+/// The message says what is wrong with the path (the caller names the option).
+pub fn check_out_dir(dir: &Path) -> std::result::Result<(), String> {
+    if dir.as_os_str().is_empty() {
+        return Err("the output directory is an empty path".into());
+    }
+    for c in dir.components() {
+        let len = c.as_os_str().len();
+        if len > MAX_NAME_BYTES {
+            return Err(format!(
+                "a path component has {len} bytes, over the {MAX_NAME_BYTES}-byte limit of file names: {}",
+                dir.display()
+            ));
+        }
+    }
+    if let Ok(m) = std::fs::metadata(dir) {
+        if !m.is_dir() {
+            return Err(format!("{} exists and is not a directory", dir.display()));
+        }
+    }
+    let mut anc = dir.to_path_buf();
+    while !anc.exists() {
+        match anc.parent() {
+            Some(p) if !p.as_os_str().is_empty() => anc = p.to_path_buf(),
+            _ => {
+                anc = PathBuf::from(".");
+                break;
+            }
+        }
+    }
+    let real = std::fs::canonicalize(&anc).unwrap_or(anc.clone());
+    for v in ["/proc", "/sys", "/dev"] {
+        if real.starts_with(v) {
+            return Err(format!("{} lies under {v}, a virtual file system", dir.display()));
+        }
+    }
+    if !real.is_dir() {
+        return Err(format!("{} is not a directory, so {} cannot be created", anc.display(), dir.display()));
+    }
+    match std::fs::metadata(&real) {
+        Ok(m) if m.permissions().readonly() => {
+            Err(format!("{} is read-only, so {} cannot be created", real.display(), dir.display()))
+        }
+        _ => Ok(()),
     }
 }
 

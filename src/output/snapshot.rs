@@ -1,10 +1,13 @@
 //! Particle snapshots: one CSV file per snapshot, and the same data as VTK XML
-//! (`particles_<step>.vtu`, ASCII UnstructuredGrid, one VTK_VERTEX cell per particle) with a
-//! ParaView time-series collection (`particles.pvd`) listing every `.vtu` written so far.
+//! (`particles_<step>.vtu`, UnstructuredGrid, one VTK_VERTEX cell per particle, point data
+//! with particle id, mass and smoothing length) with a ParaView time-series collection
+//! (`particles.pvd`) listing every `.vtu` written so far.
 //!
 //! The XML is written by hand (no XML/VTK crate): the format needed here is small and fixed.
-//! Non-finite values are written as `nan`, `inf`, `-inf` (what `strtod` reads), so a blown-up
-//! state still loads and shows where it went wrong.
+//! Snapshots of fewer than [`VTK_BINARY_MIN`] particles are ASCII, where non-finite values are
+//! written as `nan`, `inf`, `-inf` (what `strtod` reads), so a blown-up state still loads and
+//! shows where it went wrong; larger ones are inline binary (base64 of a UInt64 byte count
+//! followed by the little-endian values), about 3× smaller and much faster to read.
 
 use std::fmt::Write as _;
 use std::fs::File;
@@ -38,7 +41,14 @@ pub struct Snapshot {
     pub phase: Vec<u32>,
     /// Colour-function gradient (1/m).
     pub grad_c: Vec<[f64; 2]>,
+    /// Masses (may be empty: written as zeros).
+    pub mass: Vec<f64>,
+    /// Smoothing length h (one for every particle).
+    pub h: f64,
 }
+
+/// Particle count from which VTK files are written binary (base64) instead of ASCII.
+pub const VTK_BINARY_MIN: usize = 20_000;
 
 impl Snapshot {
     /// Number of particles.
@@ -59,6 +69,9 @@ impl Snapshot {
             lens.iter().filter(|(_, l)| *l != n).map(|(name, l)| format!("{name} has {l}")).collect();
         if !self.grad_c.is_empty() && self.grad_c.len() != n {
             bad.push(format!("grad_c has {}", self.grad_c.len()));
+        }
+        if !self.mass.is_empty() && self.mass.len() != n {
+            bad.push(format!("mass has {}", self.mass.len()));
         }
         if bad.is_empty() {
             Ok(())
@@ -151,47 +164,87 @@ fn vtk_f64(out: &mut String, v: f64) {
     }
 }
 
-/// Appends one `DataArray` of `Float64` tuples; `f(i)` gives tuple `i`.
-fn data_array_f64<const C: usize>(out: &mut String, name: Option<&str>, n: usize, f: impl Fn(usize) -> [f64; C]) {
-    out.push_str("        <DataArray type=\"Float64\"");
-    if let Some(name) = name {
-        let _ = write!(out, " Name=\"{name}\"");
-    }
-    let _ = writeln!(out, " NumberOfComponents=\"{C}\" format=\"ascii\">");
-    for i in 0..n {
-        out.push_str("          ");
-        for (c, v) in f(i).iter().enumerate() {
-            if c > 0 {
-                out.push(' ');
+/// Standard base64 (RFC 4648, with padding) of `bytes`, appended to `out`.
+pub fn base64_into(out: &mut String, bytes: &[u8]) {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for c in bytes.chunks(3) {
+        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
+        let v = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for k in 0..4 {
+            if k <= c.len() {
+                out.push(A[(v >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
             }
-            vtk_f64(out, *v);
         }
+    }
+}
+
+/// The values of one point-data array, flattened (tuple-major).
+enum Values {
+    /// `Float64`.
+    F64(Vec<f64>),
+    /// An integer type (`Int32`, `Int64`, `UInt8`) given by name, stored as i64.
+    Int(&'static str, Vec<i64>),
+}
+
+/// Appends one `DataArray` with `comps` components per tuple, ASCII or binary.
+fn data_array(out: &mut String, name: &str, comps: usize, values: Values, binary: bool) {
+    let ty = match &values {
+        Values::F64(_) => "Float64",
+        Values::Int(t, _) => t,
+    };
+    let _ = write!(out, "        <DataArray type=\"{ty}\" Name=\"{name}\"");
+    if comps > 1 {
+        let _ = write!(out, " NumberOfComponents=\"{comps}\"");
+    }
+    let _ = writeln!(out, " format=\"{}\">", if binary { "binary" } else { "ascii" });
+    if binary {
+        let mut bytes: Vec<u8> = Vec::new();
+        match &values {
+            Values::F64(v) => v.iter().for_each(|x| bytes.extend_from_slice(&x.to_le_bytes())),
+            Values::Int("Int32", v) => v.iter().for_each(|x| bytes.extend_from_slice(&(*x as i32).to_le_bytes())),
+            Values::Int("UInt8", v) => v.iter().for_each(|x| bytes.push(*x as u8)),
+            Values::Int(_, v) => v.iter().for_each(|x| bytes.extend_from_slice(&x.to_le_bytes())),
+        }
+        let mut all = (bytes.len() as u64).to_le_bytes().to_vec();
+        all.extend_from_slice(&bytes);
+        out.push_str("          ");
+        base64_into(out, &all);
         out.push('\n');
+    } else {
+        // One tuple per line for floats, ten values per line for integers.
+        let per_line = match &values {
+            Values::F64(_) => comps,
+            Values::Int(..) => 10,
+        };
+        let n = match &values {
+            Values::F64(v) => v.len(),
+            Values::Int(_, v) => v.len(),
+        };
+        for start in (0..n).step_by(per_line.max(1)) {
+            out.push_str("          ");
+            for i in start..(start + per_line).min(n) {
+                if i > start {
+                    out.push(' ');
+                }
+                match &values {
+                    Values::F64(v) => vtk_f64(out, v[i]),
+                    Values::Int(_, v) => {
+                        let _ = write!(out, "{}", v[i]);
+                    }
+                }
+            }
+            out.push('\n');
+        }
     }
     out.push_str("        </DataArray>\n");
 }
 
-/// Appends one single-component integer `DataArray` of type `ty`.
-fn data_array_int(out: &mut String, ty: &str, name: &str, n: usize, f: impl Fn(usize) -> i64) {
-    let _ = writeln!(out, "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">");
-    // Ten values per line keeps the file readable and lines short.
-    for chunk_start in (0..n).step_by(10) {
-        out.push_str("          ");
-        for i in chunk_start..(chunk_start + 10).min(n) {
-            if i > chunk_start {
-                out.push(' ');
-            }
-            let _ = write!(out, "{}", f(i));
-        }
-        out.push('\n');
-    }
-    out.push_str("        </DataArray>\n");
-}
-
-/// The VTK XML UnstructuredGrid text of a snapshot.
-fn vtu_text(snap: &Snapshot) -> String {
+/// The VTK XML UnstructuredGrid text of a snapshot (binary data arrays when `binary`).
+pub fn vtu_text(snap: &Snapshot, binary: bool) -> String {
     let n = snap.len();
-    let mut s = String::with_capacity(256 + n * 160);
+    let mut s = String::with_capacity(256 + n * if binary { 150 } else { 250 });
     s.push_str("<?xml version=\"1.0\"?>\n");
     s.push_str(
         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" \
@@ -213,23 +266,39 @@ fn vtu_text(snap: &Snapshot) -> String {
     s.push_str("    </FieldData>\n");
     let _ = writeln!(s, "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">");
     s.push_str("      <PointData Scalars=\"rho\" Vectors=\"velocity\">\n");
-    data_array_f64(&mut s, Some("velocity"), n, |i| [snap.vel[i][0], snap.vel[i][1], 0.0]);
-    data_array_f64(&mut s, Some("rho"), n, |i| [snap.rho[i]]);
-    data_array_f64(&mut s, Some("p"), n, |i| [snap.p[i]]);
-    data_array_int(&mut s, "Int32", "phase", n, |i| snap.phase_i64(i));
-    data_array_f64(&mut s, Some("grad_c"), n, |i| {
-        let g = snap.grad_c_at(i);
-        [g[0], g[1], 0.0]
-    });
+    let v3 = |f: &dyn Fn(usize) -> [f64; 2]| {
+        Values::F64(
+            (0..n)
+                .flat_map(|i| {
+                    let v = f(i);
+                    [v[0], v[1], 0.0]
+                })
+                .collect(),
+        )
+    };
+    data_array(&mut s, "id", 1, Values::Int("Int64", (0..n as i64).collect()), binary);
+    data_array(&mut s, "velocity", 3, v3(&|i| snap.vel[i]), binary);
+    data_array(&mut s, "rho", 1, Values::F64(snap.rho.clone()), binary);
+    data_array(&mut s, "p", 1, Values::F64(snap.p.clone()), binary);
+    data_array(
+        &mut s,
+        "mass",
+        1,
+        Values::F64((0..n).map(|i| snap.mass.get(i).copied().unwrap_or(0.0)).collect()),
+        binary,
+    );
+    data_array(&mut s, "h", 1, Values::F64(vec![snap.h; n]), binary);
+    data_array(&mut s, "phase", 1, Values::Int("Int32", (0..n).map(|i| snap.phase_i64(i)).collect()), binary);
+    data_array(&mut s, "grad_c", 3, v3(&|i| snap.grad_c_at(i)), binary);
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
-    data_array_f64(&mut s, Some("Points"), n, |i| [snap.pos[i][0], snap.pos[i][1], 0.0]);
+    data_array(&mut s, "Points", 3, v3(&|i| snap.pos[i]), binary);
     s.push_str("      </Points>\n");
     s.push_str("      <Cells>\n");
-    data_array_int(&mut s, "Int64", "connectivity", n, |i| i as i64);
-    data_array_int(&mut s, "Int64", "offsets", n, |i| i as i64 + 1);
+    data_array(&mut s, "connectivity", 1, Values::Int("Int64", (0..n as i64).collect()), binary);
+    data_array(&mut s, "offsets", 1, Values::Int("Int64", (1..=n as i64).collect()), binary);
     // VTK_VERTEX = 1
-    data_array_int(&mut s, "UInt8", "types", n, |_| 1);
+    data_array(&mut s, "types", 1, Values::Int("UInt8", vec![1; n]), binary);
     s.push_str("      </Cells>\n");
     s.push_str("    </Piece>\n");
     s.push_str("  </UnstructuredGrid>\n");
@@ -237,8 +306,9 @@ fn vtu_text(snap: &Snapshot) -> String {
     s
 }
 
-/// Writes `DIR/particles_<step>.vtu` (VTK XML UnstructuredGrid, ASCII): points with z = 0,
-/// one VTK_VERTEX cell per particle, point data `velocity` (3 components), `rho`, `p`,
+/// Writes `DIR/particles_<step>.vtu` (VTK XML UnstructuredGrid; binary from
+/// [`VTK_BINARY_MIN`] particles, else ASCII): points with z = 0, one VTK_VERTEX cell per
+/// particle, point data `id` (Int64), `velocity` (3 components), `rho`, `p`, `mass`, `h`,
 /// `phase` (Int32, walls -1) and `grad_c` (3 components); the time is stored as field data
 /// `TimeValue`. Creates `dir` if missing; returns the file's path.
 pub fn write_vtu(dir: impl AsRef<Path>, snap: &Snapshot) -> Result<PathBuf> {
@@ -246,7 +316,7 @@ pub fn write_vtu(dir: impl AsRef<Path>, snap: &Snapshot) -> Result<PathBuf> {
     let path = dir.join(vtu_name(snap.step));
     snap.check(&path)?;
     ensure_dir(dir)?;
-    let text = vtu_text(snap);
+    let text = vtu_text(snap, snap.len() >= VTK_BINARY_MIN);
     let file = File::create(&path).map_err(|e| OutputError::io(&path, e))?;
     let mut w = BufWriter::new(file);
     w.write_all(text.as_bytes()).and_then(|_| w.flush()).map_err(|e| OutputError::io(&path, e))?;

@@ -1,9 +1,8 @@
-//! Run summaries: pretty JSON files, the git commit of the code, and a UTC timestamp in
+//! Run summaries: pretty JSON files, the commit sphlab was built from, and a UTC timestamp in
 //! ISO 8601 (computed from `std::time::SystemTime` with a civil-from-days conversion, so no
 //! date crate is needed).
 
 use std::path::Path;
-use std::process::Command;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde::Serialize;
@@ -23,8 +22,10 @@ pub fn write_json(path: impl AsRef<Path>, value: &impl Serialize) -> Result<()> 
     write_atomic(path, text.as_bytes())
 }
 
-/// The short git commit of the current directory's repository: `$SPHLAB_GIT_COMMIT` if set and
-/// non-empty, else `git rev-parse --short HEAD`, else `"unknown"` (no git, not a repository).
+/// The commit sphlab was built from, baked in by `build.rs` (`abc1234567`, with `-dirty` when
+/// the build had uncommitted changes; "unknown" when built outside a git checkout), whatever
+/// directory the program runs in. `$SPHLAB_GIT_COMMIT`, when set and non-empty, replaces it
+/// (for tests and for builds from a source archive).
 pub fn git_commit() -> String {
     if let Ok(v) = std::env::var(GIT_COMMIT_ENV) {
         let v = v.trim();
@@ -32,15 +33,7 @@ pub fn git_commit() -> String {
             return v.to_string();
         }
     }
-    Command::new("git")
-        .args(["rev-parse", "--short", "HEAD"])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())
-        .and_then(|o| String::from_utf8(o.stdout).ok())
-        .map(|s| s.trim().to_string())
-        .filter(|s| !s.is_empty())
-        .unwrap_or_else(|| "unknown".to_string())
+    crate::provenance::commit_label()
 }
 
 /// The current UTC time as `YYYY-MM-DDTHH:MM:SSZ`.

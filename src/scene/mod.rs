@@ -1,11 +1,12 @@
 //! Scenes: everything a run needs to know about the physics and the geometry, as plain data
 //! that reads from and writes to TOML (`sphlab scene show NAME`). Built-in scenes are in
 //! [`builtin`], the particle lattice is laid out by [`build`], and `--set KEY=VALUE` overrides
-//! go through [`overrides`]. Validation ([`Scene::validate`]) names the offending field.
+//! go through [`overrides`]. Validation ([`validate`]) names the offending field and its range.
 
 pub mod build;
 pub mod builtin;
 pub mod overrides;
+pub mod validate;
 
 use crate::physics::kernel::KernelKind;
 use serde::{Deserialize, Serialize};
@@ -454,158 +455,9 @@ impl Scene {
         self.kernel.kind.support_factor() * self.h()
     }
 
-    /// Checks every field; the error names the first bad one.
+    /// Checks every field (ranges in [`validate`]); the error names the first bad one and the
+    /// accepted range.
     pub fn validate(&self) -> Result<(), SceneError> {
-        let d = &self.domain;
-        let fin = |v: f64| v.is_finite();
-        if !(fin(d.x[0]) && fin(d.x[1]) && d.x[1] > d.x[0]) {
-            return Err(err("domain.x", "need x0 < x1, finite"));
-        }
-        if !(fin(d.y[0]) && fin(d.y[1]) && d.y[1] > d.y[0]) {
-            return Err(err("domain.y", "need y0 < y1, finite"));
-        }
-        if d.nx == 0 {
-            return Err(err("domain.nx", "must be a positive number of particles across x"));
-        }
-        if d.nx > 20_000 {
-            return Err(err("domain.nx", "more than 20000 particles across is beyond this solver"));
-        }
-        let dx = d.dx();
-        let ny = (d.y[1] - d.y[0]) / dx;
-        if (ny - ny.round()).abs() > 1e-6 * ny.max(1.0) || ny.round() < 1.0 {
-            return Err(err("domain.y", format!("height must be a whole number of Δx = {dx} (got {ny} rows)")));
-        }
-        if (d.left == Side::Periodic) != (d.right == Side::Periodic) {
-            return Err(err("domain.left", "periodic sides come in pairs (left and right)"));
-        }
-        if (d.bottom == Side::Periodic) != (d.top == Side::Periodic) {
-            return Err(err("domain.bottom", "periodic sides come in pairs (bottom and top)"));
-        }
-        if !(self.kernel.h_ratio.is_finite() && self.kernel.h_ratio > 0.0) {
-            return Err(err("kernel.h_ratio", "must be positive"));
-        }
-        let s = self.support();
-        if d.x[1] - d.x[0] < 2.0 * s || d.y[1] - d.y[0] < 2.0 * s {
-            return Err(err("domain", format!("the box must span at least two kernel supports (2κh = {})", 2.0 * s)));
-        }
-        if self.phases.is_empty() || self.phases.len() > MAX_FLUID_PHASES {
-            return Err(err("phases", format!("need 1 to {MAX_FLUID_PHASES} fluid phases")));
-        }
-        for (i, p) in self.phases.iter().enumerate() {
-            let f = |n: &str| format!("phases[{i}].{n}");
-            if self.phases.iter().filter(|q| q.name == p.name).count() > 1 {
-                return Err(err(&f("name"), format!("duplicate phase name `{}`", p.name)));
-            }
-            if !(p.rho0.is_finite() && p.rho0 > 0.0) {
-                return Err(err(&f("rho0"), "must be positive"));
-            }
-            if !(p.mu.is_finite() && p.mu >= 0.0) {
-                return Err(err(&f("mu"), "must be ≥ 0"));
-            }
-            if !(p.c0.is_finite() && p.c0 > 0.0) {
-                return Err(err(&f("c0"), "must be positive"));
-            }
-            if !(p.gamma.is_finite() && p.gamma >= 1.0) {
-                return Err(err(&f("gamma"), "must be ≥ 1"));
-            }
-            if !p.p_b.is_finite() {
-                return Err(err(&f("p_b"), "must be finite"));
-            }
-        }
-        if self.phase_index(&self.fill).is_none() {
-            return Err(err("fill", format!("unknown phase `{}`", self.fill)));
-        }
-        for (i, sh) in self.shapes.iter().enumerate() {
-            if self.phase_index(&sh.phase).is_none() {
-                return Err(err(&format!("shapes[{i}].phase"), format!("unknown phase `{}`", sh.phase)));
-            }
-            match sh.kind {
-                ShapeKind::Circle => {
-                    if sh.centre.is_none() {
-                        return Err(err(&format!("shapes[{i}].centre"), "a circle needs a centre"));
-                    }
-                    match sh.radius {
-                        Some(r) if r.is_finite() && r > 0.0 => {}
-                        _ => return Err(err(&format!("shapes[{i}].radius"), "a circle needs a positive radius")),
-                    }
-                }
-                ShapeKind::Rect => match (sh.min, sh.max) {
-                    (Some(a), Some(b)) if a[0] < b[0] && a[1] < b[1] => {}
-                    _ => return Err(err(&format!("shapes[{i}].min"), "a rectangle needs min < max")),
-                },
-            }
-        }
-        if let Some(st) = &self.surface_tension {
-            if !(st.sigma.is_finite() && st.sigma >= 0.0) {
-                return Err(err("surface_tension.sigma", "must be ≥ 0"));
-            }
-            if self.phases.len() < 2 {
-                return Err(err("surface_tension", "needs two fluid phases"));
-            }
-        }
-        match self.contact.mode {
-            ContactMode::None => {}
-            ContactMode::A | ContactMode::B => {
-                if self.surface_tension.is_none() {
-                    return Err(err("contact.mode", "a contact-angle mode needs [surface_tension]"));
-                }
-                if !self.domain.bottom.is_wall() {
-                    return Err(err(
-                        "contact.mode",
-                        "the contact line lives on the bottom wall, which must be no-slip or free-slip",
-                    ));
-                }
-            }
-        }
-        if self.contact.mode == ContactMode::A && (self.contact.sigma_ls < 0.0 || self.contact.sigma_gs < 0.0) {
-            return Err(err("contact.sigma_ls", "must be ≥ 0"));
-        }
-        if !(self.contact.theta_deg > 0.0 && self.contact.theta_deg < 180.0) {
-            return Err(err("contact.theta_deg", "must lie in (0, 180)"));
-        }
-        if let Some(w) = &self.walls.phase {
-            if self.phase_index(w).is_none() {
-                return Err(err("walls.phase", format!("unknown phase `{w}`")));
-            }
-        }
-        if !(self.walls.beta_max >= 1.0) {
-            return Err(err("walls.beta_max", "must be ≥ 1"));
-        }
-        if !(self.walls.lj_strength >= 0.0) {
-            return Err(err("walls.lj_strength", "must be ≥ 0"));
-        }
-        if !(self.gravity[0].is_finite() && self.gravity[1].is_finite()) {
-            return Err(err("gravity", "must be finite"));
-        }
-        let t = &self.time;
-        if !(t.dt.is_finite() && t.dt >= 0.0) {
-            return Err(err("time.dt", "must be ≥ 0 (0 = automatic)"));
-        }
-        if !(t.t_end.is_finite() && t.t_end > 0.0) {
-            return Err(err("time.t_end", "must be positive"));
-        }
-        if !(t.cfl > 0.0 && t.cfl <= 1.0) {
-            return Err(err("time.cfl", "must lie in (0, 1]"));
-        }
-        if !(t.xsph >= 0.0 && t.xsph <= 1.0) {
-            return Err(err("time.xsph", "must lie in [0, 1]"));
-        }
-        if let Some(r) = &self.relax {
-            if !(r.t.is_finite() && r.t >= 0.0) {
-                return Err(err("relax.t", "must be ≥ 0"));
-            }
-        }
-        if let Some(InitialVelocity::RodOscillation { phase, r0, .. }) = &self.initial_velocity {
-            if phase != "*" && self.phase_index(phase).is_none() {
-                return Err(err("initial_velocity.phase", format!("unknown phase `{phase}`")));
-            }
-            if !(*r0 > 0.0) {
-                return Err(err("initial_velocity.r0", "must be positive"));
-            }
-        }
-        if self.output.every == 0 {
-            return Err(err("output.every", "must be ≥ 1"));
-        }
-        Ok(())
+        validate::validate(self)
     }
 }

@@ -115,7 +115,8 @@ pub struct RunSpec<'a> {
     pub sets: Vec<String>,
     /// End time (None: the scene's).
     pub t_end: Option<f64>,
-    /// Snapshot every N series rows (0: first and last only).
+    /// Snapshot every N series rows (0: first and last only); the run gets N × `output.every`
+    /// steps as its `--every`.
     pub every: u64,
     /// Extra edit, described in `edit_note`.
     pub edit: Option<fn(&mut Scene)>,
@@ -149,7 +150,8 @@ impl<'a> RunSpec<'a> {
         if let Some(t) = self.t_end {
             c += &format!(" --t-end {t}");
         }
-        c += &format!(" --every {} --out {}", self.every, dir.display());
+        let rows = self.scene().map_or(1, |s| s.output.every);
+        c += &format!(" --every {} --out {}", self.every * rows, dir.display());
         if !self.edit_note.is_empty() {
             c += &format!("  [scene edited: {}]", self.edit_note);
         }
@@ -195,7 +197,7 @@ impl<'a> Ctx<'a> {
             t_end: spec.t_end,
             steps: None,
             out: dir.clone(),
-            every: spec.every,
+            every: spec.every * scene.output.every,
             vtk: false,
             quiet: true,
             ..RunOptions::default()
@@ -261,6 +263,8 @@ pub fn run_all(opts: &ValidateOptions) -> Result<Vec<CaseReport>, ValidateError>
     for c in CASES {
         match run_case(c, opts) {
             Ok(r) => reps.push(r),
+            // Ctrl-C stops the whole validation, not just this case.
+            Err(e @ ValidateError::Run { err: RunError::Interrupted { .. }, .. }) => return Err(e),
             Err(e) => failed.push((c.to_string(), e.to_string())),
         }
     }

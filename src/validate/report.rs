@@ -138,8 +138,9 @@ impl RunRecord {
                 .unwrap_or("—")
                 .to_string(),
             precision: s("precision"),
-            git_commit: s("git_commit"),
-            date: s("date"),
+            // The provenance envelope (older summaries: top-level `git_commit`, `date`).
+            git_commit: v["provenance"]["commit"].as_str().map_or_else(|| s("git_commit"), str::to_string),
+            date: v["provenance"]["date"].as_str().map_or_else(|| s("date"), str::to_string),
             wall_time_s: v["wall_time_s"].as_f64().unwrap_or(f64::NAN),
             ms_per_step: v["ms_per_step"].as_f64().unwrap_or(f64::NAN),
             steps: v["steps"].as_u64().unwrap_or(0),

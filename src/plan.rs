@@ -1,0 +1,315 @@
+//! The resource plan of a run, computed from the scene alone before anything big is allocated:
+//! fluid and wall particle counts from the domain, spacing and wall depth, the cell-grid size
+//! from the kernel support, and the bytes of particle state, neighbour lists, cell grid and
+//! outputs. [`Plan::check`] compares it with [`Limits`] (`--max-particles`, `--max-memory`,
+//! defaults from the machine) and refuses with every number when it does not fit, so a huge
+//! resolution or a tiny `h_ratio` is an input error (exit 2), never an allocation failure.
+//!
+//! Counts are computed in `f64`, so an absurd scene (`domain.y = [0, 1e300]`) gives an absurd
+//! but finite plan instead of an overflow. The byte counts are deliberately generous upper
+//! estimates of what `build_layout`, `CpuSolver` and the run driver hold at once; the GPU
+//! estimates (device buffers of a variant) live here too, so a GPU-engine change refines them
+//! in one place.
+
+use crate::neighbours::INDEX_MASK;
+use crate::scene::Scene;
+use serde::Serialize;
+
+/// Fraction of the available memory a run may plan to use by default.
+pub const DEFAULT_MEMORY_FRACTION: f64 = 0.8;
+/// Default memory limit when the machine's memory cannot be read (8 GiB).
+pub const FALLBACK_MEMORY: u64 = 8 << 30;
+/// Hard particle limit: a neighbour entry packs the particle index in 28 bits.
+pub const HARD_MAX_PARTICLES: u64 = INDEX_MASK as u64;
+
+/// What a run may use.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct Limits {
+    /// Most particles (fluid + wall).
+    pub max_particles: u64,
+    /// Most bytes of host memory.
+    pub max_memory: u64,
+    /// Where `max_memory` came from ("--max-memory", or the machine's available memory).
+    pub memory_source: &'static str,
+}
+
+impl Default for Limits {
+    /// [`HARD_MAX_PARTICLES`] and [`DEFAULT_MEMORY_FRACTION`] of the available memory.
+    fn default() -> Self {
+        let (max_memory, memory_source) = match available_memory() {
+            Some(b) => ((b as f64 * DEFAULT_MEMORY_FRACTION) as u64, "80% of MemAvailable"),
+            None => (FALLBACK_MEMORY, "fallback 8 GiB (no /proc/meminfo)"),
+        };
+        Limits { max_particles: HARD_MAX_PARTICLES, max_memory, memory_source }
+    }
+}
+
+impl Limits {
+    /// The defaults with `--max-particles` / `--max-memory` applied (each must be positive;
+    /// `max_particles` may not exceed [`HARD_MAX_PARTICLES`]).
+    pub fn with(max_particles: Option<u64>, max_memory: Option<u64>) -> Result<Self, String> {
+        let mut l = Limits::default();
+        if let Some(p) = max_particles {
+            if p == 0 || p > HARD_MAX_PARTICLES {
+                return Err(format!("--max-particles: must lie in [1, {HARD_MAX_PARTICLES}], got {p}"));
+            }
+            l.max_particles = p;
+        }
+        if let Some(m) = max_memory {
+            if m < (1 << 20) {
+                return Err(format!("--max-memory: must be at least 1M (1048576 bytes), got {m}"));
+            }
+            l.max_memory = m;
+            l.memory_source = "--max-memory";
+        }
+        Ok(l)
+    }
+}
+
+/// `MemAvailable` of `/proc/meminfo` in bytes.
+pub fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Parses a byte size: `123`, `512K`, `64M`, `16G`, `1T` (powers of 1024; a trailing `B` or
+/// `iB` is accepted).
+pub fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let t = t.strip_suffix("iB").or_else(|| t.strip_suffix('B')).unwrap_or(t);
+    let (num, mult) = match t.chars().last() {
+        Some('K' | 'k') => (&t[..t.len() - 1], 1u64 << 10),
+        Some('M' | 'm') => (&t[..t.len() - 1], 1 << 20),
+        Some('G' | 'g') => (&t[..t.len() - 1], 1 << 30),
+        Some('T' | 't') => (&t[..t.len() - 1], 1 << 40),
+        _ => (t, 1),
+    };
+    let v: f64 = num.trim().parse().map_err(|_| format!("`{text}` is not a size (e.g. 512M, 16G)"))?;
+    let b = v * mult as f64;
+    if !(b.is_finite() && b >= 1.0 && b < 1.8e19) {
+        return Err(format!("`{text}` is not a size between 1 byte and 16 EiB"));
+    }
+    Ok(b as u64)
+}
+
+/// Formats bytes for people: `1.50 GiB`.
+pub fn fmt_bytes(b: f64) -> String {
+    const U: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
+    let mut v = b;
+    let mut i = 0;
+    while v >= 1024.0 && i + 1 < U.len() {
+        v /= 1024.0;
+        i += 1;
+    }
+    if i == 0 {
+        format!("{v:.0} B")
+    } else if v < 1e6 {
+        format!("{v:.2} {}", U[i])
+    } else {
+        format!("{b:.3e} B")
+    }
+}
+
+/// Bytes per particle of the CPU backend besides the neighbour lists, by the size of the
+/// working real (4 or 8): solver state (position, velocity, their midpoint copies: 8 reals),
+/// evaluation fields (σ, χ, m, ρ, p, 4 gradient, 3 stress, 2 acceleration, 2 transport
+/// velocity: 16 reals, colour, phase), the f64 layout (36 B), a f64 read-back frame (15 f64 +
+/// 8 B), a snapshot copy (8 f64 + 4 B) and the ASCII VTK text (~200 B).
+pub fn cpu_bytes_per_particle(real: usize) -> f64 {
+    (24 * real + 8) as f64 + 36.0 + (15 * 8 + 8) as f64 + (8 * 8 + 4) as f64 + 200.0
+}
+
+/// Bytes per particle of the GPU backend's device buffers besides the neighbour slots (state,
+/// midpoint copies, fields and the sort keys, all f32/u32: ~40 words).
+pub const GPU_DEVICE_BYTES_PER_PARTICLE: f64 = 160.0;
+
+/// The plan of one scene.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Plan {
+    /// Particles across x (domain.nx).
+    pub nx: f64,
+    /// Rows (domain.y extent / Δx).
+    pub ny: f64,
+    /// Wall layers behind each wall side.
+    pub wall_layers: f64,
+    /// Fluid particles.
+    pub n_fluid: f64,
+    /// Wall particles.
+    pub n_wall: f64,
+    /// Fluid + wall.
+    pub n_total: f64,
+    /// Neighbour candidates per particle planned for (the (2κh/Δx + 1)² square around it).
+    pub neighbours_per_particle: f64,
+    /// Cells of the search grid (cell edge 1.01 κh over the particle box).
+    pub cells: f64,
+    /// Bytes of particle state, fields, read-backs and snapshot text.
+    pub particle_bytes: f64,
+    /// Bytes of the neighbour lists (entries held three times: chunk buffers, the final list,
+    /// tracking candidates).
+    pub neighbour_bytes: f64,
+    /// Bytes of the cell grid (start, fill and sorted arrays).
+    pub cell_bytes: f64,
+    /// Sum of the above.
+    pub total_bytes: f64,
+    /// GPU: bytes of the largest device buffer (the neighbour slots), 0 on the CPU.
+    pub gpu_largest_buffer_bytes: f64,
+    /// GPU: bytes of all device buffers, 0 on the CPU.
+    pub gpu_device_bytes: f64,
+}
+
+impl Plan {
+    /// The plan of `scene` on the CPU (`real` = 4 or 8 bytes) or, with `gpu`, a GPU variant
+    /// (f32 device buffers; the host keeps the f64 layout and read-backs). Needs only that the
+    /// domain extents and `kernel.h_ratio` are finite and positive (as [`Scene::validate`]
+    /// checks); any other value still gives a finite plan.
+    pub fn new(scene: &Scene, real: usize, gpu: bool) -> Plan {
+        let d = &scene.domain;
+        let (lx, ly) = (d.x[1] - d.x[0], d.y[1] - d.y[0]);
+        let nx = d.nx as f64;
+        let dx = lx / nx;
+        let ny = (ly / dx).round().max(1.0);
+        let support = scene.support();
+        let wall_layers = 2.0 * (support / dx - 1e-9).ceil().max(0.0);
+        let ext = |s: crate::scene::Side| if s.is_wall() { wall_layers } else { 0.0 };
+        let (wx, wy) = (nx + ext(d.left) + ext(d.right), ny + ext(d.bottom) + ext(d.top));
+        let n_fluid = nx * ny;
+        let n_total = wx * wy;
+        let n_wall = n_total - n_fluid;
+        let k = (2.0 * support / dx + 1.0).powi(2);
+        let cell = 1.01 * support;
+        let cells = ((wx * dx / cell).floor() + 3.0) * ((wy * dx / cell).floor() + 3.0);
+        let host_real = if gpu { 8 } else { real };
+        let particle_bytes = n_total * cpu_bytes_per_particle(host_real);
+        let neighbour_bytes = if gpu { 0.0 } else { 3.0 * n_total * (k * 4.0 + 4.0) };
+        let cell_bytes = if gpu { 0.0 } else { cells * 8.0 + n_total * 12.0 };
+        let (gpu_largest, gpu_device) = if gpu {
+            let slots = n_total * k * 4.0;
+            (slots, slots + n_total * GPU_DEVICE_BYTES_PER_PARTICLE + cells * 8.0)
+        } else {
+            (0.0, 0.0)
+        };
+        Plan {
+            nx,
+            ny,
+            wall_layers,
+            n_fluid,
+            n_wall,
+            n_total,
+            neighbours_per_particle: k,
+            cells,
+            particle_bytes,
+            neighbour_bytes,
+            cell_bytes,
+            total_bytes: particle_bytes + neighbour_bytes + cell_bytes,
+            gpu_largest_buffer_bytes: gpu_largest,
+            gpu_device_bytes: gpu_device,
+        }
+    }
+
+    /// One line with every number.
+    pub fn describe(&self) -> String {
+        let mut s = format!(
+            "{:.0} fluid + {:.0} wall = {:.0} particles ({:.0} × {:.0} lattice, {:.0} wall layers), \
+             {:.3e} cells, ~{:.0} neighbour candidates each; host memory {} (particles {}, neighbour \
+             lists {}, cell grid {})",
+            self.n_fluid,
+            self.n_wall,
+            self.n_total,
+            self.nx,
+            self.ny,
+            self.wall_layers,
+            self.cells,
+            self.neighbours_per_particle,
+            fmt_bytes(self.total_bytes),
+            fmt_bytes(self.particle_bytes),
+            fmt_bytes(self.neighbour_bytes),
+            fmt_bytes(self.cell_bytes)
+        );
+        if self.gpu_device_bytes > 0.0 {
+            s += &format!(
+                "; GPU device memory {} (largest buffer {})",
+                fmt_bytes(self.gpu_device_bytes),
+                fmt_bytes(self.gpu_largest_buffer_bytes)
+            );
+        }
+        s
+    }
+
+    /// Ok when the plan fits `limits`; else the message (every number, what to change).
+    pub fn check(&self, limits: &Limits) -> Result<(), String> {
+        let hint = "lower domain.nx, shrink the domain or lower kernel.h_ratio";
+        if !(self.n_total <= limits.max_particles as f64) {
+            return Err(format!(
+                "resource plan: {:.0} particles exceed the limit of {} (--max-particles); {hint}. Plan: {}",
+                self.n_total,
+                limits.max_particles,
+                self.describe()
+            ));
+        }
+        if !(self.total_bytes <= limits.max_memory as f64) {
+            return Err(format!(
+                "resource plan: {} of host memory exceed the limit of {} ({}; raise it with --max-memory); \
+                 {hint}. Plan: {}",
+                fmt_bytes(self.total_bytes),
+                fmt_bytes(limits.max_memory as f64),
+                limits.memory_source,
+                self.describe()
+            ));
+        }
+        Ok(())
+    }
+
+    /// Ok when the GPU buffers fit the adapter: the largest buffer within `max_buffer` bytes
+    /// (the smaller of `max_buffer_size` and `max_storage_buffer_binding_size`).
+    pub fn check_gpu(&self, max_buffer: u64) -> Result<(), String> {
+        if self.gpu_largest_buffer_bytes > max_buffer as f64 {
+            return Err(format!(
+                "resource plan: the neighbour buffer would take {}, over the adapter's buffer limit of {}; \
+                 lower domain.nx or kernel.h_ratio. Plan: {}",
+                fmt_bytes(self.gpu_largest_buffer_bytes),
+                fmt_bytes(max_buffer as f64),
+                self.describe()
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{build::build_layout, builtin::builtin, overrides::apply_overrides};
+
+    #[test]
+    fn counts_match_the_layout() {
+        for name in crate::scene::builtin::BUILTIN {
+            let s = apply_overrides(&builtin(name).unwrap(), &["domain.nx=24".into()]).unwrap();
+            let l = build_layout(&s).unwrap();
+            let p = Plan::new(&s, 8, false);
+            assert_eq!(p.n_fluid as usize, l.n_fluid, "{name}: fluid");
+            assert_eq!(p.n_total as usize, l.pos.len(), "{name}: fluid + wall");
+        }
+    }
+
+    #[test]
+    fn huge_scenes_are_refused_with_numbers() {
+        let s = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=5000".into()]).unwrap();
+        let l = Limits { max_particles: HARD_MAX_PARTICLES, max_memory: 16 << 30, memory_source: "test" };
+        let e = Plan::new(&s, 8, false).check(&l).unwrap_err();
+        assert!(e.contains("25000000 fluid") && e.contains("GiB"), "{e}");
+        let small = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=30".into()]).unwrap();
+        assert!(Plan::new(&small, 8, false).check(&l).is_ok());
+        let l = Limits { max_particles: 100, ..l };
+        assert!(Plan::new(&small, 8, false).check(&l).unwrap_err().contains("--max-particles"));
+    }
+
+    #[test]
+    fn byte_sizes_parse() {
+        assert_eq!(parse_bytes("512M").unwrap(), 512 << 20);
+        assert_eq!(parse_bytes("2GiB").unwrap(), 2 << 30);
+        assert_eq!(parse_bytes("1000").unwrap(), 1000);
+        assert!(parse_bytes("-1G").is_err() && parse_bytes("lots").is_err() && parse_bytes("1e30T").is_err());
+    }
+}
