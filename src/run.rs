@@ -111,6 +111,14 @@ pub struct SeriesRow {
     pub max_density_error: f64,
     /// Max fluid speed.
     pub max_speed: f64,
+    /// The limit that binds at this row's state (`cfl`, `viscous`, `force`, `capillary`): the one
+    /// that sets an automatic dt; `fixed` when the scene's dt is fixed.
+    #[serde(default)]
+    pub dt_limit: String,
+    /// dt over the tightest limit at this row's state (≈ 1 for an automatic dt; above 1: a
+    /// fixed dt past a limit).
+    #[serde(default)]
+    pub dt_over_limit: f64,
     /// Contact angle, two-point method (degrees; empty when not measurable).
     pub theta_two_point: Option<f64>,
     /// Contact angle, circle fit.
@@ -130,6 +138,12 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
     let c = flow::centroid(mass, pos, phase, 0);
     let m = flow::mass_per_phase(mass, phase, scene.phases.len());
     let rho0: Vec<f64> = scene.phases.iter().map(|p| p.rho0).collect();
+    let norm = |v: &[f64; 2]| v[0].hypot(v[1]);
+    let (v_max, a_max) = (
+        vel.iter().map(norm).fold(0.0, f64::max),
+        fr.acc.get(..nf).map_or(0.0, |a| a.iter().map(norm).fold(0.0, f64::max)),
+    );
+    let (limit, tight) = crate::scene::dt_policy::tightest(&crate::scene::dt_policy::state_limits(scene, v_max, a_max));
     let mut row = SeriesRow {
         t: fr.t,
         step: fr.step,
@@ -140,7 +154,9 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
         mass_phase0: m[0],
         mass_phase1: m.get(1).copied().unwrap_or(0.0),
         max_density_error: flow::max_density_error(&fr.rho[..nf], &rho0, phase),
-        max_speed: vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).fold(0.0, f64::max),
+        max_speed: v_max,
+        dt_limit: if scene.time.dt > 0.0 { "fixed" } else { limit }.into(),
+        dt_over_limit: fr.dt / tight,
         ..Default::default()
     };
     if scene.contact.mode != ContactMode::None {
@@ -183,13 +199,17 @@ pub fn initial_velocities(scene: &Scene, layout: &Layout, fr: Option<&Frame>) ->
             if ph.is_some_and(|ph| layout.phase[i] != ph) {
                 continue;
             }
-            let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
-            let r = (x * x + y * y + 1e-4 * h * h).sqrt();
-            let e = (-r / r0).exp();
-            vel[i] = [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e];
+            vel[i] = rod_velocity(*v0, *r0, p[0] - centre[0], p[1] - centre[1], h);
         }
     }
     vel
+}
+
+/// The oscillating-rod field (T84) at `(x, y)` from the drop centre (`h` regularises r = 0).
+pub fn rod_velocity(v0: f64, r0: f64, x: f64, y: f64, h: f64) -> [f64; 2] {
+    let r = (x * x + y * y + 1e-4 * h * h).sqrt();
+    let e = (-r / r0).exp();
+    [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e]
 }
 
 /// What `summary.json` holds.
@@ -229,6 +249,8 @@ pub struct Summary {
     pub date: String,
     /// "ok" or the error.
     pub status: String,
+    /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only).
+    pub dt_warnings: Vec<String>,
 }
 
 /// Builds the backend named in the options.
@@ -275,6 +297,14 @@ fn snapshot(fr: &Frame) -> Snapshot {
 /// Runs a scene with outputs in `opts.out`. Returns the summary (also written to disk).
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     scene.validate()?;
+    // The one dt check at load: the scene from here on carries its effective dt.
+    let applied = crate::scene::dt_policy::apply(scene)?;
+    let scene = &applied.scene;
+    for w in &applied.warnings {
+        if !opts.quiet {
+            eprintln!("warning: time.dt_policy = \"warn\": dt = {:.4e} is above the {w}", scene.time.dt);
+        }
+    }
     if let Some(t) = opts.t_end {
         if !(t.is_finite() && t > 0.0) {
             return Err(RunError::Input(format!("--t-end: must be positive, got {t}")));
@@ -322,11 +352,33 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         git_commit: output::git_commit(),
         date: output::now_utc_iso8601(),
         status: "running".into(),
+        dt_warnings: applied.warnings.clone(),
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
 
-    let fail = |summary: &mut Summary, backend: &mut Box<dyn Backend>, e: SolverError, pvd: Option<&mut PvdWriter>| {
+    // CFL / viscous numbers at the output rows: the GPU's blow-up messages quote them (the CPU
+    // solver records them at every step itself).
+    let mut numbers = crate::physics::timestep::StabilityNumbers::default();
+    let note = |numbers: &mut crate::physics::timestep::StabilityNumbers, fr: &Frame| {
+        let row = measure(scene, fr);
+        let a = fr.acc.get(..fr.n_fluid).map_or(0.0, |a| a.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max));
+        let l = crate::scene::dt_policy::state_limits(scene, row.max_speed, a);
+        numbers.record(fr.step, if fr.dt > 0.0 { fr.dt } else { l.min() }, scene.time.cfl, &l);
+        row
+    };
+    let started = Instant::now();
+    let fail = |summary: &mut Summary,
+                backend: &mut Box<dyn Backend>,
+                mut e: SolverError,
+                pvd: Option<&mut PvdWriter>,
+                numbers: &crate::physics::timestep::StabilityNumbers,
+                wall: f64| {
+        if let SolverError::BlowUp { what, .. } = &mut e {
+            if !what.contains("CFL number") {
+                what.push_str(&format!("; at the output rows before it: {}", numbers.describe(scene.time.cfl)));
+            }
+        }
         let fr = backend.frame();
         let snap = snapshot(&fr);
         let _ = output::write_particles_csv(&opts.out, &snap);
@@ -336,6 +388,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         summary.status = format!("blow-up: {e}");
         summary.steps = backend.steps();
         summary.t_final = backend.time();
+        summary.dt_last = fr.dt;
+        summary.wall_time_s = wall;
+        summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
         let _ = output::write_json(&summary_path, &*summary);
         RunError::BlowUp(e)
     };
@@ -349,7 +404,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         };
         while backend.time() < r.t * (1.0 - 1e-12) {
             if let Err(e) = backend.step() {
-                return Err(fail(&mut summary, &mut backend, e, None));
+                let wall = started.elapsed().as_secs_f64();
+                return Err(fail(&mut summary, &mut backend, e, None, &numbers, wall));
             }
             bar.inc(1);
         }
@@ -376,7 +432,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         Ok(())
     };
     let fr = backend.frame();
-    series.write(&measure(scene, &fr))?;
+    series.write(&note(&mut numbers, &fr))?;
     write_frame(&fr, &mut pvd)?;
     let mut rows = 1u64;
     let start = Instant::now();
@@ -386,13 +442,13 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     };
     while !done(&backend) {
         if let Err(e) = backend.step() {
-            summary.wall_time_s = start.elapsed().as_secs_f64();
-            return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+            let wall = start.elapsed().as_secs_f64();
+            return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
         }
         bar.inc(1);
         if backend.steps() % scene.output.every == 0 || done(&backend) {
             let fr = backend.frame();
-            series.write(&measure(scene, &fr))?;
+            series.write(&note(&mut numbers, &fr))?;
             rows += 1;
             if done(&backend) || (opts.every > 0 && rows % opts.every == 0) {
                 write_frame(&fr, &mut pvd)?;
@@ -402,8 +458,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
     if let Some(e) = backend.take_error() {
-        summary.wall_time_s = wall;
-        return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+        return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
     }
     let fr = backend.frame();
     summary.dt_last = fr.dt;

@@ -9,7 +9,7 @@ use crate::exec::Exec;
 use crate::model::{AxisMap, Model, MAX_CONTACTS};
 use crate::neighbours::{NeighbourList, Search, SearchKind};
 use crate::physics::integrate::*;
-use crate::physics::timestep::DtLimits;
+use crate::physics::timestep::{DtLimits, StabilityNumbers};
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{Integrator, Scene};
@@ -65,6 +65,10 @@ pub struct CpuSolver<T: Real> {
     pub clock: StageClock,
     /// Record per-stage times.
     pub profile: bool,
+    /// The largest CFL / viscous numbers reached at the start of every step so far.
+    pub numbers: StabilityNumbers,
+    /// The limit that bound the last dt (`fixed` for a fixed dt).
+    pub dt_bound: &'static str,
     have_acc: bool,
     evaluated: bool,
 }
@@ -74,6 +78,7 @@ impl<T: Real> CpuSolver<T> {
     pub fn new(scene: &Scene, layout: &Layout, exec: Exec, search: SearchKind) -> Self {
         let model = Model::<T>::new(scene);
         let n = layout.pos.len();
+        let dt_fixed = model.dt_fixed;
         let mut s = Self {
             model,
             exec,
@@ -86,10 +91,12 @@ impl<T: Real> CpuSolver<T> {
             nbrs: NeighbourList::default(),
             t: 0.0,
             step: 0,
-            dt: scene.time.dt,
+            dt: dt_fixed,
             integrator: scene.time.integrator,
             clock: StageClock::default(),
             profile: false,
+            numbers: StabilityNumbers::default(),
+            dt_bound: "fixed",
             have_acc: false,
             evaluated: false,
         };
@@ -219,11 +226,32 @@ impl<T: Real> CpuSolver<T> {
         if self.model.dt_fixed > 0.0 {
             return self.model.dt_fixed;
         }
+        self.limits_now().min()
+    }
+
+    /// The stability limits at the current state (|v|, |a| of the last evaluation).
+    pub fn limits_now(&self) -> DtLimits {
         let nf = self.n_fluid;
         let vmax = self.vel[..nf].iter().map(|v| v.norm().f64()).fold(0.0, f64::max);
         let amax = self.f.acc[..nf].iter().map(|a| a.norm().f64()).fold(0.0, f64::max);
         let m = &self.model;
-        DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max).min()
+        DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max)
+    }
+
+    /// The dt of the step about to be taken, checked against the limits at the current state
+    /// (recorded in [`Self::numbers`]; [`Self::dt_bound`] names the limit an automatic dt took).
+    fn step_dt(&mut self) -> f64 {
+        let lim = self.limits_now();
+        let dt = if self.model.dt_fixed > 0.0 {
+            self.dt_bound = "fixed";
+            self.model.dt_fixed
+        } else {
+            let (name, v) = crate::scene::dt_policy::tightest(&lim);
+            self.dt_bound = name;
+            v
+        };
+        self.numbers.record(self.step + 1, dt, self.model.cfl, &lim);
+        dt
     }
 
     /// Mirror and periodic sides: reflect or wrap fluid particles that crossed them.
@@ -251,6 +279,7 @@ impl<T: Real> CpuSolver<T> {
                 None
             };
             if let Some(what) = what {
+                let what = format!("{what}; {}", self.numbers.describe(m.cfl));
                 return Err(SolverError::BlowUp { step: self.step, t: self.t, particle: i, what });
             }
         }
@@ -270,7 +299,7 @@ impl<T: Real> CpuSolver<T> {
         match self.integrator {
             Integrator::Midpoint => {
                 self.evaluate()?;
-                let dt = self.next_dt();
+                let dt = self.step_dt();
                 let dtt = T::c(dt);
                 let (r0, v0) = (self.pos.clone(), self.vel.clone());
                 let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
@@ -285,7 +314,7 @@ impl<T: Real> CpuSolver<T> {
                 if !self.have_acc {
                     self.evaluate()?;
                 }
-                let dt = self.next_dt();
+                let dt = self.step_dt();
                 let dtt = T::c(dt);
                 let (vt, acc, v0) = (self.f.vt.clone(), self.f.acc.clone(), self.vel.clone());
                 self.fluid_update(|i, r, v| {
@@ -363,6 +392,7 @@ impl<T: Real> Backend for CpuSolver<T> {
         }
         self.t = 0.0;
         self.step = 0;
+        self.numbers = StabilityNumbers::default();
         self.have_acc = false;
         self.evaluated = false;
     }
