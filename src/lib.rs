@@ -13,6 +13,7 @@
 //! * [`neighbours`]: direct, cell-grid and tracking-list neighbour searches with boundary images;
 //! * [`cpu`]: the CPU reference solver, stage by stage;
 //! * [`run`]: the `sphlab run` driver and its outputs;
+//! * [`stability`]: `sphlab stability`, the measured stability map per backend and precision;
 //! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports.
 
 pub mod analytic;
@@ -29,6 +30,7 @@ pub mod plot;
 pub mod real;
 pub mod run;
 pub mod scene;
+pub mod stability;
 pub mod study;
 pub mod study_report;
 pub mod validate;
