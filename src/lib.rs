@@ -22,6 +22,7 @@
 //! * [`run`]: the `sphlab run` driver and its outputs ([`output`], [`diagnostics`]);
 //! * [`verify`]: `sphlab verify`, every GPU variant against the CPU reference (the one
 //!   comparison measure and tolerance table, also used by the GPU tests);
+//! * [`stability`]: `sphlab stability`, the measured stability map per backend and precision;
 //! * [`study`]: `sphlab study`, the Chapter 6 timing study and its report;
 //! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports;
 //! * [`analytic`]: analytic drop-spread models; [`plot`]: SVG plots of the reports.
@@ -43,6 +44,7 @@ pub mod provenance;
 pub mod real;
 pub mod run;
 pub mod scene;
+pub mod stability;
 pub mod stage;
 pub mod study;
 pub mod validate;

@@ -50,6 +50,8 @@ enum Cmd {
     Study(StudyArgs),
     /// Validation cases against the thesis and analytic references (reports/validation).
     Validate(ValidateArgs),
+    /// Stability map: dt factor × density/viscosity ratio × resolution × kernel per backend/precision.
+    Stability(sphlab::stability::args::StabilityArgs),
     /// Analytic drop-spread models (thesis §5.1, Table 1).
     Analytic {
         #[command(subcommand)]
@@ -826,5 +828,9 @@ fn main() -> ExitCode {
         Cmd::Verify(a) => cmd_verify(a),
         Cmd::Validate(a) => cmd_validate(a),
         Cmd::Info { json } => cmd_info(json),
+        Cmd::Stability(a) => match load_scene(&a.scene, &a.sets) {
+            Ok(s) => ExitCode::from(sphlab::stability::args::run(&a, &s)),
+            Err(e) => fail(2, e),
+        },
     }
 }

@@ -248,7 +248,7 @@ pub struct Model<T> {
     pub sigma_max: f64,
     /// CFL factor.
     pub cfl: f64,
-    /// Fixed dt (0 = automatic).
+    /// Fixed dt (0 = automatic), after `time.dt_policy` ([`crate::scene::dt_policy::effective_dt`]).
     pub dt_fixed: f64,
 }
 
@@ -373,7 +373,7 @@ impl<T: Real> Model<T> {
             rho_mean: scene.phases.iter().map(|p| p.rho0).sum::<f64>() / scene.phases.len() as f64,
             sigma_max,
             cfl: scene.time.cfl,
-            dt_fixed: scene.time.dt,
+            dt_fixed: crate::scene::dt_policy::effective_dt(scene),
         }
     }
 

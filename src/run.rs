@@ -131,6 +131,14 @@ pub struct SeriesRow {
     pub max_density_error: f64,
     /// Max fluid speed.
     pub max_speed: f64,
+    /// The limit that binds at this row's state (`cfl`, `viscous`, `force`, `capillary`): the one
+    /// that sets an automatic dt; `fixed` when the scene's dt is fixed.
+    #[serde(default)]
+    pub dt_limit: String,
+    /// dt over the tightest limit at this row's state (≈ 1 for an automatic dt; above 1: a
+    /// fixed dt past a limit).
+    #[serde(default)]
+    pub dt_over_limit: f64,
     /// Contact angle, two-point method (degrees; empty when not measurable).
     pub theta_two_point: Option<f64>,
     /// Contact angle, circle fit.
@@ -150,6 +158,12 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
     let c = flow::centroid(mass, pos, phase, 0);
     let m = flow::mass_per_phase(mass, phase, scene.phases.len());
     let rho0: Vec<f64> = scene.phases.iter().map(|p| p.rho0).collect();
+    let norm = |v: &[f64; 2]| v[0].hypot(v[1]);
+    let (v_max, a_max) = (
+        vel.iter().map(norm).fold(0.0, f64::max),
+        fr.acc.get(..nf).map_or(0.0, |a| a.iter().map(norm).fold(0.0, f64::max)),
+    );
+    let (limit, tight) = crate::scene::dt_policy::tightest(&crate::scene::dt_policy::state_limits(scene, v_max, a_max));
     let mut row = SeriesRow {
         t: fr.t,
         step: fr.step,
@@ -160,7 +174,9 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
         mass_phase0: m[0],
         mass_phase1: m.get(1).copied().unwrap_or(0.0),
         max_density_error: flow::max_density_error(&fr.rho[..nf], &rho0, phase),
-        max_speed: vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).fold(0.0, f64::max),
+        max_speed: v_max,
+        dt_limit: if scene.time.dt > 0.0 { "fixed" } else { limit }.into(),
+        dt_over_limit: fr.dt / tight,
         ..Default::default()
     };
     if scene.contact.mode != ContactMode::None {
@@ -203,13 +219,17 @@ pub fn initial_velocities(scene: &Scene, layout: &Layout, fr: Option<&Frame>) ->
             if ph.is_some_and(|ph| layout.phase[i] != ph) {
                 continue;
             }
-            let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
-            let r = (x * x + y * y + 1e-4 * h * h).sqrt();
-            let e = (-r / r0).exp();
-            vel[i] = [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e];
+            vel[i] = rod_velocity(*v0, *r0, p[0] - centre[0], p[1] - centre[1], h);
         }
     }
     vel
+}
+
+/// The oscillating-rod field (T84) at `(x, y)` from the drop centre (`h` regularises r = 0).
+pub fn rod_velocity(v0: f64, r0: f64, x: f64, y: f64, h: f64) -> [f64; 2] {
+    let r = (x * x + y * y + 1e-4 * h * h).sqrt();
+    let e = (-r / r0).exp();
+    [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e]
 }
 
 /// What `summary.json` holds.
@@ -249,6 +269,8 @@ pub struct Summary {
     pub plan: Plan,
     /// Commit, date, host, GPU and units.
     pub provenance: Provenance,
+    /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only).
+    pub dt_warnings: Vec<String>,
 }
 
 /// Builds the backend named in the options.
@@ -310,6 +332,14 @@ fn snapshot(fr: &Frame, h: f64) -> Snapshot {
 /// before the particles are laid out and before the output directory is created.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     scene.validate()?;
+    // The one dt check at load: the scene from here on carries its effective dt.
+    let applied = crate::scene::dt_policy::apply(scene)?;
+    let scene = &applied.scene;
+    for w in &applied.warnings {
+        if !opts.quiet {
+            eprintln!("warning: time.dt_policy = \"warn\": dt = {:.4e} is above the {w}", scene.time.dt);
+        }
+    }
     if let Some(t) = opts.t_end {
         if !(t.is_finite() && t > 0.0 && t <= crate::scene::validate::MAX_TIME) {
             return Err(RunError::Input(format!(
@@ -366,11 +396,23 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         status: "running".into(),
         plan,
         provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
+        dt_warnings: applied.warnings.clone(),
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
     let h = scene.h();
 
+    // CFL / viscous numbers at the output rows: the GPU's blow-up messages quote them (the CPU
+    // solver records them at every step itself).
+    let mut numbers = crate::physics::timestep::StabilityNumbers::default();
+    let note = |numbers: &mut crate::physics::timestep::StabilityNumbers, fr: &Frame| {
+        let row = measure(scene, fr);
+        let a = fr.acc.get(..fr.n_fluid).map_or(0.0, |a| a.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max));
+        let l = crate::scene::dt_policy::state_limits(scene, row.max_speed, a);
+        numbers.record(fr.step, if fr.dt > 0.0 { fr.dt } else { l.min() }, scene.time.cfl, &l);
+        row
+    };
+    let started = Instant::now();
     // A failed or interrupted run keeps a final snapshot and a summary saying why it stopped.
     let stop = |summary: &mut Summary,
                 backend: &mut Box<dyn Backend>,
@@ -391,7 +433,20 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         output::write_json(&summary_path, &*summary)?;
         Ok(())
     };
-    let fail = |summary: &mut Summary, backend: &mut Box<dyn Backend>, e: SolverError, pvd: Option<&mut PvdWriter>| {
+    // A blow-up's message also quotes the largest CFL and viscous numbers reached before it; the
+    // summary keeps the wall time, steps and ms/step of the failed run.
+    let fail = |summary: &mut Summary,
+                backend: &mut Box<dyn Backend>,
+                mut e: SolverError,
+                pvd: Option<&mut PvdWriter>,
+                numbers: &crate::physics::timestep::StabilityNumbers,
+                wall: f64| {
+        if let SolverError::BlowUp { what, .. } = &mut e {
+            if !what.contains("CFL number") {
+                what.push_str(&format!("; at the output rows before it: {}", numbers.describe(scene.time.cfl)));
+            }
+        }
+        summary.wall_time_s = wall;
         let _ = stop(summary, backend, format!("blow-up: {e}"), pvd);
         RunError::BlowUp(e)
     };
@@ -414,7 +469,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         };
         while backend.time() < r.t * (1.0 - 1e-12) {
             if let Err(e) = backend.step() {
-                return Err(fail(&mut summary, &mut backend, e, None));
+                let wall = started.elapsed().as_secs_f64();
+                return Err(fail(&mut summary, &mut backend, e, None, &numbers, wall));
             }
             if interrupt_requested() {
                 summary.relax_steps = backend.steps();
@@ -450,7 +506,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         Ok(())
     };
     let fr = backend.frame();
-    series.write(&measure(scene, &fr))?;
+    series.write(&note(&mut numbers, &fr))?;
     write_frame(&fr, &mut pvd)?;
     let start = Instant::now();
     let done = |b: &Box<dyn Backend>| match opts.steps {
@@ -459,8 +515,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     };
     while !done(&backend) {
         if let Err(e) = backend.step() {
-            summary.wall_time_s = start.elapsed().as_secs_f64();
-            return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+            let wall = start.elapsed().as_secs_f64();
+            return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
         }
         bar.inc(1);
         let step = backend.steps();
@@ -470,11 +526,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         if row_due || snap_due {
             let fr = backend.frame();
             if let Some(e) = backend.take_error() {
-                summary.wall_time_s = start.elapsed().as_secs_f64();
-                return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+                let wall = start.elapsed().as_secs_f64();
+                return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
             }
             if row_due {
-                series.write(&measure(scene, &fr))?;
+                series.write(&note(&mut numbers, &fr))?;
             }
             if snap_due {
                 write_frame(&fr, &mut pvd)?;
@@ -493,8 +549,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
     if let Some(e) = backend.take_error() {
-        summary.wall_time_s = wall;
-        return Err(fail(&mut summary, &mut backend, e, pvd.as_mut()));
+        return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
     }
     let fr = backend.frame();
     summary.dt_last = fr.dt;

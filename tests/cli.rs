@@ -83,6 +83,8 @@ fn blow_up_exits_3_naming_step_and_particle_and_keeps_outputs() {
         "--set",
         "time.dt=0.03",
         "--set",
+        "time.dt_policy=warn",
+        "--set",
         "output.every=1",
         "--out",
         out.to_str().expect("utf8"),
@@ -91,6 +93,7 @@ fn blow_up_exits_3_naming_step_and_particle_and_keeps_outputs() {
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "expected exit 3; stderr: {e}");
     assert!(e.contains("step") && e.contains("particle"), "message names step and particle: {e}");
+    assert!(e.contains("CFL number") && e.contains("viscous number"), "message quotes the numbers reached: {e}");
     let series = std::fs::read_to_string(out.join("series.csv")).expect("series.csv kept");
     assert!(series.lines().count() >= 2, "header + at least the t = 0 row: {series}");
     let summary = std::fs::read_to_string(out.join("summary.json")).expect("summary kept");

@@ -10,7 +10,7 @@ use crate::fields::Fields;
 use crate::model::{AxisMap, Model, MAX_CONTACTS};
 use crate::neighbours::{NeighbourList, Search, SearchKind};
 use crate::physics::integrate::*;
-use crate::physics::timestep::DtLimits;
+use crate::physics::timestep::{DtLimits, StabilityNumbers};
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{Integrator, Scene};
@@ -67,6 +67,10 @@ pub struct CpuSolver<T: Real> {
     pub clock: StageClock,
     /// Record per-stage times.
     pub profile: bool,
+    /// The largest CFL / viscous numbers reached at the start of every step so far.
+    pub numbers: StabilityNumbers,
+    /// The limit that bound the last dt (`fixed` for a fixed dt).
+    pub dt_bound: &'static str,
     have_acc: bool,
     evaluated: bool,
 }
@@ -76,6 +80,7 @@ impl<T: Real> CpuSolver<T> {
     pub fn new(scene: &Scene, layout: &Layout, exec: Exec, search: SearchKind) -> Self {
         let model = Model::<T>::new(scene);
         let n = layout.pos.len();
+        let dt_fixed = model.dt_fixed;
         let mut s = Self {
             model,
             exec,
@@ -88,10 +93,12 @@ impl<T: Real> CpuSolver<T> {
             nbrs: NeighbourList::default(),
             t: 0.0,
             step: 0,
-            dt: scene.time.dt,
+            dt: dt_fixed,
             integrator: scene.time.integrator,
             clock: StageClock::default(),
             profile: false,
+            numbers: StabilityNumbers::default(),
+            dt_bound: "fixed",
             have_acc: false,
             evaluated: false,
         };
@@ -176,9 +183,30 @@ impl<T: Real> CpuSolver<T> {
         if self.model.dt_fixed > 0.0 {
             return self.model.dt_fixed;
         }
+        self.limits_now().min()
+    }
+
+    /// The stability limits at the current state (|v|, |a| of the last evaluation).
+    pub fn limits_now(&self) -> DtLimits {
         let (vmax, amax) = self.reduce_max();
         let m = &self.model;
-        DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max).min()
+        DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max)
+    }
+
+    /// The dt of the step about to be taken, checked against the limits at the current state
+    /// (recorded in [`Self::numbers`]; [`Self::dt_bound`] names the limit an automatic dt took).
+    fn step_dt(&mut self) -> f64 {
+        let lim = self.limits_now();
+        let dt = if self.model.dt_fixed > 0.0 {
+            self.dt_bound = "fixed";
+            self.model.dt_fixed
+        } else {
+            let (name, v) = crate::scene::dt_policy::tightest(&lim);
+            self.dt_bound = name;
+            v
+        };
+        self.numbers.record(self.step + 1, dt, self.model.cfl, &lim);
+        dt
     }
 
     /// Mirror and periodic sides: reflect or wrap fluid particles that crossed them.
@@ -206,6 +234,7 @@ impl<T: Real> CpuSolver<T> {
                 None
             };
             if let Some(what) = what {
+                let what = format!("{what}; {}", self.numbers.describe(m.cfl));
                 return Err(SolverError::BlowUp { step: self.step, t: self.t, particle: i, what });
             }
         }
@@ -260,7 +289,7 @@ impl<T: Real> CpuSolver<T> {
         if self.integrator == Integrator::Midpoint || !self.have_acc {
             self.evaluate()?;
         }
-        let dt = self.next_dt();
+        let dt = self.step_dt();
         let dtt = T::c(dt);
         let (open, close) = Stage::step_pair(self.integrator);
         let (r0, v0) = if close == Stage::MidpointCorrect {
@@ -340,6 +369,7 @@ impl<T: Real> Backend for CpuSolver<T> {
         }
         self.t = 0.0;
         self.step = 0;
+        self.numbers = StabilityNumbers::default();
         self.have_acc = false;
         self.evaluated = false;
     }

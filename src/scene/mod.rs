@@ -5,6 +5,7 @@
 
 pub mod build;
 pub mod builtin;
+pub mod dt_policy;
 pub mod overrides;
 pub mod validate;
 
@@ -355,6 +356,26 @@ pub struct Time {
     /// XSPH ε (0 = off).
     #[serde(default)]
     pub xsph: f64,
+    /// What a fixed `dt` above a stability limit does ([`dt_policy`]).
+    #[serde(default)]
+    pub dt_policy: DtPolicy,
+    /// The resolution `domain.nx` at which `dt` was chosen; `dt_policy = "scale"` rescales `dt`
+    /// from it to `domain.nx` (0: `domain.nx`, no rescaling).
+    #[serde(default)]
+    pub dt_nx: u32,
+}
+
+/// What a fixed `dt` does against the stability limits at load (see [`dt_policy`]).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum DtPolicy {
+    /// Above a limit: refused (exit 2) naming the limit and the largest safe dt.
+    #[default]
+    Strict,
+    /// Above a limit: a warning, and the run goes ahead.
+    Warn,
+    /// `dt` keeps the fraction of the tightest limit it has at `dt_nx`, rescaled to `domain.nx`.
+    Scale,
 }
 
 fn default_integrator() -> Integrator {

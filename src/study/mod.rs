@@ -108,10 +108,12 @@ pub struct StudyOptions {
     pub out: std::path::PathBuf,
 }
 
-/// The study scene at resolution nx: the oscillating drop without relaxation, dt scaled with Δx.
+/// The study scene at resolution nx: the oscillating drop without relaxation, its dt (1e-4 at
+/// nx = 30) rescaled by `time.dt_policy = "scale"` (∝ Δx while the CFL limit binds, to nx ≈ 120).
 pub fn study_scene(nx: u32) -> Scene {
-    let sets = [format!("domain.nx={nx}"), "relax.t=0".into(), format!("time.dt={}", 1e-4 * 30.0 / nx as f64)];
-    apply_overrides(&builtin("oscillating-drop").expect("built-in"), &sets).expect("valid study scene")
+    let sets = [format!("domain.nx={nx}"), "relax.t=0".into(), "time.dt_policy=scale".into()];
+    let scene = apply_overrides(&builtin("oscillating-drop").expect("built-in"), &sets).expect("valid study scene");
+    crate::scene::dt_policy::apply(&scene).expect("the scaled dt is within the limits").scene
 }
 
 fn cpu_model() -> String {

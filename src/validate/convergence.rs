@@ -1,6 +1,6 @@
 //! Case `convergence` (PHYSICS.md §9(d), thesis §4.2.4): relax-60, Mode B, no-slip, at
-//! Δx = 0.5/45, 0.5/65, 0.5/85, 0.5/105 with dt scaled with the viscous limit ∝ Δx²
-//! (7e-5 at 65). D/D0 and θ at the end against the analytic cap, and time to solution
+//! Δx = 0.5/45, 0.5/65, 0.5/85, 0.5/105 with `time.dt_policy = "scale"` (7e-5 at 65; the
+//! viscous limit binds, so dt ∝ Δx²). D/D0 and θ at the end against the analytic cap, and time to solution
 //! against error. Thesis: all but 0.5/45 converge in D/D0 and θ.
 
 use super::data::{col, read_series, window_stats};
@@ -16,15 +16,27 @@ pub const FULL_NX: [u32; 4] = [45, 65, 85, 105];
 /// Resolutions of the quick study.
 pub const QUICK_NX: [u32; 3] = [20, 26, 33];
 
-/// dt at `nx`: the viscous limit scales as Δx², anchored at 7e-5 for 65 (1.4e-4 at 26 quick).
+/// The dt overrides at `nx`: `time.dt_policy = "scale"` from relax-60's own 7e-5 at nx = 65
+/// (the viscous limit binds at every full resolution, so dt ∝ Δx²); quick: from 1.4e-4 at 26
+/// (the CFL limit binds there, so dt ∝ Δx).
+fn dt_sets(nx: u32, quick: bool) -> Vec<String> {
+    let mut sets = vec![format!("domain.nx={nx}"), "time.dt_policy=scale".into()];
+    if quick {
+        sets.extend(["time.dt=1.4e-4".into(), "time.dt_nx=26".into()]);
+    }
+    sets
+}
+
+/// dt at `nx` (see [`dt_sets`]).
 pub fn dt_for(nx: u32, quick: bool) -> f64 {
-    let (dt0, nx0) = if quick { (1.4e-4, 26.0) } else { (7e-5, 65.0) };
-    dt0 * (nx0 / nx as f64).powi(2)
+    let base = crate::scene::builtin::builtin("relax-60").expect("built-in");
+    let scene = crate::scene::overrides::apply_overrides(&base, &dt_sets(nx, quick)).expect("valid convergence scene");
+    crate::scene::dt_policy::effective_dt(&scene)
 }
 
 /// The run spec at `nx`.
 pub fn spec(nx: u32, quick: bool, t_end: f64) -> RunSpec<'static> {
-    let mut sets = vec![format!("domain.nx={nx}"), format!("time.dt={:e}", dt_for(nx, quick))];
+    let mut sets = dt_sets(nx, quick);
     if quick {
         sets.push("output.every=100".into());
     } else {

@@ -157,8 +157,17 @@ impl RunRecord {
     /// A finished (`ok`) run in `dir` of exactly `scene` to `t_end`, if there is one.
     pub fn reuse(dir: &Path, scene: &Scene, t_end: Option<f64>, command: &str) -> Option<RunRecord> {
         let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
-        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-        let want = serde_json::to_value(scene).ok()?;
+        let mut v: serde_json::Value = serde_json::from_str(&text).ok()?;
+        // Compared as run: the effective dt; the dt policy that produced it is not compared
+        // (summaries from before `time.dt_policy` existed stay reusable).
+        let applied = crate::scene::dt_policy::apply(scene).map_or_else(|_| scene.clone(), |a| a.scene);
+        let mut want = serde_json::to_value(&applied).ok()?;
+        for j in [&mut v["parameters"]["time"], &mut want["time"]] {
+            if let Some(t) = j.as_object_mut() {
+                t.remove("dt_policy");
+                t.remove("dt_nx");
+            }
+        }
         let same_t = v["options"]["t_end"].as_f64() == t_end && v["options"]["steps"].is_null();
         // Floats compared to 1e-12 relative: serde_json's default parser is not always the
         // correctly rounded one (1 ulp off seen on a dt read back from summary.json).
