@@ -10,7 +10,7 @@ use crate::exec::Exec;
 use crate::neighbours::SearchKind;
 use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
 use crate::scene::build::{build_layout, Layout};
-use crate::scene::{ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side};
+use crate::scene::{ColourGradient, ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -250,6 +250,13 @@ pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result
 /// build or adapter cannot run is an input error (exit 2) with the reason.
 fn make_gpu_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result<Box<dyn Backend>, RunError> {
     use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
+    if scene.surface_tension.as_ref().is_some_and(|s| s.colour_gradient == ColourGradient::SingleField) {
+        return Err(RunError::Input(
+            "--backend gpu: surface_tension.colour_gradient = \"single-field\" is CPU only (the WGSL stages \
+             sum the thesis's T71 form); use --backend cpu or colour_gradient = \"thesis\""
+                .into(),
+        ));
+    }
     let id = opts.variant.as_deref().unwrap_or(DEFAULT_VARIANT);
     let spec: VariantSpec = id.parse().map_err(|e: String| RunError::Input(format!("--variant: {e}")))?;
     spec.implemented().map_err(|e| RunError::Input(format!("--variant: {e}")))?;
