@@ -53,6 +53,8 @@ pub struct Snap {
     pub phase: Vec<u32>,
     /// Colour gradient.
     pub grad_c: Vec<[f64; 2]>,
+    /// Pressure.
+    pub p: Vec<f64>,
 }
 
 #[derive(Deserialize)]
@@ -64,6 +66,7 @@ struct PRow {
     phase: i64,
     gcx: f64,
     gcy: f64,
+    p: f64,
 }
 
 /// The snapshot files of a run, sorted by step.
@@ -92,6 +95,7 @@ pub fn read_snapshot(path: &Path, step: u64, t: f64) -> Option<Snap> {
         s.vel.push([p.vx, p.vy]);
         s.phase.push(if p.phase < 0 { WALL } else { p.phase as u32 });
         s.grad_c.push([p.gcx, p.gcy]);
+        s.p.push(p.p);
     }
     Some(s)
 }
