@@ -149,13 +149,14 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         let peak = m.shear.iter().map(|p| p.1).fold(f64::NAN, f64::max);
         rep.rows.push(Row::new(&format!("{label}: peak wall shear rate, {wtext} (1/time)"), peak, 4, None, None));
         let nd = window_stats(&m.normal, wa, wb).map_or(f64::NAN, |s| s.0);
-        rep.rows.push(Row::new(
-            &format!("{label}: max normal deviation, mean over {wtext} (deg)"),
-            nd,
-            2,
-            None,
-            Some(0.0),
-        ));
+        let nd_row =
+            Row::new(&format!("{label}: max normal deviation, mean over {wtext} (deg)"), nd, 2, None, Some(0.0))
+                .thesis_text("0–8 (Fig. 4.9)");
+        rep.rows.push(if mode == "b" && !quick {
+            nd_row.check(nd <= 8.0, "within the thesis's 0–8° band")
+        } else {
+            nd_row
+        });
         peaks.push(peak);
         for (x, g) in &m.shear {
             shear_csv.push(vec![if mode == "b" { 1.0 } else { 0.0 }, *x, *g]);
@@ -200,6 +201,6 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     write_csv(ctx, &mut rep, "wall_shear_profile.csv", "mode_b,wall_fraction,mean_abs_shear_rate", &shear_csv)?;
     rep.notes.push("Two-point angles (§10.1) are noisy per snapshot on disordered particles (±40°): the table gives the window mean ± std; the circle fit (§10.2) is the robust estimate.".into());
     rep.notes.push("Wall shear rate: |u/(y − y_w)| of first-row fluid particles (§9(b) quick check, diagnostics::wall_shear_profile), 20 bins over [0, 0.5], count-weighted over the snapshots in the window.".into());
-    rep.notes.push("Max normal deviation: particles with grad C ≠ 0, y > 3Δx and |r − 0.25| ≤ 3Δx (the drop's interface band; Mode A's walls are a third colour, so particles at the right and top walls also carry grad C), angle between the outward normal and the radial direction from (0, 0).".into());
+    rep.notes.push("Max normal deviation: particles with |grad C| ≥ 0.3 × its largest value (diagnostics::flow::NORMAL_GRAD_FRACTION), y > 3Δx and |r − 0.25| ≤ 3Δx (the drop's interface band; Mode A's walls are a third colour, so particles at the right and top walls also carry grad C), angle between the outward normal and the radial direction from (0, 0).".into());
     Ok(rep)
 }
