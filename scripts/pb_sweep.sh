@@ -3,7 +3,7 @@
 # (Δx = 1/48, σ/Δx = 48) for each kernel against p_b, two runs per point:
 #   rest: initial velocity and relaxation removed, t = 0.3 (spurious speed, Laplace jump, voids);
 #   osc:  relax 0.1, then the T84 field on every fluid particle, t = 0.6 (period, amplitude).
-# Analysis: scripts/pb_sweep.py → reports/validation/pb-sweep/. Usage: scripts/pb_sweep.sh OUTDIR
+# Analysis: scripts/pb_sweep.py → reports/validation/pb-sweep/. Usage: scripts/pb_sweep.sh OUTDIR (the committed runs: reports/validation/pb-sweep/runs)
 set -euo pipefail
 out=${1:-out/pb-sweep}
 bin=${SPHLAB:-target/release/sphlab}
