@@ -106,7 +106,18 @@ pub fn max_normal_deviation(
     y_w: f64,
     centre: [f64; 2],
 ) -> Option<f64> {
-    let mut worst: Option<f64> = None;
+    normal_deviations(pos, phase, grad_c, dx, y_w, centre).into_iter().reduce(f64::max)
+}
+
+/// The angles (degrees) of [`max_normal_deviation`], one per counted particle, in input order.
+pub fn normal_deviations(
+    pos: &[[f64; 2]],
+    phase: &[u32],
+    grad_c: &[[f64; 2]],
+    dx: f64,
+    y_w: f64,
+    centre: [f64; 2],
+) -> Vec<f64> {
     let norm = |g: &[f64; 2]| (g[0] * g[0] + g[1] * g[1]).sqrt();
     let gmax = pos
         .iter()
@@ -115,6 +126,7 @@ pub fn max_normal_deviation(
         .filter(|((p, &ph), _)| ph != WALL && p[1] - y_w > 3.0 * dx)
         .map(|(_, g)| norm(g))
         .fold(0.0, f64::max);
+    let mut out = Vec::new();
     for ((p, &ph), g) in pos.iter().zip(phase).zip(grad_c) {
         let gn = norm(g);
         let r = [p[0] - centre[0], p[1] - centre[1]];
@@ -124,10 +136,9 @@ pub fn max_normal_deviation(
         }
         let sign = if ph == 0 { 1.0 } else { -1.0 };
         let cos = (sign * (g[0] * r[0] + g[1] * r[1]) / (gn * rn)).clamp(-1.0, 1.0);
-        let a = cos.acos().to_degrees();
-        worst = Some(worst.map_or(a, |w| w.max(a)));
+        out.push(cos.acos().to_degrees());
     }
-    worst
+    out
 }
 
 /// Laplace pressure jump of a drop of radius `radius` about `centre`: the mean pressure of the
