@@ -43,6 +43,12 @@ fn colour_gradient_ij(inv_s2_j: real, grad_w: real2) -> real2 {
     return grad_w * inv_s2_j;
 }
 
+// Single-field colour-gradient term (Adami 2010 eq. 14 as PySPH's ColorGradientAdami, one colour
+// field C = 1 liquid / 0 elsewhere): (C_i/σ_i² + C_j/σ_j²) ∇_iW_ij over every neighbour. × σ_i.
+fn colour_gradient_single_ij(c_i: real, inv_s2_i: real, c_j: real, inv_s2_j: real, grad_w: real2) -> real2 {
+    return grad_w * (c_i * inv_s2_i + c_j * inv_s2_j);
+}
+
 // Surface term of (T76): +(Π_i/σ_i² + Π_j/σ_j²) · ∇_iW_ij. Sum over j, then × 1/m_i.
 fn surface_acc_ij(pi_i: Sym2, inv_s2_i: real, pi_j: Sym2, inv_s2_j: real, grad_w: real2) -> real2 {
     return sym2_mul_vec(sym2_add(sym2_scale(pi_i, inv_s2_i), sym2_scale(pi_j, inv_s2_j)), grad_w);

@@ -281,6 +281,10 @@ struct ValidateArgs {
     /// End time of the long sessile-90 / relax-60 / convergence runs (default: the thesis's 5).
     #[arg(long)]
     t_end: Option<f64>,
+    /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65; p_b follows
+    /// the built-ins' rule σ/(2Δx) at that resolution).
+    #[arg(long)]
+    nx_long: Option<u32>,
     /// Run the impact case at full resolution (hours per angle on a CPU).
     #[arg(long)]
     full_impact: bool,
@@ -443,6 +447,7 @@ fn cmd_validate(a: ValidateArgs) -> ExitCode {
         skip_missing: a.skip_missing,
         only: a.only,
         t_end_long: a.t_end,
+        nx_long: a.nx_long,
         full_impact: a.full_impact,
         quiet: a.quiet,
     };

@@ -5,7 +5,7 @@
 
 use crate::physics::kernel::{kernel_w, lattice_sum, KernelKind, KernelParams};
 use crate::real::{Real, Sym2, V2};
-use crate::scene::{ContactMode, Scene, Side, WallPressure, WallVelocity};
+use crate::scene::{ColourGradient, ContactMode, Scene, Side, WallPressure, WallVelocity};
 
 /// Number of colours: fluid phases 0 and 1, and the wall phase S (Mode A).
 pub const N_COLOURS: usize = 3;
@@ -250,6 +250,8 @@ pub struct Model<T> {
     pub cfl: f64,
     /// Fixed dt (0 = automatic), after `time.dt_policy` ([`crate::scene::dt_policy::effective_dt`]).
     pub dt_fixed: f64,
+    /// Colour gradient by one colour field (PySPH's form) instead of the thesis's T71.
+    pub single_field_colour: bool,
 }
 
 /// χ − ½ of a particle at Δx/2 above a flat wall (lattice sum in f64), the Holmes floor.
@@ -374,6 +376,8 @@ impl<T: Real> Model<T> {
             sigma_max,
             cfl: scene.time.cfl,
             dt_fixed: crate::scene::dt_policy::effective_dt(scene),
+            single_field_colour: surface
+                && scene.surface_tension.as_ref().is_some_and(|s| s.colour_gradient == ColourGradient::SingleField),
         }
     }
 

@@ -65,6 +65,13 @@ fn bad_inputs_exit_2_with_a_message() {
     assert_input_error(&["run", "oscillating-drop", "--t-end=-1", "--out", out], "--t-end");
     assert_input_error(&["scene", "show", "nope"], "unknown scene");
     assert_input_error(&["analytic", "spread", "--re=-3", "--we", "6", "--theta-deg", "90"], "Re");
+    // The single-field colour gradient is CPU only: the GPU backend refuses it (no adapter needed),
+    // and it needs contact.mode = "none".
+    let single = ["--set", "surface_tension.colour_gradient=\"single-field\""];
+    let gpu = [&["run", "oscillating-drop", "--backend", "gpu", "--out", out][..], &single[..]].concat();
+    assert_input_error(&gpu, "colour_gradient");
+    let mode_b = [&["run", "sessile-90", "--out", out][..], &single[..]].concat();
+    assert_input_error(&mode_b, "surface_tension.colour_gradient");
     // clap's own errors (unknown flag) also exit 2.
     let o = sphlab(&["run", "oscillating-drop", "--no-such-flag"]);
     assert_eq!(o.status.code(), Some(2), "unknown flag exits 2");

@@ -311,4 +311,15 @@ fn flow_basics_and_normal_deviation() {
     let d7 = max_normal_deviation(&p, &ph, &g, dx, 0.0, [0.0, 0.0]).unwrap();
     eprintln!("normal deviation: radial {d0:.2e}°, one tilted by 7°: {d7:.6}°");
     assert!(d0 < 1e-6 && (d7 - 7.0).abs() < 1e-9);
+    // A weak gradient (below NORMAL_GRAD_FRACTION of the largest) tilted by 40° does not count;
+    // just above the threshold it does.
+    let j = 22; // liquid, angle 11·π/36
+    let b = (11.0 * PI / 36.0) + 40f64.to_radians();
+    let weak = 0.99 * sphlab::diagnostics::flow::NORMAL_GRAD_FRACTION;
+    g[j] = [weak * b.cos(), weak * b.sin()];
+    let dw = max_normal_deviation(&p, &ph, &g, dx, 0.0, [0.0, 0.0]).unwrap();
+    let strong = 1.01 * sphlab::diagnostics::flow::NORMAL_GRAD_FRACTION;
+    g[j] = [strong * b.cos(), strong * b.sin()];
+    let ds = max_normal_deviation(&p, &ph, &g, dx, 0.0, [0.0, 0.0]).unwrap();
+    assert!((dw - 7.0).abs() < 1e-9 && (ds - 40.0).abs() < 1e-9, "threshold: {dw}°, {ds}°");
 }

@@ -38,16 +38,17 @@ fn oscillating_drop_period_and_amplitude() {
         "oscillating-drop: period {:.4} (thesis 0.37, inviscid {:.4}), first-cycle amplitude {:.5} (thesis 0.012), mean {:.5} (4R/3π = 0.0796)",
         osc.period, t_inviscid, osc.amplitude_first_cycle, osc.mean
     );
-    // PHYSICS.md §9a: SPH is expected in [0.30, 0.37]; the thesis's 0.37 is ~25 % above inviscid
-    // theory. We accept [0.29, 0.40]: above the inviscid bound (viscosity lengthens the period).
-    assert!(osc.period > t_inviscid && osc.period < 0.40, "period {} outside ({t_inviscid}, 0.40)", osc.period);
-    // Thesis 0.012, literature 0.012–0.015; this resolution (98 drop particles) and p_b = B give less.
+    // Issue 10: within 5 % of the thesis's 0.37 (0.368 measured with p_b = σ/(2Δx) = 30; it was
+    // 0.332 with p_b = B = 175). The thesis's 0.37 is ~25 % above inviscid theory.
+    assert!((osc.period / 0.37 - 1.0).abs() <= 0.05, "period {} not within 5 % of 0.37", osc.period);
+    // Thesis 0.012, literature 0.012–0.015. Measured 0.0093 (22 % short: the issue's ±20 % is not
+    // met at this resolution, 98 drop particles); the bound only guards against losing the motion.
     assert!(
-        osc.amplitude_first_cycle > 0.006 && osc.amplitude_first_cycle < 0.016,
-        "amplitude {} outside [0.006, 0.016]",
+        osc.amplitude_first_cycle > 0.008 && osc.amplitude_first_cycle < 0.016,
+        "amplitude {} outside [0.008, 0.016]",
         osc.amplitude_first_cycle
     );
-    assert!((osc.mean - 0.0796).abs() < 0.004, "centroid mean {} far from 4R/3π", osc.mean);
+    assert!((osc.mean - 0.0796).abs() < 0.002, "centroid mean {} far from 4R/3π", osc.mean);
     let m = column(dir.path(), "mass_phase0");
     assert!(m.iter().all(|&v| v == m[0]), "liquid mass is conserved exactly");
 }

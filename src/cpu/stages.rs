@@ -256,7 +256,8 @@ pub fn wall_pressure<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
 }
 
 /// `colour_gradient` (T71): for each coloured particle, `σ_i Σ_{j of colour l} ∇_iW_ij/σ_j²`
-/// towards every other colour l with σ^{kl} > 0, stored by slot.
+/// towards every other colour l with σ^{kl} > 0, stored by slot; or the single-field form
+/// ([`single_field_gradient`]) when the scene selects it.
 pub fn colour_gradient<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
     let kp = m.kernel;
@@ -266,6 +267,9 @@ pub fn colour_gradient<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         let mut g = [V2::zero(); 2];
         if k < 0 {
             return g;
+        }
+        if m.single_field_colour {
+            return single_field_gradient(c, colour, sigma, i);
         }
         for &e in c.nbrs.of(i) {
             let (j, code) = unpack(e);
@@ -281,6 +285,25 @@ pub fn colour_gradient<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         [g[0] * sigma[i], g[1] * sigma[i]]
     });
     f.grad = out;
+}
+
+/// The single-field colour gradient of a coloured particle (PySPH's `ColorGradientAdami`):
+/// `σ_i Σ_j (C_i/σ_i² + C_j/σ_j²) ∇_iW_ij` over every neighbour, C = 1 for colour 0 (the
+/// liquid) and 0 for anything else, walls included. Stored in slot 0, which for colours 0 and 1
+/// is the slot of the liquid–gas pair, so the stress stage uses σ_LG.
+fn single_field_gradient<T: Real>(c: &Ctx<T>, colour: &[i32], sigma: &[T], i: usize) -> [V2<T>; 2] {
+    let kp = c.m.kernel;
+    let col = |k: i32| if k == 0 { T::one() } else { T::zero() };
+    let (c_i, inv_s2_i) = (col(colour[i]), T::one() / (sigma[i] * sigma[i]));
+    let mut g = V2::zero();
+    for &e in c.nbrs.of(i) {
+        let (j, code) = unpack(e);
+        let x_ij = c.pos[i] - c.m.images.image_pos(code, c.pos[j]);
+        let r = x_ij.norm();
+        let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
+        g += colour_gradient_single_ij(c_i, inv_s2_i, col(colour[j]), T::one() / (sigma[j] * sigma[j]), gw);
+    }
+    [g * sigma[i], V2::zero()]
 }
 
 /// `normal_correction` (Algorithm 1): near the wall (fluid with y − y_w ≤ 1.2Δx, or a typed wall

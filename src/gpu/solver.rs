@@ -66,6 +66,13 @@ impl<T: Real> GpuSolver<T> {
             return Err(GpuError::Unsupported(format!("{spec}: solver built for {}", T::NAME)));
         }
         let model = Model::<T>::new(scene);
+        if model.single_field_colour {
+            return Err(GpuError::Unsupported(
+                "surface_tension.colour_gradient = \"single-field\" is CPU only (the WGSL stages sum the \
+                 thesis's T71 form); use --backend cpu or colour_gradient = \"thesis\""
+                    .into(),
+            ));
+        }
         let n = layout.pos.len();
         let n_fluid = layout.n_fluid;
         let pos: Vec<V2<T>> = layout.pos.iter().map(v2).collect();

@@ -52,6 +52,15 @@ pub fn colour_gradient_ij<T: Real>(inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
     grad_w * inv_s2_j
 }
 
+/// Single-field colour-gradient term (Adami, Hu & Adams 2010 eq. 14 as PySPH's
+/// `ColorGradientAdami` sums it, for one colour field C = 1 in the liquid, 0 elsewhere):
+/// `(C_i/σ_i² + C_j/σ_j²) ∇_iW_ij` over every neighbour j. Sum, then × σ_i. Used instead of
+/// [`colour_gradient_ij`] when a scene sets `surface_tension.colour_gradient = "single-field"`.
+#[inline(always)]
+pub fn colour_gradient_single_ij<T: Real>(c_i: T, inv_s2_i: T, c_j: T, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
+    grad_w * (c_i * inv_s2_i + c_j * inv_s2_j)
+}
+
 /// Surface term of (T76): `+(Π_i/σ_i² + Π_j/σ_j²) · ∇_iW_ij`. Sum over j, then × 1/m_i.
 #[inline(always)]
 pub fn surface_acc_ij<T: Real>(pi_i: Sym2<T>, inv_s2_i: T, pi_j: Sym2<T>, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {

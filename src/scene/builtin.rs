@@ -23,15 +23,21 @@ fn fluid(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
     Phase { name: name.into(), rho0, mu, c0, gamma, p_b: 0.0 }
 }
 
-/// A fluid phase with background pressure `p_b = B = ρ0c0²/γ` (PHYSICS.md §3, the sph-blitz
-/// choice). Every two-phase built-in uses it: the isotropic part of the Hu–Adams tensor acts as
-/// a normal stress `σ|∇C|/2 ≈ 0.23σ/Δx` in the interface band, which the pressure must balance;
-/// with `p_b = 0` that makes interface pressures negative, voids open along the interface and
-/// the drop at rest carries spurious speeds of ~0.9 (measured on `oscillating-drop`; 0.07 with
-/// `p_b = B`). `--set phases.0.p_b=0 --set phases.1.p_b=0` restores the thesis-literal choice.
-fn fluid_pb(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
-    let p_b = crate::physics::eos::eos_stiffness(rho0, c0, gamma);
-    Phase { name: name.into(), rho0, mu, c0, gamma, p_b }
+/// The background pressure of a two-phase built-in at lattice spacing `dx` (issue 10, item 1):
+/// `p_b = σ/(2Δx)`. The Hu–Adams stress puts a tensile normal stress `σ|∇C|/2 ≈ 0.23σ/Δx`
+/// on the interface band (first-row |∇C| = 0.4628/Δx on a flat interface, `tests/surface_tension.rs`)
+/// which the pressure must carry without going negative, or voids open along the interface;
+/// `σ/(2Δx)` is about twice that. Larger values cost: the pressure-sum error on disordered
+/// particles times p_b acts as an elastic spring on the arrangement (p_b = B = 175 made the
+/// cubic-spline and Wendland drops ring at T ≈ 0.19 like a solid). Measured against p_b in
+/// `reports/validation/pb-sweep/` (spurious speed, Laplace jump, voids, period, three kernels).
+pub fn capillary_background_pressure(sigma: f64, dx: f64) -> f64 {
+    sigma / (2.0 * dx)
+}
+
+/// Two fluid phases of equal density and viscosity with the background pressure `p_b`.
+fn equal_phases(mu: f64, c0: f64, p_b: f64) -> Vec<Phase> {
+    vec![Phase { p_b, ..fluid("liquid", 1.0, mu, c0, 7.0) }, Phase { p_b, ..fluid("gas", 1.0, mu, c0, 7.0) }]
 }
 
 /// §9(a): quarter of a 1×1 box, R = 0.1875 drop of equal density and viscosity, σ = 1,
@@ -55,10 +61,11 @@ pub fn oscillating_drop() -> Scene {
             top: Side::NoSlip,
         },
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
-        phases: vec![fluid_pb("liquid", 1.0, 0.05, 35.0, 7.0), fluid_pb("gas", 1.0, 0.05, 35.0, 7.0)],
+        // μ = 0.05, σ = 1 (thesis §4.2.1); p_b = σ/(2Δx) = 30 at Δx = 1/60.
+        phases: equal_phases(0.05, 35.0, capillary_background_pressure(1.0, 0.5 / 30.0)),
         fill: "gas".into(),
         shapes: vec![Shape::circle([0.0, 0.0], 0.1875, "liquid", [0.0, 0.0])],
-        surface_tension: Some(SurfaceTension { sigma: 1.0 }),
+        surface_tension: Some(SurfaceTension::thesis(1.0)),
         contact: Contact::default(),
         walls: Walls::default(),
         gravity: [0.0, 0.0],
@@ -99,10 +106,12 @@ pub fn sessile(theta_deg: f64) -> Scene {
             top: Side::NoSlip,
         },
         kernel: KernelCfg { kind: KernelKind::CubicSpline, h_ratio: 1.2 },
-        phases: vec![fluid_pb("liquid", 1.0, 0.15, 20.0, 7.0), fluid_pb("gas", 1.0, 0.15, 20.0, 7.0)],
+        // μ = 0.15 (thesis §4.2.2: "equal density and viscosity of 1.0 and 0.15"), σ = 1;
+        // p_b = σ/(2Δx) = 65 at Δx = 0.5/65.
+        phases: equal_phases(0.15, 20.0, capillary_background_pressure(1.0, 0.5 / 65.0)),
         fill: "gas".into(),
         shapes: vec![Shape::circle([0.0, 0.0], 0.25, "liquid", [0.0, 0.0])],
-        surface_tension: Some(SurfaceTension { sigma: 1.0 }),
+        surface_tension: Some(SurfaceTension::thesis(1.0)),
         contact: Contact {
             mode: ContactMode::B,
             sigma_ls: 1.0,
@@ -131,10 +140,15 @@ pub fn sessile(theta_deg: f64) -> Scene {
 
 /// §9(c): the sessile set-up with targets switched to 60° at t = 0
 /// (Mode B θ_d = 60°; Mode A σ_LS = 0.5, σ_GS = 1). Free-slip: `--set domain.bottom=free-slip`.
+/// μ = 0.05: thesis §4.2.3 sets the drop up "with properties similar to those mentioned in
+/// section 4.2.1" (ρ = 1, μ = 5·10⁻²), not §4.2.2's 0.15.
 pub fn relax_60() -> Scene {
     let mut s = sessile(60.0);
     s.name = "relax-60".into();
     s.description = "Thesis §4.2.3 / Figs. 4.10–4.15: 90° drop relaxing to 60° (D/D0 → 1.385)".into();
+    for p in &mut s.phases {
+        p.mu = 0.05;
+    }
     s.contact.sigma_ls = 0.5;
     s.contact.sigma_gs = 1.0;
     s
@@ -159,12 +173,14 @@ pub fn impact(theta_deg: f64) -> Scene {
         },
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
         phases: vec![
-            fluid_pb("water", 1000.0, 1.136e-3, 20.0, 7.0),
+            // p_b = B of water in both phases (the impact is dominated by inertia, We = 6.86;
+            // not re-tuned by the capillary rule of the equal-density scenes).
+            Phase { p_b: b, ..fluid("water", 1000.0, 1.136e-3, 20.0, 7.0) },
             Phase { p_b: b, ..fluid("air", 1.2, 1.8e-5, c_air, 1.4) },
         ],
         fill: "air".into(),
         shapes: vec![Shape::circle([0.0, 375e-6], 250e-6, "water", [0.0, -1.0])],
-        surface_tension: Some(SurfaceTension { sigma: 0.0729 }),
+        surface_tension: Some(SurfaceTension::thesis(0.0729)),
         contact: Contact {
             mode: ContactMode::B,
             sigma_ls: 0.0,

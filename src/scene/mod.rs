@@ -211,6 +211,37 @@ pub enum ShapeKind {
 pub struct SurfaceTension {
     /// σ between fluid phases 0 and 1 (σ_LG).
     pub sigma: f64,
+    /// Form of the colour gradient: `thesis` (T71, default) or `single-field` (PySPH's).
+    /// Not written when `thesis`, so summaries of earlier runs still match (`validate --reuse`).
+    #[serde(default, skip_serializing_if = "ColourGradient::is_thesis")]
+    pub colour_gradient: ColourGradient,
+}
+
+impl SurfaceTension {
+    /// σ with the thesis's colour gradient.
+    pub fn thesis(sigma: f64) -> Self {
+        Self { sigma, colour_gradient: ColourGradient::Thesis }
+    }
+}
+
+/// How the colour gradient entering the stress tensor is summed.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ColourGradient {
+    /// Thesis T71: `σ_i Σ_{j of the other colour} ∇W_ij/σ_j²`, one gradient per colour pair.
+    #[default]
+    Thesis,
+    /// Adami 2010 eq. 14 as PySPH's `ColorGradientAdami`: one colour field (1 in phase 0,
+    /// 0 elsewhere), `σ_i Σ_j (C_i/σ_i² + C_j/σ_j²) ∇W_ij` over every neighbour. CPU only, and
+    /// only without a contact-angle mode.
+    SingleField,
+}
+
+impl ColourGradient {
+    /// True for the default, the thesis's form.
+    pub fn is_thesis(&self) -> bool {
+        *self == ColourGradient::Thesis
+    }
 }
 
 /// Contact-angle mode at the bottom wall (§8).

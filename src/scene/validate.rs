@@ -6,7 +6,7 @@
 //! run starts. Whether a fixed dt is stable is not checked here, and neither are memory and
 //! particle counts (`crate::plan`).
 
-use super::{ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side, MAX_FLUID_PHASES};
+use super::{ColourGradient, ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side, MAX_FLUID_PHASES};
 
 fn err(field: &str, msg: impl Into<String>) -> SceneError {
     SceneError { field: field.to_string(), msg: msg.into() }
@@ -242,6 +242,12 @@ fn interfaces(s: &Scene) -> Result<(), SceneError> {
         in_range("surface_tension.sigma", st.sigma, SIGMA, "σ")?;
         if s.phases.len() < 2 {
             return Err(err("surface_tension", "needs two fluid phases (remove [surface_tension] or add a phase)"));
+        }
+        if st.colour_gradient == ColourGradient::SingleField && s.contact.mode != ContactMode::None {
+            return Err(err(
+                "surface_tension.colour_gradient",
+                "`single-field` works without a contact-angle model only (contact.mode = \"none\"); use `thesis`",
+            ));
         }
     }
     let c = &s.contact;

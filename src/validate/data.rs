@@ -53,6 +53,8 @@ pub struct Snap {
     pub phase: Vec<u32>,
     /// Colour gradient.
     pub grad_c: Vec<[f64; 2]>,
+    /// Pressure.
+    pub p: Vec<f64>,
 }
 
 #[derive(Deserialize)]
@@ -64,6 +66,7 @@ struct PRow {
     phase: i64,
     gcx: f64,
     gcy: f64,
+    p: f64,
 }
 
 /// The snapshot files of a run, sorted by step.
@@ -92,6 +95,7 @@ pub fn read_snapshot(path: &Path, step: u64, t: f64) -> Option<Snap> {
         s.vel.push([p.vx, p.vy]);
         s.phase.push(if p.phase < 0 { WALL } else { p.phase as u32 });
         s.grad_c.push([p.gcx, p.gcy]);
+        s.p.push(p.p);
     }
     Some(s)
 }
@@ -137,9 +141,26 @@ pub fn normal_deviation_series(
     radius: f64,
     band: f64,
 ) -> Vec<(f64, f64)> {
+    normal_deviation_quantiles(dir, rows, dx, y_w, centre, radius, band)
+        .into_iter()
+        .filter_map(|(t, q)| q.map(|q| (t, q[2])))
+        .collect()
+}
+
+/// Per snapshot, the median, 90th percentile and maximum of the normal deviations counted by
+/// [`normal_deviation_series`] (`None` when no particle counts).
+pub fn normal_deviation_quantiles(
+    dir: &Path,
+    rows: &[Row],
+    dx: f64,
+    y_w: f64,
+    centre: [f64; 2],
+    radius: f64,
+    band: f64,
+) -> Vec<(f64, Option<[f64; 3]>)> {
     snapshots_in(dir, rows, f64::NEG_INFINITY, f64::INFINITY)
         .iter()
-        .filter_map(|s| {
+        .map(|s| {
             let keep: Vec<usize> = (0..s.pos.len())
                 .filter(|&i| {
                     let r = (s.pos[i][0] - centre[0]).hypot(s.pos[i][1] - centre[1]);
@@ -149,7 +170,10 @@ pub fn normal_deviation_series(
             let pos: Vec<[f64; 2]> = keep.iter().map(|&i| s.pos[i]).collect();
             let phase: Vec<u32> = keep.iter().map(|&i| s.phase[i]).collect();
             let g: Vec<[f64; 2]> = keep.iter().map(|&i| s.grad_c[i]).collect();
-            crate::diagnostics::max_normal_deviation(&pos, &phase, &g, dx, y_w, centre).map(|d| (s.t, d))
+            let mut d = crate::diagnostics::flow::normal_deviations(&pos, &phase, &g, dx, y_w, centre);
+            d.sort_by(f64::total_cmp);
+            let q = |f: f64| d[((f * d.len() as f64) as usize).min(d.len() - 1)];
+            (s.t, (!d.is_empty()).then(|| [q(0.5), q(0.9), d[d.len() - 1]]))
         })
         .collect()
 }

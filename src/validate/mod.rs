@@ -45,6 +45,9 @@ pub struct ValidateOptions {
     pub reuse: bool,
     /// End time of the long sessile/relax/convergence runs (default: the thesis's t = 5).
     pub t_end_long: Option<f64>,
+    /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65), with
+    /// p_b = σ/(2Δx) at that resolution (the built-ins' rule).
+    pub nx_long: Option<u32>,
     /// With `reuse`: skip (and report) runs that have no finished output instead of running them.
     pub skip_missing: bool,
     /// Run ids to run (reusing or skipping every other one as with `skip_missing`); empty: all.
@@ -63,6 +66,7 @@ impl Default for ValidateOptions {
             out: PathBuf::from("reports/validation"),
             reuse: false,
             t_end_long: None,
+            nx_long: None,
             skip_missing: false,
             only: Vec::new(),
             full_impact: false,
@@ -78,6 +82,23 @@ impl ValidateOptions {
             quick
         } else {
             self.t_end_long.unwrap_or(5.0)
+        }
+    }
+
+    /// Resolution of the full (not quick) sessile-90 / relax-60 runs: `nx_long` or 65.
+    pub fn long_nx(&self) -> u32 {
+        self.nx_long.unwrap_or(65)
+    }
+
+    /// Overrides of the full sessile-90 / relax-60 runs: none at nx = 65; else the resolution
+    /// and the background pressure σ/(2Δx) of that resolution (σ = 1, box width 0.5).
+    pub fn long_sets(&self) -> Vec<String> {
+        match self.nx_long {
+            Some(nx) if nx != 65 => {
+                let pb = crate::scene::builtin::capillary_background_pressure(1.0, 0.5 / nx as f64);
+                vec![format!("domain.nx={nx}"), format!("phases.0.p_b={pb}"), format!("phases.1.p_b={pb}")]
+            }
+            _ => vec![],
         }
     }
 }

@@ -15,6 +15,13 @@ pub const THESIS_PERIOD: f64 = 0.37;
 pub const THESIS_AMPLITUDE: f64 = 0.012;
 /// Viscous estimate band of the period (§9(a): inner-fluid damping 0.31, both fluids 0.35).
 pub const VISCOUS_BAND: (f64, f64) = (0.31, 0.35);
+/// The drop must return to a circle: mean centroid over t ≥ `LATE_T` within `LATE_TOL` of
+/// 4R/(3π) = 0.0796 (with p_b = B the cubic-spline drop settled at 0.084).
+pub const LATE_T: f64 = 0.4;
+/// See [`LATE_T`].
+pub const LATE_TOL: f64 = 0.002;
+/// Cubic-spline and Wendland C2 periods must lie within this fraction of the quintic's (issue 10).
+pub const KERNEL_PERIOD_TOL: f64 = 0.15;
 /// Accepted SPH period band (§9(a) "expect SPH in [0.30, 0.37]", widened by 0.01 each side).
 pub const PERIOD_BAND: (f64, f64) = (0.29, 0.38);
 
@@ -63,11 +70,21 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut rep = CaseReport::new("oscillation", "Thesis §4.2.1, Fig. 4.1 (PHYSICS.md §9(a)): oscillating drop", quick);
     let analytic = drop_mode2_period(1.0, 1.0, 1.0, 0.1875);
     let mut variants: Vec<(&str, &str, Vec<&str>)> =
-        vec![("quintic", "field on all particles, p_b = B (default)", vec![])];
+        vec![("quintic", "field on all particles, p_b = σ/(2Δx) (default)", vec![])];
     if !quick {
+        variants.push(("cubic", "cubic spline h = 1.2Δx", vec!["kernel.kind=cubic-spline", "kernel.h_ratio=1.2"]));
+        variants.push(("wendland", "Wendland C2 h = 1.3Δx", vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.3"]));
+        variants.push((
+            "wendland15",
+            "Wendland C2 h = 1.5Δx (support 3Δx, as the quintic's)",
+            vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.5"],
+        ));
+        variants.push(("pb-b", "p_b = B = 175 (the former default)", vec!["phases.0.p_b=175", "phases.1.p_b=175"]));
         variants.push(("pb0", "p_b = 0 (thesis-literal pressure)", vec!["phases.0.p_b=0", "phases.1.p_b=0"]));
         variants.push(("drop-only", "field on the drop only (thesis text)", vec!["initial_velocity.phase=liquid"]));
     }
+    let mut quintic_period = f64::NAN;
+    let mut periods: Vec<(&str, f64, f64)> = Vec::new();
     let mut spec_plot = PlotSpec::new(
         "Oscillating drop: liquid centroid x_c(t) (Fig. 4.1)",
         "t (nondimensional)",
@@ -93,11 +110,19 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                 rows.iter().filter(|r| r.t < 0.2).max_by(|a, b| a.centroid_x.total_cmp(&b.centroid_x)).map(|r| r.t);
         }
         let band = if quick { (0.25, 0.45) } else { PERIOD_BAND };
-        rep.rows.push(
-            Row::new(&format!("period, {what}"), period, 4, Some(THESIS_PERIOD), Some(analytic))
-                .analytic_text(&format!("{analytic:.4} inviscid; {:.2}–{:.2} viscous", VISCOUS_BAND.0, VISCOUS_BAND.1))
-                .check(period >= band.0 && period <= band.1, &format!("{} ≤ T ≤ {}", band.0, band.1)),
-        );
+        let row = Row::new(&format!("period, {what}"), period, 4, Some(THESIS_PERIOD), Some(analytic))
+            .analytic_text(&format!("{analytic:.4} inviscid; {:.2}–{:.2} viscous", VISCOUS_BAND.0, VISCOUS_BAND.1));
+        rep.rows.push(match *id {
+            "quintic" => {
+                quintic_period = period;
+                row.check(period >= band.0 && period <= band.1, &format!("{} ≤ T ≤ {}", band.0, band.1))
+            }
+            "cubic" | "wendland" | "wendland15" => row.check(
+                (period / quintic_period - 1.0).abs() <= KERNEL_PERIOD_TOL,
+                &format!("within {:.0} % of the quintic's {quintic_period:.3}", KERNEL_PERIOD_TOL * 100.0),
+            ),
+            _ => row,
+        });
         if !quick && !(period >= band.0 && period <= band.1) {
             let best = |f: fn(f64, f64) -> bool| {
                 rows.iter().fold(None::<(f64, f64)>, |m, r| match m {
@@ -114,11 +139,43 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         }
         let amp_row = Row::new(&format!("first-cycle amplitude, {what}"), amp, 4, Some(THESIS_AMPLITUDE), None);
         rep.rows.push(if *id == "quintic" && !quick {
-            amp_row.check((amp / THESIS_AMPLITUDE - 1.0).abs() <= 0.3, "within ±30 % of 0.012")
+            amp_row.check((amp / THESIS_AMPLITUDE - 1.0).abs() <= 0.2, "within ±20 % of 0.012")
         } else {
             amp_row
         });
+        let late: Vec<f64> = rows.iter().filter(|r| r.t >= LATE_T).map(|r| r.centroid_x).collect();
+        let late_mean = late.iter().sum::<f64>() / late.len().max(1) as f64;
+        let circle = 4.0 * 0.1875 / (3.0 * std::f64::consts::PI);
+        let late_row = Row::new(&format!("mean centroid t ≥ {LATE_T}, {what}"), late_mean, 4, None, Some(circle));
+        rep.rows.push(if matches!(*id, "quintic" | "cubic" | "wendland") && !quick {
+            late_row.check((late_mean - circle).abs() <= LATE_TOL, &format!("within {LATE_TOL} of the circle's"))
+        } else {
+            late_row
+        });
+        periods.push((id, period, amp));
         rep.runs.push(rec);
+    }
+    let find = |k: &str| periods.iter().find(|p| p.0 == k).map(|p| (p.1, p.2));
+    if let (Some((tw, _)), Some((tw15, _))) = (find("wendland"), find("wendland15")) {
+        if (tw / quintic_period - 1.0).abs() > KERNEL_PERIOD_TOL {
+            rep.notes.push(format!(
+                "Wendland C2 at h = 1.3Δx (support 2.6Δx): period {tw:.3}, {:+.1} % from the quintic's {quintic_period:.3}; at \
+                 h = 1.5Δx (support 3Δx, as the quintic's) {tw15:.3} ({:+.1} %): the period follows the support radius in \
+                 particle spacings, and both drops oscillate like a liquid (centroid back to the circle's).",
+                (tw / quintic_period - 1.0) * 100.0,
+                (tw15 / quintic_period - 1.0) * 100.0
+            ));
+        }
+    }
+    if let Some((_, a)) = find("quintic") {
+        if !quick && (a / THESIS_AMPLITUDE - 1.0).abs() > 0.2 {
+            rep.notes.push(format!(
+                "First-cycle amplitude {a:.4} is {:.0} % below the thesis's 0.012. It falls as p_b rises (nx = 24 sweep, \
+                 reports/validation/pb-sweep: 0.0092 at p_b = σ/(2Δx), 0.0071 at B = 175); p_b = 0 gives 0.0112 here but \
+                 no regular oscillation (and at nx = 24 a Laplace jump 24 % low).",
+                (1.0 - a / THESIS_AMPLITUDE) * 100.0
+            ));
+        }
     }
     let eq = 4.0 * 0.1875 / (3.0 * std::f64::consts::PI);
     spec_plot.refs = vec![

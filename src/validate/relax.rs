@@ -35,8 +35,13 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut rep =
         CaseReport::new("relax-60", "Thesis §4.2.3, Figs. 4.10–4.15 (PHYSICS.md §9(c)): 90° → 60° relaxation", quick);
     let t_end = ctx.opts.long_t_end(0.3);
-    let nx = if quick { 26 } else { 65 };
+    let nx = if quick { 26 } else { ctx.opts.long_nx() };
     let (dx, y_w, x_max) = geometry(nx);
+    if !quick && nx != 65 {
+        rep.not_full_because(format!(
+            "nx = {nx} instead of the thesis's 65 (CPU time on a shared 2-core machine), p_b = σ/(2Δx) = {nx}"
+        ));
+    }
     if !quick && t_end < 5.0 {
         rep.not_full_because(format!(
             "t_end = {t_end} instead of the thesis's 5 (CPU time); end profile over the last 10 %"
@@ -61,7 +66,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut csv = Vec::new();
     let variants = if quick { variants().into_iter().take(1).collect() } else { variants() };
     for (k, (id, label, extra)) in variants.into_iter().enumerate() {
-        let mut sets = if quick { quick_sets() } else { vec![] };
+        let mut sets = if quick { quick_sets() } else { ctx.opts.long_sets() };
         sets.extend(extra);
         let rec = match ctx.run(&RunSpec::new(id, "relax-60", &sets, Some(t_end), 2), &[]) {
             Ok(r) => r,
@@ -99,7 +104,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             .thesis_text("within 1–1.4 (Fig. 4.13)");
         let b_noslip = id == "b-noslip";
         rep.rows.push(if b_noslip && !quick {
-            row.check((d_end / d_an - 1.0).abs() < 0.05, "within 5 % of 1.385")
+            row.check((d_end / d_an - 1.0).abs() < 0.03, "within 3 % of 1.385 (issue 10)")
         } else if quick {
             let d0 = d.first().map_or(f64::NAN, |p| p.1);
             row.check(d_end > d0, &format!("D/D0 grows from {d0:.3} (direction)"))
@@ -112,7 +117,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                     Row::new(&format!("{label}: θ − 60°, {name}, mean over {wtext} (deg)"), mean, 2, None, Some(0.0))
                         .sphlab_text(format!("{mean:.2} ± {std:.2} (n = {n})"));
                 rep.rows.push(if b_noslip && name == "circle fit" && !quick {
-                    r.check(mean.abs() < 5.0, "|θ − 60°| < 5°")
+                    r.check(mean.abs() < 3.0, "|θ − 60°| < 3° (issue 10)")
                 } else if quick && name == "circle fit" {
                     let th0 = circle.first().map_or(f64::NAN, |p| p.1);
                     r.check(mean < th0, &format!("θ decreases from {:.1}° (direction)", th0 + 60.0))

@@ -366,6 +366,10 @@ pub fn write_index(
         m,
         "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them.\n"
     );
+    let _ = writeln!(
+        m,
+        "Background pressure: the equal-density built-ins use p_b = σ/(2Δx); the sweep behind that rule (spurious speed, Laplace jump, voids and period for three kernels against p_b) is [pb-sweep/summary.md](pb-sweep/summary.md) (`scripts/pb_sweep.sh`, not a `validate` case). Cross-code check against PySPH's oscillating rod: `tests/cross_code.rs` with `scenes/pysph-rod.toml`.\n"
+    );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
     if not_full.is_empty() {
         let _ = writeln!(m, "None.");

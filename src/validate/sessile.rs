@@ -5,7 +5,8 @@
 //! deviation (Fig. 4.9). Thesis: Mode B < 3°, Mode A ±10°, Mode A's peak shear ≈ 160× Mode B's.
 
 use super::data::{
-    col, mean_shear_profile, normal_deviation_series, read_series, snapshots_in, window_stats, Row as SRow,
+    col, mean_shear_profile, normal_deviation_quantiles, normal_deviation_series, read_series, snapshots_in,
+    window_stats, Row as SRow,
 };
 use super::report::{plot, write_csv, CaseReport, Row};
 use super::{Ctx, RunSpec, ValidateError};
@@ -65,7 +66,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut rep =
         CaseReport::new("sessile-90", "Thesis §4.2.2, Figs. 4.3–4.9 (PHYSICS.md §9(b)): 90° drop at rest", quick);
     let t_end = ctx.opts.long_t_end(0.3);
-    let nx = if quick { 26 } else { 65 };
+    let nx = if quick { 26 } else { ctx.opts.long_nx() };
     let (wa, wb, wtext) = shear_window(t_end);
     let mut angle = PlotSpec::new(
         "Sessile 90°: contact-angle deviation from 90° (§4.2.2)",
@@ -92,7 +93,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut peaks = Vec::new();
     let mut shear_csv: Vec<Vec<f64>> = Vec::new();
     for (id, mode, thesis_dev) in [("mode-b", "b", THESIS_MODE_B_DEV), ("mode-a", "a", THESIS_MODE_A_DEV)] {
-        let mut sets = if quick { quick_sets() } else { vec![] };
+        let mut sets = if quick { quick_sets() } else { ctx.opts.long_sets() };
         sets.push(format!("contact.mode={mode}"));
         let rec = match ctx.run(&RunSpec::new(id, "sessile-90", &sets, Some(t_end), 2), &[]) {
             Ok(r) => r,
@@ -149,18 +150,39 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         let peak = m.shear.iter().map(|p| p.1).fold(f64::NAN, f64::max);
         rep.rows.push(Row::new(&format!("{label}: peak wall shear rate, {wtext} (1/time)"), peak, 4, None, None));
         let nd = window_stats(&m.normal, wa, wb).map_or(f64::NAN, |s| s.0);
-        rep.rows.push(Row::new(
-            &format!("{label}: max normal deviation, mean over {wtext} (deg)"),
-            nd,
-            2,
-            None,
-            Some(0.0),
-        ));
+        let nd_row =
+            Row::new(&format!("{label}: max normal deviation, mean over {wtext} (deg)"), nd, 2, None, Some(0.0))
+                .thesis_text("0–8 (Fig. 4.9)");
+        rep.rows.push(if mode == "b" && !quick {
+            nd_row.check(nd <= 8.0, "within the thesis's 0–8° band")
+        } else {
+            nd_row
+        });
+        if mode == "b" && !quick && nd > 8.0 {
+            let (dxn, band) = (0.5 / nx as f64, 1.5 / nx as f64);
+            let q: Vec<[f64; 3]> = normal_deviation_quantiles(&dir, &m.rows, dxn, 0.0, [0.0, 0.0], 0.25, band)
+                .into_iter()
+                .filter(|(t, _)| *t >= wa && *t <= wb)
+                .filter_map(|(_, q)| q)
+                .collect();
+            let mean = |k: usize| q.iter().map(|v| v[k]).sum::<f64>() / q.len().max(1) as f64;
+            rep.notes.push(format!(
+                "{label}: the max normal deviation {nd:.1}° over {wtext} is set by a few particles: per snapshot the median \
+                 is {:.1}° and the 90th percentile {:.1}° of the counted interface particles (|∇C| ≥ 0.3·max).",
+                mean(0),
+                mean(1)
+            ));
+        }
         peaks.push(peak);
         for (x, g) in &m.shear {
             shear_csv.push(vec![if mode == "b" { 1.0 } else { 0.0 }, *x, *g]);
         }
         rep.runs.push(rec);
+    }
+    if !quick && nx != 65 {
+        rep.not_full_because(format!(
+            "nx = {nx} instead of the thesis's 65 (CPU time on a shared 2-core machine), p_b = σ/(2Δx) = {nx}"
+        ));
     }
     if !quick && t_end < 5.0 {
         let ms: Vec<f64> = rep.runs.iter().map(|r| r.ms_per_step).filter(|m| m.is_finite()).collect();
@@ -195,6 +217,6 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     write_csv(ctx, &mut rep, "wall_shear_profile.csv", "mode_b,wall_fraction,mean_abs_shear_rate", &shear_csv)?;
     rep.notes.push("Two-point angles (§10.1) are noisy per snapshot on disordered particles (±40°): the table gives the window mean ± std; the circle fit (§10.2) is the robust estimate.".into());
     rep.notes.push("Wall shear rate: |u/(y − y_w)| of first-row fluid particles (§9(b) quick check, diagnostics::wall_shear_profile), 20 bins over [0, 0.5], count-weighted over the snapshots in the window.".into());
-    rep.notes.push("Max normal deviation: particles with grad C ≠ 0, y > 3Δx and |r − 0.25| ≤ 3Δx (the drop's interface band; Mode A's walls are a third colour, so particles at the right and top walls also carry grad C), angle between the outward normal and the radial direction from (0, 0).".into());
+    rep.notes.push("Max normal deviation: particles with |grad C| ≥ 0.3 × its largest value (diagnostics::flow::NORMAL_GRAD_FRACTION), y > 3Δx and |r − 0.25| ≤ 3Δx (the drop's interface band; Mode A's walls are a third colour, so particles at the right and top walls also carry grad C), angle between the outward normal and the radial direction from (0, 0).".into());
     Ok(rep)
 }

@@ -124,6 +124,25 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
             mv(g, g).to_vec()
         },
     );
+    // colour_gradient_single_ij(c_i, inv_s2_i, c_j, inv_s2_j, grad_w): colours 0/1 in every
+    // combination (the args 0 and 3 reused as colours by their sign).
+    let body = "put2(i, 0u, colour_gradient_single_ij(a(i, 0u), a(i, 2u), a(i, 3u), a(i, 5u), a2(i, 6u)));";
+    let single: Vec<Case<T>> = cases
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let mut a = c.args.clone();
+            a[0] = if k % 2 == 0 { T::one() } else { T::zero() };
+            a[3] = if (k / 2) % 2 == 0 { T::one() } else { T::zero() };
+            Case::new(a, vec![])
+        })
+        .collect();
+    check(ctx, pair("colour_gradient_single_ij", body, 2), &single, tol, |c| {
+        let a = |k: usize| c.args[k];
+        let g = v2(c, 6);
+        let mag = vabs(g) * ((a(0) * a(2)).abs() + (a(3) * a(5)).abs());
+        mv(pair::colour_gradient_single_ij(a(0), a(2), a(3), a(5), g), mag).to_vec()
+    });
     let body = "put2(i, 0u, surface_acc_ij(Sym2(a(i, 0u), a(i, 1u)), a(i, 2u), Sym2(a(i, 3u), a(i, 4u)), a(i, 5u), a2(i, 6u)));";
     check(ctx, pair("surface_acc_ij", body, 2), &cases, tol, |c| {
         let a = |k: usize| c.args[k];
