@@ -227,9 +227,15 @@ impl<T: Real> CpuSolver<T> {
         for i in 0..self.n_fluid {
             let (p, v) = (self.pos[i], self.vel[i]);
             let what = if !p.is_finite() || !v.is_finite() || !self.f.acc[i].is_finite() {
-                Some(format!("has a non-finite state: x = ({}, {}), v = ({}, {})", p.x, p.y, v.x, v.y))
+                Some(format!(
+                    "has a non-finite state: x = ({:.4e}, {:.4e}), v = ({:.4e}, {:.4e})",
+                    p.x.f64(),
+                    p.y.f64(),
+                    v.x.f64(),
+                    v.y.f64()
+                ))
             } else if p.x < m.lo.x - tol || p.x > m.hi.x + tol || p.y < m.lo.y - tol || p.y > m.hi.y + tol {
-                Some(format!("left the domain: x = ({}, {})", p.x, p.y))
+                Some(format!("left the domain: x = ({:.4e}, {:.4e})", p.x.f64(), p.y.f64()))
             } else {
                 None
             };

@@ -256,9 +256,15 @@ impl<T: Real> GpuSolver<T> {
             let (pos, vel) = self.read_state().map_err(gpu)?;
             let (p, v) = (pos[particle], vel[particle]);
             let what = if kind == 0 {
-                format!("has a non-finite state: x = ({}, {}), v = ({}, {})", p.x, p.y, v.x, v.y)
+                format!(
+                    "has a non-finite state: x = ({:.4e}, {:.4e}), v = ({:.4e}, {:.4e})",
+                    p.x.f64(),
+                    p.y.f64(),
+                    v.x.f64(),
+                    v.y.f64()
+                )
             } else {
-                format!("left the domain: x = ({}, {})", p.x, p.y)
+                format!("left the domain: x = ({:.4e}, {:.4e})", p.x.f64(), p.y.f64())
             };
             return Err(SolverError::BlowUp { step: w[ctl::BAD_STEP] as u64, t: self.t, particle, what });
         }
