@@ -249,8 +249,11 @@ pub struct Summary {
     pub date: String,
     /// "ok" or the error.
     pub status: String,
-    /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only).
+    /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only), and
+    /// while running (from the output rows' measured |v| and |a|).
     pub dt_warnings: Vec<String>,
+    /// The largest CFL / viscous numbers and dt over the force limit at the output rows.
+    pub stability_numbers: crate::physics::timestep::StabilityNumbers,
 }
 
 /// Builds the backend named in the options.
@@ -353,6 +356,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         date: output::now_utc_iso8601(),
         status: "running".into(),
         dt_warnings: applied.warnings.clone(),
+        stability_numbers: Default::default(),
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
@@ -389,6 +393,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         summary.steps = backend.steps();
         summary.t_final = backend.time();
         summary.dt_last = fr.dt;
+        summary.stability_numbers = *numbers;
         summary.wall_time_s = wall;
         summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
         let _ = output::write_json(&summary_path, &*summary);
@@ -467,6 +472,16 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     summary.wall_time_s = wall;
     summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
     summary.status = "ok".into();
+    summary.stability_numbers = numbers;
+    let (c, v, f) = (numbers.cfl_number, numbers.viscous_number, numbers.force_ratio);
+    let viscous_max = crate::physics::timestep::VISCOUS_NUMBER_LIMIT;
+    if scene.time.dt > 0.0 && (c > scene.time.cfl * (1.0 + 1e-9) || v > viscous_max * (1.0 + 1e-9) || f > 1.0) {
+        let w = format!("while running, the fixed dt went past a limit: {}", numbers.describe(scene.time.cfl));
+        if !opts.quiet {
+            eprintln!("warning: {w}");
+        }
+        summary.dt_warnings.push(w);
+    }
     series.finish()?;
     output::write_json(&summary_path, &summary)?;
     if !opts.quiet {
