@@ -269,8 +269,11 @@ pub struct Summary {
     pub plan: Plan,
     /// Commit, date, host, GPU and units.
     pub provenance: Provenance,
-    /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only).
+    /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only), and
+    /// while running (from the output rows' measured |v| and |a|).
     pub dt_warnings: Vec<String>,
+    /// The largest CFL / viscous numbers and dt over the force limit at the output rows.
+    pub stability_numbers: crate::physics::timestep::StabilityNumbers,
 }
 
 /// Builds the backend named in the options.
@@ -332,6 +335,9 @@ fn snapshot(fr: &Frame, h: f64) -> Snapshot {
 /// before the particles are laid out and before the output directory is created.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     scene.validate()?;
+    // Whether the scene fits at all comes first (a resolution beyond memory is refused as such,
+    // whatever its dt); the dt policy does not change the particle count.
+    plan_for(scene, opts)?;
     // The one dt check at load: the scene from here on carries its effective dt.
     let applied = crate::scene::dt_policy::apply(scene)?;
     let scene = &applied.scene;
@@ -397,6 +403,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         plan,
         provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
         dt_warnings: applied.warnings.clone(),
+        stability_numbers: Default::default(),
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
@@ -446,6 +453,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
                 what.push_str(&format!("; at the output rows before it: {}", numbers.describe(scene.time.cfl)));
             }
         }
+        summary.stability_numbers = *numbers;
         summary.wall_time_s = wall;
         let _ = stop(summary, backend, format!("blow-up: {e}"), pvd);
         RunError::BlowUp(e)
@@ -558,6 +566,16 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     summary.wall_time_s = wall;
     summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
     summary.status = "ok".into();
+    summary.stability_numbers = numbers;
+    let (c, v, f) = (numbers.cfl_number, numbers.viscous_number, numbers.force_ratio);
+    let viscous_max = crate::physics::timestep::VISCOUS_NUMBER_LIMIT;
+    if scene.time.dt > 0.0 && (c > scene.time.cfl * (1.0 + 1e-9) || v > viscous_max * (1.0 + 1e-9) || f > 1.0) {
+        let w = format!("while running, the fixed dt went past a limit: {}", numbers.describe(scene.time.cfl));
+        if !opts.quiet {
+            eprintln!("warning: {w}");
+        }
+        summary.dt_warnings.push(w);
+    }
     series.finish()?;
     output::write_json(&summary_path, &summary)?;
     if !opts.quiet {

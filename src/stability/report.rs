@@ -89,7 +89,7 @@ pub fn write(
                 format!(
                     " (step {}: {})",
                     r.fail_step.unwrap_or(0),
-                    r.reason.chars().take(90).collect::<String>().replace('|', "\\|")
+                    r.reason.chars().take(140).collect::<String>().replace('|', "\\|")
                 )
             });
             let one = cr.iter().find(|r| r.dt_factor == 1.0);
