@@ -152,7 +152,7 @@ pub fn compare_fields<T: Real>(
         max_rel,
         rel_l2,
         tolerance: tmax,
-        pass: max_rel <= tmax && rel_l2 <= tl2,
+        pass: max_rel <= tmax && (rel_l2 <= tl2 || tl2 == f64::INFINITY),
     };
     for &field in Field::ALL.iter().filter(|f| only.is_none_or(|o| o.contains(f))) {
         let name = format!("{prefix}{}", field.name());

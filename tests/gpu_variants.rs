@@ -15,7 +15,7 @@ use sphlab::fields::{Field, Fields};
 use sphlab::gpu::compose::{compose_variant_mapped, validate};
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::stages::{defines, kernel_table};
-use sphlab::gpu::variant::{Accumulation, Mapping, Precision, VariantSpec};
+use sphlab::gpu::variant::{Accumulation, Precision, SumLayout, VariantSpec};
 use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Real;
@@ -97,7 +97,7 @@ fn check_variant<T: Real>(
         let (own, cpu_own) = (acc_vs_f64(&f, truth), acc_vs_f64(&cpu.f, truth));
         assert!(own <= ACC_VS_F64.0 * cpu_own + ACC_VS_F64.1, "{tag}: acc rel-L2 vs f64 {own:e}, CPU f32 {cpu_own:e}");
     }
-    if spec.mapping == Mapping::Thread || spec.accumulation == Accumulation::Fixed {
+    if spec.mapping.layout() == SumLayout::Thread || spec.accumulation == Accumulation::Fixed {
         gpu.evaluate_once().unwrap();
         assert!(bits(&f) == bits(&gpu.read_fields().unwrap()), "{tag}: two evaluations differ in bits");
     }

@@ -1,7 +1,8 @@
 // pair_terms.wgsl: the per-pair bodies of the three pair-sum stages (number_density,
-// colour_gradient, acceleration) over the explicit 64-slot lists, shared by the list-driven
-// `thread` kernels (list/pair_sums.wgsl), the block mappings (block/*.wgsl) and their finalize
-// kernels, so every mapping composes the physics of shaders/pair.wgsl in one place. Each
+// colour_gradient, acceleration), shared by the `thread` kernels over the search iterator
+// (thread/*.wgsl, through `pair_of`), the list-driven `thread` kernels (list/pair_sums.wgsl, through
+// `pair_at`), the block mappings (block/*.wgsl) and their finalize kernels, so every mapping
+// composes the physics of shaders/pair.wgsl in one place. Each
 // `*_pair` returns the contribution of one slot; each `*_out` applies the per-particle
 // prefactors (σ_i, 1/m_i, gravity, Lennard-Jones) and writes the field, exactly as the
 // `thread` kernels of kernels-variants/thread/ do (twins of `cpu::stages`).
@@ -22,6 +23,23 @@ struct Pair {
     x_ij: real2,
     r2: real,
     r: real,
+}
+
+// `Pair.slot` of a neighbour found by the search iterator (no list slot: kernel values are
+// always recomputed).
+const NO_SLOT: u32 = 0xFFFFFFFFu;
+
+// The pair of particle i at xi and neighbour j under image `code` at image position xj.
+fn pair_of(xi: real2, j: u32, code: u32, xj: real2) -> Pair {
+    var p: Pair;
+    p.j = j;
+    p.code = code;
+    p.slot = NO_SLOT;
+    p.xj = xj;
+    p.x_ij = xi - xj;
+    p.r2 = p.x_ij.x * p.x_ij.x + p.x_ij.y * p.x_ij.y;
+    p.r = sqrt(p.r2);
+    return p;
 }
 
 // Number of valid slots of i (an overflowing particle is reported by the host).
@@ -50,19 +68,21 @@ fn pair_at(xi: real2, slot: u32) -> Pair {
 // W_ij.
 fn pair_w(kp: KernelParams, p: Pair) -> real {
 #ifdef CACHED
-    return cache_wf[p.slot].x;
-#else
-    return kernel_w(kp, p.r);
+    if p.slot != NO_SLOT {
+        return cache_wf[p.slot].x;
+    }
 #endif
+    return kernel_w(kp, p.r);
 }
 
 // F'(r_ij).
 fn pair_dwdr(kp: KernelParams, p: Pair) -> real {
 #ifdef CACHED
-    return cache_wf[p.slot].y;
-#else
-    return kernel_dwdr(kp, p.r);
+    if p.slot != NO_SLOT {
+        return cache_wf[p.slot].y;
+    }
 #endif
+    return kernel_dwdr(kp, p.r);
 }
 
 // number_density: (W_ij, W_ij when j is of the same kind and Holmes χ is active) (T66, T46).

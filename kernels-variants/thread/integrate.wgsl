@@ -1,5 +1,5 @@
 // integrate.wgsl (thread mapping): the integrator stages of §7.2 on fluid particles, each
-// followed by the mirror/periodic boundary fix (twin of `cpu::apply_boundaries_one`):
+// followed by the mirror/periodic boundary fix (twin of `cpu::boundary_axis`):
 // `midpoint_predict` (saves r⁰, v⁰), `midpoint_correct`, `verlet_drift` (kick + drift),
 // `verlet_kick`; plus `check` (the FIRST bad particle and step, kept in `ctl` until read back)
 // and `reduce_max` (max |v|, |a| as f32 bits by u32 atomicMax, for the adaptive dt).

@@ -215,8 +215,8 @@ impl<T: Real> CpuSolver<T> {
         let (lo, hi) = (self.model.lo, self.model.hi);
         for i in 0..self.n_fluid {
             let (p, v) = (&mut self.pos[i], &mut self.vel[i]);
-            apply_boundaries_one(&im.x, lo.x, hi.x, &mut p.x, &mut v.x);
-            apply_boundaries_one(&im.y, lo.y, hi.y, &mut p.y, &mut v.y);
+            boundary_axis(&im.x, lo.x, hi.x, &mut p.x, &mut v.x);
+            boundary_axis(&im.y, lo.y, hi.y, &mut p.y, &mut v.y);
         }
     }
 
@@ -325,9 +325,10 @@ impl<T: Real> CpuSolver<T> {
     }
 }
 
-/// Reflects (mirror) or wraps (periodic) one coordinate across the box sides.
+/// Reflects (mirror) or wraps (periodic) one coordinate across the box sides (twin of WGSL
+/// `boundary_axis` in kernels-variants/thread/integrate.wgsl, same name).
 #[inline(always)]
-pub fn apply_boundaries_one<T: Real>(maps: &[Option<AxisMap<T>>; 2], lo: T, hi: T, x: &mut T, v: &mut T) {
+pub fn boundary_axis<T: Real>(maps: &[Option<AxisMap<T>>; 2], lo: T, hi: T, x: &mut T, v: &mut T) {
     match maps[0] {
         Some(AxisMap::Mirror(p)) if *x < p => {
             *x = p + p - *x;

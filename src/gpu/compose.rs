@@ -7,8 +7,9 @@
 //!
 //! Every composition starts with the precision prelude: `alias real = f32; alias real2 =
 //! vec2<f32>;`, or `f64` when the define `F64` is set, so the shared files are written once in
-//! `real`/`real2` with `real(…)` literals. All files are embedded with `include_str!`, so the
-//! binary needs no `shaders/` directory at run time. Errors name the original file and line;
+//! `real`/`real2` with `real(…)` literals. All files are embedded with `include_str!` (the tables
+//! come from build.rs's folder scan: a new file needs no Rust edit), so the binary needs no
+//! `shaders/` directory at run time. Errors name the original file and line;
 //! [`Composed::locate`] maps a line of the flattened source back to its file and line, which is
 //! how [`validate`] reports naga errors.
 
@@ -18,48 +19,10 @@ use std::collections::HashSet;
 /// The define that switches `real` to `f64`.
 pub const F64: &str = "F64";
 
-/// Every importable shared module of `shaders/` (name without `.wgsl`, source).
-pub static SHADERS: &[(&str, &str)] = &[
-    ("kernel", include_str!("../../shaders/kernel.wgsl")),
-    ("eos", include_str!("../../shaders/eos.wgsl")),
-    ("stress", include_str!("../../shaders/stress.wgsl")),
-    ("pair", include_str!("../../shaders/pair.wgsl")),
-    ("wall", include_str!("../../shaders/wall.wgsl")),
-    ("contact", include_str!("../../shaders/contact.wgsl")),
-    ("integrate", include_str!("../../shaders/integrate.wgsl")),
-    ("types", include_str!("../../shaders/types.wgsl")),
-];
-
-/// Every entry-point file of `kernels-variants/` (path relative to that folder, source).
-pub static VARIANT_FILES: &[(&str, &str)] = &[
-    ("common/bindings.wgsl", include_str!("../../kernels-variants/common/bindings.wgsl")),
-    ("common/neighbours.wgsl", include_str!("../../kernels-variants/common/neighbours.wgsl")),
-    ("common/variant_bindings.wgsl", include_str!("../../kernels-variants/common/variant_bindings.wgsl")),
-    ("common/pair_terms.wgsl", include_str!("../../kernels-variants/common/pair_terms.wgsl")),
-    ("common/accum.wgsl", include_str!("../../kernels-variants/common/accum.wgsl")),
-    ("common/block_layout.wgsl", include_str!("../../kernels-variants/common/block_layout.wgsl")),
-    ("search/tracking.wgsl", include_str!("../../kernels-variants/search/tracking.wgsl")),
-    ("search/nbr_list.wgsl", include_str!("../../kernels-variants/search/nbr_list.wgsl")),
-    ("list/pair_sums.wgsl", include_str!("../../kernels-variants/list/pair_sums.wgsl")),
-    ("block/atomic.wgsl", include_str!("../../kernels-variants/block/atomic.wgsl")),
-    ("block/tree.wgsl", include_str!("../../kernels-variants/block/tree.wgsl")),
-    ("block/finalize.wgsl", include_str!("../../kernels-variants/block/finalize.wgsl")),
-    ("eval/kernel_table.wgsl", include_str!("../../kernels-variants/eval/kernel_table.wgsl")),
-    ("search/cell_count.wgsl", include_str!("../../kernels-variants/search/cell_count.wgsl")),
-    ("search/cell_scan.wgsl", include_str!("../../kernels-variants/search/cell_scan.wgsl")),
-    ("search/cell_scatter.wgsl", include_str!("../../kernels-variants/search/cell_scatter.wgsl")),
-    ("thread/number_density.wgsl", include_str!("../../kernels-variants/thread/number_density.wgsl")),
-    ("thread/contact_line.wgsl", include_str!("../../kernels-variants/thread/contact_line.wgsl")),
-    ("thread/wall_typing.wgsl", include_str!("../../kernels-variants/thread/wall_typing.wgsl")),
-    ("thread/equation_of_state.wgsl", include_str!("../../kernels-variants/thread/equation_of_state.wgsl")),
-    ("thread/wall_pressure.wgsl", include_str!("../../kernels-variants/thread/wall_pressure.wgsl")),
-    ("thread/colour_gradient.wgsl", include_str!("../../kernels-variants/thread/colour_gradient.wgsl")),
-    ("thread/normal_correction.wgsl", include_str!("../../kernels-variants/thread/normal_correction.wgsl")),
-    ("thread/surface_stress.wgsl", include_str!("../../kernels-variants/thread/surface_stress.wgsl")),
-    ("thread/acceleration.wgsl", include_str!("../../kernels-variants/thread/acceleration.wgsl")),
-    ("thread/xsph.wgsl", include_str!("../../kernels-variants/thread/xsph.wgsl")),
-    ("thread/integrate.wgsl", include_str!("../../kernels-variants/thread/integrate.wgsl")),
-];
+// `SHADERS` (every importable shared module of `shaders/`, by name without `.wgsl`) and
+// `VARIANT_FILES` (every file of `kernels-variants/`, by path relative to that folder): found by
+// the folder scan of build.rs (`shader_files`), each source embedded with `include_str!`.
+include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
 /// The source of a shared module by import name (`kernel`, `kernel.wgsl` or `shaders/kernel.wgsl`).
 pub fn shader_source(name: &str) -> Option<&'static str> {

@@ -9,7 +9,7 @@
 //! a kernel whose entry point is not the stage name.
 
 use super::compose::{compose_variant, F64};
-use super::variant::{Accumulation, KernelValues, Mapping, Precision, SearchVariant, VariantSpec};
+use super::variant::{Accumulation, KernelValues, Precision, SearchVariant, SumLayout, VariantSpec};
 use super::{GpuContext, GpuError};
 use crate::stage::Stage;
 use std::collections::HashMap;
@@ -110,13 +110,13 @@ pub const PAIR_STAGES: [(Stage, &str); 3] = [
 pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
     let fin = PAIR_STAGES.iter().find(|(s, _)| *s == stage)?.1;
     let block = |file| vec![k(stage.name(), file, Domain::Block), k(fin, "block/finalize.wgsl", Domain::All)];
-    match spec.mapping {
-        Mapping::Thread if spec.kernel_values == KernelValues::Cached => {
+    match (spec.mapping.layout(), spec.mapping.pair_file()) {
+        (SumLayout::Block, Some(file)) => Some(block(file)),
+        (_, Some(file)) => Some(vec![k(stage.name(), file, Domain::All)]),
+        (_, None) if spec.kernel_values == KernelValues::Cached => {
             Some(vec![k(stage.name(), "list/pair_sums.wgsl", Domain::All)])
         }
-        Mapping::Thread => None,
-        Mapping::BlockAtomic => Some(block("block/atomic.wgsl")),
-        Mapping::BlockTree => Some(block("block/tree.wgsl")),
+        (_, None) => None,
     }
 }
 

@@ -1,6 +1,7 @@
 //! GPU variant ids (STUDY.md): search × mapping × accumulation × kernel values × precision,
 //! written `"{search}.{mapping}[.{accum}].{kernel_values}.{precision}"`, e.g.
-//! `cells.thread.recomputed.f32` or `tracking.block-atomic.fixed.cached.f32`. [`VariantSpec::all`]
+//! `cells.thread.recomputed.f32` or `tracking.block-atomic.fixed.cached.f32`; the mappings are
+//! registered in one table (`mappings!`: id, kernel file, layout). [`VariantSpec::all`]
 //! lists every combination that makes sense (an accumulation only for the block mappings; no
 //! float atomics in f64, so f64 block variants accumulate in fixed point only) and every one
 //! is implemented; [`VariantSpec::support`] says why an adapter cannot run one.
@@ -20,17 +21,14 @@ pub enum SearchVariant {
     Tracking,
 }
 
-/// Work mapping of the neighbour sums.
+/// How a mapping lays out the neighbour sums.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Mapping {
-    /// One thread per particle, sequential gather (no atomics in the sums).
+pub enum SumLayout {
+    /// One thread per particle, sequential gather (no atomics in the sums, no accumulation).
     Thread,
-    /// Thesis §6.4.1: 32 particles × 16 neighbour threads per workgroup, 4 workgroups in y
-    /// over the 64 list slots, one atomic add per pair term.
-    BlockAtomic,
-    /// The same layout, tree reduction of each row in workgroup memory, then one atomic add
-    /// per particle per workgroup.
-    BlockTree,
+    /// The thesis's 16 × 32 block over the 64-slot lists: atomics into an accumulator
+    /// (`cas`, `native` or `fixed`), then a finalize kernel per field.
+    Block,
 }
 
 /// How the block mappings accumulate.
@@ -95,7 +93,40 @@ macro_rules! names {
     };
 }
 names!(SearchVariant { Direct = "direct", Cells = "cells", Tracking = "tracking" });
-names!(Mapping { Thread = "thread", BlockAtomic = "block-atomic", BlockTree = "block-tree" });
+
+/// The mapping registry: one line per mapping, `Variant = "id": file, layout;`. The file holds
+/// the mapping's pair-sum kernels, one entry point per pair-sum stage named as the stage
+/// (`None`: each stage's own thread kernel, or the list kernels with cached values).
+macro_rules! mappings {
+    ($($(#[$doc:meta])* $v:ident = $id:literal: $file:expr, $layout:ident;)*) => {
+        /// Work mapping of the neighbour sums (the registry of [`mappings!`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Mapping {
+            $($(#[$doc])* $v,)*
+        }
+        names!(Mapping { $($v = $id),* });
+        impl Mapping {
+            /// The file of the pair-sum kernels under `kernels-variants/`.
+            pub fn pair_file(self) -> Option<&'static str> {
+                match self { $(Mapping::$v => $file,)* }
+            }
+            /// How the sums are laid out.
+            pub fn layout(self) -> SumLayout {
+                match self { $(Mapping::$v => SumLayout::$layout,)* }
+            }
+        }
+    };
+}
+mappings! {
+    /// One thread per particle, sequential gather (no atomics in the sums).
+    Thread = "thread": None, Thread;
+    /// Thesis §6.4.1: 32 particles × 16 neighbour threads per workgroup, 4 workgroups in y
+    /// over the 64 list slots, one atomic add per pair term.
+    BlockAtomic = "block-atomic": Some("block/atomic.wgsl"), Block;
+    /// The same layout, tree reduction of each row in workgroup memory, then one atomic add
+    /// per particle per workgroup.
+    BlockTree = "block-tree": Some("block/tree.wgsl"), Block;
+}
 names!(Accumulation { None = "none", Cas = "cas", Native = "native", Fixed = "fixed" });
 names!(KernelValues { Recomputed = "recomputed", Cached = "cached" });
 names!(Precision { F32 = "f32", F64 = "f64" });
@@ -112,7 +143,7 @@ pub const DEFAULT_VARIANT: &str = "cells.thread.recomputed.f32";
 impl VariantSpec {
     /// True when the accumulation fits the mapping (`none` exactly for `thread`).
     pub fn is_consistent(&self) -> bool {
-        (self.mapping == Mapping::Thread) == (self.accumulation == Accumulation::None)
+        (self.mapping.layout() == SumLayout::Thread) == (self.accumulation == Accumulation::None)
     }
 
     /// Every variant that makes sense, in a stable order.
@@ -143,7 +174,7 @@ impl VariantSpec {
     /// True when the variant runs on explicit 64-slot neighbour lists (block mappings, cached
     /// kernel values).
     pub fn has_lists(&self) -> bool {
-        self.mapping != Mapping::Thread || self.kernel_values == KernelValues::Cached
+        self.mapping.layout() == SumLayout::Block || self.kernel_values == KernelValues::Cached
     }
 
     /// `Err(reason)` for a consistent id that is not a meaningful variant.
@@ -172,7 +203,7 @@ impl VariantSpec {
 
     /// `Err(reason)` when the adapter lacks a feature or a limit this variant needs.
     pub fn support(&self, ctx: &GpuContext) -> Result<(), String> {
-        if self.mapping != Mapping::Thread {
+        if self.mapping.layout() == SumLayout::Block {
             let (inv, wgs) =
                 (ctx.limits.max_compute_invocations_per_workgroup, ctx.limits.max_compute_workgroup_size_y);
             if inv < 512 || wgs < 32 {
@@ -250,9 +281,10 @@ mod tests {
     #[test]
     fn ids_round_trip() {
         let all = VariantSpec::all();
-        // thread: 3 searches × 2 kernel values × 2 precisions; block: 3 × 2 mappings × 2 kernel
-        // values × (3 accumulations in f32 + fixed in f64).
-        assert_eq!(all.len(), 3 * 2 * 2 + 3 * 2 * 2 * 4);
+        // thread layouts: 3 searches × 2 kernel values × 2 precisions; block layouts: 3 searches ×
+        // 2 kernel values × (3 accumulations in f32 + fixed in f64).
+        let blocks = Mapping::ALL.iter().filter(|m| m.layout() == SumLayout::Block).count();
+        assert_eq!(all.len(), 3 * 2 * 2 * (Mapping::ALL.len() - blocks) + 3 * 2 * 4 * blocks);
         assert!(all.iter().all(|s| s.implemented().is_ok()));
         let f64cas = VariantSpec {
             precision: Precision::F64,

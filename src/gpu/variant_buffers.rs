@@ -15,7 +15,7 @@
 //! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
-use super::variant::{Mapping, SearchVariant, VariantSpec};
+use super::variant::{SearchVariant, SumLayout, VariantSpec};
 use super::{GpuContext, GpuError, GpuVec};
 use crate::backend::SolverError;
 use crate::model::Model;
@@ -95,7 +95,7 @@ impl<T: Real> VBufs<T> {
             cache_xj: v2("cache_xj", if_(cached, n * NBR_SLOTS))?,
             cand: u("cand", if_(tracking, n * CAND_SLOTS))?,
             ref_pos: v2("ref_pos", if_(tracking, n))?,
-            accum: u("accum", if_(spec.mapping != Mapping::Thread, 8 * n))?,
+            accum: u("accum", if_(spec.mapping.layout() == SumLayout::Block, 8 * n))?,
             spec,
             every: TrackingCfg::default().every,
         };
