@@ -101,7 +101,6 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
         let precision: &[&str] = if backend == "cpu" { &["--precision", "f32"] } else { &[] };
         let o = sphlab(
             &[
-                precision,
                 &[
                     "run",
                     "sessile-90",
@@ -117,6 +116,7 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
                     out.to_str().expect("utf8"),
                     "--quiet",
                 ],
+                precision,
             ]
             .concat(),
         );
