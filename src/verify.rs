@@ -333,8 +333,8 @@ pub fn format_table(reports: &[VariantReport]) -> String {
     s
 }
 
-/// Writes `verify.csv` (one row per check) and `verify.json` into `dir`, with the adapter, scene,
-/// git commit and date.
+/// Writes `verify.csv` (one row per check, with the adapter, scene, commit and date) into `dir`;
+/// `verify.json` is written by the caller as the one enveloped document of `verify --json`.
 pub fn write_outputs(
     dir: &std::path::Path,
     adapter: &str,
@@ -391,7 +391,6 @@ pub fn write_outputs(
             .map_err(|e| e.to_string())?;
         }
     }
-    w.flush().map_err(|e| e.to_string())?;
-    let json = serde_json::json!({"adapter": adapter, "scene": scene.name, "commit": commit, "date": date, "variants": reports});
-    crate::output::write_json(dir.join("verify.json"), &json).map_err(|e| e.to_string())
+    // verify.json is the caller's: one enveloped document shared with `verify --json`.
+    w.flush().map_err(|e| e.to_string())
 }

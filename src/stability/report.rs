@@ -8,18 +8,6 @@ use crate::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// CPU model from /proc/cpuinfo (provenance).
-fn cpu_model() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown".into())
-}
-
 fn factor_text(f: Option<f64>, max: f64) -> String {
     f.map_or(format!("> {max}"), |f| format!("{f}"))
 }
@@ -48,7 +36,7 @@ pub fn write(
         md,
         "* commit `{commit}`, {}; CPU {} ({} threads); GPU adapter: {}\n* command: `{command}`",
         crate::output::now_utc_iso8601(),
-        cpu_model(),
+        crate::provenance::cpu_model(),
         rayon::current_num_threads(),
         adapter.as_deref().unwrap_or("none")
     );

@@ -116,17 +116,6 @@ pub fn study_scene(nx: u32) -> Scene {
     crate::scene::dt_policy::apply(&scene).expect("the scaled dt is within the limits").scene
 }
 
-fn cpu_model() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown".into())
-}
-
 fn percentile(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
@@ -261,7 +250,7 @@ fn run_size(
         gpu,
         commit: crate::output::git_commit(),
         date: crate::output::now_utc_iso8601(),
-        cpu_model: cpu_model(),
+        cpu_model: crate::provenance::cpu_model(),
     };
     // The reference: CPU f64, one thread, cells.
     let reference = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
