@@ -47,15 +47,16 @@ pub struct WallLine<T> {
 }
 
 impl<T: Real> WallLine<T> {
-    /// Signed distance of `p` in front of the line (positive on the fluid side).
+    /// Signed distance of `p` in front of the line (positive on the fluid side; twin of WGSL
+    /// `wall_distance` in shaders/geometry.wgsl).
     #[inline(always)]
-    pub fn distance(&self, p: V2<T>) -> T {
+    pub fn wall_distance(&self, p: V2<T>) -> T {
         let c = if self.axis == 0 { p.x } else { p.y };
         (c - self.coord) * self.sign
     }
     /// Unit normal pointing into the fluid.
     #[inline(always)]
-    pub fn normal(&self) -> V2<T> {
+    pub fn wall_normal(&self) -> V2<T> {
         if self.axis == 0 {
             V2::new(self.sign, T::zero())
         } else {
@@ -100,7 +101,8 @@ impl<T: Real> AxisMap<T> {
 /// Boundary images (mirror ghosts and periodic copies) as transforms, not stored particles.
 /// Image code `c = ax + 3·ay`, `a ∈ {0: identity, 1: image across the low side, 2: across the
 /// high side}`. The image of particle j under code c is `image_pos(c, x_j)`; its velocity,
-/// colour gradient and Π_xy change sign per mirrored axis.
+/// colour gradient and Π_xy change sign per mirrored axis. `image_pos`, `inverse_pos`,
+/// `image_vec`, `image_sym` are twins of the same names in shaders/geometry.wgsl.
 #[derive(Clone, Copy, Debug)]
 pub struct Images<T> {
     /// `[x-low, x-high]` maps.
@@ -386,13 +388,14 @@ impl<T: Real> Model<T> {
         self.kernel.support
     }
 
-    /// The wall line nearest to `p` (smallest distance in front of it), if any wall exists.
+    /// The wall line nearest to `p` (smallest distance in front of it), if any wall exists
+    /// (twin of WGSL `nearest_wall` in shaders/geometry.wgsl, which returns its index).
     #[inline(always)]
     pub fn nearest_wall(&self, p: V2<T>) -> Option<&WallLine<T>> {
         let mut best: Option<&WallLine<T>> = None;
         let mut bd = T::infinity();
         for w in &self.walls {
-            let d = w.distance(p);
+            let d = w.wall_distance(p);
             if d < bd {
                 bd = d;
                 best = Some(w);

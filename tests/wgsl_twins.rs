@@ -118,6 +118,7 @@ twin_tests! {
     wall_twins => wall_f32, wall_f64;
     contact_twins => contact_f32, contact_f64;
     integrate_twins => integrate_f32, integrate_f64;
+    boundary_twins => boundary_f32, boundary_f64;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -257,10 +258,14 @@ fn harness_catches_unwritten_and_wrong_outputs() {
     assert!(wrong.is_err(), "a 3e-5 relative error must fail");
 }
 
-// pair.wgsl, stress.wgsl, wall.wgsl, contact.wgsl and integrate.wgsl (kept apart to keep files short).
+// pair.wgsl, stress.wgsl, wall.wgsl, contact.wgsl, integrate.wgsl and geometry.wgsl (kept apart
+// to keep files short).
+#[path = "twins/boundary.rs"]
+mod boundary;
 #[path = "twins/geometry.rs"]
 mod geometry;
 #[path = "twins/pair.rs"]
 mod pair_checks;
+use boundary::boundary_twins;
 use geometry::{contact_twins, integrate_twins, stress_twins, wall_twins};
 use pair_checks::{pair_twins, rand_vec};

@@ -64,7 +64,7 @@ fn nb_begin(i: u32, xi: real2) -> Nb {
 // Moves to the next existing image code; false when none is left.
 fn nb_next_code(it: ptr<function, Nb>) -> bool {
     var c = (*it).code + 1u;
-    while c < 9u && !image_exists(c) {
+    while c < 9u && !image_exists(params, c) {
         c++;
     }
     (*it).code = c;
@@ -87,7 +87,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
 #endif
 #endif
             (*it).cur += 1u;
-            let xj = image_pos((*it).code, pos[j]);
+            let xj = image_pos(params, (*it).code, pos[j]);
             let d = (*it).xi - xj;
             if d.x * d.x + d.y * d.y < params.support2 {
                 (*it).j = j;
@@ -111,7 +111,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             if !nb_next_code(it) {
                 return false;
             }
-            let c = cell_coords(inverse_pos((*it).code, (*it).xi));
+            let c = cell_coords(inverse_pos(params, (*it).code, (*it).xi));
             (*it).cx = c.x;
             (*it).cy = c.y;
             (*it).k = 0u;

@@ -57,7 +57,7 @@ fn pair_at(xi: real2, slot: u32) -> Pair {
 #ifdef CACHED
     p.xj = cache_xj[slot];
 #else
-    p.xj = image_pos(p.code, pos[p.j]);
+    p.xj = image_pos(params, p.code, pos[p.j]);
 #endif
     p.x_ij = xi - p.xj;
     p.r2 = p.x_ij.x * p.x_ij.x + p.x_ij.y * p.x_ij.y;
@@ -148,10 +148,10 @@ fn acc_ctx(i: u32) -> AccI {
     c.inv_s2_i = real(1.0) / (sigma[i] * sigma[i]);
     c.eta_i = params.eta[phase[i]];
     c.pi_i = Sym2(pi[i].x, pi[i].y);
-    c.wall = nearest_wall(c.xi);
+    c.wall = nearest_wall(params, c.xi);
     c.d_i = real(0.0);
     if c.wall != 0xFFFFFFFFu {
-        c.d_i = wall_distance(c.wall, c.xi);
+        c.d_i = wall_distance(params, c.wall, c.xi);
     }
     return c;
 }
@@ -173,47 +173,23 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
         var v_ij = c.vi;
         if j < params.n_fluid {
             eta_ij = harmonic_viscosity(c.eta_i, params.eta[phase[j]]);
-            v_ij = c.vi - image_vec(p.code, vel[j]);
+            v_ij = c.vi - image_vec(params, p.code, vel[j]);
         } else if c.wall != 0xFFFFFFFFu {
             var beta = real(1.0);
             if params.wall_velocity == WALL_VELOCITY_HOLMES {
                 beta = holmes_beta(chi[i], chi[j], params.chi_floor, params.beta_max);
             } else {
-                beta = noslip_beta(c.d_i, -wall_distance(c.wall, p.xj), params.beta_max, params.dx);
+                beta = noslip_beta(c.d_i, -wall_distance(params, c.wall, p.xj), params.beta_max, params.dx);
             }
-            v_ij = wall_relative_velocity(c.vi, beta, params.wall_free_slip[c.wall] != 0u, wall_normal(c.wall));
+            v_ij = wall_relative_velocity(c.vi, beta, params.wall_free_slip[c.wall] != 0u, wall_normal(params, c.wall));
         }
         sum += viscous_acc_ij(eta_ij, c.inv_s2_i, inv_s2_j, fac, v_ij);
     }
     if params_has(params, STAGE_SURFACE) {
-        let pi_j = image_sym(p.code, Sym2(pi[j].x, pi[j].y));
+        let pi_j = image_sym(params, p.code, Sym2(pi[j].x, pi[j].y));
         sum += surface_acc_ij(c.pi_i, c.inv_s2_i, pi_j, inv_s2_j, gw);
     }
     return sum;
-}
-
-// Lennard-Jones repulsion of the boundary points (spacing r0 = Δx/2 on each wall line).
-fn lennard_jones(x: real2) -> real2 {
-    let r0 = real(0.5) * params.dx;
-    var a = real2(real(0.0), real(0.0));
-    for (var w = 0u; w < params.n_walls; w++) {
-        if wall_distance(w, x) >= r0 {
-            continue;
-        }
-        let along_y = params.wall_axis[w] == 0u;
-        let t = select(x.x, x.y, along_y);
-        let t0 = select(params.lo_x, params.lo_y, along_y);
-        let k0 = round((t - t0) / r0);
-        for (var dk = -1; dk <= 1; dk++) {
-            let tb = t0 + (k0 + real(dk)) * r0;
-            var b = real2(tb, params.wall_coord[w]);
-            if along_y {
-                b = real2(params.wall_coord[w], tb);
-            }
-            a += lj_wall_acc(x - b, r0, params.lj_strength);
-        }
-    }
-    return a;
 }
 
 // a_i = Σ/m_i + g (+ Lennard-Jones); walls get zero.
@@ -224,7 +200,7 @@ fn acc_out(i: u32, sum: real2) {
     }
     var a = sum / mass[i] + real2(params.gravity_x, params.gravity_y);
     if params_has(params, STAGE_LJ) {
-        a += lennard_jones(pos[i]);
+        a += lennard_jones(params, pos[i]);
     }
     acc[i] = a;
 }

@@ -55,10 +55,10 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>) {
     // (inversely imaged) query point holds every candidate.
     var count = 0u;
     for (var code = 0u; code < 9u; code++) {
-        if !image_exists(code) {
+        if !image_exists(params, code) {
             continue;
         }
-        let c = cell_coords(inverse_pos(code, xi));
+        let c = cell_coords(inverse_pos(params, code, xi));
         for (var k = 0u; k < 25u; k++) {
             let x = c.x - 2 + i32(k % 5u);
             let y = c.y - 2 + i32(k / 5u);
@@ -68,7 +68,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>) {
             let cell = u32(x + i32(params.grid_nx) * y);
             for (var s = cell_start[cell]; s < cell_start[cell + 1u]; s++) {
                 let j = sorted[s];
-                let d = xi - image_pos(code, pos[j]);
+                let d = xi - image_pos(params, code, pos[j]);
                 if d.x * d.x + d.y * d.y < r2 {
                     if count < CAND_SLOTS {
                         cand[i * CAND_SLOTS + count] = pack_nb(j, code);

@@ -1,5 +1,5 @@
 // integrate.wgsl (thread mapping): the integrator stages of §7.2 on fluid particles, each
-// followed by the mirror/periodic boundary fix (twin of `cpu::boundary_axis`):
+// followed by the mirror/periodic boundary fix (`boundary_axis` of shaders/geometry.wgsl):
 // `midpoint_predict` (saves r⁰, v⁰), `midpoint_correct`, `verlet_drift` (kick + drift),
 // `verlet_kick`; plus `check` (the FIRST bad particle and step, kept in `ctl` until read back)
 // and `reduce_max` (max |v|, |a| as f32 bits by u32 atomicMax, for the adaptive dt).
@@ -7,34 +7,14 @@
 #import common/bindings
 #import integrate
 
-// Reflects (mirror) or wraps (periodic) one coordinate; `lo_side` is 0 (x) or 2 (y).
-fn boundary_axis(lo_side: u32, lo: real, hi: real, x: ptr<function, real>, v: ptr<function, real>) {
-    let k0 = params.image_kind[lo_side];
-    let p0 = params.image_value[lo_side];
-    if k0 == IMAGE_MIRROR && *x < p0 {
-        *x = p0 + p0 - *x;
-        *v = -*v;
-    } else if k0 == IMAGE_SHIFT && *x < lo {
-        *x -= p0;
-    }
-    let k1 = params.image_kind[lo_side + 1u];
-    let p1 = params.image_value[lo_side + 1u];
-    if k1 == IMAGE_MIRROR && *x > p1 {
-        *x = p1 + p1 - *x;
-        *v = -*v;
-    } else if k1 == IMAGE_SHIFT && *x >= hi {
-        *x -= p1;
-    }
-}
-
 // Stores r, v of fluid particle i after the boundary fix.
 fn store_fixed(i: u32, r: real2, v: real2) {
     var x = r.x;
     var y = r.y;
     var vx = v.x;
     var vy = v.y;
-    boundary_axis(0u, params.lo_x, params.hi_x, &x, &vx);
-    boundary_axis(2u, params.lo_y, params.hi_y, &y, &vy);
+    boundary_axis(params, 0u, params.lo_x, params.hi_x, &x, &vx);
+    boundary_axis(params, 2u, params.lo_y, params.hi_y, &y, &vy);
     pos[i] = real2(x, y);
     vel[i] = real2(vx, vy);
 }

@@ -23,7 +23,7 @@ fn xsph(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         let d = xi - it.xj;
         let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
-        let v_ji = image_vec(it.code, vel[j]) - vi;
+        let v_ji = image_vec(params, it.code, vel[j]) - vi;
         s += xsph_ij(mass[j], rho[i], rho[j], v_ji, w);
     }
     vt[i] = vi + s * params.xsph;

@@ -326,7 +326,7 @@ impl<T: Real> CpuSolver<T> {
 }
 
 /// Reflects (mirror) or wraps (periodic) one coordinate across the box sides (twin of WGSL
-/// `boundary_axis` in kernels-variants/thread/integrate.wgsl, same name).
+/// `boundary_axis` in shaders/geometry.wgsl, same name).
 #[inline(always)]
 pub fn boundary_axis<T: Real>(maps: &[Option<AxisMap<T>>; 2], lo: T, hi: T, x: &mut T, v: &mut T) {
     match maps[0] {

@@ -346,13 +346,14 @@ pub fn surface_stress<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     }
 }
 
-/// Lennard-Jones repulsion of the boundary points (spacing Δx/2 on each wall line, r0 = Δx/2).
+/// Lennard-Jones repulsion of the boundary points (spacing Δx/2 on each wall line, r0 = Δx/2);
+/// twin of WGSL `lennard_jones` in shaders/geometry.wgsl.
 #[inline(always)]
 pub fn lennard_jones<T: Real>(m: &Model<T>, x: V2<T>) -> V2<T> {
     let r0 = T::c(0.5) * m.dx;
     let mut a = V2::zero();
     for w in &m.walls {
-        if w.distance(x) >= r0 {
+        if w.wall_distance(x) >= r0 {
             continue;
         }
         let (t, t0) = if w.axis == 0 { (x.y, m.lo.y) } else { (x.x, m.lo.x) };
@@ -379,7 +380,7 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         let inv_s2_i = T::one() / (fr.sigma[i] * fr.sigma[i]);
         let eta_i = m.phases[c.phase[i] as usize].eta;
         let wall = m.nearest_wall(xi);
-        let d_i = wall.map_or(T::zero(), |w| w.distance(xi));
+        let d_i = wall.map_or(T::zero(), |w| w.wall_distance(xi));
         let mut sum = V2::zero();
         for &e in c.nbrs.of(i) {
             let (j, code) = unpack(e);
@@ -401,10 +402,10 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
                     (harmonic_viscosity(eta_i, eta_j), vi - m.images.image_vec(code, c.vel[j]))
                 } else if let Some(w) = wall {
                     let beta = match m.wall_velocity {
-                        WallVelocity::Morris => noslip_beta(d_i, -w.distance(xj), m.beta_max, m.dx),
+                        WallVelocity::Morris => noslip_beta(d_i, -w.wall_distance(xj), m.beta_max, m.dx),
                         WallVelocity::Holmes => holmes_beta(fr.chi[i], fr.chi[j], m.chi_floor, m.beta_max),
                     };
-                    (eta_i, wall_relative_velocity(vi, beta, w.free_slip, w.normal()))
+                    (eta_i, wall_relative_velocity(vi, beta, w.free_slip, w.wall_normal()))
                 } else {
                     (eta_i, vi)
                 };

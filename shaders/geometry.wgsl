@@ -1,0 +1,164 @@
+// geometry.wgsl: the boundary geometry of a scene as pure functions of `Params` (the value of
+// the `params` uniform, passed first like Rust's `&self`): image transforms of the mirror and
+// periodic sides (twin of `model::Images`), wall-line distance and nearest wall (twin of
+// `model::WallLine`, `Model::nearest_wall`), the Lennard-Jones wall repulsion (twin of
+// `cpu::stages::lennard_jones`) and the mirror/periodic boundary fix (twin of
+// `cpu::boundary_axis`). Same names on both sides. Library module: no bindings, no entry points.
+
+#import types
+#import stress
+#import wall
+
+// Map of one side (0 x-low, 1 x-high, 2 y-low, 3 y-high) applied to a coordinate.
+fn side_apply(prm: Params, side: u32, c: real) -> real {
+    let v = prm.image_value[side];
+    if prm.image_kind[side] == IMAGE_MIRROR {
+        return v + v - c;
+    }
+    return c + v;
+}
+
+// Inverse map of one side.
+fn side_inverse(prm: Params, side: u32, c: real) -> real {
+    let v = prm.image_value[side];
+    if prm.image_kind[side] == IMAGE_MIRROR {
+        return v + v - c;
+    }
+    return c - v;
+}
+
+// True when image code c = ax + 3·ay names an existing transform.
+fn image_exists(prm: Params, c: u32) -> bool {
+    let ax = c % 3u;
+    let ay = c / 3u;
+    return (ax == 0u || prm.image_kind[ax - 1u] != IMAGE_NONE)
+        && (ay == 0u || prm.image_kind[1u + ay] != IMAGE_NONE);
+}
+
+// Position of the image of x under code c.
+fn image_pos(prm: Params, c: u32, x: real2) -> real2 {
+    let ax = c % 3u;
+    let ay = c / 3u;
+    var r = x;
+    if ax != 0u {
+        r.x = side_apply(prm, ax - 1u, x.x);
+    }
+    if ay != 0u {
+        r.y = side_apply(prm, 1u + ay, x.y);
+    }
+    return r;
+}
+
+// Inverse transform of code c.
+fn inverse_pos(prm: Params, c: u32, x: real2) -> real2 {
+    let ax = c % 3u;
+    let ay = c / 3u;
+    var r = x;
+    if ax != 0u {
+        r.x = side_inverse(prm, ax - 1u, x.x);
+    }
+    if ay != 0u {
+        r.y = side_inverse(prm, 1u + ay, x.y);
+    }
+    return r;
+}
+
+// Component signs of code c (−1 per mirrored axis).
+fn image_signs(prm: Params, c: u32) -> real2 {
+    let ax = c % 3u;
+    let ay = c / 3u;
+    var s = real2(real(1.0), real(1.0));
+    if ax != 0u && prm.image_kind[ax - 1u] == IMAGE_MIRROR {
+        s.x = real(-1.0);
+    }
+    if ay != 0u && prm.image_kind[1u + ay] == IMAGE_MIRROR {
+        s.y = real(-1.0);
+    }
+    return s;
+}
+
+// Image of a vector (velocity, colour gradient).
+fn image_vec(prm: Params, c: u32, v: real2) -> real2 {
+    return v * image_signs(prm, c);
+}
+
+// Image of a symmetric traceless tensor (Π_xy flips once per mirrored axis).
+fn image_sym(prm: Params, c: u32, t: Sym2) -> Sym2 {
+    let s = image_signs(prm, c);
+    return Sym2(t.xx, t.xy * s.x * s.y);
+}
+
+// Signed distance of x in front of wall line w (positive on the fluid side).
+fn wall_distance(prm: Params, w: u32, x: real2) -> real {
+    var c = x.y;
+    if prm.wall_axis[w] == 0u {
+        c = x.x;
+    }
+    return (c - prm.wall_coord[w]) * prm.wall_sign[w];
+}
+
+// Unit normal of wall line w pointing into the fluid.
+fn wall_normal(prm: Params, w: u32) -> real2 {
+    if prm.wall_axis[w] == 0u {
+        return real2(prm.wall_sign[w], real(0.0));
+    }
+    return real2(real(0.0), prm.wall_sign[w]);
+}
+
+// Index of the nearest wall line (first on ties), or 0xFFFFFFFF without walls.
+fn nearest_wall(prm: Params, x: real2) -> u32 {
+    var best = 0xFFFFFFFFu;
+    var bd = real(0.0);
+    for (var w = 0u; w < prm.n_walls; w++) {
+        let d = wall_distance(prm, w, x);
+        if best == 0xFFFFFFFFu || d < bd {
+            best = w;
+            bd = d;
+        }
+    }
+    return best;
+}
+
+// Lennard-Jones repulsion of the boundary points (spacing r0 = Δx/2 on each wall line).
+fn lennard_jones(prm: Params, x: real2) -> real2 {
+    let r0 = real(0.5) * prm.dx;
+    var a = real2(real(0.0), real(0.0));
+    for (var w = 0u; w < prm.n_walls; w++) {
+        if wall_distance(prm, w, x) >= r0 {
+            continue;
+        }
+        let along_y = prm.wall_axis[w] == 0u;
+        let t = select(x.x, x.y, along_y);
+        let t0 = select(prm.lo_x, prm.lo_y, along_y);
+        let k0 = round((t - t0) / r0);
+        for (var dk = -1; dk <= 1; dk++) {
+            let tb = t0 + (k0 + real(dk)) * r0;
+            var b = real2(tb, prm.wall_coord[w]);
+            if along_y {
+                b = real2(prm.wall_coord[w], tb);
+            }
+            a += lj_wall_acc(x - b, r0, prm.lj_strength);
+        }
+    }
+    return a;
+}
+
+// Reflects (mirror) or wraps (periodic) one coordinate; `lo_side` is 0 (x) or 2 (y).
+fn boundary_axis(prm: Params, lo_side: u32, lo: real, hi: real, x: ptr<function, real>, v: ptr<function, real>) {
+    let k0 = prm.image_kind[lo_side];
+    let p0 = prm.image_value[lo_side];
+    if k0 == IMAGE_MIRROR && *x < p0 {
+        *x = p0 + p0 - *x;
+        *v = -*v;
+    } else if k0 == IMAGE_SHIFT && *x < lo {
+        *x -= p0;
+    }
+    let k1 = prm.image_kind[lo_side + 1u];
+    let p1 = prm.image_value[lo_side + 1u];
+    if k1 == IMAGE_MIRROR && *x > p1 {
+        *x = p1 + p1 - *x;
+        *v = -*v;
+    } else if k1 == IMAGE_SHIFT && *x >= hi {
+        *x -= p1;
+    }
+}
