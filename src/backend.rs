@@ -91,7 +91,9 @@ impl BackendId {
         search: Option<&str>,
     ) -> Result<Self, String> {
         let not_cpu = |what: &str, v: &str| {
-            format!("--{what} {v}: applies only to --backend cpu or cpu1 (a full id or a GPU variant id carries its own)")
+            format!(
+                "--{what} {v}: applies only to --backend cpu or cpu1 (a full id or a GPU variant id carries its own)"
+            )
         };
         let exec = match backend {
             "cpu" => Exec::Parallel,
@@ -108,7 +110,9 @@ impl BackendId {
                     return id.parse::<VariantSpec>().map(BackendId::Gpu).map_err(|e| format!("--variant: {e}"));
                 }
                 if let Some(v) = variant {
-                    return Err(format!("--variant {v}: applies only to --backend gpu (the backend is the full id {backend})"));
+                    return Err(format!(
+                        "--variant {v}: applies only to --backend gpu (the backend is the full id {backend})"
+                    ));
                 }
                 return backend.parse().map_err(|e| format!("--backend: {e}"));
             }
