@@ -11,6 +11,11 @@
 //! host-side recording, submission and readback overheads are left out. Where the adapter has no
 //! `TIMESTAMP_QUERY` the group is skipped with the reason printed.
 //!
+//! A third group `step_reorder` times the GPU variants with cell-ordered particles
+//! (`GpuSolver::set_reorder_every`) on (every 16 steps) and off, starting from the lattice order
+//! of the scene and from a shuffled fluid order (the state of a well-mixed flow), as
+//! `"{variant}.{lattice|shuffled}.reorder{k}"`.
+//!
 //! `SPHLAB_BENCH_SIZES=30,60` picks the resolutions (particles across the quarter box);
 //! `SPHLAB_BENCH_VARIANTS=cells.thread.recomputed.f32,...` restricts the GPU variants (`none`
 //! skips the GPU). `cargo bench --bench step -- --test` runs each case once (smoke test).
@@ -132,5 +137,83 @@ fn bench_step_device(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_step, bench_step_device);
+/// `layout` with its fluid particles in a fixed pseudo-random order (xorshift Fisher–Yates).
+fn shuffled(layout: &Layout) -> Layout {
+    let mut l = layout.clone();
+    let mut x = 0x9E37_79B9_7F4A_7C15u64;
+    for i in (1..l.n_fluid).rev() {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        let j = (x % (i as u64 + 1)) as usize;
+        l.pos.swap(i, j);
+        l.vel.swap(i, j);
+        l.phase.swap(i, j);
+    }
+    l
+}
+
+fn bench_step_reorder(c: &mut Criterion) {
+    use sphlab::gpu::{solver::GpuSolver, GpuContext};
+    let mut group = c.benchmark_group("step_reorder");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    let ctx = match GpuContext::new() {
+        Ok(c) => std::sync::Arc::new(c),
+        Err(e) => {
+            eprintln!("step_reorder: skipped: {e}");
+            return;
+        }
+    };
+    for nx in sizes() {
+        let s = scene(nx);
+        let lattice = build_layout(&s).expect("layout");
+        let n = lattice.pos.len() as u64;
+        group.throughput(Throughput::Elements(n));
+        for (order, layout) in [("lattice", lattice.clone()), ("shuffled", shuffled(&lattice))] {
+            for spec in backends().into_iter().filter_map(|id| if let BackendId::Gpu(s) = id { Some(s) } else { None })
+            {
+                for every in [0, 16] {
+                    let label = format!("{spec}.{order}.reorder{every}");
+                    let mut b: Box<dyn Backend> = match spec.precision {
+                        Precision::F32 => match GpuSolver::<f32>::new(ctx.clone(), &s, &layout, spec) {
+                            Ok(mut g) => {
+                                g.set_reorder_every(every).expect("set");
+                                Box::new(g)
+                            }
+                            Err(e) => {
+                                eprintln!("step_reorder/{label}/{n}: skipped: {e}");
+                                continue;
+                            }
+                        },
+                        Precision::F64 => match GpuSolver::<f64>::new(ctx.clone(), &s, &layout, spec) {
+                            Ok(mut g) => {
+                                g.set_reorder_every(every).expect("set");
+                                Box::new(g)
+                            }
+                            Err(e) => {
+                                eprintln!("step_reorder/{label}/{n}: skipped: {e}");
+                                continue;
+                            }
+                        },
+                    };
+                    b.step().expect("first step");
+                    b.sync();
+                    group.bench_with_input(BenchmarkId::new(label, n), &n, |bench, _| {
+                        bench.iter_custom(|iters| {
+                            let t = Instant::now();
+                            for _ in 0..iters {
+                                b.step().expect("step");
+                            }
+                            b.sync();
+                            t.elapsed()
+                        })
+                    });
+                }
+            }
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_step, bench_step_device, bench_step_reorder);
 criterion_main!(benches);

@@ -2,7 +2,9 @@
 // searches: `DIRECT` defined = every particle under every existing image code (O(N²·images),
 // the order of the CPU lists: code, then index); `TRACKING` defined = the particle's tracking
 // candidates (kernels-variants/search/tracking.wgsl) under the exact distance test; otherwise the 3×3 cells around
-// `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*. A neighbour is
+// `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*, walked as three
+// contiguous slot ranges of `sorted`, one per row (DualSPHysics' "range" loops; the same order
+// as cell by cell: rows, then x, then index). A neighbour is
 // (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of `neighbours::within`), self
 // included. Usage: `var it = nb_begin(i, xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
 // Shared include (needs common/bindings: pos, sorted, cell_start; common/variant_bindings:
@@ -17,7 +19,7 @@ struct Nb {
     xi: real2,     // the query particle
     cur: u32,      // cursor (index in DIRECT, slot of `sorted` otherwise)
     end: u32,
-    k: u32,        // cell of the 3×3 block (cells)
+    k: u32,        // row of the 3×3 block (cells)
     cx: i32,
     cy: i32,
 }
@@ -106,8 +108,10 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
 #ifdef TRACKING
         return false;
 #else
+        // Next row of the 3×3 block: its (up to) three cells, clamped to the grid, are one
+        // contiguous range of `sorted` (cells along x are adjacent in the counting sort).
         (*it).k += 1u;
-        if (*it).k >= 9u {
+        if (*it).k >= 3u {
             if !nb_next_code(it) {
                 return false;
             }
@@ -116,14 +120,15 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             (*it).cy = c.y;
             (*it).k = 0u;
         }
-        let x = (*it).cx - 1 + i32((*it).k % 3u);
-        let y = (*it).cy - 1 + i32((*it).k / 3u);
-        if x < 0 || y < 0 || x >= i32(params.grid_nx) || y >= i32(params.grid_ny) {
+        let y = (*it).cy - 1 + i32((*it).k);
+        let x0 = max((*it).cx - 1, 0);
+        let x1 = min((*it).cx + 1, i32(params.grid_nx) - 1);
+        if y < 0 || y >= i32(params.grid_ny) || x0 > x1 {
             continue;
         }
-        let cell = u32(x + i32(params.grid_nx) * y);
-        (*it).cur = cell_start[cell];
-        (*it).end = cell_start[cell + 1u];
+        let row = u32(i32(params.grid_nx) * y);
+        (*it).cur = cell_start[row + u32(x0)];
+        (*it).end = cell_start[row + u32(x1) + 1u];
 #endif
 #endif
     }

@@ -47,7 +47,7 @@ fn list_len(i: u32) -> u32 {
     return min(counts[i], NBR_SLOTS);
 }
 
-// The entry in `slot` (= i*NBR_SLOTS + k) of particle i at xi.
+// The entry in `slot` (= nbr_slot(i, k)) of particle i at xi.
 fn pair_at(xi: real2, slot: u32) -> Pair {
     let e = nbr[slot];
     var p: Pair;

@@ -11,7 +11,7 @@
 @group(1) @binding(0) var<storage, read_write> vctl: array<atomic<u32>>;
 @group(1) @binding(1) var<storage, read_write> vparams: array<real>;
 @group(1) @binding(2) var<storage, read_write> counts: array<u32>;    // list count (0..n), candidates (n..2n)
-@group(1) @binding(3) var<storage, read_write> nbr: array<u32>;       // slot k of i at i*NBR_SLOTS + k
+@group(1) @binding(3) var<storage, read_write> nbr: array<u32>;       // slot k of i at nbr_slot(i, k)
 @group(1) @binding(4) var<storage, read_write> cache_wf: array<real2>; // (W_ij, F'(r_ij)) per slot
 @group(1) @binding(5) var<storage, read_write> cache_xj: array<real2>; // image position of j per slot
 @group(1) @binding(6) var<storage, read_write> cand: array<u32>;       // slot k of i at i*CAND_SLOTS + k
@@ -48,4 +48,15 @@ const F_ACC: u32 = 2u;
 
 fn pack_nb(j: u32, code: u32) -> u32 {
     return j | (code << PACK_SHIFT);
+}
+
+// Index of list slot k of particle i in `nbr`, `cache_wf`, `cache_xj`: slot-major (`SLOT_MAJOR`,
+// the thread mapping: neighbouring threads read neighbouring words) or particle-major (the
+// block layouts: a row of 16 threads reads 16 consecutive slots of one particle).
+fn nbr_slot(i: u32, k: u32) -> u32 {
+#ifdef SLOT_MAJOR
+    return k * params.n + i;
+#else
+    return i * NBR_SLOTS + k;
+#endif
 }

@@ -24,7 +24,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>) {
     var it = nb_begin(i, xi);
     while nb_next(&it) {
         if count < NBR_SLOTS {
-            let slot = i * NBR_SLOTS + count;
+            let slot = nbr_slot(i, count);
             nbr[slot] = pack_nb(it.j, it.code);
 #ifdef CACHED
             let x_ij = xi - it.xj;

@@ -1,14 +1,18 @@
 //! Moving data between the host and a [`GpuSolver`]: reading the fields and the state back,
 //! and the per-stage check of `sphlab verify` (upload CPU-produced inputs, run ONE stage with its
 //! outputs poisoned, read everything back), and the neighbour structures for their exact check.
+//! Everything crosses in the original particle order (`gpu::reorder` maps to and from the
+//! device's cell order).
 
+use super::reorder::{to_device, to_original};
 use super::solver::GpuSolver;
 use super::solver_buffers::ctl;
-use super::variant::SearchVariant;
+use super::variant::{SearchVariant, SumLayout};
 use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
 use crate::model::MAX_CONTACTS;
+use crate::neighbours::INDEX_MASK as PACK_MASK;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
 
@@ -36,19 +40,21 @@ impl<T: Real> GpuSolver<T> {
     ) -> Result<Fields<T>, GpuError> {
         let ctx = &*self.ctx;
         let b = &self.b;
-        b.pos.upload(ctx, pos)?;
-        b.vel.upload(ctx, vel)?;
-        b.sigma.upload(ctx, &f.sigma)?;
-        b.chi.upload(ctx, &f.chi)?;
-        b.mass.upload(ctx, &f.mass)?;
-        b.colour.upload(ctx, &f.colour)?;
-        b.rho.upload(ctx, &f.rho)?;
-        b.p.upload(ctx, &f.p)?;
+        let o = self.device_order()?;
+        b.pos.upload(ctx, &to_device(pos, 1, &o))?;
+        b.vel.upload(ctx, &to_device(vel, 1, &o))?;
+        b.sigma.upload(ctx, &to_device(&f.sigma, 1, &o))?;
+        b.chi.upload(ctx, &to_device(&f.chi, 1, &o))?;
+        b.mass.upload(ctx, &to_device(&f.mass, 1, &o))?;
+        b.colour.upload(ctx, &to_device(&f.colour, 1, &o))?;
+        b.rho.upload(ctx, &to_device(&f.rho, 1, &o))?;
+        b.p.upload(ctx, &to_device(&f.p, 1, &o))?;
         let grad: Vec<V2<T>> = f.grad.iter().flat_map(|g| [g[0], g[1]]).collect();
-        b.grad.upload(ctx, &grad)?;
-        b.pi.upload(ctx, &f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect::<Vec<_>>())?;
-        b.acc.upload(ctx, &f.acc)?;
-        b.vt.upload(ctx, &f.vt)?;
+        b.grad.upload(ctx, &to_device(&grad, 2, &o))?;
+        let pi: Vec<V2<T>> = f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect();
+        b.pi.upload(ctx, &to_device(&pi, 1, &o))?;
+        b.acc.upload(ctx, &to_device(&f.acc, 1, &o))?;
+        b.vt.upload(ctx, &to_device(&f.vt, 1, &o))?;
         self.upload_contacts(&f.contacts)?;
         let nan = T::nan();
         let nan2 = V2::new(nan, nan);
@@ -71,12 +77,16 @@ impl<T: Real> GpuSolver<T> {
             return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
         }
         self.vb.invalidate(ctx)?;
-        self.submit(|enc| {
+        // No renumbering here: the uploaded per-evaluation inputs (σ, p, ∇C, …) do not move.
+        let every = std::mem::replace(&mut self.reorder_every, 0);
+        let done = self.submit(|enc| {
             self.record(enc, Stage::NeighbourSearch);
             if stage != Stage::NeighbourSearch {
                 self.record(enc, stage);
             }
-        })?;
+        });
+        self.reorder_every = every;
+        done?;
         self.ctx.wait_idle()?;
         self.vb.overflow(&self.ctx, self.step)?;
         self.read_fields()
@@ -101,18 +111,19 @@ impl<T: Real> GpuSolver<T> {
         let w = b.ctl.read_back(ctx)?;
         let raw = b.contacts.read_back(ctx)?;
         let kept = (w[ctl::CONTACTS] as usize).min(MAX_CONTACTS);
-        let grad = b.grad.read_back(ctx)?;
+        let o = self.device_order()?;
+        let grad = to_original(b.grad.read_back(ctx)?, 2, &o);
         Ok(Fields {
-            sigma: b.sigma.read_back(ctx)?,
-            chi: b.chi.read_back(ctx)?,
-            mass: b.mass.read_back(ctx)?,
-            colour: b.colour.read_back(ctx)?,
-            rho: b.rho.read_back(ctx)?,
-            p: b.p.read_back(ctx)?,
+            sigma: to_original(b.sigma.read_back(ctx)?, 1, &o),
+            chi: to_original(b.chi.read_back(ctx)?, 1, &o),
+            mass: to_original(b.mass.read_back(ctx)?, 1, &o),
+            colour: to_original(b.colour.read_back(ctx)?, 1, &o),
+            rho: to_original(b.rho.read_back(ctx)?, 1, &o),
+            p: to_original(b.p.read_back(ctx)?, 1, &o),
             grad: grad.chunks(2).map(|g| [g[0], g[1]]).collect(),
-            pi: b.pi.read_back(ctx)?.iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
-            acc: b.acc.read_back(ctx)?,
-            vt: b.vt.read_back(ctx)?,
+            pi: to_original(b.pi.read_back(ctx)?, 1, &o).iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
+            acc: to_original(b.acc.read_back(ctx)?, 1, &o),
+            vt: to_original(b.vt.read_back(ctx)?, 1, &o),
             contacts: (0..kept)
                 .map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] })
                 .collect(),
@@ -120,22 +131,37 @@ impl<T: Real> GpuSolver<T> {
         })
     }
 
-    /// The neighbour structures of the last evaluation (for the exact comparison with the CPU).
+    /// The neighbour structures of the last evaluation (for the exact comparison with the CPU),
+    /// in original indices: `sorted` re-sorted within each cell, each list under its particle's
+    /// original index, whatever the device order and list layout (slot- or particle-major).
     pub fn read_neighbours(&self) -> Result<NeighbourView, GpuError> {
         let ctx = &*self.ctx;
+        let o = self.device_order()?;
+        let orig = |e: u32| o[(e & PACK_MASK) as usize] | (e & !PACK_MASK);
         let (cell_start, sorted) = if self.spec.search == SearchVariant::Direct {
             (Vec::new(), Vec::new())
         } else {
-            (self.b.cell_start.read_back(ctx)?, self.b.sorted.read_back(ctx)?)
+            let start = self.b.cell_start.read_back(ctx)?;
+            let mut sorted: Vec<u32> = self.b.sorted.read_back(ctx)?.into_iter().map(orig).collect();
+            for c in start.windows(2) {
+                sorted[c[0] as usize..c[1] as usize].sort_unstable();
+            }
+            (start, sorted)
         };
         let lists = if self.spec.has_lists() {
             let (counts, nbr) = (self.vb.counts.read_back(ctx)?, self.vb.nbr.read_back(ctx)?);
+            let slot_major = self.spec.mapping.layout() == SumLayout::Thread;
+            let slot = |i: usize, k: usize| if slot_major { k * self.n + i } else { i * NBR_SLOTS + k };
             let list = |i: usize| {
-                let mut l = nbr[i * NBR_SLOTS..i * NBR_SLOTS + (counts[i] as usize).min(NBR_SLOTS)].to_vec();
+                let mut l: Vec<u32> = (0..(counts[i] as usize).min(NBR_SLOTS)).map(|k| orig(nbr[slot(i, k)])).collect();
                 l.sort_unstable();
                 l
             };
-            Some((0..self.n).map(list).collect())
+            let mut lists = vec![Vec::new(); self.n];
+            for (d, &orig_i) in o.iter().enumerate() {
+                lists[orig_i as usize] = list(d);
+            }
+            Some(lists)
         } else {
             None
         };
@@ -144,6 +170,8 @@ impl<T: Real> GpuSolver<T> {
 
     /// Positions and velocities.
     pub fn read_state(&self) -> Result<(Vec<V2<T>>, Vec<V2<T>>), GpuError> {
-        Ok((self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?))
+        let o = self.device_order()?;
+        let (pos, vel) = (self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?);
+        Ok((to_original(pos, 1, &o), to_original(vel, 1, &o)))
     }
 }

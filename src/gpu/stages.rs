@@ -1,7 +1,7 @@
 //! The GPU kernels of each stage of [`crate::stage::TABLE`] per variant: which entry point of which
 //! `kernels-variants/` file runs, over which index range, compiled with which defines. The
 //! `thread` table is the base (a stage's thread kernel is the entry point named as the stage);
-//! the search adds its kernels to `neighbour_search` (tracking lists, the explicit 64-slot
+//! the search adds its kernels to `neighbour_search` (cell reordering, tracking lists, the explicit 64-slot
 //! lists), and the mapping / kernel-value axes replace the three pair-sum stages
 //! ([`PAIR_STAGES`]) by their own kernels ([`pair_stage`]); the other stages keep the thread
 //! kernels over the search's iterator. Every pipeline shares the one explicit layout of
@@ -60,6 +60,22 @@ pub const CELLS_SEARCH: &[KernelDef] = &[
 const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
     k(s.name(), file, domain)
 }
+
+/// Cell-ordered particles, right after the cell sort (`gpu::reorder`; group 2 bound): the
+/// decision, the per-cell wall prefix (once), the renumbering, then gather and put back of
+/// every persistent per-particle array. Every thread returns at once when nothing is due.
+pub const REORDER: &[KernelDef] = &[
+    k("reorder_decide", super::reorder::FILE, Domain::One),
+    k("reorder_wall_count", super::reorder::FILE, Domain::Wall),
+    k("reorder_wall_scan", super::reorder::FILE, Domain::One),
+    k("reorder_perm", super::reorder::FILE, Domain::All),
+    k("reorder_gather_state", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_state", super::reorder::FILE, Domain::Fluid),
+    k("reorder_gather_rates", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_rates", super::reorder::FILE, Domain::Fluid),
+    k("reorder_gather_v0", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_v0", super::reorder::FILE, Domain::Fluid),
+];
 
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
 pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
@@ -124,8 +140,8 @@ pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
 pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     let mut search = match spec.search {
         SearchVariant::Direct => Vec::new(),
-        SearchVariant::Cells => CELLS_SEARCH.to_vec(),
-        SearchVariant::Tracking => [TRACKING_PRE, CELLS_SEARCH, TRACKING_POST].concat(),
+        SearchVariant::Cells => [CELLS_SEARCH, REORDER].concat(),
+        SearchVariant::Tracking => [TRACKING_PRE, CELLS_SEARCH, REORDER, TRACKING_POST].concat(),
     };
     if spec.has_lists() {
         search.push(NBR_BUILD);
@@ -149,6 +165,9 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     if spec.kernel_values == KernelValues::Cached {
         d.push("CACHED");
     }
+    if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
+        d.push("SLOT_MAJOR");
+    }
     match spec.accumulation {
         Accumulation::Cas => d.push("ACC_CAS"),
         Accumulation::Native => d.push("ACC_NATIVE"),
@@ -164,8 +183,14 @@ pub struct Pipelines {
 }
 
 impl Pipelines {
-    /// Composes and compiles every kernel of `spec` against `layout` (one module per file).
-    pub fn build(ctx: &GpuContext, spec: &VariantSpec, layout: &wgpu::PipelineLayout) -> Result<Self, GpuError> {
+    /// Composes and compiles every kernel of `spec` against `layout` (the reorder kernels against
+    /// `reorder_layout`, which adds group 2), one module per file.
+    pub fn build(
+        ctx: &GpuContext,
+        spec: &VariantSpec,
+        layout: &wgpu::PipelineLayout,
+        reorder_layout: &wgpu::PipelineLayout,
+    ) -> Result<Self, GpuError> {
         let table = kernel_table(spec);
         let defs = defines(spec);
         let mut modules: HashMap<&'static str, wgpu::ShaderModule> = HashMap::new();
@@ -193,7 +218,7 @@ impl Pipelines {
                     .scoped(|d| {
                         d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                             label: Some(&label),
-                            layout: Some(layout),
+                            layout: Some(if kd.file == super::reorder::FILE { reorder_layout } else { layout }),
                             module: &modules[kd.file],
                             entry_point: Some(kd.entry),
                             compilation_options: Default::default(),
