@@ -43,6 +43,14 @@ enum Cmd {
         /// JSON output.
         #[arg(long)]
         json: bool,
+        /// The GPU memory plan instead: bytes per particle of every variant, its total for N
+        /// particles, and the largest N on this adapter and on a stated 140 GB adapter with
+        /// 2 GiB bindings.
+        #[arg(long, value_name = "N")]
+        memory: Option<u64>,
+        /// Device memory of this adapter for the plan (default: host memory on a CPU adapter).
+        #[arg(long, value_parser = parse_bytes)]
+        gpu_memory: Option<u64>,
     },
     /// Check GPU variants against the CPU reference (fields, stages, observables).
     Verify(VerifyArgs),
@@ -150,11 +158,15 @@ struct LimitArgs {
     /// available memory).
     #[arg(long, value_parser = parse_bytes)]
     max_memory: Option<u64>,
+    /// Device memory of the GPU for its memory plan (e.g. 80G; default: host memory on a CPU
+    /// adapter such as lavapipe, else unknown and only the per-buffer limits are checked).
+    #[arg(long, value_parser = parse_bytes)]
+    gpu_memory: Option<u64>,
 }
 
 impl LimitArgs {
     fn limits(&self) -> Result<Limits, String> {
-        Limits::with(self.max_particles, self.max_memory)
+        Limits::with(self.max_particles, self.max_memory)?.with_gpu_memory(self.gpu_memory)
     }
 }
 
@@ -579,6 +591,89 @@ fn cmd_variants(json: bool) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// `sphlab variants --memory N`: the GPU memory plan of every variant (`plan::gpu`), cells per
+/// particle as in `oscillating-drop` at nx = 300.
+fn cmd_variants_memory(n: u64, gpu_memory: Option<u64>, json: bool) -> ExitCode {
+    use sphlab::plan::gpu::{bytes_per_particle, max_particles, DeviceLimits, GpuPlan};
+    use sphlab::plan::{fmt_bytes, HARD_MAX_PARTICLES};
+    if n == 0 || n > HARD_MAX_PARTICLES {
+        return fail(2, format!("--memory: N must lie in [1, {HARD_MAX_PARTICLES}], got {n}"));
+    }
+    let scene = apply_overrides(&builtin::builtin("oscillating-drop").expect("built-in"), &["domain.nx=300".into()])
+        .expect("valid override");
+    let p = sphlab::plan::Plan::new(&scene, 4, true);
+    let cpp = p.cells / p.n_total;
+    let ctx = gpu_context();
+    let here = ctx.as_ref().ok().map(|c| DeviceLimits::of(c, gpu_memory));
+    let big = DeviceLimits::stated(140_000_000_000, 2 << 30, "stated: 140 GB device memory, 2 GiB per buffer");
+    let mut rows = Vec::new();
+    for v in VariantSpec::all() {
+        let plan = GpuPlan::new(&v, n, (n as f64 * cpp).ceil() as u64);
+        let fits = here.as_ref().map(|l| plan.check(l));
+        rows.push(serde_json::json!({
+            "id": v.to_string(),
+            "bytes_per_particle": bytes_per_particle(&v, cpp),
+            "total_bytes": plan.total_bytes,
+            "largest_buffer": plan.largest().name,
+            "largest_buffer_bytes": plan.largest().bytes,
+            "fits_here": fits.as_ref().map(|r| r.is_ok()),
+            "refusal_here": fits.and_then(|r| r.err()),
+            "max_n_here": here.as_ref().map(|l| max_particles(&v, cpp, l, HARD_MAX_PARTICLES)),
+            "max_n_stated": max_particles(&v, cpp, &big, HARD_MAX_PARTICLES),
+        }));
+    }
+    if json {
+        let doc = serde_json::json!({
+            "n": n, "cells_per_particle": cpp, "adapter_error": ctx.as_ref().err(),
+            "limits_here": here, "limits_stated": big, "variants": rows,
+        });
+        let gpu = ctx.as_ref().ok().map(|c| GpuInfo::from_adapter(&c.adapter_info));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&with_provenance(doc, &Provenance::new("variants", gpu, &[]))).expect("json")
+        );
+        return ExitCode::SUCCESS;
+    }
+    match (&ctx, &here) {
+        (Ok(c), Some(l)) => println!(
+            "adapter: {}; per buffer {} (max_buffer_size {}, max_storage_buffer_binding_size {}); device memory {} ({})",
+            c.describe(),
+            fmt_bytes(l.buffer_cap() as f64),
+            l.max_buffer_size,
+            l.max_binding_size,
+            l.memory.map_or("unknown".into(), |m| fmt_bytes(m as f64)),
+            l.memory_source
+        ),
+        _ => println!("adapter: none ({})", ctx.as_ref().err().cloned().unwrap_or_default()),
+    }
+    println!("stated adapter: {}; cells per particle {cpp:.4} (oscillating-drop)", big.memory_source);
+    println!(
+        "{:<44} {:>9} {:>12} {:>22} {:>12} {:>12}",
+        "variant",
+        "B/part.",
+        format!("N={n}"),
+        "largest buffer",
+        "max N here",
+        "max N 140G"
+    );
+    for r in rows {
+        let s = |k: &str| r[k].as_str().unwrap_or("").to_string();
+        let u = |k: &str| r[k].as_u64().map_or("-".into(), |x| x.to_string());
+        let largest =
+            format!("{} {}", s("largest_buffer"), fmt_bytes(r["largest_buffer_bytes"].as_f64().unwrap_or(0.0)));
+        println!(
+            "{:<44} {:>9.1} {:>12} {:>22} {:>12} {:>12}",
+            s("id"),
+            r["bytes_per_particle"].as_f64().unwrap_or(0.0),
+            fmt_bytes(r["total_bytes"].as_f64().unwrap_or(0.0)),
+            largest,
+            u("max_n_here"),
+            u("max_n_stated")
+        );
+    }
+    ExitCode::SUCCESS
+}
+
 /// GPU variant ids of `--variants` (`all` or comma-separated); a CPU id, a bad id or an empty
 /// list is an error naming the flag.
 fn gpu_variants(list: &str) -> Result<Vec<VariantSpec>, String> {
@@ -626,9 +721,11 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
         Ok(c) => c,
         Err(e) => return fail(2, format!("no GPU adapter: {e}")),
     };
-    let gplan = sphlab::plan::Plan::new(&scene, 4, true);
-    if let Err(e) = gplan.check_gpu(ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size)) {
-        return fail(2, e);
+    let lim = sphlab::plan::gpu::DeviceLimits::of(&ctx, limits.gpu_memory);
+    for spec in &specs {
+        if let Err(e) = sphlab::plan::Plan::new(&scene, 4, true).for_variant(spec).check_gpu(&lim) {
+            return fail(2, e);
+        }
     }
     if !a.json {
         eprintln!("adapter: {}; scene {}; {} variants; {} steps", ctx.describe(), scene.name, specs.len(), a.steps);
@@ -747,11 +844,15 @@ fn cmd_info(json: bool) -> ExitCode {
     let prov = Provenance::new("info", None, &[]);
     let limits = Limits::default();
     let adapters = adapters_json();
+    // What the solver's device was granted (the adapter's own limits, requested in full) and
+    // the device memory its memory plan assumes.
+    let device = gpu_context().ok().map(|c| (c.describe(), sphlab::plan::gpu::DeviceLimits::of(&c, None)));
     let doc = with_provenance(
         serde_json::json!({
             "memory_available_bytes": sphlab::plan::available_memory(),
             "default_limits": limits,
             "adapters": adapters,
+            "device": device.as_ref().map(|(name, l)| serde_json::json!({"adapter": name, "limits": l})),
         }),
         &prov,
     );
@@ -792,6 +893,17 @@ fn cmd_info(json: bool) -> ExitCode {
             }
         }
     }
+    if let Some((name, l)) = &device {
+        println!(
+            "solver device: {name}: granted max_buffer_size {}, max_storage_buffer_binding_size {}, \
+             max_compute_workgroups_per_dimension {}; device memory {} ({})",
+            l.max_buffer_size,
+            l.max_binding_size,
+            l.max_groups_per_dim,
+            l.memory.map_or("unknown".into(), |m| sphlab::plan::fmt_bytes(m as f64)),
+            l.memory_source
+        );
+    }
     ExitCode::SUCCESS
 }
 
@@ -828,7 +940,8 @@ fn main() -> ExitCode {
             None => fail(2, format!("unknown scene `{name}` (built-in: {})", builtin::BUILTIN.join(", "))),
         },
         Cmd::Analytic { cmd } => cmd_analytic(cmd),
-        Cmd::Variants { json } => cmd_variants(json),
+        Cmd::Variants { json, memory: Some(n), gpu_memory } => cmd_variants_memory(n, gpu_memory, json),
+        Cmd::Variants { json, .. } => cmd_variants(json),
         Cmd::Study(a) => cmd_study(a),
         Cmd::Verify(a) => cmd_verify(a),
         Cmd::Validate(a) => cmd_validate(a),

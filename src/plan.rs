@@ -9,7 +9,10 @@
 //! but finite plan instead of an overflow. The byte counts are deliberately generous upper
 //! estimates of what `build_layout`, `CpuSolver` and the run driver hold at once; the GPU
 //! estimates (device buffers of a variant) live here too, so a GPU-engine change refines them
-//! in one place.
+//! in one place: [`gpu`] plans every device buffer of a variant and checks it against the
+//! adapter before any buffer is created.
+
+pub mod gpu;
 
 use crate::neighbours::INDEX_MASK;
 use crate::scene::Scene;
@@ -33,6 +36,8 @@ pub struct Limits {
     pub max_memory: u64,
     /// Where `max_memory` came from ("--max-memory", or the machine's available memory).
     pub memory_source: &'static str,
+    /// Device memory of the GPU (`--gpu-memory`; `None`: [`gpu::DeviceLimits::of`]'s heuristic).
+    pub gpu_memory: Option<u64>,
 }
 
 impl Default for Limits {
@@ -42,7 +47,7 @@ impl Default for Limits {
             Some(b) => ((b as f64 * DEFAULT_MEMORY_FRACTION) as u64, "80% of MemAvailable"),
             None => (FALLBACK_MEMORY, "fallback 8 GiB (no /proc/meminfo)"),
         };
-        Limits { max_particles: HARD_MAX_PARTICLES, max_memory, memory_source }
+        Limits { max_particles: HARD_MAX_PARTICLES, max_memory, memory_source, gpu_memory: None }
     }
 }
 
@@ -65,6 +70,17 @@ impl Limits {
             l.memory_source = "--max-memory";
         }
         Ok(l)
+    }
+
+    /// These limits with `--gpu-memory` (at least 1 MiB) as the GPU's device memory.
+    pub fn with_gpu_memory(mut self, gpu_memory: Option<u64>) -> Result<Self, String> {
+        if let Some(m) = gpu_memory {
+            if m < (1 << 20) {
+                return Err(format!("--gpu-memory: must be at least 1M (1048576 bytes), got {m}"));
+            }
+        }
+        self.gpu_memory = gpu_memory;
+        Ok(self)
     }
 }
 
@@ -125,10 +141,6 @@ pub fn cpu_bytes_per_particle(real: usize) -> f64 {
     (24 * real + 8) as f64 + 36.0 + (15 * 8 + 8) as f64 + (9 * 8 + 4) as f64 + 400.0
 }
 
-/// Bytes per particle of the GPU backend's device buffers besides the neighbour slots (state,
-/// midpoint copies, fields and the sort keys, all f32/u32: ~40 words).
-pub const GPU_DEVICE_BYTES_PER_PARTICLE: f64 = 160.0;
-
 /// The plan of one scene.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Plan {
@@ -157,15 +169,14 @@ pub struct Plan {
     pub cell_bytes: f64,
     /// Sum of the above and [`BASE_BYTES`].
     pub total_bytes: f64,
-    /// GPU: bytes of the largest device buffer (the neighbour slots), 0 on the CPU.
-    pub gpu_largest_buffer_bytes: f64,
-    /// GPU: bytes of all device buffers, 0 on the CPU.
-    pub gpu_device_bytes: f64,
+    /// GPU: every device buffer of the variant ([`gpu::GpuPlan`]; the default variant until
+    /// [`Plan::for_variant`]), `None` on the CPU.
+    pub gpu: Option<gpu::GpuPlan>,
 }
 
 impl Plan {
-    /// The plan of `scene` on the CPU (`real` = 4 or 8 bytes) or, with `gpu`, a GPU variant
-    /// (f32 device buffers; the host keeps the f64 layout and read-backs). Needs only that the
+    /// The plan of `scene` on the CPU (`real` = 4 or 8 bytes) or, with `gpu`, the default GPU
+    /// variant (the host keeps the f64 layout and read-backs; [`Plan::for_variant`] plans another). Needs only that the
     /// domain extents and `kernel.h_ratio` are finite and positive (as [`Scene::validate`]
     /// checks); any other value still gives a finite plan.
     pub fn new(scene: &Scene, real: usize, gpu: bool) -> Plan {
@@ -188,12 +199,7 @@ impl Plan {
         let particle_bytes = n_total * cpu_bytes_per_particle(host_real);
         let neighbour_bytes = if gpu { 0.0 } else { 4.0 * n_total * (k * 4.0 + 4.0) };
         let cell_bytes = if gpu { 0.0 } else { cells * 8.0 + n_total * 12.0 };
-        let (gpu_largest, gpu_device) = if gpu {
-            let slots = n_total * k * 4.0;
-            (slots, slots + n_total * GPU_DEVICE_BYTES_PER_PARTICLE + cells * 8.0)
-        } else {
-            (0.0, 0.0)
-        };
+        let gpu = gpu.then(|| gpu::GpuPlan::new(&Default::default(), n_total as u64, cells as u64));
         Plan {
             nx,
             ny,
@@ -207,9 +213,14 @@ impl Plan {
             neighbour_bytes,
             cell_bytes,
             total_bytes: BASE_BYTES + particle_bytes + neighbour_bytes + cell_bytes,
-            gpu_largest_buffer_bytes: gpu_largest,
-            gpu_device_bytes: gpu_device,
+            gpu,
         }
+    }
+
+    /// The plan with the device buffers of `spec` (same particles and cells).
+    pub fn for_variant(mut self, spec: &crate::gpu::variant::VariantSpec) -> Plan {
+        self.gpu = Some(gpu::GpuPlan::new(spec, self.n_total as u64, self.cells as u64));
+        self
     }
 
     /// One line with every number.
@@ -231,11 +242,13 @@ impl Plan {
             fmt_bytes(self.neighbour_bytes),
             fmt_bytes(self.cell_bytes)
         );
-        if self.gpu_device_bytes > 0.0 {
+        if let Some(g) = &self.gpu {
             s += &format!(
-                "; GPU device memory {} (largest buffer {})",
-                fmt_bytes(self.gpu_device_bytes),
-                fmt_bytes(self.gpu_largest_buffer_bytes)
+                "; GPU device memory {} for {} (largest buffer `{}` {})",
+                fmt_bytes(g.total_bytes as f64),
+                g.variant,
+                g.largest().name,
+                fmt_bytes(g.largest().bytes as f64)
             );
         }
         s
@@ -265,19 +278,13 @@ impl Plan {
         Ok(())
     }
 
-    /// Ok when the GPU buffers fit the adapter: the largest buffer within `max_buffer` bytes
-    /// (the smaller of `max_buffer_size` and `max_storage_buffer_binding_size`).
-    pub fn check_gpu(&self, max_buffer: u64) -> Result<(), String> {
-        if self.gpu_largest_buffer_bytes > max_buffer as f64 {
-            return Err(format!(
-                "resource plan: the neighbour buffer would take {}, over the adapter's buffer limit of {}; \
-                 lower domain.nx or kernel.h_ratio. Plan: {}",
-                fmt_bytes(self.gpu_largest_buffer_bytes),
-                fmt_bytes(max_buffer as f64),
-                self.describe()
-            ));
+    /// Ok when the device buffers (of [`Plan::for_variant`]) fit `lim`; else the message with
+    /// the buffer, the bytes needed and available ([`gpu::GpuPlan::check`]) and this plan.
+    pub fn check_gpu(&self, lim: &gpu::DeviceLimits) -> Result<(), String> {
+        match &self.gpu {
+            Some(g) => g.check(lim).map_err(|e| format!("resource plan: {e}. Plan: {}", self.describe())),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 
@@ -300,7 +307,8 @@ mod tests {
     #[test]
     fn huge_scenes_are_refused_with_numbers() {
         let s = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=5000".into()]).unwrap();
-        let l = Limits { max_particles: HARD_MAX_PARTICLES, max_memory: 16 << 30, memory_source: "test" };
+        let l =
+            Limits { max_particles: HARD_MAX_PARTICLES, max_memory: 16 << 30, memory_source: "test", gpu_memory: None };
         let e = Plan::new(&s, 8, false).check(&l).unwrap_err();
         assert!(e.contains("25000000 fluid") && e.contains("GiB"), "{e}");
         let small = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=30".into()]).unwrap();

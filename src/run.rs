@@ -8,6 +8,7 @@
 
 use crate::backend::{Backend, BackendId, Frame, SolverError};
 use crate::diagnostics::{contact_angle, flow};
+use crate::gpu::bandwidth::EngineTraffic;
 use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
 use crate::plan::{Limits, Plan};
 use crate::provenance::{GpuInfo, Provenance, RUN_UNITS};
@@ -267,6 +268,9 @@ pub struct Summary {
     pub status: String,
     /// The resource plan the run was admitted with.
     pub plan: Plan,
+    /// GPU runs: device bytes, modelled bytes per evaluation, measured bandwidth and the
+    /// fraction of the memory roofline (`gpu::bandwidth`).
+    pub gpu_engine: Option<EngineTraffic>,
     /// Commit, date, host, GPU and units.
     pub provenance: Provenance,
     /// Stability limits the fixed dt is above at load (`time.dt_policy = "warn"` only), and
@@ -282,34 +286,52 @@ pub fn make_backend(scene: &Scene, layout: &Layout, opts: &RunOptions) -> Result
 }
 
 /// [`make_backend`], also returning the adapter where a GPU was used; with `plan`, the GPU's
-/// buffers are checked against the adapter's limits first (exit 2 with the numbers). A GPU
-/// variant this adapter cannot run is an input error (exit 2) with the reason.
+/// buffers are checked against the adapter's limits first (exit 2 with the numbers), and the
+/// engine's traffic figures come back (the bandwidth probe runs before the solver's buffers
+/// exist). A GPU variant this adapter cannot run is an input error (exit 2) with the reason.
 pub fn make_backend_with_gpu_info(
     scene: &Scene,
     layout: &Layout,
     opts: &RunOptions,
     plan: Option<&Plan>,
 ) -> Result<(Box<dyn Backend>, Option<GpuInfo>), RunError> {
+    make_gpu_backend(scene, layout, opts, plan).map(|(b, info, _)| (b, info))
+}
+
+/// [`make_backend_with_gpu_info`] with the engine's traffic figures (GPU runs with a `plan`).
+pub fn make_gpu_backend(
+    scene: &Scene,
+    layout: &Layout,
+    opts: &RunOptions,
+    plan: Option<&Plan>,
+) -> Result<(Box<dyn Backend>, Option<GpuInfo>, Option<EngineTraffic>), RunError> {
     let input = |e: String| RunError::Input(format!("--backend {}: {e}", opts.backend));
     let BackendId::Gpu(spec) = opts.backend else {
-        return Ok((opts.backend.build(scene, layout, None).map_err(input)?, None));
+        return Ok((opts.backend.build(scene, layout, None).map_err(input)?, None, None));
     };
     let ctx = crate::gpu::GpuContext::new().map_err(|e| input(e.to_string()))?;
     spec.support(&ctx).map_err(|e| input(format!("unsupported on this adapter: {e}")))?;
+    let mut traffic = None;
     if let Some(p) = plan {
-        let max = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
-        p.check_gpu(max).map_err(RunError::Input)?;
+        let lim = crate::plan::gpu::DeviceLimits::of(&ctx, opts.limits.gpu_memory);
+        p.check_gpu(&lim).map_err(RunError::Input)?;
+        let bw = crate::gpu::bandwidth::measure_bandwidth(&ctx).map_err(|e| input(e.to_string()))?;
+        let bytes = p.gpu.as_ref().map_or(0, |g| g.total_bytes);
+        traffic = Some(EngineTraffic::new(&spec, scene, layout.pos.len(), layout.n_fluid, bytes, bw));
     }
     let info = GpuInfo::from_adapter(&ctx.adapter_info);
     let b = opts.backend.build(scene, layout, Some(&std::sync::Arc::new(ctx))).map_err(input)?;
-    Ok((b, Some(info)))
+    Ok((b, Some(info), traffic))
 }
 
 /// The resource plan of `scene` under `opts` (backend and precision), checked against
 /// `opts.limits`: an input error with every number when it does not fit.
 pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
     let real = if opts.backend.precision() == crate::gpu::variant::Precision::F32 { 4 } else { 8 };
-    let plan = Plan::new(scene, real, opts.backend.kind() == "gpu");
+    let mut plan = Plan::new(scene, real, opts.backend.kind() == "gpu");
+    if let BackendId::Gpu(spec) = opts.backend {
+        plan = plan.for_variant(&spec);
+    }
     plan.check(&opts.limits).map_err(RunError::Input)?;
     Ok(plan)
 }
@@ -363,7 +385,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     output::check_out_dir(&opts.out).map_err(|e| RunError::Input(format!("--out: {e}")))?;
     let plan = plan_for(scene, opts)?;
     let layout = build_layout(scene)?;
-    let (mut backend, gpu) = make_backend_with_gpu_info(scene, &layout, opts, Some(&plan))?;
+    let (mut backend, gpu, gpu_engine) = make_gpu_backend(scene, &layout, opts, Some(&plan))?;
     std::fs::create_dir_all(&opts.out)
         .map_err(|e| RunError::Input(format!("--out: cannot create {}: {e}", opts.out.display())))?;
     let model = crate::model::Model::<f64>::new(scene);
@@ -401,6 +423,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         ms_per_step: 0.0,
         status: "running".into(),
         plan,
+        gpu_engine,
         provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
         dt_warnings: applied.warnings.clone(),
         stability_numbers: Default::default(),
@@ -567,6 +590,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
     summary.status = "ok".into();
     summary.stability_numbers = numbers;
+    if let Some(g) = summary.gpu_engine.as_mut() {
+        g.roofline_fraction = g.fraction(wall / summary.steps.max(1) as f64);
+    }
     let (c, v, f) = (numbers.cfl_number, numbers.viscous_number, numbers.force_ratio);
     let viscous_max = crate::physics::timestep::VISCOUS_NUMBER_LIMIT;
     if scene.time.dt > 0.0 && (c > scene.time.cfl * (1.0 + 1e-9) || v > viscous_max * (1.0 + 1e-9) || f > 1.0) {
@@ -587,6 +613,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             summary.ms_per_step,
             opts.out.display()
         );
+        if let Some(g) = &summary.gpu_engine {
+            eprintln!("GPU engine (time per step from the wall clock, outputs included): {}", g.describe());
+        }
     }
     Ok(summary)
 }

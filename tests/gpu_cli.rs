@@ -123,11 +123,59 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
         assert!(o.status.success(), "{backend}: {}", String::from_utf8_lossy(&o.stderr));
         let series = std::fs::read_to_string(out.join("series.csv")).expect("series");
         assert!(out.join("particles_00000030.csv").exists() && out.join("summary.json").exists());
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
+        let engine = &summary["gpu_engine"];
+        if backend == "gpu" {
+            // Device bytes from the memory plan, modelled traffic, and (with timestamps) the
+            // measured bandwidth and the roofline fraction.
+            assert!(engine["device_bytes"].as_u64().unwrap_or(0) > 0, "{engine}");
+            assert!(engine["modelled_bytes_per_evaluation"].as_f64().unwrap_or(0.0) > 0.0, "{engine}");
+            if let Some(bw) = engine["bandwidth"]["gb_per_s"].as_f64() {
+                assert!(bw > 0.0 && bw.is_finite(), "{engine}");
+                let f = engine["roofline_fraction"].as_f64().expect("a fraction with a bandwidth");
+                assert!(f > 0.0 && f.is_finite(), "{engine}");
+            }
+        } else {
+            assert!(engine.is_null(), "CPU runs have no GPU engine figures");
+        }
         rows.push(series);
     }
     let head = |s: &str| s.lines().next().unwrap_or("").to_string();
     assert_eq!(head(&rows[0]), head(&rows[1]), "same columns");
     assert_eq!(rows[0].lines().count(), rows[1].lines().count(), "same rows");
+}
+
+/// A GPU run that needs more than the adapter allows is refused with exit 2 and the numbers
+/// (buffer, bytes needed, the limit) before any device buffer or output directory exists: a
+/// cached-list variant whose 64-slot cache passes the adapter's binding limit, and a run whose
+/// total passes a stated `--gpu-memory`.
+#[test]
+fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
+    let _g = common::serial();
+    let Some(ctx) = common::gpu_or_skip() else { return };
+    let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+    // cache_wf holds 64 slots × 8 B per particle; oscillating-drop has nx² particles (periodic).
+    let nx = ((cap / 512) as f64).sqrt().ceil() as u64 + 8;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out");
+    let set = format!("domain.nx={nx}");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "oscillating-drop", "--backend", "gpu", "--steps", "1", "--quiet"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out.to_str().expect("utf8")]);
+        sphlab(&args)
+    };
+    let o = run(&["--variant", "cells.thread.cached.f32", "--set", &set]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("`cache_wf`") && err.contains(&cap.to_string()) && err.contains("max_"), "{err}");
+    assert!(!out.exists(), "nothing is written before the refusal");
+    let o = run(&["--gpu-memory", "1M"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("device memory") && err.contains("1048576 bytes") && err.contains("--gpu-memory"), "{err}");
+    assert!(!out.exists());
 }
 
 #[test]

@@ -14,10 +14,11 @@ use sphlab::exec::Exec;
 use sphlab::fields::{Field, Fields};
 use sphlab::gpu::compose::{compose_variant_mapped, validate};
 use sphlab::gpu::solver::GpuSolver;
-use sphlab::gpu::stages::{defines, kernel_table};
+use sphlab::gpu::stages::{defines, kernel_table, Domain};
 use sphlab::gpu::variant::{Accumulation, Precision, SumLayout, VariantSpec};
 use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
+use sphlab::plan::gpu::{GpuPlan, SCAN_BLOCK};
 use sphlab::real::Real;
 use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
@@ -353,5 +354,58 @@ fn check_reordered<T: Real>(
         for (i, l) in lists.iter().enumerate() {
             assert_eq!(l.as_slice(), cpu_at.nbrs.of(i), "{tag}: neighbour list of particle {i}");
         }
+    }
+}
+
+/// Dispatches spread over x and y (x and z for the block layout) when x alone would pass the
+/// adapter's workgroups-per-dimension limit: with the limit forced to 4, far below what these
+/// N need in x, thread and block variants still match the CPU after one evaluation and give the
+/// same bits over a few steps as the unforced 1-D dispatch (a skipped or doubled particle
+/// would change both).
+#[test]
+fn dispatch_spreads_over_two_dimensions() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let (s, l) = scene(SCENES[1].0, SCENES[1].1);
+    let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
+    cpu.evaluate().unwrap();
+    for id in [
+        "cells.thread.recomputed.f32",
+        "tracking.thread.cached.f32",
+        "cells.block-atomic.fixed.recomputed.f32",
+        "direct.block-tree.fixed.cached.f32",
+    ] {
+        let spec: VariantSpec = id.parse().unwrap();
+        if spec.support(&ctx).is_err() {
+            continue;
+        }
+        let mut forced = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+        forced.max_groups_per_dim = 4;
+        let (all, block) = (forced.groups(Domain::All), forced.groups(Domain::Block));
+        assert!(all[0] <= 4 && all[1] > 4 && block[0] <= 4 && block[2] > 4, "{id}: grids {all:?} {block:?}");
+        assert!(all[0] as usize * all[1] as usize * 64 >= l.pos.len());
+        // More than one scan block, so the multi-workgroup cell scan runs (spread too).
+        assert!(forced.cells() > SCAN_BLOCK, "{id}: {} cells", forced.cells());
+        // The memory plan predicts exactly what the solver allocated.
+        let plan = GpuPlan::new(&spec, l.pos.len() as u64, forced.cells() as u64);
+        assert_eq!(plan.total_bytes, forced.device_bytes(), "{id}: planned vs allocated device bytes");
+        forced.evaluate_once().unwrap();
+        assert_neighbours_match(id, &cpu, &forced);
+        assert_fields_match(
+            &format!("{id} (≤ 4 groups per dim)"),
+            &cpu.model,
+            cpu.n_fluid,
+            &cpu.f,
+            &forced.read_fields().unwrap(),
+            None,
+        );
+        let mut plain = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+        for _ in 0..3 {
+            forced.step().unwrap();
+            plain.step().unwrap();
+        }
+        let (a, b) = (forced.frame(), plain.frame());
+        assert!(a.pos == b.pos && a.vel == b.vel && a.acc == b.acc, "{id}: 2-D and 1-D dispatch differ");
     }
 }

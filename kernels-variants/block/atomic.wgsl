@@ -6,8 +6,8 @@
 #import common/block_layout
 
 @compute @workgroup_size(16, 32)
-fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let i = block_particle(wg, lid);
+fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let i = block_particle(wg, nwg, lid);
     let t = block_density(i, block_k(wg, lid));
     if i < params.n {
         acc_add(i, 0u, F_DENSITY, t.x);
@@ -16,8 +16,8 @@ fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocatio
 }
 
 @compute @workgroup_size(16, 32)
-fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let i = block_particle(wg, lid);
+fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let i = block_particle(wg, nwg, lid);
     let t = block_gradient(i, block_k(wg, lid));
     if i < params.n {
         acc_add(i, 0u, F_GRAD, t.g0.x);
@@ -28,8 +28,8 @@ fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocati
 }
 
 @compute @workgroup_size(16, 32)
-fn acceleration(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let i = block_particle(wg, lid);
+fn acceleration(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let i = block_particle(wg, nwg, lid);
     let t = block_acceleration(i, block_k(wg, lid));
     if i < params.n {
         acc_add(i, 0u, F_ACC, t.x);

@@ -6,16 +6,16 @@
 #import common/accum
 
 @compute @workgroup_size(64)
-fn finalize_density(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn finalize_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i < params.n {
         density_out(i, real2(acc_get(i, 0u, F_DENSITY), acc_get(i, 1u, F_DENSITY)));
     }
 }
 
 @compute @workgroup_size(64)
-fn finalize_gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn finalize_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i < params.n {
         let g0 = real2(acc_get(i, 0u, F_GRAD), acc_get(i, 1u, F_GRAD));
         let g1 = real2(acc_get(i, 2u, F_GRAD), acc_get(i, 3u, F_GRAD));
@@ -24,8 +24,8 @@ fn finalize_gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn finalize_acceleration(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn finalize_acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i < params.n {
         acc_out(i, real2(acc_get(i, 0u, F_ACC), acc_get(i, 1u, F_ACC)));
     }

@@ -26,8 +26,8 @@ fn reduce_rows(lid: vec3<u32>, both: bool) {
 }
 
 @compute @workgroup_size(16, 32)
-fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let i = block_particle(wg, lid);
+fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let i = block_particle(wg, nwg, lid);
     red_a[lid.y * COLS + lid.x] = block_density(i, block_k(wg, lid));
     reduce_rows(lid, false);
     if lid.x == 0u && i < params.n {
@@ -38,8 +38,8 @@ fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocatio
 }
 
 @compute @workgroup_size(16, 32)
-fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let i = block_particle(wg, lid);
+fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let i = block_particle(wg, nwg, lid);
     let g = block_gradient(i, block_k(wg, lid));
     red_a[lid.y * COLS + lid.x] = g.g0;
     red_b[lid.y * COLS + lid.x] = g.g1;
@@ -55,8 +55,8 @@ fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocati
 }
 
 @compute @workgroup_size(16, 32)
-fn acceleration(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let i = block_particle(wg, lid);
+fn acceleration(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let i = block_particle(wg, nwg, lid);
     red_a[lid.y * COLS + lid.x] = block_acceleration(i, block_k(wg, lid));
     reduce_rows(lid, false);
     if lid.x == 0u && i < params.n {

@@ -7,6 +7,7 @@
 #import types
 #import stress
 #import geometry
+#import common/dispatch
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> pos: array<real2>;

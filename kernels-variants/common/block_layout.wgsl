@@ -1,6 +1,7 @@
 // block_layout.wgsl: the thesis's one-particle-per-multiple-threads layout (§6.4.1): workgroups of
 // 16 × 32 threads, each of the 32 rows (local y) a particle, each of the 16 columns (local x)
-// one neighbour slot; 4 workgroups in y cover the 64 slots of the explicit list, N/32 in x.
+// one neighbour slot; 4 workgroups in y cover the 64 slots of the explicit list, N/32 in x
+// (spread over x and z beyond the per-dimension limit).
 // NOTE: 512 invocations per workgroup exceeds WebGPU's default limit of 256; the context
 // requests the adapter's limit and `VariantSpec::support` refuses block variants where it is
 // below 512. Shared include of block/atomic.wgsl and block/tree.wgsl; no entry points.
@@ -11,9 +12,9 @@
 const ROWS: u32 = 32u;
 const COLS: u32 = 16u;
 
-// Particle of this thread.
-fn block_particle(wg: vec3<u32>, lid: vec3<u32>) -> u32 {
-    return wg.x * ROWS + lid.y;
+// Particle of this thread (the particle blocks are spread over x and z: common/dispatch).
+fn block_particle(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>) -> u32 {
+    return linear_group_xz(wg, nwg) * ROWS + lid.y;
 }
 
 // Slot index k (0..63) of this thread in its particle's list.

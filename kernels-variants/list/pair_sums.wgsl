@@ -7,8 +7,8 @@
 #import common/pair_terms
 
 @compute @workgroup_size(64)
-fn number_density(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n {
         return;
     }
@@ -22,8 +22,8 @@ fn number_density(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n {
         return;
     }
@@ -42,8 +42,8 @@ fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n {
         return;
     }

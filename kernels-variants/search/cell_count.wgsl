@@ -5,8 +5,8 @@
 #import common/neighbours
 
 @compute @workgroup_size(64)
-fn cell_count(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn cell_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n {
         return;
     }

@@ -1,39 +1,96 @@
 // cell_scan.wgsl: exclusive prefix sum of the cell counts into `cell_start` (n_cells + 1
-// entries), by ONE workgroup of 256 threads: each thread scans a contiguous chunk, thread 0
-// scans the 256 chunk sums. Also resets the counts to zero: they are the scatter cursors next.
+// entries), reduce-then-scan over blocks of SCAN_BLOCK cells, one workgroup per block, in three
+// dispatches (no workgroup waits for another, so no forward-progress assumption):
+// `scan_reduce` sums each block's counts into its block sum (kept after the counts, at
+// cell_counts[n_cells + b]); `scan_blocks` (one workgroup) scans the block sums in place and
+// writes the total to cell_start[n_cells]; `scan_add` scans each block in workgroup memory
+// (Hillis–Steele) and adds its block's offset. It also resets the counts to zero: they are the
+// scatter cursors next. Twin of `SCAN_BLOCK` / `scan_blocks` in src/plan/gpu.rs.
 
 #import common/bindings
 
-const SCAN_THREADS: u32 = 256u;
-var<workgroup> chunk_sum: array<u32, SCAN_THREADS>;
+const SCAN_BLOCK: u32 = 256u;
+var<workgroup> part: array<u32, SCAN_BLOCK>;
+
+fn scan_cells() -> u32 {
+    return params.grid_nx * params.grid_ny;
+}
+
+// The count of cell c (0 past the end).
+fn count_or_zero(c: u32, cells: u32) -> u32 {
+    if c < cells {
+        return atomicLoad(&cell_counts[c]);
+    }
+    return 0u;
+}
 
 @compute @workgroup_size(256)
-fn cell_scan(@builtin(local_invocation_id) lid: vec3<u32>) {
-    let t = lid.x;
-    let cells = params.grid_nx * params.grid_ny;
-    let chunk = (cells + SCAN_THREADS - 1u) / SCAN_THREADS;
-    let a = min(t * chunk, cells);
-    let b = min(a + chunk, cells);
-    var s = 0u;
-    for (var c = a; c < b; c++) {
-        s += atomicLoad(&cell_counts[c]);
+fn scan_reduce(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
+    let cells = scan_cells();
+    let b = linear_group_xy(wg, nwg);
+    part[t] = count_or_zero(b * SCAN_BLOCK + t, cells);
+    workgroupBarrier();
+    for (var s = SCAN_BLOCK / 2u; s > 0u; s >>= 1u) {
+        if t < s {
+            part[t] += part[t + s];
+        }
+        workgroupBarrier();
     }
-    chunk_sum[t] = s;
+    if t == 0u && b * SCAN_BLOCK < cells {
+        atomicStore(&cell_counts[cells + b], part[0]);
+    }
+}
+
+@compute @workgroup_size(256)
+fn scan_blocks(@builtin(local_invocation_index) t: u32) {
+    let cells = scan_cells();
+    let blocks = (cells + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let chunk = (blocks + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let a = min(t * chunk, blocks);
+    let e = min(a + chunk, blocks);
+    var s = 0u;
+    for (var k = a; k < e; k++) {
+        s += atomicLoad(&cell_counts[cells + k]);
+    }
+    part[t] = s;
     workgroupBarrier();
     if t == 0u {
         var run = 0u;
-        for (var k = 0u; k < SCAN_THREADS; k++) {
-            let v = chunk_sum[k];
-            chunk_sum[k] = run;
+        for (var k = 0u; k < SCAN_BLOCK; k++) {
+            let v = part[k];
+            part[k] = run;
             run += v;
         }
         cell_start[cells] = run;
     }
     workgroupBarrier();
-    var run = chunk_sum[t];
-    for (var c = a; c < b; c++) {
-        cell_start[c] = run;
-        run += atomicLoad(&cell_counts[c]);
+    var run = part[t];
+    for (var k = a; k < e; k++) {
+        let v = atomicLoad(&cell_counts[cells + k]);
+        atomicStore(&cell_counts[cells + k], run);
+        run += v;
+    }
+}
+
+@compute @workgroup_size(256)
+fn scan_add(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
+    let cells = scan_cells();
+    let b = linear_group_xy(wg, nwg);
+    let c = b * SCAN_BLOCK + t;
+    let v = count_or_zero(c, cells);
+    part[t] = v;
+    workgroupBarrier();
+    for (var s = 1u; s < SCAN_BLOCK; s <<= 1u) {
+        var add = 0u;
+        if t >= s {
+            add = part[t - s];
+        }
+        workgroupBarrier();
+        part[t] += add;
+        workgroupBarrier();
+    }
+    if c < cells {
+        cell_start[c] = atomicLoad(&cell_counts[cells + b]) + part[t] - v;
         atomicStore(&cell_counts[c], 0u);
     }
 }

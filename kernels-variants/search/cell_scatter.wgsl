@@ -6,8 +6,8 @@
 #import common/bindings
 
 @compute @workgroup_size(64)
-fn cell_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn cell_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n {
         return;
     }
@@ -17,8 +17,8 @@ fn cell_scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn cell_sort(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = gid.x;
+fn cell_sort(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let c = linear_id(gid, nwg);
     if c >= params.grid_nx * params.grid_ny {
         return;
     }

@@ -4,8 +4,8 @@
 // by the exact distance test (common/neighbours.wgsl, `TRACKING`). The lists are rebuilt when
 // the largest displacement since the last build exceeds skin/2 or every k evaluations.
 // The decision stays on the device (no read-back per evaluation): `track_check` reduces the
-// max displacement² (atomicMax on f32 bits, valid for non-negative floats), `track_every` turns
-// it and the evaluation counter into the flag `vctl[V_REBUILD]`, `track_build` rebuilds only
+// max displacement² (a workgroup reduction, then one atomicMax on f32 bits per workgroup, valid
+// for non-negative floats), `track_every` turns it and the evaluation counter into the flag `vctl[V_REBUILD]`, `track_build` rebuilds only
 // when the flag is set (every thread returns at once otherwise) and `track_clear` lowers it.
 // PERF: the cell sort of search/cell_*.wgsl still runs every evaluation (cheap next to the
 // pair stages); indirect dispatch could skip it too. Candidates beyond CAND_SLOTS are counted
@@ -14,16 +14,29 @@
 
 #import common/neighbours
 
+var<workgroup> wg_disp2: array<u32, GROUP_THREADS>;
+
 @compute @workgroup_size(64)
-fn track_check(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= params.n {
-        return;
+fn track_check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
+    let i = linear_id(gid, nwg);
+    var bits = 0u;
+    if i < params.n {
+        let d = pos[i] - ref_pos[i];
+        let d2 = f32(d.x * d.x + d.y * d.y);
+        if d2 > 0.0 {
+            bits = bitcast<u32>(d2);
+        }
     }
-    let d = pos[i] - ref_pos[i];
-    let d2 = f32(d.x * d.x + d.y * d.y);
-    if d2 > 0.0 {
-        atomicMax(&vctl[V_DISP2], bitcast<u32>(d2));
+    wg_disp2[t] = bits;
+    workgroupBarrier();
+    for (var s = GROUP_THREADS / 2u; s > 0u; s >>= 1u) {
+        if t < s {
+            wg_disp2[t] = max(wg_disp2[t], wg_disp2[t + s]);
+        }
+        workgroupBarrier();
+    }
+    if t == 0u && wg_disp2[0] > 0u {
+        atomicMax(&vctl[V_DISP2], wg_disp2[0]);
     }
 }
 
@@ -44,8 +57,8 @@ fn track_every() {
 }
 
 @compute @workgroup_size(64)
-fn track_build(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n || atomicLoad(&vctl[V_REBUILD]) == 0u {
         return;
     }

@@ -6,8 +6,8 @@
 #import eos
 
 @compute @workgroup_size(64)
-fn equation_of_state(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn equation_of_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n {
         return;
     }

@@ -2,7 +2,8 @@
 // followed by the mirror/periodic boundary fix (`boundary_axis` of shaders/geometry.wgsl):
 // `midpoint_predict` (saves r⁰, v⁰), `midpoint_correct`, `verlet_drift` (kick + drift),
 // `verlet_kick`; plus `check` (the FIRST bad particle and step, kept in `ctl` until read back)
-// and `reduce_max` (max |v|, |a| as f32 bits by u32 atomicMax, for the adaptive dt).
+// and `reduce_max` (max |v|, |a| as f32 bits: workgroup reduction, then one u32 atomicMax per
+// workgroup, for the adaptive dt).
 
 #import common/bindings
 #import integrate
@@ -20,8 +21,8 @@ fn store_fixed(i: u32, r: real2, v: real2) {
 }
 
 @compute @workgroup_size(64)
-fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n_fluid {
         return;
     }
@@ -32,8 +33,8 @@ fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n_fluid {
         return;
     }
@@ -42,8 +43,8 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n_fluid {
         return;
     }
@@ -53,8 +54,8 @@ fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n_fluid {
         return;
     }
@@ -78,8 +79,8 @@ fn bad_vec(v: real2) -> bool {
 // Blow-up check after a step (step number = params.step): the first step with a bad particle
 // wins; within it the smallest 2·i + kind (kind 0 non-finite, 1 left the domain by > Δx/2).
 @compute @workgroup_size(64)
-fn check(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n_fluid {
         return;
     }
@@ -101,15 +102,34 @@ fn check(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// max |v| and max |a| over the fluids (non-negative f32 bits order like the floats).
+// max |v| and max |a| over the fluids (non-negative f32 bits order like the floats): a tree
+// reduction in workgroup memory first, then ONE atomicMax per workgroup and quantity.
+var<workgroup> wg_vmax: array<u32, GROUP_THREADS>;
+var<workgroup> wg_amax: array<u32, GROUP_THREADS>;
+
 @compute @workgroup_size(64)
-fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= params.n_fluid {
-        return;
+fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
+    let i = linear_id(gid, nwg);
+    var vb = 0u;
+    var ab = 0u;
+    if i < params.n_fluid {
+        let v = vel[i];
+        let a = acc[i];
+        vb = bitcast<u32>(f32(sqrt(v.x * v.x + v.y * v.y)));
+        ab = bitcast<u32>(f32(sqrt(a.x * a.x + a.y * a.y)));
     }
-    let v = vel[i];
-    let a = acc[i];
-    atomicMax(&ctl[CTL_VMAX], bitcast<u32>(f32(sqrt(v.x * v.x + v.y * v.y))));
-    atomicMax(&ctl[CTL_AMAX], bitcast<u32>(f32(sqrt(a.x * a.x + a.y * a.y))));
+    wg_vmax[t] = vb;
+    wg_amax[t] = ab;
+    workgroupBarrier();
+    for (var s = GROUP_THREADS / 2u; s > 0u; s >>= 1u) {
+        if t < s {
+            wg_vmax[t] = max(wg_vmax[t], wg_vmax[t + s]);
+            wg_amax[t] = max(wg_amax[t], wg_amax[t + s]);
+        }
+        workgroupBarrier();
+    }
+    if t == 0u {
+        atomicMax(&ctl[CTL_VMAX], wg_vmax[0]);
+        atomicMax(&ctl[CTL_AMAX], wg_amax[0]);
+    }
 }

@@ -5,8 +5,8 @@
 #import common/neighbours
 
 @compute @workgroup_size(64)
-fn wall_pressure(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = params.n_fluid + gid.x;
+fn wall_pressure(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = params.n_fluid + linear_id(gid, nwg);
     if i >= params.n {
         return;
     }

@@ -7,8 +7,8 @@
 #import contact
 
 @compute @workgroup_size(64)
-fn wall_typing(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = params.n_fluid + gid.x;
+fn wall_typing(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = params.n_fluid + linear_id(gid, nwg);
     if i >= params.n {
         return;
     }

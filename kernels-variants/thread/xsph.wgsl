@@ -6,8 +6,8 @@
 #import pair
 
 @compute @workgroup_size(64)
-fn xsph(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn xsph(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
     if i >= params.n_fluid {
         return;
     }

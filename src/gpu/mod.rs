@@ -3,6 +3,7 @@
 //! [`crate::physics`], tested in `tests/wgsl_twins.rs`); the solver ([`solver`]) runs the
 //! stages of [`stages`] for a [`variant`].
 
+pub mod bandwidth;
 pub mod buffers;
 pub mod compose;
 pub mod context;

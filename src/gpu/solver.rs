@@ -23,6 +23,7 @@ use crate::backend::{Backend, DeviceTimes, Frame, SolverError};
 use crate::fields::Fields;
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
 use crate::physics::timestep::DtLimits;
+use crate::plan::gpu::{DeviceLimits, GpuPlan};
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{ContactMode, Integrator, Scene};
@@ -59,6 +60,19 @@ pub struct GpuSolver<T: Real> {
     pub check_every: u64,
     /// Stage timestamps (off unless [`Self::enable_timestamps`]; `gpu::timing`).
     pub(super) ts: Timestamps,
+    /// Most workgroups per dispatch dimension: the adapter's
+    /// `max_compute_workgroups_per_dimension`; lower it to exercise the x/y spreading at small N.
+    pub max_groups_per_dim: u32,
+}
+
+/// `groups` workgroups as (x, y) with x ≤ `max` (as even as possible; (0, 1) for none).
+pub fn spread(groups: usize, max: u32) -> (u32, u32) {
+    let max = max.max(1) as usize;
+    if groups <= max {
+        return (groups as u32, 1);
+    }
+    let y = groups.div_ceil(max);
+    (groups.div_ceil(y) as u32, y as u32)
 }
 
 /// Default of [`GpuSolver::set_reorder_every`] (WarpX found ~4 steps optimal on GPUs; the
@@ -90,6 +104,10 @@ impl<T: Real> GpuSolver<T> {
         let pos: Vec<V2<T>> = layout.pos.iter().map(v2).collect();
         let vel: Vec<V2<T>> = layout.vel.iter().map(v2).collect();
         let grid = GridSpec::new(&pos, model.support());
+        // The memory plan before any buffer exists: each buffer within the adapter's caps, the
+        // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
+        let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);
+        plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
         let vb = VBufs::new(&ctx, spec, &model, n)?;
@@ -105,6 +123,7 @@ impl<T: Real> GpuSolver<T> {
         b.pos.upload(&ctx, &pos)?;
         b.vel.upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;
+        let ctx_groups = ctx.limits.max_compute_workgroups_per_dimension;
         let s = Self {
             ctx,
             spec,
@@ -130,6 +149,7 @@ impl<T: Real> GpuSolver<T> {
             pending: None,
             check_every: 100,
             ts: Timestamps::default(),
+            max_groups_per_dim: ctx_groups,
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
@@ -194,16 +214,40 @@ impl<T: Real> GpuSolver<T> {
         self.b.ctl.upload(&self.ctx, &c)
     }
 
-    fn groups(&self, d: Domain) -> (u32, u32) {
+    /// The workgroup grid of a kernel over `d`: the groups a 1-D dispatch would need, spread
+    /// over x and y (x and z for the block layout, whose y holds the 4 list blocks) when x alone
+    /// would pass [`Self::max_groups_per_dim`]; the kernels rebuild the linear index with
+    /// `linear_id` / `linear_group_xz` (kernels-variants/common/dispatch.wgsl).
+    pub fn groups(&self, d: Domain) -> [u32; 3] {
         let threads = match d {
             Domain::All => self.n,
             Domain::Fluid => self.n_fluid,
             Domain::Wall => self.n - self.n_fluid,
-            Domain::One | Domain::Group => return (1, 1),
+            Domain::One | Domain::Group => return [1, 1, 1],
             Domain::Cells => self.grid.cells(),
-            Domain::Block => return (self.n.div_ceil(32) as u32, (vbufs::NBR_SLOTS / 16) as u32),
+            Domain::ScanBlocks => {
+                let (gx, gy) = spread(crate::plan::gpu::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
+                return [gx, gy, 1];
+            }
+            Domain::Block => {
+                let (gx, gz) = spread(self.n.div_ceil(32), self.max_groups_per_dim);
+                return [gx, (vbufs::NBR_SLOTS / 16) as u32, gz];
+            }
         };
-        (threads.div_ceil(64) as u32, 1)
+        let (gx, gy) = spread(threads.div_ceil(64), self.max_groups_per_dim);
+        [gx, gy, 1]
+    }
+
+    /// Bytes of every device buffer this solver allocated (state, variant buffers, the parameter
+    /// uniform; not the timestamp queries), the figure the memory plan predicts.
+    pub fn device_bytes(&self) -> u64 {
+        let storage = self.b.storage().into_iter().chain(self.vb.storage()).map(|b| b.size()).sum::<u64>();
+        storage + self.b.params.buffer.size()
+    }
+
+    /// Cells of the search grid.
+    pub fn cells(&self) -> usize {
+        self.grid.cells()
     }
 
     /// The variant constants (fixed-point quanta, tracking radii; `gpu::variant_buffers`).
@@ -234,7 +278,7 @@ impl<T: Real> GpuSolver<T> {
         if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
             enc.clear_buffer(&self.vb.accum.buffer, 0, None);
         }
-        let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain).0 > 0);
+        let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain)[0] > 0);
         let timestamp_writes = if dispatches { self.ts.writes(stage.name()) } else { None };
         let desc = wgpu::ComputePassDescriptor { label: Some(stage.name()), timestamp_writes };
         let mut pass = enc.begin_compute_pass(&desc);
@@ -247,10 +291,10 @@ impl<T: Real> GpuSolver<T> {
             if kd.file == reorder::FILE && self.reorder_every == 0 {
                 continue;
             }
-            let (gx, gy) = self.groups(kd.domain);
+            let [gx, gy, gz] = self.groups(kd.domain);
             if gx > 0 {
                 pass.set_pipeline(p);
-                pass.dispatch_workgroups(gx, gy, 1);
+                pass.dispatch_workgroups(gx, gy, gz);
             }
         }
     }

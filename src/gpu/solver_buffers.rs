@@ -81,7 +81,8 @@ impl<T: Real> Bufs<T> {
             vt: v2("vt", n)?,
             contacts: s("contacts", 4 * MAX_CONTACTS)?,
             ctl: u("ctl", ctl::LEN)?,
-            cell_count: u("cell_count", cells)?,
+            // The counts, then the block sums of the parallel scan (search/cell_scan.wgsl).
+            cell_count: u("cell_count", cells + crate::plan::gpu::scan_blocks(cells))?,
             cell_start: u("cell_start", cells + 1)?,
             sorted: u("sorted", n)?,
             cell_of: u("cell_of", n)?,
@@ -89,7 +90,7 @@ impl<T: Real> Bufs<T> {
     }
 
     /// The storage buffers in binding order 1..=20.
-    fn storage(&self) -> [&wgpu::Buffer; N_STORAGE as usize] {
+    pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_STORAGE as usize] {
         [
             &self.pos.buffer,
             &self.vel.buffer,

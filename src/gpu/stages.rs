@@ -27,6 +27,8 @@ pub enum Domain {
     One,
     /// One thread per grid cell.
     Cells,
+    /// One workgroup per block of `plan::gpu::SCAN_BLOCK` cells (the parallel cell scan).
+    ScanBlocks,
     /// One workgroup (its own size).
     Group,
     /// The 16 × 32 block layout: N/32 workgroups in x, 4 in y (64 slots).
@@ -51,7 +53,9 @@ const fn k(entry: &'static str, file: &'static str, domain: Domain) -> KernelDef
 /// Kernels of the `cells` neighbour search, in dispatch order.
 pub const CELLS_SEARCH: &[KernelDef] = &[
     k("cell_count", "search/cell_count.wgsl", Domain::All),
-    k("cell_scan", "search/cell_scan.wgsl", Domain::Group),
+    k("scan_reduce", "search/cell_scan.wgsl", Domain::ScanBlocks),
+    k("scan_blocks", "search/cell_scan.wgsl", Domain::Group),
+    k("scan_add", "search/cell_scan.wgsl", Domain::ScanBlocks),
     k("cell_scatter", "search/cell_scatter.wgsl", Domain::All),
     k("cell_sort", "search/cell_scatter.wgsl", Domain::Cells),
 ];

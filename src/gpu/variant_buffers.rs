@@ -190,7 +190,7 @@ impl<T: Real> VBufs<T> {
         })
     }
 
-    fn storage(&self) -> [&wgpu::Buffer; N_VSTORAGE as usize] {
+    pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_VSTORAGE as usize] {
         [
             &self.vctl.buffer,
             &self.vparams.buffer,

@@ -1,0 +1,288 @@
+//! What the engine says about its own memory traffic: the adapter's measured streaming
+//! bandwidth ([`measure_bandwidth`]: a copy kernel timed with timestamp queries) and a
+//! modelled count of the bytes one force evaluation moves ([`modelled_bytes_per_evaluation`]),
+//! whose ratio to the measured time gives the fraction of the memory roofline.
+//!
+//! **Measured bandwidth.** `copy` reads one `vec4<u32>` and writes one per thread over two
+//! buffers of [`PROBE_BYTES`] (capped by the binding limit), dispatched over x and y like the
+//! solver's kernels; one warm-up pass, then [`PROBE_REPEATS`] passes each bracketed by
+//! beginning/end-of-pass timestamps; the best pass gives 2 × bytes / time (read + write). Only
+//! with `TIMESTAMP_QUERY`: otherwise `None` (never estimated from wall time).
+//!
+//! **Modelled bytes per evaluation** (the compulsory traffic, a lower bound): every
+//! per-particle array a kernel touches moves once per kernel (reads + writes, by
+//! [`stage_bytes`]); neighbour data gathered through the cell iterator (`pos[j]`, `sigma[j]`, …)
+//! is assumed to come from cache (counted zero); what is stored per pair moves per pair: list
+//! entries (4 B per neighbour written by `nbr_build` and read by each pair-sum stage), cached
+//! kernel values and image positions (2 × real2 per neighbour, written once, read per
+//! pair-sum stage) and the block accumulators (one atomic read-modify-write of 4 B — 8 B in
+//! fixed point — per term and component, per row for block-tree, plus the clear and the
+//! finalize read). The mean neighbour count is that of the lattice, k̄ = π (support/Δx)².
+//! So the roofline fraction = modelled bytes / (measured time × measured bandwidth) is a lower
+//! bound of the bandwidth a variant really uses.
+
+use super::solver::spread;
+use super::variant::{Accumulation, KernelValues, Mapping, Precision, SearchVariant, SumLayout, VariantSpec};
+use super::{GpuContext, GpuError};
+use crate::stage::Stage;
+use serde::Serialize;
+
+/// Bytes of each probe buffer (before the binding cap).
+pub const PROBE_BYTES: u64 = 64 << 20;
+/// Timed passes of the probe (the best counts).
+pub const PROBE_REPEATS: u32 = 4;
+
+const COPY_WGSL: &str = "
+@group(0) @binding(0) var<storage, read> src: array<vec4<u32>>;
+@group(0) @binding(1) var<storage, read_write> dst: array<vec4<u32>>;
+@compute @workgroup_size(64)
+fn copy(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = gid.x + gid.y * nwg.x * 64u;
+    if i < arrayLength(&dst) {
+        dst[i] = src[i];
+    }
+}
+";
+
+/// The measured streaming bandwidth.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Bandwidth {
+    /// Bytes read + written per pass / best pass time, in GB/s (10⁹ B/s).
+    pub gb_per_s: f64,
+    /// Bytes of each probe buffer.
+    pub buffer_bytes: u64,
+    /// Best pass, ns.
+    pub best_ns: f64,
+    /// How it was measured.
+    pub method: String,
+}
+
+/// Times the copy kernel on `ctx`; `None` without `TIMESTAMP_QUERY`.
+pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError> {
+    if !ctx.has(wgpu::Features::TIMESTAMP_QUERY) {
+        return Ok(None);
+    }
+    let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+    let bytes = PROBE_BYTES.min(cap) / 16 * 16;
+    let pipeline = ctx.compute_pipeline("sphlab.bandwidth", COPY_WGSL, "copy")?;
+    let buffer = |label| {
+        ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        })
+    };
+    let (src, dst) = (buffer("sphlab.bandwidth.src"), buffer("sphlab.bandwidth.dst"));
+    let bg = ctx.bind_group(&pipeline, &[&src, &dst])?;
+    let passes = PROBE_REPEATS + 1;
+    let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("sphlab.bandwidth"),
+        ty: wgpu::QueryType::Timestamp,
+        count: 2 * passes,
+    });
+    let qbytes = 2 * passes as u64 * wgpu::QUERY_SIZE as u64;
+    let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sphlab.bandwidth.resolve"),
+        size: qbytes,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sphlab.bandwidth.staging"),
+        size: qbytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let (gx, gy) = spread((bytes / 16).div_ceil(64) as usize, ctx.limits.max_compute_workgroups_per_dimension);
+    ctx.scoped(|d| {
+        let mut enc = d.create_command_encoder(&Default::default());
+        for k in 0..passes {
+            let writes = wgpu::ComputePassTimestampWrites {
+                query_set: &set,
+                beginning_of_pass_write_index: Some(2 * k),
+                end_of_pass_write_index: Some(2 * k + 1),
+            };
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sphlab.bandwidth"),
+                timestamp_writes: Some(writes),
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bg, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        enc.resolve_query_set(&set, 0..2 * passes, &resolve, 0);
+        enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, qbytes);
+        ctx.queue.submit([enc.finish()]);
+    })?;
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.wait_idle()?;
+    rx.recv()
+        .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let ticks: Vec<u64> = {
+        let view = staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
+        bytemuck::pod_collect_to_vec(&view[..])
+    };
+    staging.unmap();
+    let period = ctx.queue.get_timestamp_period() as f64;
+    let best_ns = (1..passes as usize)
+        .map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period)
+        .filter(|&ns| ns > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if !best_ns.is_finite() {
+        return Ok(None);
+    }
+    Ok(Some(Bandwidth {
+        gb_per_s: 2.0 * bytes as f64 / best_ns,
+        buffer_bytes: bytes,
+        best_ns,
+        method: format!("copy kernel over 2 × {bytes} B, best of {PROBE_REPEATS} timestamped passes (read + write)"),
+    }))
+}
+
+/// Per-particle bytes (reads + writes) of the per-particle arrays of `stage`'s kernels, for
+/// real size `r` (the per-pair traffic is added by [`modelled_bytes_per_evaluation`]); and the
+/// particles it runs over: 0 all, 1 fluid, 2 wall.
+pub fn stage_bytes(spec: &VariantSpec, stage: Stage, r: f64) -> (f64, u8) {
+    let v = 2.0 * r;
+    match stage {
+        // cell_count (pos → cell_of, count RMW), scatter (cell_of, cursor RMW → sorted), sort
+        // (sorted read + write); tracking adds the displacement check (pos, ref_pos).
+        Stage::NeighbourSearch => match spec.search {
+            SearchVariant::Direct => (0.0, 0),
+            SearchVariant::Cells => (v + 36.0, 0),
+            SearchVariant::Tracking => (3.0 * v + 36.0, 0),
+        },
+        Stage::NumberDensity => (v + 2.0 * r, 0),
+        Stage::ContactLine => (0.0, 1),
+        Stage::WallTyping => (v + 4.0 + r, 2),
+        Stage::EquationOfState => (4.0 * r + 8.0, 0),
+        Stage::WallPressure => (v + r, 2),
+        Stage::ColourGradient => (v + 4.0 + r + 2.0 * v, 0),
+        Stage::NormalCorrection => (4.0 + 2.0 * v, 0),
+        Stage::SurfaceStress => (4.0 + 3.0 * v, 0),
+        Stage::Acceleration => (4.0 * v + 4.0 * r + 4.0, 1),
+        Stage::Xsph => (3.0 * v + 2.0 * r + 4.0, 1),
+        _ => (0.0, 0),
+    }
+}
+
+/// Components a pair-sum stage accumulates per particle (block layouts), `None` for the others.
+fn pair_components(stage: Stage) -> Option<f64> {
+    match stage {
+        Stage::NumberDensity | Stage::Acceleration => Some(2.0),
+        Stage::ColourGradient => Some(4.0),
+        _ => None,
+    }
+}
+
+/// Modelled bytes one force evaluation of `spec` moves (module doc) over `stages` (the active
+/// evaluation stages, in order), for `n` particles of which `n_fluid` fluid, `support_over_dx`
+/// = support / Δx.
+pub fn modelled_bytes_per_evaluation(
+    spec: &VariantSpec,
+    stages: &[Stage],
+    n: usize,
+    n_fluid: usize,
+    support_over_dx: f64,
+) -> f64 {
+    let r = if spec.precision == Precision::F64 { 8.0 } else { 4.0 };
+    let k = std::f64::consts::PI * support_over_dx * support_over_dx;
+    let (n, nf) = (n as f64, n_fluid as f64);
+    let count = |over: u8| match over {
+        1 => nf,
+        2 => n - nf,
+        _ => n,
+    };
+    let cached = spec.kernel_values == KernelValues::Cached;
+    let per_pair_read = if spec.has_lists() { 4.0 + if cached { 4.0 * r } else { 0.0 } } else { 0.0 };
+    let atom = if spec.accumulation == Accumulation::Fixed { 8.0 } else { 4.0 };
+    let mut bytes = 0.0;
+    for &s in stages {
+        let (b, over) = stage_bytes(spec, s, r);
+        bytes += b * count(over);
+        if s == Stage::NeighbourSearch && spec.has_lists() {
+            bytes += n * (4.0 + k * per_pair_read);
+        }
+        let Some(comps) = pair_components(s) else { continue };
+        let over = if s == Stage::Acceleration { nf } else { n };
+        bytes += over * k * per_pair_read;
+        if spec.mapping.layout() == SumLayout::Block {
+            let terms = if spec.mapping == Mapping::BlockTree { 4.0 } else { k };
+            // RMW per term and component, then the clear (8 words) and the finalize read.
+            bytes += n * (terms * comps * 2.0 * atom + 32.0 + comps * atom);
+        }
+    }
+    bytes
+}
+
+/// The engine's traffic figures for one run (`sphlab run --backend gpu`'s summary, the study).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct EngineTraffic {
+    /// Variant id.
+    pub variant: String,
+    /// Bytes of the device buffers (the memory plan's total, which equals what the solver
+    /// allocates: `tests/gpu_variants.rs`).
+    pub device_bytes: u64,
+    /// [`modelled_bytes_per_evaluation`].
+    pub modelled_bytes_per_evaluation: f64,
+    /// Force evaluations per step (2 for the midpoint integrator, 1 for Verlet).
+    pub evaluations_per_step: f64,
+    /// The measured streaming bandwidth (`None` without timestamps).
+    pub bandwidth: Option<Bandwidth>,
+    /// Modelled bytes per step / (time per step × bandwidth), once a time is known.
+    pub roofline_fraction: Option<f64>,
+}
+
+impl EngineTraffic {
+    /// The figures of `spec` on `scene` with `n` particles (`n_fluid` fluid).
+    pub fn new(
+        spec: &VariantSpec,
+        scene: &crate::scene::Scene,
+        n: usize,
+        n_fluid: usize,
+        device_bytes: u64,
+        bandwidth: Option<Bandwidth>,
+    ) -> Self {
+        let m = crate::model::Model::<f64>::new(scene);
+        let stages = m.stages.evaluation();
+        let bytes = modelled_bytes_per_evaluation(spec, &stages, n, n_fluid, m.support() / m.dx);
+        let evals = if scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
+        EngineTraffic {
+            variant: spec.to_string(),
+            device_bytes,
+            modelled_bytes_per_evaluation: bytes,
+            evaluations_per_step: evals,
+            bandwidth,
+            roofline_fraction: None,
+        }
+    }
+
+    /// Fraction of the memory roofline at `seconds_per_step` (`None` without a bandwidth).
+    pub fn fraction(&self, seconds_per_step: f64) -> Option<f64> {
+        let bw = self.bandwidth.as_ref()?.gb_per_s * 1e9;
+        (seconds_per_step > 0.0)
+            .then(|| self.modelled_bytes_per_evaluation * self.evaluations_per_step / (seconds_per_step * bw))
+    }
+
+    /// One line for people.
+    pub fn describe(&self) -> String {
+        let bw = match &self.bandwidth {
+            Some(b) => format!("measured streaming bandwidth {:.2} GB/s", b.gb_per_s),
+            None => "no bandwidth (the adapter has no timestamps)".into(),
+        };
+        let frac =
+            self.roofline_fraction.map_or(String::new(), |f| format!(" → {:.2} % of the memory roofline", 100.0 * f));
+        format!(
+            "{}: device buffers {}, modelled {} per evaluation × {} per step, {bw}{frac}",
+            self.variant,
+            crate::plan::fmt_bytes(self.device_bytes as f64),
+            crate::plan::fmt_bytes(self.modelled_bytes_per_evaluation),
+            self.evaluations_per_step
+        )
+    }
+}

@@ -1,0 +1,281 @@
+//! The GPU memory plan of one variant, computed before any device buffer exists: every buffer
+//! the solver allocates (twins of `Bufs::new` in `gpu/solver_buffers.rs` and `VBufs::new` in
+//! `gpu/variant_buffers.rs`, element counts × element sizes, each at least 4 bytes and a
+//! multiple of 4 as `GpuVec` allocates; a test holds the total equal to what a solver really
+//! allocates), compared with what the device offers:
+//! * every buffer is bound whole, so each must fit `max_storage_buffer_binding_size` and
+//!   `max_buffer_size` (the smaller is the cap; nothing is split);
+//! * the sum must fit the device memory. wgpu has no query for it, so it comes from
+//!   `--gpu-memory`, else, on a CPU adapter (lavapipe: device memory is host memory), from
+//!   `MemAvailable`, else it is unknown and only the per-buffer caps are checked
+//!   ([`DeviceLimits::memory_source`] says which);
+//! * the dispatch grid: a kernel over N threads needs ⌈N/64⌉ ≤ max_groups² workgroups (x·y).
+//!
+//! What does not fit is refused (exit 2 at the command line, `GpuError::TooLarge` in the
+//! solver) naming the buffer, the bytes needed and the bytes available. Timestamp query
+//! buffers (only while stage timing is on) and the bandwidth probe's buffers are not counted.
+
+use super::fmt_bytes;
+use crate::gpu::variant::{KernelValues, Precision, SearchVariant, SumLayout, VariantSpec};
+use crate::gpu::variant_buffers::{vctl, CAND_SLOTS, NBR_SLOTS};
+use crate::gpu::GpuContext;
+use crate::model::MAX_CONTACTS;
+use serde::Serialize;
+
+/// Cells per workgroup of the parallel cell scan (`search/cell_scan.wgsl`); the per-block sums
+/// live after the counts in `cell_count`.
+pub const SCAN_BLOCK: usize = 256;
+
+/// Blocks of the parallel cell scan for `cells` cells.
+pub fn scan_blocks(cells: usize) -> usize {
+    cells.div_ceil(SCAN_BLOCK)
+}
+
+/// Words of the solver's control buffer (`ctl::LEN` of `gpu/solver_buffers.rs`).
+const CTL_WORDS: f64 = crate::gpu::solver_buffers::ctl::LEN as f64;
+/// Entries of `vparams` (`VBufs::new`).
+const VPARAMS: f64 = 12.0;
+
+/// What the device offers.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct DeviceLimits {
+    /// `max_buffer_size`.
+    pub max_buffer_size: u64,
+    /// `max_storage_buffer_binding_size`.
+    pub max_binding_size: u64,
+    /// `max_compute_workgroups_per_dimension`.
+    pub max_groups_per_dim: u32,
+    /// Device memory in bytes, when known.
+    pub memory: Option<u64>,
+    /// Where `memory` came from.
+    pub memory_source: String,
+}
+
+impl DeviceLimits {
+    /// The limits granted to `ctx`'s device; `gpu_memory` (`--gpu-memory`) overrides the
+    /// memory heuristic (host `MemAvailable` on a CPU adapter, unknown elsewhere).
+    pub fn of(ctx: &GpuContext, gpu_memory: Option<u64>) -> Self {
+        let (memory, memory_source) = match gpu_memory {
+            Some(m) => (Some(m), "--gpu-memory".to_string()),
+            None if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu => match super::available_memory() {
+                Some(m) => (Some(m), "host MemAvailable (CPU adapter: device memory is host memory)".into()),
+                None => (None, "unknown (CPU adapter without /proc/meminfo; pass --gpu-memory)".into()),
+            },
+            None => (None, "unknown (wgpu has no device-memory query; pass --gpu-memory)".into()),
+        };
+        DeviceLimits {
+            max_buffer_size: ctx.limits.max_buffer_size,
+            max_binding_size: ctx.limits.max_storage_buffer_binding_size as u64,
+            max_groups_per_dim: ctx.limits.max_compute_workgroups_per_dimension,
+            memory,
+            memory_source,
+        }
+    }
+
+    /// A stated adapter for the plan tables: `memory` bytes of device memory, every buffer
+    /// (binding and allocation) capped at `binding` bytes, 65,535 workgroups per dimension.
+    pub fn stated(memory: u64, binding: u64, what: &str) -> Self {
+        DeviceLimits {
+            max_buffer_size: binding,
+            max_binding_size: binding,
+            max_groups_per_dim: 65535,
+            memory: Some(memory),
+            memory_source: what.to_string(),
+        }
+    }
+
+    /// The per-buffer cap: the smaller of the binding and buffer limits.
+    pub fn buffer_cap(&self) -> u64 {
+        self.max_binding_size.min(self.max_buffer_size)
+    }
+}
+
+/// One device buffer of the plan.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BufferPlan {
+    /// Buffer name (the label without `sphlab.`).
+    pub name: &'static str,
+    /// Bytes allocated.
+    pub bytes: u64,
+}
+
+/// The device buffers of one variant for `n` particles on `cells` cells.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct GpuPlan {
+    /// Variant id.
+    pub variant: String,
+    /// Particles (fluid + wall).
+    pub n: u64,
+    /// Cells of the search grid.
+    pub cells: u64,
+    /// Every buffer, in allocation order.
+    pub buffers: Vec<BufferPlan>,
+    /// Sum of the buffers (and the parameter uniform).
+    pub total_bytes: u64,
+}
+
+/// Bytes `GpuVec` allocates for `len` elements of `size` bytes (at least 4, a multiple of 4).
+fn alloc(len: u64, size: u64) -> u64 {
+    (len * size).max(4).next_multiple_of(4)
+}
+
+impl GpuPlan {
+    /// The plan of `spec` for `n` particles and `cells` grid cells.
+    pub fn new(spec: &VariantSpec, n: u64, cells: u64) -> Self {
+        let r = if spec.precision == Precision::F64 { 8 } else { 4 };
+        let v2 = 2 * r;
+        let lists = spec.has_lists();
+        let tracking = spec.search == SearchVariant::Tracking;
+        let cached = lists && spec.kernel_values == KernelValues::Cached;
+        let block = spec.mapping.layout() == SumLayout::Block;
+        let on = |b: bool, len: u64| if b { len } else { 1 };
+        let (slots, cand) = (NBR_SLOTS as u64, CAND_SLOTS as u64);
+        let blocks = scan_blocks(cells as usize) as u64;
+        let params = (if r == 8 {
+            size_of::<crate::gpu::params::Params<f64>>()
+        } else {
+            size_of::<crate::gpu::params::Params<f32>>()
+        } as u64)
+            .max(16)
+            .next_multiple_of(16);
+        let list: [(&'static str, u64, u64); 30] = [
+            ("pos", n, v2),
+            ("vel", n, v2),
+            ("phase", n, 4),
+            ("state0", 2 * n, v2),
+            ("sigma", n, r),
+            ("chi", n, r),
+            ("mass", n, r),
+            ("colour", n, 4),
+            ("rho", n, r),
+            ("p", n, r),
+            ("grad", 2 * n, v2),
+            ("pi", n, v2),
+            ("acc", n, v2),
+            ("vt", n, v2),
+            ("contacts", 4 * MAX_CONTACTS as u64, r),
+            ("ctl", CTL_WORDS as u64, 4),
+            ("cell_count", cells + blocks, 4),
+            ("cell_start", cells + 1, 4),
+            ("sorted", n, 4),
+            ("cell_of", n, 4),
+            ("vctl", vctl::LEN as u64, 4),
+            ("vparams", VPARAMS as u64, r),
+            ("counts", 2 * n.max(1), 4),
+            ("nbr", on(lists, n * slots), 4),
+            ("cache_wf", on(cached, n * slots), v2),
+            ("cache_xj", on(cached, n * slots), v2),
+            ("cand", on(tracking, n * cand), 4),
+            ("ref_pos", on(tracking, n), v2),
+            ("accum", on(block, 8 * n), 4),
+            ("params", 1, params),
+        ];
+        let buffers: Vec<BufferPlan> =
+            list.iter().map(|&(name, len, size)| BufferPlan { name, bytes: alloc(len, size) }).collect();
+        let total_bytes = buffers.iter().map(|b| b.bytes).sum();
+        GpuPlan { variant: spec.to_string(), n, cells, buffers, total_bytes }
+    }
+
+    /// The largest buffer.
+    pub fn largest(&self) -> &BufferPlan {
+        self.buffers.iter().max_by_key(|b| b.bytes).expect("buffers")
+    }
+
+    /// Ok when every buffer, the total and the dispatch grid fit `lim`; else the first that
+    /// does not, naming the buffer, the bytes needed and the bytes available.
+    pub fn check(&self, lim: &DeviceLimits) -> Result<(), String> {
+        let head = format!("GPU memory plan of {} for {} particles", self.variant, self.n);
+        let cap = lim.buffer_cap();
+        if let Some(b) = self.buffers.iter().find(|b| b.bytes > cap) {
+            let which = if lim.max_binding_size <= lim.max_buffer_size {
+                "max_storage_buffer_binding_size"
+            } else {
+                "max_buffer_size"
+            };
+            return Err(format!(
+                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}); \
+                 lower domain.nx or choose a variant with smaller buffers (sphlab variants --memory N)",
+                b.name,
+                b.bytes,
+                fmt_bytes(b.bytes as f64),
+                cap,
+                fmt_bytes(cap as f64)
+            ));
+        }
+        if let Some(m) = lim.memory {
+            if self.total_bytes > m {
+                return Err(format!(
+                    "{head}: the device buffers need {} bytes ({}) in all, over the {} bytes ({}) of device \
+                     memory ({}); the largest is `{}` ({})",
+                    self.total_bytes,
+                    fmt_bytes(self.total_bytes as f64),
+                    m,
+                    fmt_bytes(m as f64),
+                    lim.memory_source,
+                    self.largest().name,
+                    fmt_bytes(self.largest().bytes as f64)
+                ));
+            }
+        }
+        let g = lim.max_groups_per_dim.max(1) as u64;
+        let need = self.n.div_ceil(32).max(self.cells.div_ceil(64));
+        if need > g * g {
+            return Err(format!(
+                "{head}: a kernel needs {need} workgroups, over the {} (x · y) the adapter's \
+                 max_compute_workgroups_per_dimension of {g} allows",
+                g * g
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Bytes per particle of `spec` (the buffers' growth per particle, cells at `cells_per_particle`).
+pub fn bytes_per_particle(spec: &VariantSpec, cells_per_particle: f64) -> f64 {
+    let n = 1u64 << 20;
+    let (a, b) = (GpuPlan::new(spec, n, (n as f64 * cells_per_particle) as u64), GpuPlan::new(spec, 0, 0));
+    (a.total_bytes - b.total_bytes) as f64 / n as f64
+}
+
+/// The largest N that `spec` can run within `lim` (cells at `cells_per_particle` per particle),
+/// also within `max_particles` (the 28-bit index of the packed lists).
+pub fn max_particles(spec: &VariantSpec, cells_per_particle: f64, lim: &DeviceLimits, max_particles: u64) -> u64 {
+    let fits = |n: u64| GpuPlan::new(spec, n, (n as f64 * cells_per_particle).ceil() as u64).check(lim).is_ok();
+    if !fits(1) {
+        return 0;
+    }
+    let (mut lo, mut hi) = (1u64, max_particles);
+    if fits(hi) {
+        return hi;
+    }
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plan_refuses_with_the_buffer_and_numbers() {
+        let spec: VariantSpec = "cells.thread.recomputed.f32".parse().unwrap();
+        let lim = DeviceLimits::stated(1 << 40, 128 << 20, "test");
+        // grad holds 2N slots of 8 bytes: 128 MiB at N = 8,388,608.
+        assert!(GpuPlan::new(&spec, 8_388_608, 1000).check(&lim).is_ok());
+        let e = GpuPlan::new(&spec, 8_388_609, 1000).check(&lim).unwrap_err();
+        assert!(e.contains("`state0`") && e.contains("134217744") && e.contains("134217728"), "{e}");
+        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 8_388_608);
+        let small = DeviceLimits::stated(1 << 30, 2 << 30, "test");
+        let e = GpuPlan::new(&spec, 20_000_000, 1000).check(&small).unwrap_err();
+        assert!(e.contains("device memory") && e.contains("1073741824"), "{e}");
+        let cached: VariantSpec = "cells.thread.cached.f64".parse().unwrap();
+        assert!(bytes_per_particle(&cached, 0.0) > 64.0 * 32.0, "two 64-slot f64 vec2 caches");
+    }
+}
