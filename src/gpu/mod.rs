@@ -4,8 +4,10 @@
 //! stages of [`stages`] for a [`variant`].
 
 pub mod buffers;
+pub mod clock;
 pub mod compose;
 pub mod context;
+pub mod counters;
 pub mod params;
 mod readback;
 pub mod solver;
