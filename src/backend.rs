@@ -309,6 +309,71 @@ pub struct DeviceTimes {
     pub steps: u64,
 }
 
+/// What a backend did to its device (GPU: `gpu::counters`), summed since it was built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct EngineCounters {
+    /// Queue submissions (each readback of a buffer is one too; a batch's control readback rides
+    /// in the batch's own submission).
+    pub submits: u64,
+    /// Blocking readbacks (a buffer mapped and waited for).
+    pub readbacks: u64,
+    /// Compute dispatches.
+    pub dispatches: u64,
+    /// Host writes into device buffers (uploads, the clock at a restart).
+    pub writes: u64,
+    /// Time steps taken (relaxation included; restarts do not reset it).
+    pub steps: u64,
+}
+
+impl EngineCounters {
+    /// `self − earlier`, field by field (the work between two readings).
+    pub fn since(&self, earlier: &EngineCounters) -> EngineCounters {
+        EngineCounters {
+            submits: self.submits - earlier.submits,
+            readbacks: self.readbacks - earlier.readbacks,
+            dispatches: self.dispatches - earlier.dispatches,
+            writes: self.writes - earlier.writes,
+            steps: self.steps - earlier.steps,
+        }
+    }
+
+    /// `self + more`, field by field.
+    pub fn plus(&self, more: &EngineCounters) -> EngineCounters {
+        EngineCounters {
+            submits: self.submits + more.submits,
+            readbacks: self.readbacks + more.readbacks,
+            dispatches: self.dispatches + more.dispatches,
+            writes: self.writes + more.writes,
+            steps: self.steps + more.steps,
+        }
+    }
+
+    /// Submits, readbacks, dispatches and writes per step (0 without steps).
+    pub fn per_step(&self) -> EnginePerStep {
+        let s = self.steps.max(1) as f64;
+        let f = |x: u64| if self.steps == 0 { 0.0 } else { x as f64 / s };
+        EnginePerStep {
+            submits: f(self.submits),
+            readbacks: f(self.readbacks),
+            dispatches: f(self.dispatches),
+            writes: f(self.writes),
+        }
+    }
+}
+
+/// [`EngineCounters`] divided by the steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct EnginePerStep {
+    /// Submissions per step.
+    pub submits: f64,
+    /// Readbacks per step.
+    pub readbacks: f64,
+    /// Dispatches per step.
+    pub dispatches: f64,
+    /// Host writes per step.
+    pub writes: f64,
+}
+
 /// A solver the run driver can step.
 pub trait Backend {
     /// "cpu", "cpu1" or a GPU variant id.
@@ -317,6 +382,20 @@ pub trait Backend {
     fn precision(&self) -> &'static str;
     /// One time step.
     fn step(&mut self) -> Result<(), SolverError>;
+    /// `k` time steps. The GPU records them into one submission with no host write in between
+    /// and reads its flags and clock back once at the end; the default (CPU) is `k` × `step()`.
+    /// An error names the failing step; [`Backend::steps`] is then that step.
+    fn advance(&mut self, k: u64) -> Result<(), SolverError> {
+        for _ in 0..k {
+            self.step()?;
+        }
+        Ok(())
+    }
+    /// Submissions, readbacks, dispatches and writes since the backend was built (GPU); `None`
+    /// on the CPU.
+    fn engine_counters(&self) -> Option<EngineCounters> {
+        None
+    }
     /// Simulated time.
     fn time(&self) -> f64;
     /// Steps taken.

@@ -202,6 +202,9 @@ struct RunArgs {
     /// Also write VTK (.vtu + .pvd) snapshots (binary from 20,000 particles).
     #[arg(long)]
     vtk: bool,
+    /// At most N steps per GPU submission (one readback each), cut at output steps; 0: 64.
+    #[arg(long, default_value_t = 0)]
+    steps_per_submit: u64,
     /// CPU neighbour search (default cells); a GPU variant's is part of its id.
     #[arg(long, value_enum)]
     search: Option<Search>,
@@ -430,6 +433,7 @@ fn cmd_run(a: RunArgs) -> ExitCode {
         vtk: a.vtk,
         quiet: a.quiet,
         limits,
+        steps_per_submit: a.steps_per_submit,
     };
     install_interrupt_handler();
     match sphlab::run::run(&scene, &opts) {

@@ -6,7 +6,7 @@
 //! to exit code 3; an interrupt ([`request_interrupt`], Ctrl-C) stops at the next step with a
 //! final snapshot and `status: "interrupted"` (exit 130).
 
-use crate::backend::{Backend, BackendId, Frame, SolverError};
+use crate::backend::{Backend, BackendId, EngineCounters, EnginePerStep, Frame, SolverError};
 use crate::diagnostics::{contact_angle, flow};
 use crate::gpu::bandwidth::EngineTraffic;
 use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
@@ -92,7 +92,15 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Particle and memory limits of the resource plan.
     pub limits: Limits,
+    /// At most this many steps per `Backend::advance` (one GPU submission and one readback),
+    /// cut at output rows, snapshots and the end; 0: [`DEFAULT_STEPS_PER_SUBMIT`].
+    pub steps_per_submit: u64,
 }
+
+/// Steps per submission when `--steps-per-submit` is 0 (output steps cut batches shorter).
+pub const DEFAULT_STEPS_PER_SUBMIT: u64 = 64;
+/// Largest accepted `--steps-per-submit` (a submission records ≈ 20 dispatches per step).
+pub const MAX_STEPS_PER_SUBMIT: u64 = 4096;
 
 impl Default for RunOptions {
     fn default() -> Self {
@@ -105,6 +113,7 @@ impl Default for RunOptions {
             vtk: false,
             quiet: true,
             limits: Limits::default(),
+            steps_per_submit: 0,
         }
     }
 }
@@ -278,6 +287,51 @@ pub struct Summary {
     pub dt_warnings: Vec<String>,
     /// The largest CFL / viscous numbers and dt over the force limit at the output rows.
     pub stability_numbers: crate::physics::timestep::StabilityNumbers,
+    /// What the GPU engine did during the stepping after t = 0 (`None` on the CPU).
+    pub engine: Option<EngineReport>,
+}
+
+/// The GPU engine's own counts over a run's stepping after t = 0 (`Backend::engine_counters`).
+#[derive(Clone, Debug, Serialize)]
+pub struct EngineReport {
+    /// Largest batch of steps per submission.
+    pub steps_per_submit: u64,
+    /// Totals of the `advance` calls alone (the stepping).
+    pub counters: EngineCounters,
+    /// Submits, readbacks, dispatches and host writes per step of the stepping alone.
+    pub per_step: EnginePerStep,
+    /// Totals including the output frames (series rows and snapshots read every field back).
+    pub with_output: EngineCounters,
+    /// Per step including the output frames.
+    pub per_step_with_output: EnginePerStep,
+}
+
+/// Steps of the next batch from `step` at time `t`: at most `k_max`, ending at the next output
+/// row (`rows`), snapshot (`snaps`, 0: none) and the end (`steps` if given); a time-driven run
+/// leaves its last steps to single steps so it never passes `t_end` (estimating dt as `dt_est`:
+/// up to the step before the end with a fixed dt, half the remaining steps with an adaptive one).
+#[allow(clippy::too_many_arguments)]
+pub fn batch_len(
+    k_max: u64,
+    step: u64,
+    rows: u64,
+    snaps: u64,
+    steps: Option<u64>,
+    t: f64,
+    t_end: f64,
+    dt_est: Option<(f64, bool)>,
+) -> u64 {
+    let next = |every: u64| if every > 0 { (step / every + 1) * every - step } else { u64::MAX };
+    let mut k = k_max.min(next(rows)).min(next(snaps));
+    match (steps, dt_est) {
+        (Some(n), _) => k = k.min(n.saturating_sub(step)),
+        (None, Some((dt, fixed))) if dt > 0.0 => {
+            let left = ((t_end - t) / dt).floor().max(0.0).min(1e12) as u64;
+            k = k.min(if fixed { left.saturating_sub(1) } else { left / 2 });
+        }
+        (None, _) => k = 1,
+    }
+    k.max(1)
 }
 
 /// Builds the backend named in the options.
@@ -382,6 +436,12 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     if opts.steps == Some(0) {
         return Err(RunError::Input("--steps: must be at least 1".into()));
     }
+    if opts.steps_per_submit > MAX_STEPS_PER_SUBMIT {
+        return Err(RunError::Input(format!(
+            "--steps-per-submit: must be in 0..={MAX_STEPS_PER_SUBMIT} (0: {DEFAULT_STEPS_PER_SUBMIT}), got {}",
+            opts.steps_per_submit
+        )));
+    }
     output::check_out_dir(&opts.out).map_err(|e| RunError::Input(format!("--out: {e}")))?;
     let plan = plan_for(scene, opts)?;
     let layout = build_layout(scene)?;
@@ -427,6 +487,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
         dt_warnings: applied.warnings.clone(),
         stability_numbers: Default::default(),
+        engine: None,
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
@@ -540,17 +601,32 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     series.write(&note(&mut numbers, &fr))?;
     write_frame(&fr, &mut pvd)?;
     let start = Instant::now();
+    let engine0 = backend.engine_counters();
+    let mut stepping = EngineCounters::default();
     let done = |b: &Box<dyn Backend>| match opts.steps {
         Some(n) => b.steps() >= n,
         None => b.time() >= t_end * (1.0 - 1e-12),
     };
+    let k_max = if opts.steps_per_submit == 0 { DEFAULT_STEPS_PER_SUBMIT } else { opts.steps_per_submit };
+    // dt of the next steps, for the batch length of a time-driven run: the fixed dt, or the mean
+    // of the last batch.
+    let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
     while !done(&backend) {
-        if let Err(e) = backend.step() {
+        let (step0, t0) = (backend.steps(), backend.time());
+        let k = batch_len(k_max, step0, scene.output.every, opts.every, opts.steps, t0, t_end, dt_est);
+        let before = backend.engine_counters();
+        if let Err(e) = backend.advance(k) {
             let wall = start.elapsed().as_secs_f64();
             return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
         }
-        bar.inc(1);
+        if let (Some(b), Some(a)) = (before, backend.engine_counters()) {
+            stepping = stepping.plus(&a.since(&b));
+        }
         let step = backend.steps();
+        bar.inc(step - step0);
+        if scene.time.dt <= 0.0 && step > step0 {
+            dt_est = Some(((backend.time() - t0) / (step - step0) as f64, false));
+        }
         let last = done(&backend);
         let row_due = step % scene.output.every == 0 || last;
         let snap_due = last || (opts.every > 0 && step % opts.every == 0);
@@ -593,6 +669,16 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     if let Some(g) = summary.gpu_engine.as_mut() {
         g.roofline_fraction = g.fraction(wall / summary.steps.max(1) as f64);
     }
+    if let (Some(c0), Some(c1)) = (engine0, backend.engine_counters()) {
+        let with_output = c1.since(&c0);
+        summary.engine = Some(EngineReport {
+            steps_per_submit: k_max,
+            counters: stepping,
+            per_step: stepping.per_step(),
+            with_output,
+            per_step_with_output: with_output.per_step(),
+        });
+    }
     let (c, v, f) = (numbers.cfl_number, numbers.viscous_number, numbers.force_ratio);
     let viscous_max = crate::physics::timestep::VISCOUS_NUMBER_LIMIT;
     if scene.time.dt > 0.0 && (c > scene.time.cfl * (1.0 + 1e-9) || v > viscous_max * (1.0 + 1e-9) || f > 1.0) {
@@ -615,6 +701,14 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         );
         if let Some(g) = &summary.gpu_engine {
             eprintln!("GPU engine (time per step from the wall clock, outputs included): {}", g.describe());
+        }
+        if let Some(e) = &summary.engine {
+            let (p, o) = (e.per_step, e.per_step_with_output);
+            eprintln!(
+                "engine: {:.4} submits, {:.4} readbacks, {:.1} dispatches, {:.4} host writes per step \
+                 ({} steps, at most {} per submit); with the output frames {:.3} submits, {:.3} readbacks per step",
+                p.submits, p.readbacks, p.dispatches, p.writes, e.counters.steps, e.steps_per_submit, o.submits, o.readbacks
+            );
         }
     }
     Ok(summary)

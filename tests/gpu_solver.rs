@@ -6,7 +6,7 @@
 mod common;
 
 use common::{assert_fields_match, assert_neighbours_match, gpu_or_skip, serial};
-use sphlab::backend::Backend;
+use sphlab::backend::{Backend, SolverError};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::gpu::compose::{compose_mapped, compose_variant_mapped, validate, F64, VARIANT_FILES};
@@ -185,7 +185,8 @@ fn thread_runs_are_bitwise_reproducible() {
     let (s, l) = scene(SCENES[1].0, SCENES[1].1);
     let run = || {
         let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
-        for _ in 0..10 {
+        g.advance(4).unwrap();
+        for _ in 0..6 {
             g.step().unwrap();
         }
         let f = g.frame();
@@ -214,4 +215,99 @@ fn unimplemented_and_bad_variants_are_errors() {
         .err()
         .expect("error");
     assert!(e.to_string().contains("solver built for f32"), "{e}");
+}
+
+/// `advance(k)` (fixed dt, midpoint and Verlet): k steps in ONE submission with no host write
+/// and one readback, from the engine's own counters; the same bits as k single steps.
+#[test]
+fn advance_k_is_one_submit_and_matches_single_steps() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    for sets in [&[][..], &["time.integrator=verlet"][..]] {
+        let (s, l) = scene("oscillating-drop", sets);
+        let mut a = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        let c0 = a.engine_counters();
+        a.advance(8).unwrap();
+        a.advance(8).unwrap();
+        let c = a.engine_counters().since(&c0);
+        println!("{sets:?}: 16 steps in 2 × advance(8): {c:?}");
+        assert_eq!((c.steps, c.submits, c.readbacks, c.writes), (16, 2, 2, 0), "{sets:?}: {c:?}");
+        assert!(c.dispatches >= 16 * 8, "{sets:?}: every stage is dispatched: {c:?}");
+        let mut b = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        let c0 = b.engine_counters();
+        for _ in 0..16 {
+            b.step().unwrap();
+        }
+        let cb = b.engine_counters().since(&c0);
+        assert_eq!((cb.submits, cb.readbacks, cb.writes), (16, 0, 0), "step(): no readback between checks");
+        let (fa, fb) = (a.frame(), b.frame());
+        assert_eq!((fa.step, fa.t), (16, fb.t));
+        assert!((fa.pos, fa.vel, fa.acc) == (fb.pos, fb.vel, fb.acc), "{sets:?}: advance(8) ≠ 8 × step()");
+    }
+}
+
+/// Adaptive dt computed on the device (poiseuille, impact): after n steps in one submission
+/// (one readback, no host write) dt and t agree with the f32 CPU reference's. Tolerance: the
+/// two f32 runs sum in different orders, so |v|max and |a|max drift apart by ~1e-6 per step;
+/// dt (∝ |a|^-½ or 1/(c+|v|)) follows within 1e-4 after 20 steps, t (a sum of dts) likewise.
+#[test]
+fn adaptive_dt_on_the_device_matches_cpu() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    for (name, sets) in [("poiseuille", &[][..]), ("impact", &["domain.nx=40"][..])] {
+        let (s, l) = scene(name, sets);
+        assert!(s.time.dt <= 0.0, "{name}: adaptive dt");
+        let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
+        let mut gpu = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        let n = 20;
+        let mut worst: f64 = 0.0;
+        for k in [1, n - 1] {
+            let c0 = gpu.engine_counters();
+            gpu.advance(k).unwrap();
+            let c = gpu.engine_counters().since(&c0);
+            assert_eq!((c.submits, c.readbacks, c.writes), (1, 1, 0), "{name}: advance({k}): {c:?}");
+            for _ in 0..k {
+                cpu.step().unwrap();
+            }
+            let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+            let (dg, dc) = (gpu.frame().dt, cpu.frame().dt);
+            let (e_dt, e_t) = (rel(dg, dc), rel(gpu.time(), cpu.time()));
+            println!("{name}: after {} steps dt {dg:.6e} vs {dc:.6e} (rel {e_dt:.1e}), t rel {e_t:.1e}", gpu.steps());
+            assert_eq!(gpu.steps(), cpu.steps());
+            let tol = if gpu.steps() == 1 { 1e-5 } else { 1e-4 };
+            assert!(e_dt < tol && e_t < tol, "{name}: dt rel {e_dt:e}, t rel {e_t:e} (tolerance {tol:e})");
+            worst = worst.max(e_dt);
+        }
+        assert!(worst > 0.0 || name == "poiseuille", "{name}: a test that cannot differ proves nothing");
+    }
+}
+
+/// A blow-up found on the device inside a batch is reported with the same step and particle
+/// as single checked steps, and the device halts there: the state read back is the failing
+/// step's, bit for bit.
+#[test]
+fn a_blow_up_inside_a_batch_reports_and_keeps_the_failing_step() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let (s, l) = scene("oscillating-drop", &["time.dt=0.02"]);
+    let mut a = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+    let ea = a.advance(200).expect_err("dt = 0.02 must blow up within 200 steps");
+    let mut b = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+    b.check_every = 1;
+    let eb = (0..200).find_map(|_| b.step().err()).expect("single steps blow up too");
+    println!("batch: {ea}\nsingle: {eb}");
+    let (SolverError::BlowUp { step: sa, particle: pa, t: ta, .. }, SolverError::BlowUp { step: sb, particle: pb, t: tb, .. }) =
+        (&ea, &eb)
+    else {
+        panic!("expected blow-ups: {ea} / {eb}")
+    };
+    assert_eq!((sa, pa), (sb, pb), "same failing step and particle");
+    assert!(*sa > 1 && *sa < 200, "the failing step is inside the batch: {sa}");
+    assert_eq!((a.steps(), b.steps()), (*sa, *sb), "the solvers stop at the failing step");
+    assert!((ta - tb).abs() <= 1e-6 * tb.abs(), "t {ta} vs {tb}");
+    let (fa, fb) = (a.frame(), b.frame());
+    assert!((fa.pos, fa.vel) == (fb.pos, fb.vel), "the halted state is the failing step's");
 }

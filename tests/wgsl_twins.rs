@@ -119,6 +119,7 @@ twin_tests! {
     contact_twins => contact_f32, contact_f64;
     integrate_twins => integrate_f32, integrate_f64;
     boundary_twins => boundary_f32, boundary_f64;
+    timestep_twins => timestep_f32, timestep_f64;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -258,7 +259,7 @@ fn harness_catches_unwritten_and_wrong_outputs() {
     assert!(wrong.is_err(), "a 3e-5 relative error must fail");
 }
 
-// pair.wgsl, stress.wgsl, wall.wgsl, contact.wgsl, integrate.wgsl and geometry.wgsl (kept apart
+// pair.wgsl, stress.wgsl, wall.wgsl, contact.wgsl, integrate.wgsl, geometry.wgsl and timestep.wgsl (kept apart
 // to keep files short).
 #[path = "twins/boundary.rs"]
 mod boundary;
@@ -266,6 +267,9 @@ mod boundary;
 mod geometry;
 #[path = "twins/pair.rs"]
 mod pair_checks;
+#[path = "twins/timestep.rs"]
+mod timestep;
 use boundary::boundary_twins;
 use geometry::{contact_twins, integrate_twins, stress_twins, wall_twins};
 use pair_checks::{pair_twins, rand_vec};
+use timestep::timestep_twins;

@@ -39,6 +39,8 @@ const CTL_BAD: u32 = 3u;            // 2·particle + (0 non-finite, 1 left the d
 const CTL_VMAX: u32 = 4u;           // f32 bits of max |v| (fluids)
 const CTL_AMAX: u32 = 5u;           // f32 bits of max |a| (fluids)
 const CTL_CONTACTS_MAX: u32 = 6u;   // largest contact count seen since the last read
+const CTL_STEP: u32 = 7u;           // device clock: steps completed (src/gpu/clock.rs)
+const CTL_OVER_STEP: u32 = 8u;      // first step whose evaluations overflowed (0xFFFFFFFF: none)
 
 // Index of the contact point nearest to r (first in x order on ties), or −1 when there is none.
 fn nearest_contact(r: real2) -> i32 {

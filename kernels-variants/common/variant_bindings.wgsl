@@ -40,6 +40,14 @@ const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-poi
 const VP_Q: u32 = 4u;         // quantum of field f at VP_Q + f
 const VP_CAND_R2: u32 = 8u;   // (support + skin)²
 const VP_HALF_SKIN2: u32 = 9u; // (skin / 2)²
+const VP_DT: u32 = 12u;       // device clock: dt of the step being taken
+const VP_T: u32 = 13u;        // device clock: time t (with the rounding error in VP_T_LO)
+const VP_T_LO: u32 = 14u;     // device clock: compensation of t
+const VP_CFL: u32 = 16u;      // adaptive dt constants: time.cfl, c_max, ν_max, ρ̄, σ_max
+const VP_C_MAX: u32 = 17u;
+const VP_NU_MAX: u32 = 18u;
+const VP_RHO_MEAN: u32 = 19u;
+const VP_SIGMA_MAX: u32 = 20u;
 
 // Fixed-point field groups (index f above).
 const F_DENSITY: u32 = 0u;

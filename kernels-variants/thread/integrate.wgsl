@@ -4,9 +4,29 @@
 // `verlet_kick`; plus `check` (the FIRST bad particle and step, kept in `ctl` until read back)
 // and `reduce_max` (max |v|, |a| as f32 bits: workgroup reduction, then one u32 atomicMax per
 // workgroup, for the adaptive dt).
+//
+// The device clock (src/gpu/clock.rs): the step counter is `ctl[CTL_STEP]`, dt and the time
+// (a compensated sum t + t_lo) are `vparams[VP_DT]`, `vparams[VP_T]`, `vparams[VP_T_LO]`, so many
+// steps run in one submission with no host write in between. `dt_compute` (one thread, after
+// `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
+// step. Once a step has failed (NaN, escape, neighbour or fixed-point overflow) the device is
+// halted: the integrators and the clock stop, so positions, velocities, step and t stay those of
+// the failing step until the host reads the flags.
 
 #import common/bindings
+#import common/variant_bindings
 #import integrate
+#import timestep
+
+// True once a step failed (the clock and the integrators stop).
+fn halted() -> bool {
+    return atomicLoad(&ctl[CTL_BAD_STEP]) != 0xffffffffu || atomicLoad(&ctl[CTL_OVER_STEP]) != 0xffffffffu;
+}
+
+// dt of the step being taken (fixed: written once by the host; adaptive: by dt_compute).
+fn clock_dt() -> real {
+    return vparams[VP_DT];
+}
 
 // Stores r, v of fluid particle i after the boundary fix.
 fn store_fixed(i: u32, r: real2, v: real2) {
@@ -23,45 +43,45 @@ fn store_fixed(i: u32, r: real2, v: real2) {
 @compute @workgroup_size(64)
 fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid {
+    if i >= params.n_fluid || halted() {
         return;
     }
     state0[i] = pos[i];
     state0[params.n + i] = vel[i];
-    let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], params.dt);
+    let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
     store_fixed(i, s.r, s.v);
 }
 
 @compute @workgroup_size(64)
 fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid {
+    if i >= params.n_fluid || halted() {
         return;
     }
-    let s = integrate_correct(state0[i], state0[params.n + i], vt[i], acc[i], params.dt);
+    let s = integrate_correct(state0[i], state0[params.n + i], vt[i], acc[i], clock_dt());
     store_fixed(i, s.r, s.v);
 }
 
 @compute @workgroup_size(64)
 fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid {
+    if i >= params.n_fluid || halted() {
         return;
     }
     let v0 = vel[i];
-    let vh = integrate_kick(v0, acc[i], params.dt);
-    store_fixed(i, integrate_drift(pos[i], vh + (vt[i] - v0), params.dt), vh);
+    let vh = integrate_kick(v0, acc[i], clock_dt());
+    store_fixed(i, integrate_drift(pos[i], vh + (vt[i] - v0), clock_dt()), vh);
 }
 
 @compute @workgroup_size(64)
 fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid {
+    if i >= params.n_fluid || halted() {
         return;
     }
     // The transport velocity follows the kick (ṽ − v keeps the evaluation's XSPH correction for
     // the next drift), as in the CPU reference's Verlet.
-    let vn = integrate_kick(vel[i], acc[i], params.dt);
+    let vn = integrate_kick(vel[i], acc[i], clock_dt());
     vt[i] = vt[i] + (vn - vel[i]);
     store_fixed(i, pos[i], vn);
 }
@@ -76,8 +96,9 @@ fn bad_vec(v: real2) -> bool {
     return bad_real(v.x) || bad_real(v.y);
 }
 
-// Blow-up check after a step (step number = params.step): the first step with a bad particle
-// wins; within it the smallest 2·i + kind (kind 0 non-finite, 1 left the domain by > Δx/2).
+// Blow-up check after a step (step number = ctl[CTL_STEP], just advanced by clock_tick): the
+// first step with a bad particle wins; within it the smallest 2·i + kind (kind 0 non-finite,
+// 1 left the domain by > Δx/2).
 @compute @workgroup_size(64)
 fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
@@ -96,8 +117,9 @@ fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     if kind == 2u {
         return;
     }
-    let prev = atomicMin(&ctl[CTL_BAD_STEP], params.step);
-    if prev >= params.step {
+    let step = atomicLoad(&ctl[CTL_STEP]);
+    let prev = atomicMin(&ctl[CTL_BAD_STEP], step);
+    if prev >= step {
         atomicMin(&ctl[CTL_BAD], 2u * i + kind);
     }
 }
@@ -131,5 +153,41 @@ fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if t == 0u {
         atomicMax(&ctl[CTL_VMAX], wg_vmax[0]);
         atomicMax(&ctl[CTL_AMAX], wg_amax[0]);
+    }
+}
+
+// Adaptive dt from the maxima of reduce_max (one thread; `DtLimits::compute(...).min()`).
+@compute @workgroup_size(1)
+fn dt_compute() {
+    if halted() {
+        return;
+    }
+    let v_max = real(bitcast<f32>(atomicLoad(&ctl[CTL_VMAX])));
+    let a_max = real(bitcast<f32>(atomicLoad(&ctl[CTL_AMAX])));
+    vparams[VP_DT] = dt_limits_min(params.h, vparams[VP_CFL], vparams[VP_C_MAX], v_max, vparams[VP_NU_MAX], a_max,
+        vparams[VP_RHO_MEAN], vparams[VP_SIGMA_MAX]);
+}
+
+// End of a step (one thread, before `check`): step + 1, t + dt (two-sum: the rounding error of
+// each addition is kept in t_lo, so t = t + t_lo stays exact to the precision's square), and the
+// first step whose evaluations overflowed a neighbour list, a candidate list or the fixed-point
+// range is recorded in ctl[CTL_OVER_STEP]. Nothing moves once halted.
+@compute @workgroup_size(1)
+fn clock_tick() {
+    if halted() {
+        return;
+    }
+    let step = atomicLoad(&ctl[CTL_STEP]) + 1u;
+    atomicStore(&ctl[CTL_STEP], step);
+    let t = vparams[VP_T];
+    let dt = vparams[VP_DT];
+    let s = t + dt;
+    let b = s - t;
+    vparams[VP_T] = s;
+    vparams[VP_T_LO] = vparams[VP_T_LO] + ((t - (s - b)) + (dt - b));
+    let over = atomicLoad(&vctl[V_NBR_OVER]) + atomicLoad(&vctl[V_CAND_OVER]) + atomicLoad(&vctl[V_CAND_STALE])
+        + atomicLoad(&vctl[V_FIXED_OVER]);
+    if over > 0u {
+        atomicMin(&ctl[CTL_OVER_STEP], step);
     }
 }

@@ -77,6 +77,7 @@ impl<T: Pod> GpuVec<T> {
             )));
         }
         let bytes: &[u8] = bytemuck::cast_slice(data);
+        ctx.traffic.write();
         if !bytes.len().is_multiple_of(4) {
             // write_buffer needs a multiple of 4 bytes: pad the tail.
             let mut padded = bytes.to_vec();
@@ -109,6 +110,8 @@ impl<T: Pod> GpuVec<T> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         enc.copy_buffer_to_buffer(&self.buffer, 0, &staging, 0, size);
         ctx.queue.submit([enc.finish()]);
+        ctx.traffic.submit();
+        ctx.traffic.readback();
         let (tx, rx) = std::sync::mpsc::channel();
         staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
@@ -151,6 +154,7 @@ impl<T: Pod> Uniform<T> {
     pub fn write(&self, ctx: &GpuContext, value: &T) {
         let mut bytes = bytemuck::bytes_of(value).to_vec();
         bytes.resize(bytes.len().next_multiple_of(4), 0);
+        ctx.traffic.write();
         ctx.queue.write_buffer(&self.buffer, 0, &bytes);
     }
 }

@@ -32,6 +32,8 @@ pub struct GpuContext {
     pub features: Features,
     /// Limits actually granted to the device.
     pub limits: Limits,
+    /// Submissions, readbacks, dispatches and host writes so far (`gpu::counters`).
+    pub traffic: super::counters::Traffic,
 }
 
 impl GpuContext {
@@ -78,6 +80,7 @@ impl GpuContext {
             adapter_info: adapter.get_info(),
             features: device.features(),
             limits: device.limits(),
+            traffic: Default::default(),
             device,
             queue,
         })
@@ -173,6 +176,8 @@ impl GpuContext {
             pass.set_bind_group(0, bind_group, &[]);
             pass.dispatch_workgroups(groups, 1, 1);
         }
+        self.traffic.dispatch(1);
+        self.traffic.submit();
         self.queue.submit([enc.finish()]);
         self.wait_idle()
     }

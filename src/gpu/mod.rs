@@ -5,8 +5,10 @@
 
 pub mod bandwidth;
 pub mod buffers;
+pub mod clock;
 pub mod compose;
 pub mod context;
+pub mod counters;
 pub mod params;
 mod readback;
 pub mod reorder;

@@ -1,8 +1,10 @@
 //! The `Params` uniform (twin of `shaders/types.wgsl`): every constant the stages need from
-//! [`Model<T>`], in the storage precision `T`, plus the grid of the `cells` search, dt and the
-//! step. Filled from the same `Model` the CPU uses, so both backends see identical numbers; sin θ
-//! and cos θ are computed on the host in `T` (no f64 trig in WGSL). A test compares the Rust
-//! offsets with naga's layout of the WGSL struct.
+//! [`Model<T>`], in the storage precision `T`, plus the grid of the `cells` search. Its `dt` and
+//! `step` keep their values at construction (the fixed dt, 0): the kernels read dt and the step
+//! from the device clock (`gpu::clock`), which the host never writes between steps. Filled from
+//! the same `Model` the CPU uses, so both backends see identical numbers; sin θ and cos θ are
+//! computed on the host in `T` (no f64 trig in WGSL). A test compares the Rust offsets with
+//! naga's layout of the WGSL struct.
 
 use crate::model::{AxisMap, Model};
 use crate::real::{Real, V2};

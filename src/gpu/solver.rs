@@ -1,7 +1,11 @@
 //! The GPU solver: the whole step on the device for one [`VariantSpec`]. Particle data stay on
-//! the device between steps; fixed-dt scenes never read back per step (the blow-up flag is read
-//! every [`GpuSolver::check_every`] steps and at every `frame()`); automatic dt reads back two
-//! floats per step. Stage order, names and physics are those of `cpu::CpuSolver`.
+//! the device between steps, and so does the clock (step, t, dt: [`super::clock`]):
+//! `Backend::advance(k)` records k whole steps (adaptive dt computed on the device) into ONE
+//! submission and reads the control words and the clock back once at its end; `step()` is one
+//! such step, read back every [`GpuSolver::check_every`] steps (every step with an adaptive dt,
+//! whose time the host does not know otherwise) and at every `frame()`. A failing step (NaN,
+//! escape, neighbour overflow) halts the device's integrators and clock, so the state read back
+//! is the failing step's. Stage order, names and physics are those of `cpu::CpuSolver`.
 //! [`GpuSolver::evaluate_once`] and [`GpuSolver::run_stage_from`] serve the stage-by-stage
 //! verification against the CPU reference. Group 0 binds the particle state
 //! ([`super::solver_buffers`]), group 1 the strategy buffers ([`super::variant_buffers`]:
@@ -11,6 +15,7 @@
 //! [`GpuSolver::set_reorder_every`] steps, group 2: [`super::reorder`]); everything the host
 //! sees is in the original order.
 
+use super::clock::{write_clock, Control, ControlReader};
 use super::params::{GridSpec, Params};
 use super::reorder::{self, RBufs};
 use super::solver_buffers::{ctl, layouts, Bufs};
@@ -19,10 +24,9 @@ use super::timing::Timestamps;
 use super::variant::VariantSpec;
 use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
-use crate::backend::{Backend, DeviceTimes, Frame, SolverError};
+use crate::backend::{Backend, DeviceTimes, EngineCounters, Frame, SolverError};
 use crate::fields::Fields;
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
-use crate::physics::timestep::DtLimits;
 use crate::plan::gpu::{DeviceLimits, GpuPlan};
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
@@ -36,7 +40,6 @@ pub struct GpuSolver<T: Real> {
     pub(super) spec: VariantSpec,
     /// Constants (the same struct the CPU uses).
     pub model: Model<T>,
-    pub(super) params: Params<T>,
     pub(super) grid: GridSpec<T>,
     pub(super) b: Bufs<T>,
     pub(super) vb: VBufs<T>,
@@ -63,6 +66,12 @@ pub struct GpuSolver<T: Real> {
     /// Most workgroups per dispatch dimension: the adapter's
     /// `max_compute_workgroups_per_dimension`; lower it to exercise the x/y spreading at small N.
     pub max_groups_per_dim: u32,
+    /// The staging buffer of the once-per-batch control readback.
+    control: ControlReader,
+    /// The context's traffic when the solver was built (`engine_counters` reports the difference).
+    traffic0: EngineCounters,
+    /// Steps taken since construction (restarts included).
+    steps_total: u64,
 }
 
 /// `groups` workgroups as (x, y) with x ≤ `max` (as even as possible; (0, 1) for none).
@@ -124,11 +133,12 @@ impl<T: Real> GpuSolver<T> {
         b.vel.upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;
         let ctx_groups = ctx.limits.max_compute_workgroups_per_dimension;
+        let control = ControlReader::new::<T>(&ctx);
+        let traffic0 = ctx.traffic.totals();
         let s = Self {
             ctx,
             spec,
             model,
-            params,
             grid,
             b,
             vb,
@@ -150,6 +160,9 @@ impl<T: Real> GpuSolver<T> {
             check_every: 100,
             ts: Timestamps::default(),
             max_groups_per_dim: ctx_groups,
+            control,
+            traffic0,
+            steps_total: 0,
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
@@ -207,10 +220,13 @@ impl<T: Real> GpuSolver<T> {
         self.b.mass.upload(&self.ctx, &mass)
     }
 
+    /// Clears the control words and sets the clock to step 0, t = 0 (dt: the fixed one).
     fn reset_ctl(&self) -> Result<(), GpuError> {
         let mut c = vec![0u32; ctl::LEN];
         c[ctl::BAD_STEP] = u32::MAX;
         c[ctl::BAD] = u32::MAX;
+        c[ctl::OVER_STEP] = u32::MAX;
+        write_clock(&self.ctx, &self.vb, self.model.dt_fixed.max(0.0), 0.0);
         self.b.ctl.upload(&self.ctx, &c)
     }
 
@@ -295,6 +311,7 @@ impl<T: Real> GpuSolver<T> {
             if gx > 0 {
                 pass.set_pipeline(p);
                 pass.dispatch_workgroups(gx, gy, gz);
+                self.ctx.traffic.dispatch(1);
             }
         }
     }
@@ -318,6 +335,7 @@ impl<T: Real> GpuSolver<T> {
             let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.step") });
             f(&mut enc);
             self.ctx.queue.submit([enc.finish()]);
+            self.ctx.traffic.submit();
         })
     }
 
@@ -329,32 +347,46 @@ impl<T: Real> GpuSolver<T> {
         Ok(self.vb.overflow(&self.ctx, self.step)?)
     }
 
-    fn write_params(&mut self, dt: f64, step: u64) {
-        self.params.dt = T::c(dt);
-        self.params.step = step as u32;
-        self.b.params.write(&self.ctx, &self.params);
+    /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
+    /// `dt_compute`, the integrator's opening stage, the evaluation, its closing stage, then
+    /// `check` (`clock_tick` first). Reads nothing from the host: dt and the step number come from
+    /// the device clock.
+    fn record_step(&self, enc: &mut wgpu::CommandEncoder, first_eval: bool) {
+        if first_eval {
+            self.record_evaluate(enc);
+        }
+        if self.model.dt_fixed <= 0.0 {
+            self.record(enc, Stage::ReduceMax);
+        }
+        let (pre, post) = Stage::step_pair(self.integrator);
+        self.record(enc, pre);
+        self.record_evaluate(enc);
+        self.record(enc, post);
+        self.record(enc, Stage::Check);
     }
 
-    /// Adaptive dt from the GPU maxima of |v| and |a| (f32 bits) after an evaluation.
-    fn adaptive_dt(&self) -> Result<f64, GpuError> {
-        self.submit(|enc| self.record(enc, Stage::ReduceMax))?;
-        let w = self.b.ctl.read_back(&self.ctx)?;
-        let (vmax, amax) = (f32::from_bits(w[ctl::VMAX]) as f64, f32::from_bits(w[ctl::AMAX]) as f64);
-        let m = &self.model;
-        Ok(DtLimits::compute(m.kernel.h.f64(), m.cfl, m.c_max, vmax, m.nu_max, amax, m.rho_mean, m.sigma_max).min())
-    }
-
-    /// Reads the blow-up flag and the sticky contact count; the error, if any.
-    fn check_flags(&mut self) -> Result<(), SolverError> {
+    /// Takes the control words read back after a batch: the host clock follows the device's
+    /// (adaptive dt, or a halted device), and the first failure becomes the error.
+    fn take_control(&mut self, c: Control) -> Result<(), SolverError> {
+        let (bad, over) = (c.ctl[ctl::BAD_STEP], c.ctl[ctl::OVER_STEP]);
+        let failed = bad != u32::MAX || over != u32::MAX;
+        if self.model.dt_fixed <= 0.0 || failed {
+            self.step = c.step();
+            self.t = c.t;
+            if c.dt > 0.0 {
+                self.dt = c.dt;
+            }
+        }
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
-        self.vb.overflow(&self.ctx, self.step)?;
-        let w = self.b.ctl.read_back(&self.ctx).map_err(gpu)?;
-        if w[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
-            let count = w[ctl::CONTACTS_MAX] as usize;
+        if over != u32::MAX && over <= bad {
+            self.vb.overflow_in(&self.ctx, c.vctl, over as u64)?;
+        }
+        if c.ctl[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
+            let count = c.ctl[ctl::CONTACTS_MAX] as usize;
             return Err(SolverError::ContactOverflow { step: self.step, count, cap: MAX_CONTACTS });
         }
-        if w[ctl::BAD_STEP] != u32::MAX {
-            let (device, kind) = ((w[ctl::BAD] / 2) as usize, w[ctl::BAD] % 2);
+        if bad != u32::MAX {
+            let (device, kind) = ((c.ctl[ctl::BAD] / 2) as usize, c.ctl[ctl::BAD] % 2);
             let particle = self.device_order().map_err(gpu)?.get(device).map_or(device, |&o| o as usize);
             let (pos, vel) = self.read_state().map_err(gpu)?;
             let (p, v) = (pos[particle], vel[particle]);
@@ -369,48 +401,61 @@ impl<T: Real> GpuSolver<T> {
             } else {
                 format!("left the domain: x = ({:.4e}, {:.4e})", p.x.f64(), p.y.f64())
             };
-            return Err(SolverError::BlowUp { step: w[ctl::BAD_STEP] as u64, t: self.t, particle, what });
+            return Err(SolverError::BlowUp { step: bad as u64, t: self.t, particle, what });
         }
         Ok(())
     }
 
-    fn advance(&mut self) -> Result<(), SolverError> {
+    /// Reads the control words and the clock back (one submit, one readback) and takes them.
+    fn check_flags(&mut self) -> Result<(), SolverError> {
+        let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        self.submit(|enc| self.control.record(enc, &self.b, &self.vb)).map_err(gpu)?;
+        let c = self.control.read::<T>(&self.ctx).map_err(gpu)?;
+        self.take_control(c)
+    }
+
+    /// `k` steps in ONE submission; the control words and the clock are copied at its end and,
+    /// when `read`, mapped (the one readback) and checked.
+    fn run_steps(&mut self, k: u64, read: bool) -> Result<(), SolverError> {
         if let Some(e) = self.pending.take() {
             return Err(e);
         }
+        if k == 0 {
+            return Ok(());
+        }
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
-        let adaptive = self.model.dt_fixed <= 0.0;
-        let next = self.step + 1;
-        let first_eval = self.integrator == Integrator::Midpoint || !self.have_acc;
-        let dt = if adaptive {
-            if first_eval {
-                self.submit(|enc| self.record_evaluate(enc)).map_err(gpu)?;
-            }
-            self.adaptive_dt().map_err(gpu)?
-        } else {
-            self.model.dt_fixed
-        };
-        self.write_params(dt, next);
-        let (pre, post) = Stage::step_pair(self.integrator);
+        let midpoint = self.integrator == Integrator::Midpoint;
+        let have_acc = self.have_acc;
         self.submit(|enc| {
-            if first_eval && !adaptive {
-                self.record_evaluate(enc);
+            for s in 0..k {
+                self.record_step(enc, midpoint || (s == 0 && !have_acc));
             }
-            self.record(enc, pre);
-            self.record_evaluate(enc);
-            self.record(enc, post);
-            self.record(enc, Stage::Check);
+            if read {
+                self.control.record(enc, &self.b, &self.vb);
+            }
         })
         .map_err(gpu)?;
-        let _ = self.ctx.device.poll(wgpu::PollType::Poll);
         self.have_acc = true;
-        self.dt = dt;
-        self.step = next;
-        self.t += dt;
-        if self.check_every > 0 && self.step % self.check_every == 0 {
-            self.check_flags()?;
+        self.steps_total += k;
+        if self.model.dt_fixed > 0.0 {
+            for _ in 0..k {
+                self.t += self.model.dt_fixed;
+            }
+            self.dt = self.model.dt_fixed;
+        }
+        self.step += k;
+        if read {
+            let c = self.control.read::<T>(&self.ctx).map_err(gpu)?;
+            self.take_control(c)?;
+        } else {
+            let _ = self.ctx.device.poll(wgpu::PollType::Poll);
         }
         Ok(())
+    }
+
+    /// What the solver did to the device since it was built (`gpu::counters`).
+    pub fn engine_counters(&self) -> EngineCounters {
+        EngineCounters { steps: self.steps_total, ..self.ctx.traffic.totals().since(&self.traffic0) }
     }
 }
 
@@ -422,7 +467,15 @@ impl<T: Real> Backend for GpuSolver<T> {
         T::NAME
     }
     fn step(&mut self) -> Result<(), SolverError> {
-        self.advance()
+        let adaptive = self.model.dt_fixed <= 0.0;
+        let read = adaptive || (self.check_every > 0 && (self.step + 1) % self.check_every == 0);
+        self.run_steps(1, read)
+    }
+    fn advance(&mut self, k: u64) -> Result<(), SolverError> {
+        self.run_steps(k, true)
+    }
+    fn engine_counters(&self) -> Option<EngineCounters> {
+        Some(GpuSolver::engine_counters(self))
     }
     fn time(&self) -> f64 {
         self.t

@@ -25,8 +25,12 @@ pub mod ctl {
     pub const AMAX: usize = 5;
     /// Largest contact count seen since the last read (sticky overflow detector).
     pub const CONTACTS_MAX: usize = 6;
+    /// Device clock: steps completed (`gpu::clock`).
+    pub const STEP: usize = 7;
+    /// First step whose evaluations overflowed a list or the fixed-point range (`u32::MAX`: none).
+    pub const OVER_STEP: usize = 8;
     /// Words in the buffer.
-    pub const LEN: usize = 8;
+    pub const LEN: usize = 12;
 }
 
 /// Number of storage bindings after the uniform.

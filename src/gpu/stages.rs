@@ -103,8 +103,14 @@ pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
     (Stage::MidpointCorrect, &[t(Stage::MidpointCorrect, "thread/integrate.wgsl", Domain::Fluid)]),
     (Stage::VerletDrift, &[t(Stage::VerletDrift, "thread/integrate.wgsl", Domain::Fluid)]),
     (Stage::VerletKick, &[t(Stage::VerletKick, "thread/integrate.wgsl", Domain::Fluid)]),
-    (Stage::Check, &[t(Stage::Check, "thread/integrate.wgsl", Domain::Fluid)]),
-    (Stage::ReduceMax, &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid)]),
+    (
+        Stage::Check,
+        &[k("clock_tick", "thread/integrate.wgsl", Domain::One), t(Stage::Check, "thread/integrate.wgsl", Domain::Fluid)],
+    ),
+    (
+        Stage::ReduceMax,
+        &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid), k("dt_compute", "thread/integrate.wgsl", Domain::One)],
+    ),
 ];
 
 /// Tracking lists, before the cell sort: displacement reduction and the rebuild decision.

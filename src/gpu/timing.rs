@@ -103,6 +103,8 @@ impl Timestamps {
             enc.copy_buffer_to_buffer(&pool.resolve, 0, &pool.staging, 0, bytes);
             ctx.queue.submit([enc.finish()]);
         })?;
+        ctx.traffic.submit();
+        ctx.traffic.readback();
         let (tx, rx) = std::sync::mpsc::channel();
         pool.staging.slice(..bytes).map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);

@@ -57,6 +57,29 @@ pub mod vctl {
     pub const LEN: usize = 12;
 }
 
+/// Entries of `vparams` (`VP_*` in variant_bindings.wgsl): the variant constants, then the
+/// device clock (`gpu::clock`) and the constants of the adaptive dt.
+pub mod vparam {
+    /// 1/quantum of field group f at `INV_Q + f`.
+    pub const INV_Q: usize = 0;
+    /// Quantum of field group f at `Q + f`.
+    pub const Q: usize = 4;
+    /// (support + skin)².
+    pub const CAND_R2: usize = 8;
+    /// (skin / 2)².
+    pub const HALF_SKIN2: usize = 9;
+    /// Device clock: dt of the step being taken.
+    pub const DT: usize = 12;
+    /// Device clock: time.
+    pub const T: usize = 13;
+    /// Device clock: rounding error of `T` (t = T + T_LO).
+    pub const T_LO: usize = 14;
+    /// Adaptive dt: `time.cfl`, then c_max, ν_max, ρ̄, σ_max (the arguments of `DtLimits::compute`).
+    pub const CFL: usize = 16;
+    /// Entries.
+    pub const LEN: usize = 24;
+}
+
 /// The group-1 buffers.
 pub struct VBufs<T: Real> {
     pub vctl: GpuVec<u32>,
@@ -88,7 +111,7 @@ impl<T: Real> VBufs<T> {
         let cached = lists && spec.kernel_values == super::variant::KernelValues::Cached;
         let b = Self {
             vctl: u("vctl", vctl::LEN)?,
-            vparams: GpuVec::new(ctx, "sphlab.vparams", 12)?,
+            vparams: GpuVec::new(ctx, "sphlab.vparams", vparam::LEN)?,
             counts: u("counts", 2 * n.max(1))?,
             nbr: u("nbr", if_(lists, n * NBR_SLOTS))?,
             cache_wf: v2("cache_wf", if_(cached, n * NBR_SLOTS))?,
@@ -104,7 +127,8 @@ impl<T: Real> VBufs<T> {
         Ok(b)
     }
 
-    /// `vparams`: 1/q and q per field group, (support + skin)², (skin/2)².
+    /// `vparams`: 1/q and q per field group, (support + skin)², (skin/2)², the clock at t = 0
+    /// (dt = the fixed dt, 0 when adaptive) and the adaptive-dt constants.
     fn constants(m: &Model<T>) -> Vec<T> {
         let kp = m.kernel;
         let (dx, h) = (m.dx.f64(), kp.h.f64());
@@ -117,15 +141,19 @@ impl<T: Real> VBufs<T> {
         let p = b + m.sigma_max / h + eta * m.c_max / h;
         let s_grad = NBR_SLOTS as f64 * g * dx.powi(4);
         let scales = [1.0 / (dx * dx), s_grad, s_grad * p.max(1e-30), 1.0];
-        let mut v = vec![T::zero(); 12];
+        let mut v = vec![T::zero(); vparam::LEN];
         for (f, s) in scales.iter().enumerate() {
             let q = quantum(*s);
-            v[f] = T::c(1.0 / q);
-            v[4 + f] = T::c(q);
+            v[vparam::INV_Q + f] = T::c(1.0 / q);
+            v[vparam::Q + f] = T::c(q);
         }
         let skin = support * TrackingCfg::default().skin_ratio;
-        v[8] = T::c((support + skin) * (support + skin));
-        v[9] = T::c(0.25 * skin * skin);
+        v[vparam::CAND_R2] = T::c((support + skin) * (support + skin));
+        v[vparam::HALF_SKIN2] = T::c(0.25 * skin * skin);
+        v[vparam::DT] = T::c(m.dt_fixed.max(0.0));
+        for (k, c) in [m.cfl, m.c_max, m.nu_max, m.rho_mean, m.sigma_max].into_iter().enumerate() {
+            v[vparam::CFL + k] = T::c(c);
+        }
         v
     }
 
@@ -154,8 +182,13 @@ impl<T: Real> VBufs<T> {
     /// since the last call or its current tracking list (96 slots) is truncated, `Err(Gpu)` when a
     /// fixed-point term left the accumulator's range (then clears the counters).
     pub fn overflow(&self, ctx: &GpuContext, step: u64) -> Result<(), SolverError> {
+        let c = self.vctl.read_back(ctx).map_err(|e| SolverError::Gpu(e.to_string()))?;
+        self.overflow_in(ctx, c, step)
+    }
+
+    /// [`Self::overflow`] on control words `c` already read back (`gpu::clock`'s one readback).
+    pub fn overflow_in(&self, ctx: &GpuContext, mut c: Vec<u32>, step: u64) -> Result<(), SolverError> {
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
-        let mut c = self.vctl.read_back(ctx).map_err(gpu)?;
         let cand = c[vctl::CAND_OVER].max(c[vctl::CAND_STALE]);
         let err = if cand > 0 {
             Some((cand, CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".to_string()))
