@@ -388,7 +388,7 @@ fn dispatch_spreads_over_two_dimensions() {
         // More than one scan block, so the multi-workgroup cell scan runs (spread too).
         assert!(forced.cells() > SCAN_BLOCK, "{id}: {} cells", forced.cells());
         // The memory plan predicts exactly what the solver allocated.
-        let plan = GpuPlan::new(&spec, l.pos.len() as u64, forced.cells() as u64);
+        let plan = GpuPlan::with_fluid(&spec, l.pos.len() as u64, l.n_fluid as u64, forced.cells() as u64);
         assert_eq!(plan.total_bytes, forced.device_bytes(), "{id}: planned vs allocated device bytes");
         forced.evaluate_once().unwrap();
         assert_neighbours_match(id, &cpu, &forced);

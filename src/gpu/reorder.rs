@@ -83,7 +83,7 @@ impl<T: Real> RBufs<T> {
         Ok(v)
     }
 
-    fn storage(&self) -> [&wgpu::Buffer; N_RSTORAGE as usize] {
+    pub fn storage(&self) -> [&wgpu::Buffer; N_RSTORAGE as usize] {
         [&self.rctl.buffer, &self.ridx.buffer, &self.tmp2.buffer]
     }
 

@@ -115,7 +115,7 @@ impl<T: Real> GpuSolver<T> {
         let grid = GridSpec::new(&pos, model.support());
         // The memory plan before any buffer exists: each buffer within the adapter's caps, the
         // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
-        let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);
+        let plan = GpuPlan::with_fluid(&spec, n as u64, n_fluid as u64, grid.cells() as u64);
         plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
@@ -257,7 +257,8 @@ impl<T: Real> GpuSolver<T> {
     /// Bytes of every device buffer this solver allocated (state, variant buffers, the parameter
     /// uniform; not the timestamp queries), the figure the memory plan predicts.
     pub fn device_bytes(&self) -> u64 {
-        let storage = self.b.storage().into_iter().chain(self.vb.storage()).map(|b| b.size()).sum::<u64>();
+        let storage =
+            self.b.storage().into_iter().chain(self.vb.storage()).chain(self.rb.storage()).map(|b| b.size()).sum::<u64>();
         storage + self.b.params.buffer.size()
     }
 

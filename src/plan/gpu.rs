@@ -120,8 +120,15 @@ fn alloc(len: u64, size: u64) -> u64 {
 }
 
 impl GpuPlan {
-    /// The plan of `spec` for `n` particles and `cells` grid cells.
+    /// The plan of `spec` for `n` particles and `cells` grid cells, counting every particle as
+    /// fluid (an upper bound: the renumbering buffers scale with the fluid particles).
     pub fn new(spec: &VariantSpec, n: u64, cells: u64) -> Self {
+        Self::with_fluid(spec, n, n, cells)
+    }
+
+    /// The plan of `spec` for `n` particles of which `n_fluid` fluid, on `cells` grid cells:
+    /// exactly the bytes `GpuSolver::new` allocates (tested).
+    pub fn with_fluid(spec: &VariantSpec, n: u64, n_fluid: u64, cells: u64) -> Self {
         let r = if spec.precision == Precision::F64 { 8 } else { 4 };
         let v2 = 2 * r;
         let lists = spec.has_lists();
@@ -138,7 +145,7 @@ impl GpuPlan {
         } as u64)
             .max(16)
             .next_multiple_of(16);
-        let list: [(&'static str, u64, u64); 30] = [
+        let list: [(&'static str, u64, u64); 33] = [
             ("pos", n, v2),
             ("vel", n, v2),
             ("phase", n, 4),
@@ -169,6 +176,11 @@ impl GpuPlan {
             ("ref_pos", on(tracking, n), v2),
             ("accum", on(block, 8 * n), 4),
             ("params", 1, params),
+            // Cell ordering (gpu::reorder): control words + per-cell wall prefix, the
+            // permutation and renumbering indices, the gather scratch.
+            ("reorder_ctl", crate::gpu::reorder::rctl::LEN as u64 + cells + 1, 4),
+            ("reorder_idx", (2 * n + 4 * n_fluid).max(1), 4),
+            ("reorder_tmp2", (3 * n_fluid).max(1), v2),
         ];
         let buffers: Vec<BufferPlan> =
             list.iter().map(|&(name, len, size)| BufferPlan { name, bytes: alloc(len, size) }).collect();
