@@ -32,6 +32,8 @@ pub struct GpuContext {
     pub features: Features,
     /// Limits actually granted to the device.
     pub limits: Limits,
+    /// Pipelines compiled on this device, by variant (built once, reused at every size).
+    pub pipelines: super::pipeline_cache::PipelineCache,
 }
 
 impl GpuContext {
@@ -80,6 +82,7 @@ impl GpuContext {
             limits: device.limits(),
             device,
             queue,
+            pipelines: Default::default(),
         })
     }
 

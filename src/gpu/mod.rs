@@ -7,6 +7,7 @@ pub mod buffers;
 pub mod compose;
 pub mod context;
 pub mod params;
+pub mod pipeline_cache;
 mod readback;
 pub mod solver;
 pub mod solver_buffers;

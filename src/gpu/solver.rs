@@ -9,7 +9,7 @@
 //! variants is read with the blow-up flag and reported as [`SolverError::NeighbourOverflow`].
 
 use super::params::{GridSpec, Params};
-use super::solver_buffers::{ctl, layouts, Bufs};
+use super::solver_buffers::{ctl, Bufs};
 use super::stages::{Domain, Pipelines};
 use super::timing::Timestamps;
 use super::variant::VariantSpec;
@@ -35,7 +35,7 @@ pub struct GpuSolver<T: Real> {
     pub(super) grid: GridSpec<T>,
     pub(super) b: Bufs<T>,
     pub(super) vb: VBufs<T>,
-    pub(super) pipes: Pipelines,
+    pub(super) pipes: Arc<Pipelines>,
     pub(super) bg: wgpu::BindGroup,
     pub(super) vbg: wgpu::BindGroup,
     pub(super) n: usize,
@@ -58,7 +58,8 @@ fn v2<T: Real>(p: &[f64; 2]) -> V2<T> {
 }
 
 impl<T: Real> GpuSolver<T> {
-    /// Uploads the scene and compiles the variant's pipelines.
+    /// Uploads the scene; the variant's pipelines come from the context's cache (compiled on
+    /// first use).
     pub fn new(ctx: Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec) -> Result<Self, GpuError> {
         spec.implemented().map_err(GpuError::Unsupported)?;
         spec.support(&ctx).map_err(GpuError::Unsupported)?;
@@ -81,11 +82,10 @@ impl<T: Real> GpuSolver<T> {
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
         let vb = VBufs::new(&ctx, spec, &model, n)?;
-        let (bgl, _) = layouts(&ctx)?;
-        let (vbgl, pl) = vbufs::layouts(&ctx, &bgl)?;
-        let pipes = Pipelines::build(&ctx, &spec, &pl)?;
-        let bg = b.bind_group(&ctx, &bgl)?;
-        let vbg = vb.bind_group(&ctx, &vbgl)?;
+        let compiled = ctx.pipelines.get(&ctx, &spec)?;
+        let pipes = compiled.pipes.clone();
+        let bg = b.bind_group(&ctx, &compiled.state_layout)?;
+        let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
         b.pos.upload(&ctx, &pos)?;
         b.vel.upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;
