@@ -30,15 +30,34 @@ fn records(dir: &Path) -> Vec<std::collections::HashMap<String, String>> {
 /// A tiny study: one size, K = 1 step per sync, one block, no warm-up.
 fn tiny<'a>(out: &'a str, variants: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     let mut v = vec![
-        "study", "--experiments", "scaling", "--sizes", "16", "--steps", "1", "--repeats", "1", "--warmup", "0",
-        "--variants", variants, "--out", out,
+        "study",
+        "--experiments",
+        "scaling",
+        "--sizes",
+        "16",
+        "--steps",
+        "1",
+        "--repeats",
+        "1",
+        "--warmup",
+        "0",
+        "--variants",
+        variants,
+        "--out",
+        out,
     ];
     v.extend_from_slice(extra);
     v
 }
 
-const TIMING: [&str; 6] =
-    ["ms_per_step_median", "ms_per_step_min", "ms_per_step_max", "latency_ms_median", "particle_evals_per_s", "ke_rel_error"];
+const TIMING: [&str; 6] = [
+    "ms_per_step_median",
+    "ms_per_step_min",
+    "ms_per_step_max",
+    "latency_ms_median",
+    "particle_evals_per_s",
+    "ke_rel_error",
+];
 
 #[test]
 fn a_failed_run_is_a_record_without_timing() {
@@ -98,8 +117,22 @@ fn budget_is_kept() {
     let budget = 20.0;
     let t = Instant::now();
     let o = sphlab(&[
-        "study", "--experiments", "scaling", "--sizes", "16,24,32,48,64,96,128", "--steps", "2", "--repeats", "2",
-        "--warmup", "0.2", "--variants", "cells.thread.recomputed.f32", "--budget", "20s", "--out",
+        "study",
+        "--experiments",
+        "scaling",
+        "--sizes",
+        "16,24,32,48,64,96,128",
+        "--steps",
+        "2",
+        "--repeats",
+        "2",
+        "--warmup",
+        "0.2",
+        "--variants",
+        "cells.thread.recomputed.f32",
+        "--budget",
+        "20s",
+        "--out",
         out.to_str().expect("utf8"),
     ]);
     let took = t.elapsed().as_secs_f64();
@@ -132,7 +165,16 @@ fn preset_gpu_refuses_a_cpu_adapter_and_prints_its_plan() {
     let o = sphlab(&["study", "--preset", "gpu", "--allow-cpu-adapter", "--dry-run", "--out", root]);
     let e = stderr(&o);
     assert!(o.status.success(), "{e}");
-    for needle in ["adapter: ", "limits: ", "variants.csv", "verify every variant", "study e1,e4,scaling", "validate impact", "study plan:", "estimated time"] {
+    for needle in [
+        "adapter: ",
+        "limits: ",
+        "variants.csv",
+        "verify every variant",
+        "study e1,e4,scaling",
+        "validate impact",
+        "study plan:",
+        "estimated time",
+    ] {
         assert!(e.contains(needle), "plan lacks `{needle}`: {e}");
     }
     assert!(!Path::new(root).exists(), "a dry run writes nothing");

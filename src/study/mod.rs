@@ -168,8 +168,8 @@ impl Default for StudyOptions {
 pub fn study_scene_with(nx: u32, sets: &[String]) -> Result<Scene, String> {
     let mut all = vec![format!("domain.nx={nx}"), "relax.t=0".into(), "time.dt_policy=scale".into()];
     all.extend(sets.iter().cloned());
-    let scene = apply_overrides(&builtin("oscillating-drop").expect("built-in"), &all)
-        .map_err(|e| format!("--set: {e}"))?;
+    let scene =
+        apply_overrides(&builtin("oscillating-drop").expect("built-in"), &all).map_err(|e| format!("--set: {e}"))?;
     crate::scene::dt_policy::apply(&scene).map(|r| r.scene).map_err(|e| format!("--set: {e}"))
 }
 
@@ -279,7 +279,12 @@ pub struct RunNotes {
 }
 
 /// Runs the sweep experiments of `opts` (the plan first); appends records.
-fn run_sweep(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant, out: &mut Vec<Record>) -> Result<RunNotes, String> {
+fn run_sweep(
+    opts: &StudyOptions,
+    gpu: Option<&Arc<GpuContext>>,
+    t0: Instant,
+    out: &mut Vec<Record>,
+) -> Result<RunNotes, String> {
     let (mut all, notes) = plan::jobs(opts, gpu)?;
     let first_gpu = all.iter().find_map(|j| match j.id {
         BackendId::Gpu(s) => Some(s),
@@ -352,10 +357,9 @@ fn run_sweep(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant, ou
     }
     let total = t0.elapsed().as_secs_f64();
     if let Some(b) = opts.budget_s {
-        run_notes.outcome.push(format!(
-            "Budget {b:.0} s: the study took {total:.1} s ({:.0} % of the budget).",
-            100.0 * total / b
-        ));
+        run_notes
+            .outcome
+            .push(format!("Budget {b:.0} s: the study took {total:.1} s ({:.0} % of the budget).", 100.0 * total / b));
     }
     if !skipped.is_empty() {
         run_notes.outcome.push(format!(

@@ -74,12 +74,14 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
             let scene = study_scene_with(nx, &opts.sets)?;
             let plan = ResourcePlan::new(&scene, 8, false);
             let n = plan.n_total as usize;
-            let mut push = |id: BackendId, threads: usize| {
-                out.push(Job { experiment: e.clone(), nx, n, id, threads, est_s: 0.0 })
-            };
+            let mut push =
+                |id: BackendId, threads: usize| out.push(Job { experiment: e.clone(), nx, n, id, threads, est_s: 0.0 });
             if opts.cpu_max_n.is_none_or(|m| n <= m) {
-                let searches: &[SearchKind] =
-                    if e == "e1" { &[SearchKind::Cells, SearchKind::Direct, SearchKind::Tracking] } else { &[SearchKind::Cells] };
+                let searches: &[SearchKind] = if e == "e1" {
+                    &[SearchKind::Cells, SearchKind::Direct, SearchKind::Tracking]
+                } else {
+                    &[SearchKind::Cells]
+                };
                 for &search in searches {
                     push(BackendId::Cpu { exec: Exec::Serial, search, precision: Precision::F64 }, 1);
                 }
@@ -157,7 +159,11 @@ const PROBE_STEPS: u64 = 2;
 impl Probe {
     /// Times `PROBE_STEPS` steps of `cpu1.cells.f64`, `cpu.cells.f64` and (with a GPU) the first
     /// GPU variant of the plan at two small sizes.
-    pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, first_gpu: Option<VariantSpec>) -> Result<Probe, String> {
+    pub fn run(
+        opts: &StudyOptions,
+        gpu: Option<&Arc<GpuContext>>,
+        first_gpu: Option<VariantSpec>,
+    ) -> Result<Probe, String> {
         let t0 = Instant::now();
         let (mut ns, mut c1, mut c, mut g) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
         let mut p = Probe::default();
@@ -182,7 +188,8 @@ impl Probe {
             };
             let cpu1 = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
             c1[k] = time(cpu1)?.1;
-            c[k] = time(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 })?.1;
+            c[k] =
+                time(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 })?.1;
             if let Some(spec) = first_gpu.filter(|_| gpu.is_some()) {
                 let (build, ms) = time(BackendId::Gpu(spec))?;
                 if k == 0 {
@@ -215,10 +222,17 @@ impl Probe {
                 BackendId::Cpu { .. } => (self.cpu.ms(n, quad), 0.0),
                 BackendId::Gpu(s) => {
                     let first = compiled.insert(s.to_string());
-                    (self.gpu.unwrap_or(self.cpu).ms(n, quad), if first { self.gpu_build_s } else { 0.1 * self.gpu_build_s })
+                    (
+                        self.gpu.unwrap_or(self.cpu).ms(n, quad),
+                        if first { self.gpu_build_s } else { 0.1 * self.gpu_build_s },
+                    )
                 }
             };
-            let layout = if sizes_seen.insert((j.experiment.clone(), j.nx)) { 3.0 * self.layout_s_per_particle * n } else { 0.0 };
+            let layout = if sizes_seen.insert((j.experiment.clone(), j.nx)) {
+                3.0 * self.layout_s_per_particle * n
+            } else {
+                0.0
+            };
             let steps = proto.steps_besides_warmup() as f64 * ms * 1e-3;
             let warm = proto.warmup_s.max(proto.steps as f64 * ms * 1e-3);
             j.est_s = build + layout + steps + warm;

@@ -53,13 +53,16 @@ pub enum PresetError {
 pub fn large_variants() -> Vec<VariantSpec> {
     VariantSpec::all()
         .into_iter()
-        .filter(|s| s.to_string().contains(".thread.recomputed.") && s.search != crate::gpu::variant::SearchVariant::Direct)
+        .filter(|s| {
+            s.to_string().contains(".thread.recomputed.") && s.search != crate::gpu::variant::SearchVariant::Direct
+        })
         .collect()
 }
 
 /// A directory name from an adapter name (`NVIDIA H200` → `nvidia-h200`).
 pub fn adapter_slug(name: &str) -> String {
-    let s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
+    let s: String =
+        name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
     let s = s.split('-').filter(|p| !p.is_empty()).collect::<Vec<_>>().join("-");
     if s.is_empty() {
         "adapter".into()
@@ -137,7 +140,9 @@ fn sweeps(dir: &Path, sizes: &[u32], budget_s: f64) -> Vec<StudyOptions> {
 /// Runs the preset (or prints its plan with `dry_run`); `out_root` is `reports/gpu`.
 pub fn run(out_root: &Path, budget_s: f64, allow_cpu_adapter: bool, dry_run: bool) -> Result<PathBuf, PresetError> {
     let t0 = Instant::now();
-    let ctx = GpuContext::new().map(Arc::new).map_err(|e| PresetError::Refused(format!("--preset gpu: no GPU adapter ({e})")))?;
+    let ctx = GpuContext::new()
+        .map(Arc::new)
+        .map_err(|e| PresetError::Refused(format!("--preset gpu: no GPU adapter ({e})")))?;
     let info = &ctx.adapter_info;
     if info.device_type == wgpu::DeviceType::Cpu && !allow_cpu_adapter {
         return Err(PresetError::Refused(format!(
@@ -189,7 +194,9 @@ pub fn run(out_root: &Path, budget_s: f64, allow_cpu_adapter: bool, dry_run: boo
     // 1. variants
     let mut csv = String::from("variant,status\n");
     for v in VariantSpec::all() {
-        let st = v.support(&ctx).map_or_else(|e| format!("\"unsupported: {}\"", e.replace('"', "'")), |()| "supported".into());
+        let st = v
+            .support(&ctx)
+            .map_or_else(|e| format!("\"unsupported: {}\"", e.replace('"', "'")), |()| "supported".into());
         let _ = writeln!(csv, "{v},{st}");
     }
     std::fs::write(dir.join("variants.csv"), csv).map_err(|e| fail(e.to_string()))?;
@@ -204,7 +211,8 @@ pub fn run(out_root: &Path, budget_s: f64, allow_cpu_adapter: bool, dry_run: boo
                 r
             })
             .collect();
-        crate::verify::write_outputs(&dir.join("verify").join(name), &ctx.describe(), &scene, &reports).map_err(fail)?;
+        crate::verify::write_outputs(&dir.join("verify").join(name), &ctx.describe(), &scene, &reports)
+            .map_err(fail)?;
     }
     // 3. study (two sweeps, merged), within what is left of the study's share
     let mut outs = Vec::new();
@@ -230,4 +238,3 @@ pub fn run(out_root: &Path, budget_s: f64, allow_cpu_adapter: bool, dry_run: boo
     eprintln!("preset: {:.0} s of {budget_s:.0} s; report in {}", t0.elapsed().as_secs_f64(), dir.display());
     Ok(dir)
 }
-

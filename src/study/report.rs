@@ -183,7 +183,10 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
     scaling_plots(dir, recs, side_by_side, &mut md)?;
     speed_vs_error(dir, recs, &mut md)?;
     if !timed {
-        let _ = writeln!(md, "GPU timestamps: none in these records (the adapter has none, or no GPU ran): all times are wall clock.\n");
+        let _ = writeln!(
+            md,
+            "GPU timestamps: none in these records (the adapter has none, or no GPU ran): all times are wall clock.\n"
+        );
     }
     let p = dir.join("summary.md");
     std::fs::write(&p, md).map_err(|x| e(&p, x))
@@ -227,7 +230,8 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
         if series.is_empty() {
             continue;
         }
-        let mut spec = PlotSpec::new(format!("Time per step against N — {s} search"), "particles N", "time per step (ms)");
+        let mut spec =
+            PlotSpec::new(format!("Time per step against N — {s} search"), "particles N", "time per step (ms)");
         spec.log_x = true;
         spec.log_y = true;
         spec.series = series
@@ -288,10 +292,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<Vec<Record>, String> {
         recs.extend(read_records(d)?);
     }
     let list: Vec<String> = inputs.iter().map(|d| format!("`{}`", d.display())).collect();
-    let notes = RunNotes {
-        plan: format!("* merged from {} runs: {}\n", inputs.len(), list.join(", ")),
-        outcome: Vec::new(),
-    };
+    let notes =
+        RunNotes { plan: format!("* merged from {} runs: {}\n", inputs.len(), list.join(", ")), outcome: Vec::new() };
     write(out, &mut recs, None, &notes)?;
     Ok(recs)
 }
