@@ -23,7 +23,8 @@
 //! * [`verify`]: `sphlab verify`, every GPU variant against the CPU reference (the one
 //!   comparison measure and tolerance table, also used by the GPU tests);
 //! * [`stability`]: `sphlab stability`, the measured stability map per backend and precision;
-//! * [`study`]: `sphlab study`, the Chapter 6 timing study and its report;
+//! * [`study`]: `sphlab study`, the Chapter 6 timing study and its report; [`sweep`]: the
+//!   `--shard` and `--budget` controls the sweeps share;
 //! * [`validate`]: `sphlab validate`, the thesis validation cases and their reports;
 //! * [`analytic`]: analytic drop-spread models; [`plot`]: SVG plots of the reports.
 
@@ -47,5 +48,6 @@ pub mod scene;
 pub mod stability;
 pub mod stage;
 pub mod study;
+pub mod sweep;
 pub mod validate;
 pub mod verify;

@@ -1,5 +1,5 @@
 //! The `sphlab` command line: `run`, `scene`, `analytic`, `variants`, `verify`, `validate`,
-//! `study` and `info`. Exit codes mean one thing each: 0 success, 2 bad input of any kind
+//! `study`, `report` and `info`. Exit codes mean one thing each: 0 success, 2 bad input of any kind
 //! (scene fields, options, `--out`, variant ids, a resource plan over the limits), always before
 //! an output directory is created; 3 a numerical blow-up naming step and particle; 130 an
 //! interrupt (Ctrl-C) after a final snapshot and `status: "interrupted"`; 1 anything else
@@ -56,6 +56,8 @@ enum Cmd {
     Verify(VerifyArgs),
     /// The Chapter 6 timing study: E1 (search × backend), E4 (speedup), scaling; records.csv + summary.md.
     Study(StudyArgs),
+    /// Merge the records of several study runs (shards, adapters) into one summary.md and plots.
+    Report(ReportArgs),
     /// Validation cases against the thesis and analytic references (reports/validation).
     Validate(ValidateArgs),
     /// Stability map: dt factor × density/viscosity ratio × resolution × kernel per backend/precision.
@@ -242,6 +244,14 @@ struct VerifyArgs {
     limits: LimitArgs,
 }
 
+/// Presets of `sphlab study`.
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+enum Preset {
+    /// The full report of a GPU loan: variants, verify, E1–E4, scaling to the largest N, impact
+    /// validation, under reports/gpu/<adapter>/ (refuses a CPU adapter).
+    Gpu,
+}
+
 #[derive(Args)]
 struct StudyArgs {
     /// Experiments (comma-separated).
@@ -250,17 +260,65 @@ struct StudyArgs {
     /// Scaling resolutions (particles across the box).
     #[arg(long, default_value = "30,60,120")]
     sizes: String,
-    /// Timed steps per backend.
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Steps per device sync (K): the accuracy snapshot and each timed block.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=100_000))]
     steps: u64,
+    /// Timed blocks of K steps per backend (median, fastest and slowest are reported).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    repeats: u64,
+    /// Warm-up wall time per backend before timing (e.g. 0.5, 0.5s, 2s).
+    #[arg(long, default_value = "0.5", value_parser = parse_warmup)]
+    warmup: f64,
     /// GPU variants: `all` or comma-separated ids.
     #[arg(long, default_value = "all")]
     variants: String,
-    /// Output directory.
-    #[arg(long, default_value = "reports/study")]
-    out: PathBuf,
+    /// Override a field of every study scene by its TOML path.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// CPU rows only up to this many particles; above it GPU rows compare with the largest CPU
+    /// size, scaled by N.
+    #[arg(long)]
+    cpu_max_n: Option<usize>,
+    /// Run only part i of n of the sweep (`i/n`, 0 ≤ i < n; disjoint parts, merge with `sphlab report`).
+    #[arg(long, default_value = "0/1")]
+    shard: String,
+    /// Wall-time budget (e.g. 90s, 8m): plan from a short probe, drop the largest sizes first.
+    #[arg(long, value_parser = sphlab::sweep::parse_duration)]
+    budget: Option<f64>,
+    /// Print the plan (experiments, backends, sizes, estimated time) and stop.
+    #[arg(long)]
+    dry_run: bool,
+    /// A preset: `gpu` runs the full report of a GPU loan (default budget 8m) under
+    /// reports/gpu/<adapter>/.
+    #[arg(long, value_enum)]
+    preset: Option<Preset>,
+    /// With --preset gpu: run even on a CPU adapter (lavapipe).
+    #[arg(long)]
+    allow_cpu_adapter: bool,
+    /// Output directory (with --preset gpu: the root, default reports/gpu).
+    #[arg(long)]
+    out: Option<PathBuf>,
     #[command(flatten)]
     limits: LimitArgs,
+}
+
+/// `--warmup`: a duration of at least zero seconds.
+fn parse_warmup(text: &str) -> Result<f64, String> {
+    if text.trim().trim_end_matches('s').trim().parse::<f64>() == Ok(0.0) {
+        return Ok(0.0);
+    }
+    sphlab::sweep::parse_duration(text).map_err(|e| e.replace("--budget", "--warmup"))
+}
+
+#[derive(Args)]
+struct ReportArgs {
+    /// Study output directories (each with records.csv), e.g. the shards of one sweep or runs on
+    /// several adapters.
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Output directory of the merged report.
+    #[arg(long)]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -766,27 +824,45 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
 }
 
 fn cmd_study(a: StudyArgs) -> ExitCode {
-    if let Err(e) = check_out("--out", &a.out) {
+    if a.preset == Some(Preset::Gpu) {
+        let root = a.out.clone().unwrap_or_else(|| PathBuf::from("reports/gpu"));
+        if let Err(e) = check_out("--out", &root) {
+            return fail(2, e);
+        }
+        return match sphlab::study::preset::run(&root, a.budget.unwrap_or(480.0), a.allow_cpu_adapter, a.dry_run) {
+            Ok(_) => ExitCode::SUCCESS,
+            Err(sphlab::study::preset::PresetError::Refused(e)) => fail(2, e),
+            Err(sphlab::study::preset::PresetError::Failed(e)) => fail(1, e),
+        };
+    }
+    if a.allow_cpu_adapter {
+        return fail(2, "--allow-cpu-adapter: applies only to --preset gpu");
+    }
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("reports/study"));
+    if let Err(e) = check_out("--out", &out) {
         return fail(2, e);
     }
     let limits = match a.limits.limits() {
         Ok(l) => l,
         Err(e) => return fail(2, e),
     };
+    let shard = match sphlab::sweep::Shard::parse(&a.shard) {
+        Ok(s) => s,
+        Err(e) => return fail(2, e),
+    };
     let experiments: Vec<String> = if a.experiments.contains(&Experiment::All) {
-        vec!["e1".into(), "e4".into(), "scaling".into()]
+        sphlab::study::EXPERIMENTS.iter().map(|s| s.to_string()).collect()
     } else {
         a.experiments.iter().filter_map(|e| e.to_possible_value()).map(|v| v.get_name().to_string()).collect()
     };
     let mut sizes = Vec::new();
-    let base = builtin::builtin("oscillating-drop").expect("built-in");
     for s in a.sizes.split(',') {
         let n = match s.trim().parse::<u32>() {
             Ok(n) if n >= 10 => n,
             _ => return fail(2, format!("--sizes: `{s}` is not a resolution ≥ 10")),
         };
         // The study scene at this size must be a valid scene within the resource limits.
-        let scene = match apply_overrides(&base, &[format!("domain.nx={n}")]) {
+        let scene = match sphlab::study::study_scene_with(n, &a.sets) {
             Ok(sc) => sc,
             Err(e) => return fail(2, format!("--sizes {n}: {e}")),
         };
@@ -795,6 +871,11 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
         }
         sizes.push(n);
     }
+    for nx in [45, 100] {
+        if let Err(e) = sphlab::study::study_scene_with(nx, &a.sets) {
+            return fail(2, e);
+        }
+    }
     let variants = match a.variants.as_str() {
         "all" => Vec::new(),
         list => match gpu_variants(list) {
@@ -802,8 +883,25 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
             Err(e) => return fail(2, e),
         },
     };
-    let opts = sphlab::study::StudyOptions { experiments, sizes, steps: a.steps, variants, out: a.out };
+    let opts = sphlab::study::StudyOptions {
+        experiments,
+        sizes,
+        protocol: sphlab::study::timing::Protocol {
+            steps: a.steps,
+            repeats: a.repeats as usize,
+            warmup_s: a.warmup,
+            ..Default::default()
+        },
+        variants,
+        sets: a.sets,
+        cpu_max_n: a.cpu_max_n,
+        shard,
+        budget_s: a.budget,
+        dry_run: a.dry_run,
+        out,
+    };
     match sphlab::study::run_study(&opts) {
+        Ok(_) if opts.dry_run => ExitCode::SUCCESS,
         Ok(r) => {
             let gpu = gpu_context().ok().map(|c| GpuInfo::from_adapter(&c.adapter_info));
             let prov = Provenance::new("study", gpu, provenance::STUDY_UNITS);
@@ -814,6 +912,28 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) if e.starts_with("--") => fail(2, e),
+        Err(e) => fail(1, e),
+    }
+}
+
+fn cmd_report(a: ReportArgs) -> ExitCode {
+    if let Err(e) = check_out("--out", &a.out) {
+        return fail(2, e);
+    }
+    for d in &a.dirs {
+        if !d.join("records.csv").is_file() {
+            return fail(2, format!("{}: no records.csv (not a study output directory)", d.display()));
+        }
+    }
+    match sphlab::study::report::merge(&a.dirs, &a.out) {
+        Ok(r) => {
+            let prov = Provenance::new("report", None, provenance::STUDY_UNITS);
+            if let Err(e) = sphlab::output::write_json(a.out.join("provenance.json"), &prov) {
+                return fail(1, e);
+            }
+            eprintln!("{} records from {} runs; {}", r.len(), a.dirs.len(), a.out.join("summary.md").display());
+            ExitCode::SUCCESS
+        }
         Err(e) => fail(1, e),
     }
 }
@@ -947,6 +1067,7 @@ fn main() -> ExitCode {
         Cmd::Variants { json, memory: Some(n), gpu_memory } => cmd_variants_memory(n, gpu_memory, json),
         Cmd::Variants { json, .. } => cmd_variants(json),
         Cmd::Study(a) => cmd_study(a),
+        Cmd::Report(a) => cmd_report(a),
         Cmd::Verify(a) => cmd_verify(a),
         Cmd::Validate(a) => cmd_validate(a),
         Cmd::Info { json } => cmd_info(json),

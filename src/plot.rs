@@ -229,6 +229,17 @@ pub fn fmt_tick(v: f64) -> String {
     }
 }
 
+/// The span within which [`tick_label`] snaps ticks to `0`: the axis length when the axis
+/// contains zero, else 0 (an axis that excludes zero, such as every log axis, has no float noise
+/// around zero: `1e-15` on a `1e-15..1e-3` log axis is `1e-15`, not `0`).
+fn snap_span(lo: f64, hi: f64) -> f64 {
+    if lo <= 0.0 && hi >= 0.0 {
+        hi - lo
+    } else {
+        0.0
+    }
+}
+
 /// Tick label on an axis spanning `span`: like [`fmt_tick`], with float noise around zero
 /// (e.g. `-2.2e-16` on a `-1..1` axis) shown as `0`.
 fn tick_label(v: f64, span: f64) -> String {
@@ -284,7 +295,7 @@ where
 {
     let (xspan, yspan) = {
         let (rx, ry) = (xc.range(), yc.range());
-        (rx.end - rx.start, ry.end - ry.start)
+        (snap_span(rx.start, rx.end), snap_span(ry.start, ry.end))
     };
     let mut chart = ChartBuilder::on(root)
         .caption(&spec.title, ("sans-serif", 26))
@@ -429,7 +440,7 @@ where
 {
     let (xspan, yspan) = {
         let (rx, ry) = (xc.range(), yc.range());
-        (rx.end - rx.start, ry.end - ry.start)
+        (snap_span(rx.start, rx.end), snap_span(ry.start, ry.end))
     };
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 26))

@@ -168,11 +168,12 @@ pub const VERIFY_UNITS: &[(&str, &str)] =
 
 /// Units of `study` records.
 pub const STUDY_UNITS: &[(&str, &str)] = &[
-    ("ms_per_step_median, ms_per_step_p10, ms_per_step_p90, gpu_ms_per_step", "ms"),
+    ("ms_per_step_median, ms_per_step_min, ms_per_step_max, latency_ms_median, gpu_ms_per_step", "ms"),
     ("particle_evals_per_s", "1/s"),
     ("ke_rel_error", "1"),
     ("centroid_error_dx", "Δx"),
-    ("n, n_fluid, nx, steps, cpu_threads", "1"),
+    ("n, n_fluid, nx, steps, repeats, warmup_steps, cpu_threads", "1"),
+    ("speedup_vs_cpu1", "1 (cpu1.cells.f64 ms/step ÷ this row's)"),
 ];
 
 /// Units of `analytic` outputs.

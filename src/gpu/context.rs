@@ -34,6 +34,8 @@ pub struct GpuContext {
     pub limits: Limits,
     /// Submissions, readbacks, dispatches and host writes so far (`gpu::counters`).
     pub traffic: super::counters::Traffic,
+    /// Pipelines compiled on this device, by variant (built once, reused at every size).
+    pub pipelines: super::pipeline_cache::PipelineCache,
 }
 
 impl GpuContext {
@@ -83,6 +85,7 @@ impl GpuContext {
             traffic: Default::default(),
             device,
             queue,
+            pipelines: Default::default(),
         })
     }
 

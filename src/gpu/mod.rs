@@ -10,6 +10,7 @@ pub mod compose;
 pub mod context;
 pub mod counters;
 pub mod params;
+pub mod pipeline_cache;
 mod readback;
 pub mod reorder;
 pub mod solver;

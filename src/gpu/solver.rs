@@ -18,7 +18,7 @@
 use super::clock::{write_clock, Control, ControlReader};
 use super::params::{GridSpec, Params};
 use super::reorder::{self, RBufs};
-use super::solver_buffers::{ctl, layouts, Bufs};
+use super::solver_buffers::{ctl, Bufs};
 use super::stages::{Domain, Pipelines};
 use super::timing::Timestamps;
 use super::variant::VariantSpec;
@@ -44,7 +44,7 @@ pub struct GpuSolver<T: Real> {
     pub(super) b: Bufs<T>,
     pub(super) vb: VBufs<T>,
     pub(super) rb: RBufs<T>,
-    pub(super) pipes: Pipelines,
+    pub(super) pipes: Arc<Pipelines>,
     pub(super) bg: wgpu::BindGroup,
     pub(super) vbg: wgpu::BindGroup,
     pub(super) rbg: wgpu::BindGroup,
@@ -93,7 +93,8 @@ fn v2<T: Real>(p: &[f64; 2]) -> V2<T> {
 }
 
 impl<T: Real> GpuSolver<T> {
-    /// Uploads the scene and compiles the variant's pipelines.
+    /// Uploads the scene; the variant's pipelines come from the context's cache (compiled on
+    /// first use).
     pub fn new(ctx: Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec) -> Result<Self, GpuError> {
         spec.implemented().map_err(GpuError::Unsupported)?;
         spec.support(&ctx).map_err(GpuError::Unsupported)?;
@@ -122,13 +123,11 @@ impl<T: Real> GpuSolver<T> {
         let vb = VBufs::new(&ctx, spec, &model, n)?;
         let evals = Self::evaluations_per_step(scene.time.integrator);
         let rb = RBufs::new(&ctx, n, n_fluid, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32)?;
-        let (bgl, _) = layouts(&ctx)?;
-        let (vbgl, pl) = vbufs::layouts(&ctx, &bgl)?;
-        let (rbgl, rpl) = reorder::layouts(&ctx, &bgl, &vbgl)?;
-        let pipes = Pipelines::build(&ctx, &spec, &pl, &rpl)?;
-        let bg = b.bind_group(&ctx, &bgl)?;
-        let vbg = vb.bind_group(&ctx, &vbgl)?;
-        let rbg = rb.bind_group(&ctx, &rbgl)?;
+        let compiled = ctx.pipelines.get(&ctx, &spec)?;
+        let pipes = compiled.pipes.clone();
+        let bg = b.bind_group(&ctx, &compiled.state_layout)?;
+        let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
+        let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
         b.pos.upload(&ctx, &pos)?;
         b.vel.upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;

@@ -54,8 +54,8 @@ pub struct StabilityArgs {
     /// Run only shard i of n (`i/n`, 0 ≤ i < n): every n-th point.
     #[arg(long, default_value = "0/1")]
     pub shard: String,
-    /// Stop starting points after this many seconds.
-    #[arg(long)]
+    /// Stop starting points after this long (seconds, or `90s`, `8m`, `1h`).
+    #[arg(long, value_parser = crate::sweep::parse_duration)]
     pub budget: Option<f64>,
     /// Output directory.
     #[arg(long, default_value = "reports/stability")]
@@ -112,12 +112,7 @@ pub fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
             kernels.push((kind.to_string(), h));
         }
     }
-    let (i, n) = a
-        .shard
-        .split_once('/')
-        .and_then(|(i, n)| Some((i.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
-        .filter(|&(i, n)| n >= 1 && i < n)
-        .ok_or(format!("--shard: `{}` is not i/n with 0 ≤ i < n", a.shard))?;
+    let shard = crate::sweep::Shard::parse(&a.shard)?;
     if a.steps == 0 || a.steps > 1_000_000 {
         return Err(format!("--steps: {} is not in 1..=1000000", a.steps));
     }
@@ -146,7 +141,7 @@ pub fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
         sample: a.sample,
         density_cap: a.density_cap,
         at_rest: a.at_rest,
-        shard: (i, n),
+        shard: (shard.index, shard.count),
         budget_s: a.budget,
     })
 }

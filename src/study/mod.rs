@@ -9,40 +9,55 @@
 //! * **scaling**: time per step against N for the CPU (one thread, all threads) and the GPU
 //!   variants, log-log.
 //!
-//! Each backend runs the same scene from the same state: warm-up steps, then `steps` timed steps
-//! (each followed by a device sync, so GPU time is wall clock of finished work); median, p10 and
-//! p90 per step; where the adapter has timestamp queries, also the device time of every stage
-//! pass (`gpu::timing`): `gpu_ms_per_step` (median) and `stage_times.csv`. The error columns
-//! compare the backend's state after the timed steps with the CPU f64 one-thread run of the
-//! same steps (kinetic energy, centroid). Absolute GPU times mean something only on a real GPU; on lavapipe (a CPU emulation of Vulkan) read ratios and
-//! correctness only. E2 (residency hybrids) and E3 (subdomains) are not implemented. Every
-//! backend is named by its [`BackendId`] (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …),
-//! the same id the CLI, the bench and `records.csv` use; the outputs are written by [`report`].
+//! The sweep is a list of jobs ([`plan`]): printed first with its estimated time, cut to
+//! `--shard i/n` and to `--budget` (largest sizes dropped first). Each job runs the shared start
+//! through the protocol of [`timing`] (accuracy snapshot after K steps, warm-up for a fixed
+//! time, latency, throughput in blocks of K steps per sync); a run that overflowed, blew up or
+//! failed is a record with its `status` and `reason` and no timing. The snapshot is compared
+//! with the CPU f64 one-thread run (`cpu1.cells.f64`, whose own row is that same run) after the
+//! same K steps; above `--cpu-max-n` there is no CPU run and the report compares the GPU rows
+//! with the largest CPU size, scaled by N (marked `cpu_ref`). GPU pipelines are compiled once per
+//! variant and reused at every size (`gpu::pipeline_cache`). Absolute GPU times mean something
+//! only on a real GPU; on lavapipe read ratios and correctness only. Every backend is named by
+//! its [`BackendId`], the id the CLI, the bench and `records.csv` use. [`preset`] is the one
+//! command for a GPU loan; [`report`] writes (and merges) the outputs.
 
+pub mod plan;
+pub mod preset;
 pub mod report;
+pub mod timing;
 
-use crate::backend::{Backend, BackendId, Frame};
-use crate::exec::Exec;
-use crate::gpu::variant::{Precision, SearchVariant, VariantSpec};
+use crate::backend::{BackendId, Frame};
 use crate::gpu::GpuContext;
-use crate::neighbours::SearchKind;
 use crate::run::{initial_velocities, measure};
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::{builtin::builtin, overrides::apply_overrides, Scene};
-use serde::Serialize;
+use crate::sweep::Shard;
+use plan::Job;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Instant;
+use timing::{median, Failure, Protocol, Timed};
 
 /// Largest particle count at which the O(N²) `direct` GPU variants run by default.
 pub const DIRECT_MAX_N: usize = 3000;
 
-/// One benchmark record (STUDY.md §5).
-#[derive(Clone, Debug, Serialize)]
+/// Every experiment `--experiments` accepts, in run order.
+pub const EXPERIMENTS: &[&str] = &["e1", "e4", "scaling"];
+
+/// One benchmark record (STUDY.md §5). Timing and error columns are empty unless `status` is
+/// `ok`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Record {
     /// Experiment (e1, e4, scaling).
     pub experiment: String,
     /// Backend id (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …; [`BackendId`]).
     pub variant: String,
+    /// ok | overflow | blow-up | error | refused.
+    pub status: String,
+    /// Why the run is not a measurement (empty when ok).
+    pub reason: String,
     /// Scene name.
     pub scene: String,
     /// Particles across the box.
@@ -51,8 +66,12 @@ pub struct Record {
     pub n: usize,
     /// Fluid particles.
     pub n_fluid: usize,
-    /// Timed steps.
+    /// Steps per device sync (K): the accuracy snapshot and each throughput block.
     pub steps: u64,
+    /// Throughput blocks of K steps.
+    pub repeats: usize,
+    /// Steps the warm-up (fixed wall time) took.
+    pub warmup_steps: u64,
     /// cpu, cpu1 or gpu.
     pub backend: String,
     /// Adapter name (or "CPU").
@@ -67,28 +86,36 @@ pub struct Record {
     pub cpu_threads: usize,
     /// f32 or f64.
     pub precision: String,
-    /// Median wall time per step (ms).
-    pub ms_per_step_median: f64,
-    /// 10th percentile.
-    pub ms_per_step_p10: f64,
-    /// 90th percentile.
-    pub ms_per_step_p90: f64,
+    /// Throughput: median over the blocks of wall time ÷ K (ms per step).
+    pub ms_per_step_median: Option<f64>,
+    /// Fastest block (ms per step).
+    pub ms_per_step_min: Option<f64>,
+    /// Slowest block (ms per step).
+    pub ms_per_step_max: Option<f64>,
+    /// Latency: median wall time of one step followed by a device sync (ms).
+    pub latency_ms_median: Option<f64>,
     /// `wall`, or `wall+timestamps` when the backend also reported GPU timestamps.
     pub timing: String,
-    /// Median device time per step (ms) from GPU timestamps (empty without them).
+    /// Median over the blocks of device time per step (ms) from GPU timestamps.
     pub gpu_ms_per_step: Option<f64>,
     /// Particle-evaluations per second: N × force evaluations per step ÷ seconds per step.
-    pub particle_evals_per_s: f64,
-    /// Relative kinetic-energy difference from the CPU f64 reference after the same steps.
-    pub ke_rel_error: f64,
+    pub particle_evals_per_s: Option<f64>,
+    /// Relative kinetic-energy difference from the CPU f64 reference after the same K steps.
+    pub ke_rel_error: Option<f64>,
     /// Centroid difference from the reference, in Δx.
-    pub centroid_error_dx: f64,
+    pub centroid_error_dx: Option<f64>,
+    /// Speedup over `cpu1.cells.f64` (filled by the report from the records).
+    pub speedup_vs_cpu1: Option<f64>,
+    /// `measured` (same N) or `scaled from N=…` (above `--cpu-max-n`); empty without a base.
+    pub cpu_ref: String,
+    /// Shard (`i/n`) of the run that wrote the record.
+    pub shard: String,
     /// git commit.
     pub commit: String,
     /// UTC date.
     pub date: String,
-    /// Mean device ms per step of each stage over the timed steps (GPU timestamps; written to
-    /// `stage_times.csv`, not to `records.csv`).
+    /// Mean device ms per step of each stage over the throughput blocks (GPU timestamps;
+    /// written to `stage_times.csv`, not to `records.csv`).
     #[serde(skip)]
     pub stage_ms: Vec<(String, f64)>,
 }
@@ -96,219 +123,280 @@ pub struct Record {
 /// What to run.
 #[derive(Clone, Debug)]
 pub struct StudyOptions {
-    /// Experiments: e1, e4, scaling.
+    /// Experiments (from [`EXPERIMENTS`]).
     pub experiments: Vec<String>,
     /// Scaling sizes (nx).
     pub sizes: Vec<u32>,
-    /// Timed steps per backend.
-    pub steps: u64,
+    /// The timing protocol.
+    pub protocol: Protocol,
     /// GPU variants (empty: every supported one).
-    pub variants: Vec<VariantSpec>,
+    pub variants: Vec<crate::gpu::variant::VariantSpec>,
+    /// Extra scene overrides (`--set`), applied to every study scene.
+    pub sets: Vec<String>,
+    /// CPU rows only up to this many particles.
+    pub cpu_max_n: Option<usize>,
+    /// This run's part of the sweep.
+    pub shard: Shard,
+    /// Wall-time budget (s) of the whole study, probe included.
+    pub budget_s: Option<f64>,
+    /// Print the plan and stop.
+    pub dry_run: bool,
     /// Output directory.
     pub out: std::path::PathBuf,
 }
 
-/// The study scene at resolution nx: the oscillating drop without relaxation, its dt (1e-4 at
-/// nx = 30) rescaled by `time.dt_policy = "scale"` (∝ Δx while the CFL limit binds, to nx ≈ 120).
-pub fn study_scene(nx: u32) -> Scene {
-    let sets = [format!("domain.nx={nx}"), "relax.t=0".into(), "time.dt_policy=scale".into()];
-    let scene = apply_overrides(&builtin("oscillating-drop").expect("built-in"), &sets).expect("valid study scene");
-    crate::scene::dt_policy::apply(&scene).expect("the scaled dt is within the limits").scene
-}
-
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
-/// What [`time_backend`] measured.
-struct Timed {
-    /// Sorted wall ms per step.
-    ms: Vec<f64>,
-    /// Sorted device ms per step (GPU timestamps; empty without them).
-    device_ms: Vec<f64>,
-    /// Mean device ms per step of each stage.
-    stage_ms: Vec<(String, f64)>,
-    /// The state after the timed steps.
-    frame: Frame,
-}
-
-/// Times `steps` steps (after 2 warm-up steps): wall clock around each step and its device
-/// sync; GPU timestamps too where the backend has them, read after the wall measurement.
-fn time_backend(b: &mut dyn Backend, steps: u64) -> Result<Timed, String> {
-    let device = b.enable_device_time(true);
-    for _ in 0..2 {
-        b.step().map_err(|e| e.to_string())?;
-    }
-    b.sync();
-    let _ = b.device_time();
-    let (mut ms, mut device_ms, mut stage_ms) = (Vec::new(), Vec::new(), Vec::<(String, f64)>::new());
-    for _ in 0..steps {
-        let t = Instant::now();
-        b.step().map_err(|e| e.to_string())?;
-        b.sync();
-        ms.push(t.elapsed().as_secs_f64() * 1e3);
-        if let Some(d) = device.then(|| b.device_time()).flatten() {
-            device_ms.push(d.total_ms);
-            for (stage, x) in d.stages {
-                match stage_ms.iter_mut().find(|(s, _)| *s == stage) {
-                    Some(e) => e.1 += x / steps as f64,
-                    None => stage_ms.push((stage, x / steps as f64)),
-                }
-            }
+impl Default for StudyOptions {
+    fn default() -> Self {
+        StudyOptions {
+            experiments: EXPERIMENTS.iter().map(|s| s.to_string()).collect(),
+            sizes: vec![30, 60, 120],
+            protocol: Protocol::default(),
+            variants: Vec::new(),
+            sets: Vec::new(),
+            cpu_max_n: None,
+            shard: Shard::default(),
+            budget_s: None,
+            dry_run: false,
+            out: "reports/study".into(),
         }
     }
-    b.enable_device_time(false);
-    ms.sort_by(f64::total_cmp);
-    device_ms.sort_by(f64::total_cmp);
-    Ok(Timed { ms, device_ms, stage_ms, frame: b.frame() })
 }
 
-struct Ctx<'a> {
+/// The study scene at resolution nx with extra overrides: the oscillating drop without
+/// relaxation, its dt (1e-4 at nx = 30) rescaled by `time.dt_policy = "scale"` (∝ Δx while the
+/// CFL limit binds, to nx ≈ 120).
+pub fn study_scene_with(nx: u32, sets: &[String]) -> Result<Scene, String> {
+    let mut all = vec![format!("domain.nx={nx}"), "relax.t=0".into(), "time.dt_policy=scale".into()];
+    all.extend(sets.iter().cloned());
+    let scene =
+        apply_overrides(&builtin("oscillating-drop").expect("built-in"), &all).map_err(|e| format!("--set: {e}"))?;
+    crate::scene::dt_policy::apply(&scene).map(|r| r.scene).map_err(|e| format!("--set: {e}"))
+}
+
+/// The study scene at resolution nx (no extra overrides).
+pub fn study_scene(nx: u32) -> Scene {
+    study_scene_with(nx, &[]).expect("valid study scene")
+}
+
+/// One size's shared start.
+struct Start {
     scene: Scene,
     layout: Layout,
     vel0: Vec<[f64; 2]>,
-    reference: Option<Frame>,
+}
+
+/// What every record of this run shares.
+struct Common<'a> {
     gpu: Option<&'a Arc<GpuContext>>,
     commit: String,
     date: String,
     cpu_model: String,
+    shard: String,
+    protocol: Protocol,
 }
 
-impl Ctx<'_> {
-    fn record(&mut self, experiment: &str, id: BackendId, steps: u64, threads: usize) -> Result<Record, String> {
-        let mut b = id.build(&self.scene, &self.layout, self.gpu)?;
-        b.restart_with_velocities(&self.vel0);
-        let Timed { ms, device_ms, stage_ms, frame } = time_backend(b.as_mut(), steps)?;
-        let (ke_err, c_err) = match &self.reference {
-            Some(r) => {
-                let (a, c) = (measure(&self.scene, &frame), measure(&self.scene, r));
-                let dx = self.scene.domain.dx();
-                (
-                    (a.kinetic_energy - c.kinetic_energy).abs() / c.kinetic_energy.abs().max(1e-300),
-                    ((a.centroid_x - c.centroid_x).hypot(a.centroid_y - c.centroid_y)) / dx,
-                )
-            }
-            None => (0.0, 0.0),
-        };
-        let median = percentile(&ms, 0.5);
-        let evals = if self.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
-        let (adapter, driver, device_type) = match (id, self.gpu) {
+impl Common<'_> {
+    /// The record of `job`: timed (`Ok`) or failed (status, reason, no timing).
+    fn record(&self, job: &Job, s: &Start, res: &Result<Timed, Failure>, reference: Option<&Frame>) -> Record {
+        let (adapter, driver, device_type) = match (job.id, self.gpu) {
             (BackendId::Gpu(_), Some(g)) => {
                 let i = &g.adapter_info;
                 (i.name.clone(), format!("{} {}", i.driver, i.driver_info), format!("{:?}", i.device_type))
             }
             _ => ("CPU".into(), "-".into(), "Cpu".into()),
         };
-        Ok(Record {
-            experiment: experiment.into(),
-            variant: id.to_string(),
-            scene: self.scene.name.clone(),
-            nx: self.scene.domain.nx,
-            n: self.layout.pos.len(),
-            n_fluid: self.layout.n_fluid,
-            steps,
-            backend: id.kind().into(),
+        let mut r = Record {
+            experiment: job.experiment.clone(),
+            variant: job.id.to_string(),
+            scene: s.scene.name.clone(),
+            nx: s.scene.domain.nx,
+            n: s.layout.pos.len(),
+            n_fluid: s.layout.n_fluid,
+            steps: self.protocol.steps,
+            repeats: self.protocol.repeats,
+            backend: job.id.kind().into(),
             adapter,
             driver,
             device_type,
             cpu_model: self.cpu_model.clone(),
-            cpu_threads: threads,
-            precision: id.precision().name().into(),
-            ms_per_step_median: median,
-            ms_per_step_p10: percentile(&ms, 0.1),
-            ms_per_step_p90: percentile(&ms, 0.9),
-            timing: if device_ms.is_empty() { "wall" } else { "wall+timestamps" }.into(),
-            gpu_ms_per_step: (!device_ms.is_empty()).then(|| percentile(&device_ms, 0.5)),
-            particle_evals_per_s: self.layout.pos.len() as f64 * evals / (median * 1e-3),
-            ke_rel_error: ke_err,
-            centroid_error_dx: c_err,
+            cpu_threads: job.threads,
+            precision: job.id.precision().name().into(),
+            shard: self.shard.clone(),
             commit: self.commit.clone(),
             date: self.date.clone(),
-            stage_ms,
-        })
+            ..Default::default()
+        };
+        let t = match res {
+            Err(f) => {
+                r.status = f.status.into();
+                r.reason = f.reason.clone();
+                return r;
+            }
+            Ok(t) => t,
+        };
+        r.status = "ok".into();
+        let ms = median(&t.block_ms);
+        let evals = if s.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
+        r.warmup_steps = t.warmup_steps;
+        r.ms_per_step_median = Some(ms);
+        r.ms_per_step_min = t.block_ms.first().copied();
+        r.ms_per_step_max = t.block_ms.last().copied();
+        r.latency_ms_median = (!t.latency_ms.is_empty()).then(|| median(&t.latency_ms));
+        r.timing = if t.device_ms.is_empty() { "wall" } else { "wall+timestamps" }.into();
+        r.gpu_ms_per_step = (!t.device_ms.is_empty()).then(|| median(&t.device_ms));
+        r.particle_evals_per_s = Some(s.layout.pos.len() as f64 * evals / (ms * 1e-3));
+        if let Some(c) = reference {
+            let (a, c) = (measure(&s.scene, &t.snapshot), measure(&s.scene, c));
+            let dx = s.scene.domain.dx();
+            r.ke_rel_error = Some((a.kinetic_energy - c.kinetic_energy).abs() / c.kinetic_energy.abs().max(1e-300));
+            r.centroid_error_dx = Some((a.centroid_x - c.centroid_x).hypot(a.centroid_y - c.centroid_y) / dx);
+        }
+        r.stage_ms = t.stage_ms.clone();
+        r
     }
 }
 
-/// Runs one experiment at one size; appends records (and prints a line per record).
-fn run_size(
-    experiment: &str,
-    nx: u32,
+const REFERENCE: BackendId = BackendId::Cpu {
+    exec: crate::exec::Exec::Serial,
+    search: crate::neighbours::SearchKind::Cells,
+    precision: crate::gpu::variant::Precision::F64,
+};
+
+/// Builds and times one job from the shared start.
+fn run_job(job: &Job, s: &Start, gpu: Option<&Arc<GpuContext>>, p: &Protocol) -> Result<Timed, Failure> {
+    let mut b = job.id.build(&s.scene, &s.layout, gpu).map_err(Failure::build)?;
+    b.restart_with_velocities(&s.vel0);
+    timing::time_backend(b.as_mut(), p)
+}
+
+/// What the run of the plan adds to `summary.md`: the plan and how the budget went.
+#[derive(Clone, Debug, Default)]
+pub struct RunNotes {
+    /// The plan as printed before the run (markdown list).
+    pub plan: String,
+    /// Lines on what happened (budget kept or not, jobs skipped while running).
+    pub outcome: Vec<String>,
+}
+
+/// Runs the sweep experiments of `opts` (the plan first); appends records.
+fn run_sweep(
     opts: &StudyOptions,
     gpu: Option<&Arc<GpuContext>>,
-    cpu_searches: &[SearchKind],
-    all_threads: bool,
+    t0: Instant,
     out: &mut Vec<Record>,
-) -> Result<(), String> {
-    let scene = study_scene(nx);
-    let layout = build_layout(&scene).map_err(|e| e.to_string())?;
-    let vel0 = initial_velocities(&scene, &layout, None);
-    let mut c = Ctx {
-        scene,
-        layout,
-        vel0,
-        reference: None,
+) -> Result<RunNotes, String> {
+    let (mut all, notes) = plan::jobs(opts, gpu)?;
+    let first_gpu = all.iter().find_map(|j| match j.id {
+        BackendId::Gpu(s) => Some(s),
+        _ => None,
+    });
+    let probe = if all.is_empty() { plan::Probe::default() } else { plan::Probe::run(opts, gpu, first_gpu)? };
+    probe.estimate(&mut all, &opts.protocol);
+    let sel = plan::select(&all, opts, t0.elapsed().as_secs_f64());
+    let text = plan::describe(opts, &sel, &notes, probe.seconds);
+    eprintln!("study plan:\n{text}");
+    let mut run_notes = RunNotes { plan: text, outcome: Vec::new() };
+    if opts.dry_run {
+        return Ok(run_notes);
+    }
+    let common = Common {
         gpu,
-        commit: crate::output::git_commit(),
+        commit: crate::provenance::commit_label(),
         date: crate::output::now_utc_iso8601(),
         cpu_model: crate::provenance::cpu_model(),
+        shard: opts.shard.label(),
+        protocol: opts.protocol,
     };
-    // The reference: CPU f64, one thread, cells.
-    let reference = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
-    let mut r = reference.build(&c.scene, &c.layout, None)?;
-    r.restart_with_velocities(&c.vel0);
-    c.reference = Some(time_backend(r.as_mut(), opts.steps)?.frame);
-    let push = |rec: Result<Record, String>, id: BackendId, out: &mut Vec<Record>| match rec {
-        Ok(r) => {
-            eprintln!("{experiment} nx={nx} {:<44} {:>10.3} ms/step", r.variant, r.ms_per_step_median);
-            out.push(r);
+    let (mut est_done, mut spent_done) = (0.0f64, 0.0f64);
+    let mut references: HashMap<u32, Option<Frame>> = HashMap::new();
+    let mut start: Option<(String, u32, Start)> = None;
+    let mut skipped = Vec::new();
+    for job in &sel.jobs {
+        let elapsed = t0.elapsed().as_secs_f64();
+        let correction = if est_done > 0.0 { (spent_done / est_done).clamp(0.2, 10.0) } else { 1.0 };
+        if opts.budget_s.is_some_and(|b| elapsed + job.est_s * correction > b) {
+            skipped.push(format!("{} nx={} {}", job.experiment, job.nx, job.id));
+            continue;
         }
-        Err(e) => eprintln!("{experiment} nx={nx} {id}: skipped: {e}"),
-    };
-    for &search in cpu_searches {
-        let id = BackendId::Cpu { exec: Exec::Serial, search, precision: Precision::F64 };
-        push(c.record(experiment, id, opts.steps, 1), id, out);
-    }
-    if all_threads {
-        for precision in [Precision::F64, Precision::F32] {
-            let id = BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision };
-            push(c.record(experiment, id, opts.steps, rayon::current_num_threads()), id, out);
+        let tj = Instant::now();
+        if start.as_ref().is_none_or(|(e, nx, _)| *e != job.experiment || *nx != job.nx) {
+            let scene = study_scene_with(job.nx, &opts.sets)?;
+            let layout = build_layout(&scene).map_err(|e| e.to_string())?;
+            let vel0 = initial_velocities(&scene, &layout, None);
+            start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
         }
-    }
-    if gpu.is_some() {
-        let specs: Vec<VariantSpec> = if opts.variants.is_empty() { VariantSpec::all() } else { opts.variants.clone() };
-        for spec in specs {
-            // E1 compares the searches: the default variant of each.
-            if experiment == "e1" && spec != (VariantSpec { search: spec.search, ..VariantSpec::default() }) {
-                continue;
-            }
-            let id = BackendId::Gpu(spec);
-            if spec.search == SearchVariant::Direct && c.layout.pos.len() > DIRECT_MAX_N && opts.variants.is_empty() {
-                eprintln!("{experiment} nx={nx} {id}: skipped: direct search is O(N²); only run up to {DIRECT_MAX_N} particles unless named in --variants");
-                continue;
-            }
-            push(c.record(experiment, id, opts.steps, 1), id, out);
+        let s = &start.as_ref().expect("set above").2;
+        let res = run_job(job, s, gpu, &opts.protocol);
+        if job.id == REFERENCE {
+            references.entry(job.nx).or_insert_with(|| res.as_ref().ok().map(|t| t.snapshot.clone()));
         }
+        let within_cap = opts.cpu_max_n.is_none_or(|m| s.layout.pos.len() <= m);
+        if !references.contains_key(&job.nx) && within_cap {
+            // This shard has no reference row at this size: its snapshot alone (not recorded).
+            let r = REFERENCE.build(&s.scene, &s.layout, None).map_err(Failure::build).and_then(|mut b| {
+                b.restart_with_velocities(&s.vel0);
+                timing::snapshot(b.as_mut(), opts.protocol.steps)
+            });
+            references.insert(job.nx, r.ok());
+        }
+        let rec = common.record(job, s, &res, references.get(&job.nx).and_then(|r| r.as_ref()));
+        match &res {
+            Ok(_) => eprintln!(
+                "{} nx={} {:<44} {:>10.3} ms/step (latency {:.3} ms)",
+                job.experiment,
+                job.nx,
+                rec.variant,
+                rec.ms_per_step_median.unwrap_or(f64::NAN),
+                rec.latency_ms_median.unwrap_or(f64::NAN)
+            ),
+            Err(f) => eprintln!("{} nx={} {}: {}: {}", job.experiment, job.nx, rec.variant, f.status, f.reason),
+        }
+        out.push(rec);
+        est_done += job.est_s;
+        spent_done += tj.elapsed().as_secs_f64();
     }
-    Ok(())
+    let total = t0.elapsed().as_secs_f64();
+    if let Some(b) = opts.budget_s {
+        run_notes
+            .outcome
+            .push(format!("Budget {b:.0} s: the study took {total:.1} s ({:.0} % of the budget).", 100.0 * total / b));
+    }
+    if !skipped.is_empty() {
+        run_notes.outcome.push(format!(
+            "Not run because the running estimate would have overrun the budget: {}.",
+            skipped.join("; ")
+        ));
+    }
+    Ok(run_notes)
 }
 
-/// Runs the selected experiments and writes `records.csv`, `summary.md` and plots.
+/// Runs the selected experiments and writes `records.csv`, `summary.md` and plots (nothing with
+/// `dry_run`, which prints the plan only).
 pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
+    let t0 = Instant::now();
     let gpu = GpuContext::new().map(Arc::new).map_err(|e| eprintln!("study: no GPU adapter ({e}); CPU only")).ok();
+    run_study_on(opts, gpu.as_ref(), t0)
+}
+
+/// [`run_study`] on a given adapter (`None`: CPU only), the clock started at `t0`.
+pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, String> {
     let mut recs = Vec::new();
-    let all = [SearchKind::Direct, SearchKind::Cells, SearchKind::Tracking];
     for e in &opts.experiments {
-        match e.as_str() {
-            "e1" => run_size("e1", 45, opts, gpu.as_ref(), &all, false, &mut recs)?,
-            "e4" => run_size("e4", 100, opts, gpu.as_ref(), &[SearchKind::Cells], true, &mut recs)?,
-            "scaling" => {
-                for &nx in &opts.sizes {
-                    run_size("scaling", nx, opts, gpu.as_ref(), &[SearchKind::Cells], true, &mut recs)?;
-                }
-            }
-            other => return Err(format!("--experiments: unknown experiment `{other}` (e1, e4, scaling)")),
+        if !EXPERIMENTS.contains(&e.as_str()) {
+            return Err(format!("--experiments: unknown experiment `{e}` ({})", EXPERIMENTS.join(", ")));
         }
     }
-    report::write(&opts.out, &recs, gpu.as_ref().map(|g| g.describe()))?;
+    // The job sweep (e1, e4, scaling); further experiments dispatch below by name.
+    let notes = run_sweep(opts, gpu, t0, &mut recs)?;
+    if opts.dry_run {
+        return Ok(recs);
+    }
+    #[allow(clippy::match_single_binding)]
+    for e in opts.experiments.iter().filter(|e| !plan::SWEEP_EXPERIMENTS.contains(&e.as_str())) {
+        match e.as_str() {
+            other => return Err(format!("--experiments: `{other}` has no runner")),
+        }
+    }
+    report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes)?;
     Ok(recs)
 }

@@ -1,24 +1,68 @@
-//! Writes the study's outputs: `records.csv` (STUDY.md §5, one row per backend × size),
-//! `summary.md` (E1 and E4 tables, speedups, what the numbers mean on this adapter) and SVG
-//! plots (scaling log-log, speed against error); with GPU timestamps also `stage_times.csv`
-//! (device ms per step and share of each stage) and the E4 per-stage table by variant family.
+//! Writes the study's outputs: `records.csv` (STUDY.md §5, one row per backend × size, failed
+//! runs included with their status and no timing), `summary.md` (the plan, E1/E4/scaling tables
+//! with speedups, what the numbers mean on this adapter), SVG plots (scaling log-log, one facet
+//! per neighbour search; speed against error); with GPU timestamps also `stage_times.csv` and
+//! the E4 per-stage table. [`merge`] (`sphlab report DIR... --out DIR`) reads the records of
+//! several runs (shards, adapters) and writes one report from them, adapters side by side.
 
-use super::Record;
+use super::{Record, RunNotes};
 use crate::plot::{line_plot_svg, scatter_labeled_svg, PlotSpec, Series};
 use std::collections::BTreeMap;
 use std::fmt::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn e<T: std::fmt::Display>(p: &Path, x: T) -> String {
     format!("{}: {x}", p.display())
 }
 
-/// Writes every output of the study into `dir`.
-pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(), String> {
+/// The baseline of the speedups.
+pub const BASELINE: &str = "cpu1.cells.f64";
+
+/// Errors below this are drawn at it on the log axis of `speed_vs_error.svg` (and said so).
+pub const ERROR_FLOOR: f64 = 1e-12;
+
+/// Fills `speedup_vs_cpu1` and `cpu_ref` of every ok record from the `cpu1.cells.f64` rows: the
+/// one at the same N (same experiment preferred), else the largest smaller N scaled by N
+/// (`scaled from N=…`; the CPU NNPS is O(N)).
+pub fn annotate(recs: &mut [Record]) {
+    let base: Vec<(String, usize, f64)> = recs
+        .iter()
+        .filter(|r| r.variant == BASELINE && r.status == "ok")
+        .filter_map(|r| Some((r.experiment.clone(), r.n, r.ms_per_step_median?)))
+        .collect();
+    for r in recs.iter_mut() {
+        r.speedup_vs_cpu1 = None;
+        r.cpu_ref.clear();
+        let Some(ms) = r.ms_per_step_median.filter(|_| r.status == "ok") else { continue };
+        let same = base
+            .iter()
+            .filter(|b| b.1 == r.n)
+            .min_by_key(|b| (b.0 != r.experiment) as u8)
+            .map(|b| (b.2, "measured".to_string()));
+        let scaled = || {
+            base.iter()
+                .filter(|b| b.1 < r.n)
+                .max_by_key(|b| (b.1, (b.0 == r.experiment) as u8))
+                .map(|b| (b.2 * r.n as f64 / b.1 as f64, format!("scaled from N={}", b.1)))
+        };
+        if let Some((b, how)) = same.or_else(scaled) {
+            r.speedup_vs_cpu1 = Some(b / ms);
+            r.cpu_ref = how;
+        }
+    }
+}
+
+fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    x.map_or("-".into(), f)
+}
+
+/// Writes every output of the study into `dir` (records annotated first).
+pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &RunNotes) -> Result<(), String> {
+    annotate(recs);
     std::fs::create_dir_all(dir).map_err(|x| e(dir, x))?;
     let csv_path = dir.join("records.csv");
     let mut w = csv::Writer::from_path(&csv_path).map_err(|x| e(&csv_path, x))?;
-    for r in recs {
+    for r in recs.iter() {
         w.serialize(r).map_err(|x| e(&csv_path, x))?;
     }
     w.flush().map_err(|x| e(&csv_path, x))?;
@@ -26,27 +70,51 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
     if timed {
         write_stage_csv(&dir.join("stage_times.csv"), recs)?;
     }
+    let mut adapters: Vec<&str> = recs.iter().filter(|r| r.backend == "gpu").map(|r| r.adapter.as_str()).collect();
+    adapters.sort();
+    adapters.dedup();
+    let side_by_side = adapters.len() > 1;
 
     let mut md = String::new();
     let first = recs.first();
     let _ = writeln!(md, "# sphlab study (thesis Chapter 6)\n");
+    let mut commits: Vec<&str> = recs.iter().map(|r| r.commit.as_str()).collect();
+    commits.sort();
+    commits.dedup();
     let _ = writeln!(
         md,
-        "Commit `{}`, {}; CPU: {} ({} threads); GPU adapter: {}.\n",
-        first.map_or("-", |r| r.commit.as_str()),
+        "Commit `{}`, {}; CPU: {}; GPU adapter{}: {}.\n",
+        commits.join("`, `"),
         first.map_or("-", |r| r.date.as_str()),
         first.map_or("-", |r| r.cpu_model.as_str()),
-        rayon::current_num_threads(),
-        adapter.as_deref().unwrap_or("none")
+        if side_by_side { "s" } else { "" },
+        adapter.unwrap_or_else(|| if adapters.is_empty() { "none".into() } else { adapters.join("; ") })
     );
-    if adapter.as_deref().is_some_and(|a| a.contains("llvmpipe") || a.contains("Cpu")) {
+    if recs.iter().any(|r| r.backend == "gpu" && r.device_type == "Cpu") {
         let _ = writeln!(
             md,
-            "**The adapter is lavapipe, a CPU emulation of Vulkan: its times are not GPU times.** Read the GPU rows for \
-             correctness and relative cost between variants only.\n"
+            "**A GPU adapter here is a CPU emulation of Vulkan (lavapipe/llvmpipe): its times are not GPU times.** \
+             Read its rows for correctness and relative cost between variants only.\n"
         );
     }
-    let _ = writeln!(md, "Scene: `oscillating-drop` (no relaxation, initial velocity field), time per step = median wall clock of the timed steps (each followed by a device sync){}. Errors: kinetic energy (relative) and centroid (in Δx) after the same steps, against the CPU f64 one-thread run.\n", if timed { "; device ms/step = median of the summed GPU timestamps of the stage passes (`stage_times.csv`)" } else { "" });
+    if !notes.plan.is_empty() {
+        let _ = writeln!(md, "## Plan\n\n{}", notes.plan);
+    }
+    for o in &notes.outcome {
+        let _ = writeln!(md, "{o}\n");
+    }
+    let k = first.map_or(0, |r| r.steps);
+    let _ = writeln!(
+        md,
+        "Scene: `oscillating-drop` (no relaxation, initial velocity field). **Throughput** (ms/step) = wall time of a \
+         block of K = {k} steps with one device sync at its end, ÷ K: median, fastest and slowest block over the repeats \
+         (after a warm-up of fixed wall time). **Latency** = one step followed by a device sync (median). Device \
+         ms/step = GPU timestamps of the stage passes, read once per block{}. Errors: kinetic energy (relative) and \
+         centroid (in Δx) after the first K steps, against the CPU f64 one-thread run. A run that overflowed, blew up \
+         or failed has its status and reason and no timing. Speedup = `{BASELINE}` ms/step ÷ the row's; `cpu_ref` says \
+         whether the CPU time was measured at the same N or scaled by N from the largest CPU size.\n",
+        if timed { " (`stage_times.csv`)" } else { "" }
+    );
     for exp in ["e1", "e4", "scaling"] {
         let rows: Vec<&Record> = recs.iter().filter(|r| r.experiment == exp).collect();
         if rows.is_empty() {
@@ -58,82 +126,176 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
             _ => "Scaling — time per step against N",
         };
         let _ = writeln!(md, "## {title}\n");
-        let _ = writeln!(md, "| variant | N | ms/step (median) | p10 | p90 | particle-evals/s | speedup vs cpu1.cells.f64 | KE rel. error | centroid error (Δx) | device ms/step |\n|---|---|---|---|---|---|---|---|---|---|");
-        let base: BTreeMap<usize, f64> =
-            rows.iter().filter(|r| r.variant == "cpu1.cells.f64").map(|r| (r.n, r.ms_per_step_median)).collect();
+        let ad = if side_by_side { " adapter |" } else { "" };
+        let _ = writeln!(
+            md,
+            "| variant |{ad} N | status | ms/step (median) | fastest | slowest | latency ms | particle-evals/s | speedup vs {BASELINE} | KE rel. error | centroid error (Δx) | device ms/step |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|",
+            if side_by_side { "---|" } else { "" }
+        );
         for r in &rows {
-            let sp = base.get(&r.n).map_or("-".to_string(), |b| format!("{:.2}×", b / r.ms_per_step_median));
+            let sp = opt(r.speedup_vs_cpu1, |s| {
+                if r.cpu_ref == "measured" {
+                    format!("{s:.2}×")
+                } else {
+                    format!("{s:.2}× ({})", r.cpu_ref)
+                }
+            });
+            let status = if r.status == "ok" { "ok".into() } else { format!("**{}**: {}", r.status, r.reason) };
+            let ad = if side_by_side { format!(" {} |", r.adapter) } else { String::new() };
             let _ = writeln!(
                 md,
-                "| `{}` | {} | {:.3} | {:.3} | {:.3} | {:.3e} | {} | {:.1e} | {:.1e} | {} |",
+                "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.variant,
                 r.n,
-                r.ms_per_step_median,
-                r.ms_per_step_p10,
-                r.ms_per_step_p90,
-                r.particle_evals_per_s,
+                status,
+                opt(r.ms_per_step_median, |x| format!("{x:.3}")),
+                opt(r.ms_per_step_min, |x| format!("{x:.3}")),
+                opt(r.ms_per_step_max, |x| format!("{x:.3}")),
+                opt(r.latency_ms_median, |x| format!("{x:.3}")),
+                opt(r.particle_evals_per_s, |x| format!("{x:.3e}")),
                 sp,
-                r.ke_rel_error,
-                r.centroid_error_dx,
-                r.gpu_ms_per_step.map_or("-".to_string(), |x| format!("{x:.3}"))
+                opt(r.ke_rel_error, |x| format!("{x:.1e}")),
+                opt(r.centroid_error_dx, |x| format!("{x:.1e}")),
+                opt(r.gpu_ms_per_step, |x| format!("{x:.3}"))
             );
         }
         if exp == "e4" {
-            if let (Some(b), Some(best)) = (
-                base.values().next(),
-                rows.iter()
-                    .filter(|r| r.backend == "gpu")
-                    .min_by(|a, b| a.ms_per_step_median.total_cmp(&b.ms_per_step_median)),
-            ) {
-                let _ = writeln!(md, "\nBest GPU variant: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS (thesis: 120× on a 2012 GPU against a 2012 CPU core).", best.variant, best.ms_per_step_median, b / best.ms_per_step_median);
+            for a in adapters.iter() {
+                let best = rows
+                    .iter()
+                    .filter(|r| r.backend == "gpu" && r.adapter == *a && r.speedup_vs_cpu1.is_some())
+                    .max_by(|x, y| x.speedup_vs_cpu1.unwrap_or(0.0).total_cmp(&y.speedup_vs_cpu1.unwrap_or(0.0)));
+                if let Some(b) = best {
+                    let _ = writeln!(
+                        md,
+                        "\nBest GPU variant on {a}: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS ({}; thesis: 120× on a 2012 GPU against a 2012 CPU core).",
+                        b.variant,
+                        b.ms_per_step_median.unwrap_or(f64::NAN),
+                        b.speedup_vs_cpu1.unwrap_or(f64::NAN),
+                        b.cpu_ref
+                    );
+                }
             }
-        }
-        if exp == "e4" {
             stage_table(&mut md, &rows);
         }
         let _ = writeln!(md);
     }
-    // Scaling plot.
-    let mut by_variant: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
-    for r in recs.iter().filter(|r| r.experiment == "scaling") {
-        by_variant.entry(&r.variant).or_default().push((r.n as f64, r.ms_per_step_median));
+    scaling_plots(dir, recs, side_by_side, &mut md)?;
+    speed_vs_error(dir, recs, &mut md)?;
+    if !timed {
+        let _ = writeln!(
+            md,
+            "GPU timestamps: none in these records (the adapter has none, or no GPU ran): all times are wall clock.\n"
+        );
     }
-    if !by_variant.is_empty() {
-        let mut spec = PlotSpec::new("Time per step against particle count", "particles N", "time per step (ms)");
-        spec.log_x = true;
-        spec.log_y = true;
-        spec.series = by_variant.into_iter().map(|(k, v)| Series::line_points(k, v)).collect();
-        let p = dir.join("scaling.svg");
-        line_plot_svg(&p, &spec).map_err(|x| e(&p, x))?;
-        let _ = writeln!(md, "![scaling](scaling.svg)\n");
-    }
-    // Speed against error (E4 rows).
-    let pts: Vec<(f64, f64, String)> = recs
-        .iter()
-        .filter(|r| r.experiment == "e4" && r.ke_rel_error > 0.0)
-        .map(|r| (r.ms_per_step_median, r.ke_rel_error, r.variant.clone()))
-        .collect();
-    if !pts.is_empty() {
-        let p = dir.join("speed_vs_error.svg");
-        scatter_labeled_svg(
-            &p,
-            "Speed against error (E4)",
-            "time per step (ms)",
-            "kinetic-energy rel. error vs CPU f64",
-            &pts,
-            true,
-            true,
-        )
-        .map_err(|x| e(&p, x))?;
-        let _ = writeln!(md, "![speed against error](speed_vs_error.svg)\n");
-    }
-    let ts = if timed { "" } else { "; GPU timestamps (this adapter has none: all times are wall clock)" };
-    let _ = writeln!(
-        md,
-        "Not implemented: E2 (stages moved to the GPU one group at a time) and E3 (subdomain budgets){ts}."
-    );
     let p = dir.join("summary.md");
     std::fs::write(&p, md).map_err(|x| e(&p, x))
+}
+
+/// One scaling plot per neighbour search (`scaling_<search>.svg`): the GPU variants of that
+/// search (by adapter when several) and the CPU one-thread and all-thread f64 references.
+fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut String) -> Result<(), String> {
+    let ok: Vec<&Record> = recs.iter().filter(|r| r.experiment == "scaling" && r.status == "ok").collect();
+    let mut facets: BTreeMap<String, BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    let searches: Vec<String> = {
+        let mut v: Vec<String> = ok
+            .iter()
+            .filter(|r| r.backend == "gpu")
+            .map(|r| r.variant.split('.').next().unwrap_or("").to_string())
+            .collect();
+        v.sort();
+        v.dedup();
+        if v.is_empty() {
+            v.push("cpu".into());
+        }
+        v
+    };
+    for s in &searches {
+        let f = facets.entry(s.clone()).or_default();
+        for r in &ok {
+            let Some(ms) = r.ms_per_step_median else { continue };
+            let keep = r.variant.starts_with(&format!("{s}.")) || r.variant == BASELINE || r.variant == "cpu.cells.f64";
+            if !keep {
+                continue;
+            }
+            let label = if side_by_side && r.backend == "gpu" {
+                format!("{} @ {}", r.variant.trim_start_matches(&format!("{s}.")), r.adapter)
+            } else {
+                r.variant.trim_start_matches(&format!("{s}.")).to_string()
+            };
+            f.entry(label).or_default().push((r.n as f64, ms));
+        }
+    }
+    for (s, series) in facets {
+        if series.is_empty() {
+            continue;
+        }
+        let mut spec =
+            PlotSpec::new(format!("Time per step against N — {s} search"), "particles N", "time per step (ms)");
+        spec.log_x = true;
+        spec.log_y = true;
+        spec.series = series
+            .into_iter()
+            .map(|(k, mut v)| {
+                v.sort_by(|a, b| a.0.total_cmp(&b.0));
+                Series::line_points(k, v)
+            })
+            .collect();
+        let name = format!("scaling_{s}.svg");
+        let p = dir.join(&name);
+        line_plot_svg(&p, &spec).map_err(|x| e(&p, x))?;
+        let _ = writeln!(md, "![scaling, {s} search]({name})\n");
+    }
+    Ok(())
+}
+
+/// Speed against error (E4 rows): time per step against the kinetic-energy error, log-log,
+/// errors below [`ERROR_FLOOR`] drawn at it.
+fn speed_vs_error(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
+    let pts: Vec<(f64, f64, String)> = recs
+        .iter()
+        .filter(|r| r.experiment == "e4" && r.status == "ok")
+        .filter_map(|r| Some((r.ms_per_step_median?, r.ke_rel_error?.max(ERROR_FLOOR), r.variant.clone())))
+        .collect();
+    if pts.is_empty() {
+        return Ok(());
+    }
+    let p = dir.join("speed_vs_error.svg");
+    scatter_labeled_svg(
+        &p,
+        "Speed against error (E4)",
+        "time per step (ms)",
+        &format!("kinetic-energy rel. error vs CPU f64 (floor {ERROR_FLOOR:.0e})"),
+        &pts,
+        true,
+        true,
+    )
+    .map_err(|x| e(&p, x))?;
+    let _ = writeln!(
+        md,
+        "![speed against error](speed_vs_error.svg)\n\nErrors below {ERROR_FLOOR:.0e} (f64 variants agree with the CPU f64 run to rounding) are drawn at {ERROR_FLOOR:.0e}.\n"
+    );
+    Ok(())
+}
+
+/// Reads `records.csv` of a study output directory.
+pub fn read_records(dir: &Path) -> Result<Vec<Record>, String> {
+    let p = dir.join("records.csv");
+    let mut r = csv::Reader::from_path(&p).map_err(|x| e(&p, x))?;
+    r.deserialize().map(|x| x.map_err(|err| e(&p, err))).collect()
+}
+
+/// `sphlab report DIR... --out DIR`: the records of every input directory in one report.
+pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<Vec<Record>, String> {
+    let mut recs = Vec::new();
+    for d in inputs {
+        recs.extend(read_records(d)?);
+    }
+    let list: Vec<String> = inputs.iter().map(|d| format!("`{}`", d.display())).collect();
+    let notes =
+        RunNotes { plan: format!("* merged from {} runs: {}\n", inputs.len(), list.join(", ")), outcome: Vec::new() };
+    write(out, &mut recs, None, &notes)?;
+    Ok(recs)
 }
 
 /// `stage_times.csv`: experiment, variant, N, stage, device ms per step, share of the step.

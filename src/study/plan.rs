@@ -1,0 +1,311 @@
+//! The study's plan: every job (experiment × size × backend) in one fixed order, the part a
+//! `--shard i/n` runs, its estimated time from a short probe, and the `--budget` cut (the
+//! largest sizes are dropped first, then any job the running estimate says would overrun).
+//!
+//! The estimate of a job is `build + warm-up + steps × ms/step(N)`, with ms/step(N) = a + b·N
+//! fitted per backend kind from two probe sizes (b·N² for direct search), and a GPU variant's
+//! first build costing the probe's measured build (pipelines are compiled once per variant).
+//! While the study runs, the ratio of measured to estimated time corrects the remaining jobs.
+
+use super::timing::{advance, Protocol};
+use super::{study_scene_with, StudyOptions, DIRECT_MAX_N};
+use crate::backend::BackendId;
+use crate::exec::Exec;
+use crate::gpu::variant::{Precision, SearchVariant, VariantSpec};
+use crate::gpu::GpuContext;
+use crate::neighbours::SearchKind;
+use crate::plan::Plan as ResourcePlan;
+use crate::run::initial_velocities;
+use crate::scene::build::build_layout;
+use std::collections::BTreeSet;
+use std::fmt::Write;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// One timed backend at one size of one experiment.
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// e1, e4, scaling.
+    pub experiment: String,
+    /// Resolution (particles across the box).
+    pub nx: u32,
+    /// Planned particles (fluid + wall).
+    pub n: usize,
+    /// The backend.
+    pub id: BackendId,
+    /// CPU threads it uses.
+    pub threads: usize,
+    /// Estimated seconds (0 until [`Probe::estimate`]).
+    pub est_s: f64,
+}
+
+/// The experiments the job sweep runs (others dispatch elsewhere in `run_study`).
+pub const SWEEP_EXPERIMENTS: [&str; 3] = ["e1", "e4", "scaling"];
+
+/// Resolutions of an experiment.
+pub fn sizes_of(experiment: &str, opts: &StudyOptions) -> Vec<u32> {
+    match experiment {
+        "e1" => vec![45],
+        "e4" => vec![100],
+        _ => opts.sizes.clone(),
+    }
+}
+
+/// Every job of the sweep experiments, in run order (per size the reference `cpu1.cells.f64`
+/// first), and notes on what was left out and why (unsupported, over a limit, `--cpu-max-n`).
+pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<Job>, Vec<String>), String> {
+    let mut out = Vec::new();
+    let mut notes = BTreeSet::new();
+    let threads = rayon::current_num_threads();
+    let specs: Vec<VariantSpec> = if opts.variants.is_empty() { VariantSpec::all() } else { opts.variants.clone() };
+    let mut supported = Vec::new();
+    if let Some(g) = gpu {
+        for s in specs {
+            match s.support(g) {
+                Ok(()) => supported.push(s),
+                Err(e) => {
+                    notes.insert(format!("`{s}`: unsupported on this adapter ({e})"));
+                }
+            }
+        }
+    }
+    for e in opts.experiments.iter().filter(|e| SWEEP_EXPERIMENTS.contains(&e.as_str())) {
+        for nx in sizes_of(e, opts) {
+            let scene = study_scene_with(nx, &opts.sets)?;
+            let plan = ResourcePlan::new(&scene, 8, false);
+            let n = plan.n_total as usize;
+            let mut push =
+                |id: BackendId, threads: usize| out.push(Job { experiment: e.clone(), nx, n, id, threads, est_s: 0.0 });
+            if opts.cpu_max_n.is_none_or(|m| n <= m) {
+                let searches: &[SearchKind] = if e == "e1" {
+                    &[SearchKind::Cells, SearchKind::Direct, SearchKind::Tracking]
+                } else {
+                    &[SearchKind::Cells]
+                };
+                for &search in searches {
+                    push(BackendId::Cpu { exec: Exec::Serial, search, precision: Precision::F64 }, 1);
+                }
+                if e != "e1" {
+                    for precision in [Precision::F64, Precision::F32] {
+                        push(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision }, threads);
+                    }
+                }
+            } else {
+                notes.insert(format!(
+                    "CPU rows only up to N = {} (`--cpu-max-n`); above it GPU rows compare with the largest CPU size, scaled by N",
+                    opts.cpu_max_n.unwrap_or(0)
+                ));
+            }
+            let Some(g) = gpu else { continue };
+            let gplan = ResourcePlan::new(&scene, 4, true);
+            if let Err(why) = gplan.check_gpu(g.limits.max_storage_buffer_binding_size.min(g.limits.max_buffer_size)) {
+                notes.insert(format!("{e} nx={nx}: GPU variants not run: {why}"));
+                continue;
+            }
+            for &spec in &supported {
+                // E1 compares the searches: the default variant of each.
+                if e == "e1" && spec != (VariantSpec { search: spec.search, ..VariantSpec::default() }) {
+                    continue;
+                }
+                if spec.search == SearchVariant::Direct && n > DIRECT_MAX_N && opts.variants.is_empty() {
+                    notes.insert(format!(
+                        "direct GPU variants only up to {DIRECT_MAX_N} particles (O(N²)) unless named in --variants"
+                    ));
+                    continue;
+                }
+                push(BackendId::Gpu(spec), 1);
+            }
+        }
+    }
+    Ok((out, notes.into_iter().collect()))
+}
+
+/// Per-step cost model a + b·N of one backend kind, from two probe sizes.
+#[derive(Clone, Copy, Debug, Default)]
+struct Fit {
+    a_ms: f64,
+    b_ms: f64,
+}
+
+impl Fit {
+    fn from(n: [f64; 2], ms: [f64; 2]) -> Fit {
+        let b = ((ms[1] - ms[0]) / (n[1] - n[0])).max(ms[1] / n[1] * 0.25).max(0.0);
+        Fit { a_ms: (ms[1] - b * n[1]).max(0.0), b_ms: b }
+    }
+    fn ms(&self, n: f64, quadratic_from: Option<f64>) -> f64 {
+        match quadratic_from {
+            Some(n0) => self.a_ms + self.b_ms * n0 * (n / n0).powi(2),
+            None => self.a_ms + self.b_ms * n,
+        }
+    }
+}
+
+/// The probe's measurements: ms/step fits per backend kind, GPU build time, layout cost.
+#[derive(Clone, Debug, Default)]
+pub struct Probe {
+    cpu1: Fit,
+    cpu: Fit,
+    gpu: Option<Fit>,
+    gpu_build_s: f64,
+    layout_s_per_particle: f64,
+    n0: f64,
+    /// Wall time the probe took (s).
+    pub seconds: f64,
+}
+
+const PROBE_SIZES: [u32; 2] = [16, 32];
+const PROBE_STEPS: u64 = 2;
+
+impl Probe {
+    /// Times `PROBE_STEPS` steps of `cpu1.cells.f64`, `cpu.cells.f64` and (with a GPU) the first
+    /// GPU variant of the plan at two small sizes.
+    pub fn run(
+        opts: &StudyOptions,
+        gpu: Option<&Arc<GpuContext>>,
+        first_gpu: Option<VariantSpec>,
+    ) -> Result<Probe, String> {
+        let t0 = Instant::now();
+        let (mut ns, mut c1, mut c, mut g) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
+        let mut p = Probe::default();
+        for (k, &nx) in PROBE_SIZES.iter().enumerate() {
+            let scene = study_scene_with(nx, &opts.sets)?;
+            let tl = Instant::now();
+            let layout = build_layout(&scene).map_err(|e| e.to_string())?;
+            p.layout_s_per_particle = tl.elapsed().as_secs_f64() / layout.pos.len() as f64;
+            let vel0 = initial_velocities(&scene, &layout, None);
+            ns[k] = layout.pos.len() as f64;
+            let time = |id: BackendId| -> Result<(f64, f64), String> {
+                let tb = Instant::now();
+                let mut b = id.build(&scene, &layout, gpu)?;
+                b.restart_with_velocities(&vel0);
+                let build = tb.elapsed().as_secs_f64();
+                advance(b.as_mut(), 1).map_err(|e| e.to_string())?;
+                b.sync();
+                let t = Instant::now();
+                advance(b.as_mut(), PROBE_STEPS).map_err(|e| e.to_string())?;
+                b.sync();
+                Ok((build, t.elapsed().as_secs_f64() * 1e3 / PROBE_STEPS as f64))
+            };
+            let cpu1 = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
+            c1[k] = time(cpu1)?.1;
+            c[k] =
+                time(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 })?.1;
+            if let Some(spec) = first_gpu.filter(|_| gpu.is_some()) {
+                let (build, ms) = time(BackendId::Gpu(spec))?;
+                if k == 0 {
+                    p.gpu_build_s = build;
+                }
+                g[k] = ms;
+            }
+        }
+        p.cpu1 = Fit::from(ns, c1);
+        p.cpu = Fit::from(ns, c);
+        p.gpu = first_gpu.filter(|_| gpu.is_some()).map(|_| Fit::from(ns, g));
+        p.n0 = ns[1];
+        p.seconds = t0.elapsed().as_secs_f64();
+        Ok(p)
+    }
+
+    /// Fills `est_s` of every job (in run order: a GPU variant's first job pays its compile).
+    pub fn estimate(&self, jobs: &mut [Job], proto: &Protocol) {
+        let mut compiled = BTreeSet::new();
+        let mut sizes_seen = BTreeSet::new();
+        for j in jobs.iter_mut() {
+            let n = j.n as f64;
+            let direct = match j.id {
+                BackendId::Cpu { search, .. } => search == SearchKind::Direct,
+                BackendId::Gpu(s) => s.search == SearchVariant::Direct,
+            };
+            let quad = direct.then_some(self.n0);
+            let (ms, build) = match j.id {
+                BackendId::Cpu { exec: Exec::Serial, .. } => (self.cpu1.ms(n, quad), 0.0),
+                BackendId::Cpu { .. } => (self.cpu.ms(n, quad), 0.0),
+                BackendId::Gpu(s) => {
+                    let first = compiled.insert(s.to_string());
+                    (
+                        self.gpu.unwrap_or(self.cpu).ms(n, quad),
+                        if first { self.gpu_build_s } else { 0.1 * self.gpu_build_s },
+                    )
+                }
+            };
+            let layout = if sizes_seen.insert((j.experiment.clone(), j.nx)) {
+                3.0 * self.layout_s_per_particle * n
+            } else {
+                0.0
+            };
+            let steps = proto.steps_besides_warmup() as f64 * ms * 1e-3;
+            let warm = proto.warmup_s.max(proto.steps as f64 * ms * 1e-3);
+            j.est_s = build + layout + steps + warm;
+        }
+    }
+}
+
+/// The plan after the shard and the budget: the jobs to run and what was dropped.
+#[derive(Clone, Debug, Default)]
+pub struct Selected {
+    /// Jobs to run, in order.
+    pub jobs: Vec<Job>,
+    /// Sizes (nx) dropped whole for the budget, largest first.
+    pub dropped_sizes: Vec<u32>,
+    /// Estimated seconds of the kept jobs.
+    pub est_s: f64,
+    /// Estimated seconds of every job of the shard.
+    pub est_all_s: f64,
+}
+
+/// Keeps the jobs of `shard` and, under `budget_s` (counting `spent_s` already used), drops the
+/// largest sizes first until the estimate fits.
+pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
+    let mut jobs: Vec<Job> =
+        all.iter().enumerate().filter(|(k, _)| opts.shard.owns(*k)).map(|(_, j)| j.clone()).collect();
+    let est_all_s: f64 = jobs.iter().map(|j| j.est_s).sum();
+    let mut dropped_sizes = Vec::new();
+    if let Some(budget) = opts.budget_s {
+        while spent_s + jobs.iter().map(|j| j.est_s).sum::<f64>() > budget {
+            let Some(largest) = jobs.iter().map(|j| j.nx).max() else { break };
+            jobs.retain(|j| j.nx != largest);
+            dropped_sizes.push(largest);
+        }
+    }
+    let est_s = jobs.iter().map(|j| j.est_s).sum();
+    Selected { jobs, dropped_sizes, est_s, est_all_s }
+}
+
+/// The plan as text (printed first, and kept in `summary.md`).
+pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: f64) -> String {
+    let mut s = String::new();
+    let exps: Vec<&str> = opts.experiments.iter().map(String::as_str).collect();
+    let _ = writeln!(s, "* experiments: {}", exps.join(", "));
+    let mut ids: Vec<String> = sel.jobs.iter().map(|j| j.id.to_string()).collect();
+    ids.sort();
+    ids.dedup();
+    let _ = writeln!(s, "* backends: {} ({})", ids.len(), ids.join(", "));
+    let mut sizes: Vec<(u32, usize)> = sel.jobs.iter().map(|j| (j.nx, j.n)).collect();
+    sizes.sort();
+    sizes.dedup();
+    let sz: Vec<String> = sizes.iter().map(|(nx, n)| format!("nx={nx} (N={n})")).collect();
+    let _ = writeln!(s, "* sizes: {}", if sz.is_empty() { "none".into() } else { sz.join(", ") });
+    let _ = writeln!(
+        s,
+        "* protocol: {} steps per device sync, {} repeats, {} s warm-up, {} latency samples",
+        opts.protocol.steps, opts.protocol.repeats, opts.protocol.warmup_s, opts.protocol.latency_samples
+    );
+    let _ = writeln!(s, "* shard: {}; jobs: {}", opts.shard.label(), sel.jobs.len());
+    let _ = writeln!(
+        s,
+        "* estimated time: {:.1} s for the kept jobs (all jobs of this shard: {:.1} s; probe: {:.1} s)",
+        sel.est_s, sel.est_all_s, probe_s
+    );
+    if let Some(b) = opts.budget_s {
+        let d: Vec<String> = sel.dropped_sizes.iter().map(|nx| format!("nx={nx}")).collect();
+        let _ = writeln!(
+            s,
+            "* budget: {b:.0} s; dropped for it (largest first): {}",
+            if d.is_empty() { "nothing".into() } else { d.join(", ") }
+        );
+    }
+    for n in notes {
+        let _ = writeln!(s, "* {n}");
+    }
+    s
+}

@@ -1,0 +1,173 @@
+//! How the study times one backend, honestly (STUDY.md §5, issue 9 item 3):
+//!
+//! 1. **Accuracy snapshot**: `K` steps from the shared start, a device sync, the error check,
+//!    and the state read back: it is compared with the CPU f64 one-thread reference after the
+//!    same `K` steps.
+//! 2. **Warm-up for a fixed time** (`warmup_s`, at least one block of `K` steps), not a fixed
+//!    count: pipelines, caches and clocks settle whatever the size.
+//! 3. **Latency**: `latency_samples` single steps, each followed by a device sync (what one step
+//!    costs when the host waits for it).
+//! 4. **Throughput**: `repeats` blocks of `K` steps with one device sync per block; ms/step of a
+//!    block = its wall time ÷ `K`. Device timestamps are taken once per block. The record gives
+//!    the median, min and max over the blocks (with few repeats there are no honest p10/p90).
+//!
+//! The solver's error flags ([`Backend::take_error`]) are read after the snapshot, after the
+//! warm-up and after timing: a run that overflowed, blew up or failed on the device is a
+//! [`Failure`], never a measurement.
+
+use crate::backend::{Backend, Frame, SolverError};
+use std::time::Instant;
+
+/// The timing protocol.
+#[derive(Clone, Copy, Debug)]
+pub struct Protocol {
+    /// Steps per device sync (K): the accuracy snapshot and every throughput block.
+    pub steps: u64,
+    /// Throughput blocks of K steps.
+    pub repeats: usize,
+    /// Warm-up wall time (s).
+    pub warmup_s: f64,
+    /// Single synced steps timed for the latency.
+    pub latency_samples: usize,
+}
+
+impl Default for Protocol {
+    fn default() -> Self {
+        Protocol { steps: 10, repeats: 5, warmup_s: 0.5, latency_samples: 3 }
+    }
+}
+
+impl Protocol {
+    /// Steps one timed backend takes besides the warm-up.
+    pub fn steps_besides_warmup(&self) -> u64 {
+        self.steps * (1 + self.repeats as u64) + self.latency_samples as u64
+    }
+}
+
+/// Why a run is not a measurement: `status` is `overflow`, `blow-up`, `error` or `refused`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure {
+    /// overflow | blow-up | error | refused.
+    pub status: &'static str,
+    /// The solver's or builder's message.
+    pub reason: String,
+}
+
+impl Failure {
+    /// The failure of a solver error.
+    pub fn of(e: &SolverError) -> Failure {
+        let status = match e {
+            SolverError::BlowUp { .. } => "blow-up",
+            SolverError::NeighbourOverflow { .. } | SolverError::ContactOverflow { .. } => "overflow",
+            SolverError::Gpu(_) => "error",
+        };
+        Failure { status, reason: e.to_string() }
+    }
+
+    /// A backend that could not be built: `refused` when the adapter or the plan says no
+    /// (unsupported feature, over a limit), else `error`.
+    pub fn build(msg: String) -> Failure {
+        let refused = msg.contains("unsupported") || msg.contains("resource plan") || msg.contains("limit");
+        Failure { status: if refused { "refused" } else { "error" }, reason: msg }
+    }
+}
+
+/// What one timed backend gave.
+pub struct Timed {
+    /// The state after the first K steps (the accuracy snapshot).
+    pub snapshot: Frame,
+    /// ms per step of each throughput block, sorted.
+    pub block_ms: Vec<f64>,
+    /// ms of each synced single step, sorted.
+    pub latency_ms: Vec<f64>,
+    /// Device ms per step of each block (GPU timestamps), sorted; empty without them.
+    pub device_ms: Vec<f64>,
+    /// Mean device ms per step of each stage over the throughput blocks.
+    pub stage_ms: Vec<(String, f64)>,
+    /// Steps the warm-up took.
+    pub warmup_steps: u64,
+}
+
+/// `k` steps. (Becomes `b.advance(k)` — one submission for `k` steps on the GPU — once
+/// `Backend::advance` lands; the protocol does not change.)
+pub fn advance(b: &mut dyn Backend, k: u64) -> Result<(), SolverError> {
+    for _ in 0..k {
+        b.step()?;
+    }
+    Ok(())
+}
+
+/// Reads the error flags: `Err` when the run so far failed.
+fn check(b: &mut dyn Backend) -> Result<(), Failure> {
+    match b.take_error() {
+        Some(e) => Err(Failure::of(&e)),
+        None => Ok(()),
+    }
+}
+
+fn run(b: &mut dyn Backend, k: u64) -> Result<(), Failure> {
+    advance(b, k).map_err(|e| Failure::of(&e))?;
+    b.sync();
+    check(b)
+}
+
+/// K steps from the current state, synced and checked, then the state read back (checked again:
+/// the GPU reads its flags with the frame).
+pub fn snapshot(b: &mut dyn Backend, k: u64) -> Result<Frame, Failure> {
+    run(b, k)?;
+    let f = b.frame();
+    check(b)?;
+    Ok(f)
+}
+
+/// The whole protocol on `b` (built and restarted by the caller).
+pub fn time_backend(b: &mut dyn Backend, p: &Protocol) -> Result<Timed, Failure> {
+    let snapshot = snapshot(b, p.steps)?;
+    let device = b.enable_device_time(true);
+    let t0 = Instant::now();
+    let mut warmup_steps = 0;
+    while warmup_steps == 0 || t0.elapsed().as_secs_f64() < p.warmup_s {
+        run(b, p.steps)?;
+        warmup_steps += p.steps;
+    }
+    let mut latency_ms = Vec::new();
+    for _ in 0..p.latency_samples {
+        let t = Instant::now();
+        run(b, 1)?;
+        latency_ms.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    let _ = b.device_time();
+    let (mut block_ms, mut device_ms, mut stage_ms) = (Vec::new(), Vec::new(), Vec::<(String, f64)>::new());
+    let blocks = (p.repeats.max(1) as u64 * p.steps) as f64;
+    for _ in 0..p.repeats.max(1) {
+        let t = Instant::now();
+        advance(b, p.steps).map_err(|e| Failure::of(&e))?;
+        b.sync();
+        block_ms.push(t.elapsed().as_secs_f64() * 1e3 / p.steps as f64);
+        if let Some(d) = device.then(|| b.device_time()).flatten() {
+            device_ms.push(d.total_ms / d.steps.max(1) as f64);
+            for (stage, x) in d.stages {
+                match stage_ms.iter_mut().find(|(s, _)| *s == stage) {
+                    Some(e) => e.1 += x / blocks,
+                    None => stage_ms.push((stage, x / blocks)),
+                }
+            }
+        }
+    }
+    check(b)?;
+    b.enable_device_time(false);
+    for v in [&mut block_ms, &mut latency_ms, &mut device_ms] {
+        v.sort_by(f64::total_cmp);
+    }
+    Ok(Timed { snapshot, block_ms, latency_ms, device_ms, stage_ms, warmup_steps })
+}
+
+/// The median of a sorted, non-empty slice.
+pub fn median(sorted: &[f64]) -> f64 {
+    let n = sorted.len();
+    if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    }
+}
