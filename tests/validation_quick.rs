@@ -95,11 +95,11 @@ fn unknown_case_is_an_error() {
     assert!(matches!(run_case("nope", &opts), Err(sphlab::validate::ValidateError::Input(_))));
 }
 
-/// The default oscillating drop (30×30, relax 0.5, p_b = 0.4σ/Δx; full resolution: coarser
+/// The default oscillating drop (30×30, relax 0.5, quintic h = 1.2Δx, p_b = 30; full resolution: coarser
 /// lattices damp the amplitude below the band) against the thesis: period within 5 % of 0.37
-/// (0.374 measured at 25041d7 + the p_b change), first-cycle amplitude within 20 % of 0.012
-/// (0.0098); the cubic spline (h = 1.2Δx) and Wendland C2 (h = 1.5Δx) oscillate like a liquid:
-/// period within 15 % of the quintic's (−6 %, −3 % measured) and the centroid back within
+/// (0.366 measured), first-cycle amplitude within 20 % of 0.012
+/// (0.0100); the cubic spline (h = 1.2Δx) and Wendland C2 (h = 1.5Δx) oscillate like a liquid:
+/// period within 15 % of the quintic's (−14 %, −2 % measured) and the centroid back within
 /// 0.002 of the circle's 0.0796 for t ≥ 0.4. Three runs of 11,000 steps of 900 particles.
 #[test]
 fn oscillating_drop_matches_thesis_with_every_kernel() {

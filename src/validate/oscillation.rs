@@ -28,12 +28,13 @@ pub const THESIS_PERIOD_TOL: f64 = 0.05;
 pub const THESIS_AMPLITUDE_TOL: f64 = 0.2;
 
 /// The smoothing length of each kernel on this case (`kernel.h_ratio` overrides), chosen by the
-/// period against the quintic's at nx = 30, p_b = 0.4σ/Δx (commit 25041d7 + this change):
-/// * quintic h = Δx (support 3Δx): the scene's default;
+/// period against the quintic's at nx = 30, p_b = σ/(2Δx) = 30 (25041d7 and b12fadd's trees):
+/// * quintic h = 1.2Δx (support 3.6Δx): the scene's default (amplitude and spurious speed, see
+///   `scene::builtin::oscillating_drop`); h = Δx kept as an info run;
 /// * cubic spline h = 1.2Δx (support 2.4Δx): the thesis's choice for §4.2.2–4.2.4 (PHYSICS.md §7.4);
-///   period −6 % from the quintic's (h = 1.5Δx was no closer at p_b = 30: 0.320 vs 0.316);
-/// * Wendland C2 h = 1.5Δx (support 3Δx, the quintic's): −3 %; at h = 1.3Δx (support 2.6Δx) the
-///   drop rings −17 % fast, outside the 15 % of [`KERNEL_PERIOD_TOL`] (kept as an info run).
+///   period 0.316, −14 % from the quintic's 0.366 (h = 1.5Δx was no closer: 0.320);
+/// * Wendland C2 h = 1.5Δx (support 3Δx): 0.358, −2 %; at h = 1.3Δx (support 2.6Δx) the drop
+///   rings 16 % fast, outside the 15 % of [`KERNEL_PERIOD_TOL`] (kept as an info run).
 pub fn kernel_sets() -> [(&'static str, &'static str, Vec<&'static str>); 2] {
     [
         ("cubic", "cubic spline h = 1.2Δx", vec!["kernel.kind=cubic-spline", "kernel.h_ratio=1.2"]),
@@ -92,7 +93,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut rep = CaseReport::new("oscillation", "Thesis §4.2.1, Fig. 4.1 (PHYSICS.md §9(a)): oscillating drop", quick);
     let analytic = drop_mode2_period(1.0, 1.0, 1.0, 0.1875);
     let mut variants: Vec<(&str, &str, Vec<&str>)> =
-        vec![("quintic", "field on all particles, p_b = 0.4σ/Δx (default)", vec![])];
+        vec![("quintic", "field on all particles, quintic h = 1.2Δx, p_b = σ/(2Δx) (default)", vec![])];
     if !quick {
         variants.extend(kernel_sets());
         variants.push((
@@ -100,11 +101,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             "Wendland C2 h = 1.3Δx (support 2.6Δx)",
             vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.3"],
         ));
-        variants.push((
-            "pb30",
-            "p_b = σ/(2Δx) = 30 (the sessile scenes' rule)",
-            vec!["phases.0.p_b=30", "phases.1.p_b=30"],
-        ));
+        variants.push(("quintic-h10", "quintic h = Δx (support 3Δx; the former default)", vec!["kernel.h_ratio=1.0"]));
         variants.push(("pb-b", "p_b = B = 175 (the former default)", vec!["phases.0.p_b=175", "phases.1.p_b=175"]));
         variants.push(("pb0", "p_b = 0 (thesis-literal pressure)", vec!["phases.0.p_b=0", "phases.1.p_b=0"]));
         variants.push(("drop-only", "field on the drop only (thesis text)", vec!["initial_velocity.phase=liquid"]));
@@ -201,13 +198,12 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             (tw / quintic_period - 1.0) * 100.0
         ));
     }
-    if let (Some((_, a)), Some((_, a30))) = (find("quintic"), find("pb30")) {
+    if let (Some((tq, a)), Some((t10, a10)), Some((_, ab))) = (find("quintic"), find("quintic-h10"), find("pb-b")) {
         rep.notes.push(format!(
-            "The first-cycle amplitude falls as p_b rises: {a:.4} at the default p_b = 0.4σ/Δx = 24, {a30:.4} at σ/(2Δx) = 30 \
-             (the sessile scenes' rule), lower still at B = 175; p_b = 0 gives the largest but no regular oscillation. \
-             The oscillating drop therefore uses 0.4σ/Δx (scene::builtin::OSCILLATING_DROP_PB_FACTOR), the largest \
-             factor measured to keep the amplitude within 20 % of the thesis's; the price is the higher spurious speed \
-             of the drop at rest (reports/validation/spurious)."
+            "Quintic h = 1.2Δx (default) against h = Δx: period {tq:.3} vs {t10:.3}, first-cycle amplitude {a:.4} vs {a10:.4}. \
+             The amplitude falls as the arrangement stiffens: with p_b ({ab:.4} at B = 175; reports/validation/pb-sweep at \
+             nx = 24) and with a narrower support (h = Δx), whose noisier colour gradient and pressure sum also raise the \
+             spurious speeds of the drop at rest (spurious/summary.md)."
         ));
     }
     if let Some((_, a)) = find("quintic") {
