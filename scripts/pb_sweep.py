@@ -11,8 +11,15 @@ CENTROID = 4 * R / (3 * math.pi)         # quarter-circle centroid
 SUPPORT = {"quintic": 3.0 * 1.0, "cubic-spline": 2.0 * 1.2, "wendland-c2": 2.0 * 1.3}
 
 
+def num(v):
+    try:
+        return float(v)
+    except ValueError:  # empty or a text column (dt_limit)
+        return math.nan
+
+
 def series(d):
-    return [{k: float(v) if v else math.nan for k, v in r.items()} for r in csv.DictReader(open(d + "/series.csv"))]
+    return [{k: num(v) for k, v in r.items()} for r in csv.DictReader(open(d + "/series.csv"))]
 
 
 def last_snapshot(d):
@@ -121,4 +128,5 @@ def main():
     print("\n".join(md))
 
 
-main()
+if __name__ == "__main__":
+    main()

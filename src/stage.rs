@@ -196,7 +196,7 @@ impl Stage {
     pub fn step_pair(integrator: Integrator) -> (Stage, Stage) {
         match integrator {
             Integrator::Midpoint => (Stage::MidpointPredict, Stage::MidpointCorrect),
-            Integrator::Verlet => (Stage::VerletDrift, Stage::VerletKick),
+            Integrator::Verlet | Integrator::VerletPec => (Stage::VerletDrift, Stage::VerletKick),
         }
     }
 

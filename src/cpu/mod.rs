@@ -71,6 +71,10 @@ pub struct CpuSolver<T: Real> {
     pub numbers: StabilityNumbers,
     /// The limit that bound the last dt (`fixed` for a fixed dt).
     pub dt_bound: &'static str,
+    /// Verlet: the half-step velocities v_{n+½} of the drift, kept for the closing kick while
+    /// `vel` holds the predicted v_n + dt·a_n that the evaluation sees (the GPU keeps them in
+    /// `state0[n..]`). Empty with the midpoint integrator.
+    pub vhalf: Vec<V2<T>>,
     have_acc: bool,
     evaluated: bool,
 }
@@ -99,6 +103,10 @@ impl<T: Real> CpuSolver<T> {
             profile: false,
             numbers: StabilityNumbers::default(),
             dt_bound: "fixed",
+            vhalf: match scene.time.integrator {
+                Integrator::Verlet | Integrator::VerletPec => vec![V2::from_f64(0.0, 0.0); layout.n_fluid],
+                Integrator::Midpoint => Vec::new(),
+            },
             have_acc: false,
             evaluated: false,
         };
@@ -209,11 +217,17 @@ impl<T: Real> CpuSolver<T> {
         dt
     }
 
-    /// Mirror and periodic sides: reflect or wrap fluid particles that crossed them.
+    /// Mirror and periodic sides: reflect or wrap fluid particles that crossed them (and their
+    /// Verlet half-step velocity with the same reflection).
     fn apply_boundaries(&mut self) {
         let im = self.model.images;
         let (lo, hi) = (self.model.lo, self.model.hi);
         for i in 0..self.n_fluid {
+            let mut q = self.pos[i];
+            if let Some(vh) = self.vhalf.get_mut(i) {
+                boundary_axis(&im.x, lo.x, hi.x, &mut q.x, &mut vh.x);
+                boundary_axis(&im.y, lo.y, hi.y, &mut q.y, &mut vh.y);
+            }
             let (p, v) = (&mut self.pos[i], &mut self.vel[i]);
             boundary_axis(&im.x, lo.x, hi.x, &mut p.x, &mut v.x);
             boundary_axis(&im.y, lo.y, hi.y, &mut p.y, &mut v.y);
@@ -268,22 +282,30 @@ impl<T: Real> CpuSolver<T> {
         self.fluid_update(|i, _, _| integrate_correct(r0[i], v0[i], vt[i], acc[i], dt));
     }
 
-    /// `verlet_drift`: opening half kick, then the drift with v_{n+½} plus the evaluation's
-    /// XSPH correction ṽ − v.
+    /// `verlet_drift`: opening half kick v_{n+½} = v_n + (dt/2) a_n (kept in [`Self::vhalf`]),
+    /// the drift with v_{n+½} plus the evaluation's XSPH correction ṽ − v, and the predicted
+    /// velocity v_n + dt·a_n in `vel` for the evaluation at the new positions. With the
+    /// evaluation at v_{n+½} instead (kept as [`Integrator::VerletPec`]), the viscous force of
+    /// the closing kick lags by O(dt): first order with viscosity (1.007 measured at 25041d7).
     pub fn verlet_drift(&mut self, dt: T) {
-        let (vt, acc, v0) = (self.f.vt.clone(), self.f.acc.clone(), self.vel.clone());
-        self.fluid_update(|i, r, v| {
-            let vh = integrate_kick(v, acc[i], dt);
-            (integrate_drift(r, vh + (vt[i] - v0[i]), dt), vh)
-        });
+        self.vhalf.resize(self.n_fluid, V2::from_f64(0.0, 0.0));
+        let predicted = self.integrator == Integrator::Verlet;
+        let (vt, acc) = (&self.f.vt, &self.f.acc);
+        for i in 0..self.n_fluid {
+            let v0 = self.vel[i];
+            let vh = integrate_kick(v0, acc[i], dt);
+            self.pos[i] = integrate_drift(self.pos[i], vh + (vt[i] - v0), dt);
+            self.vel[i] = if predicted { integrate_kick(vh, acc[i], dt) } else { vh };
+            self.vhalf[i] = vh;
+        }
     }
 
-    /// `verlet_kick`: closing half kick. The transport velocity follows it, so that ṽ − v keeps
-    /// the XSPH correction of the evaluation and the next drift moves with v_{n+½} + (ṽ − v)
-    /// (with ṽ − v taken at the stale v_n instead, positions were first order in dt).
+    /// `verlet_kick`: closing half kick v_{n+1} = v_{n+½} + (dt/2) a_{n+1}. The transport
+    /// velocity follows it (ṽ += v_{n+1} − v_predicted), so that ṽ − v keeps the XSPH correction
+    /// of the evaluation and the next drift moves with v_{n+½} + (ṽ − v).
     pub fn verlet_kick(&mut self, dt: T) {
         for i in 0..self.n_fluid {
-            let v = integrate_kick(self.vel[i], self.f.acc[i], dt);
+            let v = integrate_kick(self.vhalf[i], self.f.acc[i], dt);
             self.f.vt[i] = self.f.vt[i] + (v - self.vel[i]);
             self.vel[i] = v;
         }

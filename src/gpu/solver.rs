@@ -109,6 +109,13 @@ impl<T: Real> GpuSolver<T> {
                     .into(),
             ));
         }
+        if scene.time.integrator == crate::scene::Integrator::VerletPec {
+            return Err(GpuError::Unsupported(
+                "time.integrator = \"verlet-pec\" is CPU only (the WGSL Verlet evaluates at the predicted \
+                 velocity); use --backend cpu or integrator = \"verlet\""
+                    .into(),
+            ));
+        }
         let n = layout.pos.len();
         let n_fluid = layout.n_fluid;
         let pos: Vec<V2<T>> = layout.pos.iter().map(v2).collect();

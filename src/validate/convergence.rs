@@ -16,11 +16,18 @@ pub const FULL_NX: [u32; 4] = [45, 65, 85, 105];
 /// Resolutions of the quick study.
 pub const QUICK_NX: [u32; 3] = [20, 26, 33];
 
-/// The dt overrides at `nx`: `time.dt_policy = "scale"` from relax-60's own 7e-5 at nx = 65
-/// (the viscous limit binds at every full resolution, so dt ∝ Δx²); quick: from 1.4e-4 at 26
-/// (the CFL limit binds there, so dt ∝ Δx).
+/// The overrides at `nx`: the background pressure σ/(2Δx) of that resolution (the built-ins'
+/// rule; relax-60's own 65 belongs to nx = 65) and `time.dt_policy = "scale"` from relax-60's
+/// own 7e-5 at nx = 65 (dt follows the tightest limit); quick: from 1.4e-4 at 26 (the CFL limit
+/// binds there, so dt ∝ Δx).
 fn dt_sets(nx: u32, quick: bool) -> Vec<String> {
-    let mut sets = vec![format!("domain.nx={nx}"), "time.dt_policy=scale".into()];
+    let pb = crate::scene::builtin::capillary_background_pressure(1.0, 0.5 / nx as f64);
+    let mut sets = vec![
+        format!("domain.nx={nx}"),
+        format!("phases.0.p_b={pb}"),
+        format!("phases.1.p_b={pb}"),
+        "time.dt_policy=scale".into(),
+    ];
     if quick {
         sets.extend(["time.dt=1.4e-4".into(), "time.dt_nx=26".into()]);
     }

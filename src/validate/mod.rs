@@ -15,7 +15,7 @@ pub mod report;
 
 mod convergence;
 mod impact;
-mod oscillation;
+pub mod oscillation;
 mod relax;
 mod sessile;
 mod speed;

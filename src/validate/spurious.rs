@@ -75,6 +75,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     // Laplace jump at the end: liquid deeper than one support inside minus gas beyond one
     // support outside and one support from the no-slip walls at x, y = 0.5.
     let scene = spec(quick).scene()?;
+    let scene_pb = scene.phases[0].p_b;
     let (radius, sigma) = (0.1875, scene.surface_tension.as_ref().map_or(0.0, |s| s.sigma));
     let margin = scene.support();
     let last = super::data::snapshot_files(&PathBuf::from(&rec.dir)).pop();
@@ -126,12 +127,12 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             speed.iter().filter(|p| p.0 >= T_TRANSIENT).max_by(|a, b| a.1.total_cmp(&b.1)).map_or(f64::NAN, |p| p.0);
         rep.notes.push(format!(
             "Max fluid speed {vmax:.3} at t = {at:.3} exceeds the stated bound {MAX_SPEED_BOUND}, set when p_b was B = 175 \
-             (then 0.089, late mean 0.0069 at commit 7fe2a4c). With p_b = σ/(2Δx) = 30 (issue 10: needed for a liquid-like \
-             oscillation with every kernel) the lattice-noise currents are larger: late mean {late_mean:.4}, isolated bursts \
-             of ~0.1–0.2; the liquid's kinetic energy stays below its bound and the Laplace jump within 3 %. \
-             See reports/validation/pb-sweep for spurious speed against p_b."
+             (then 0.089, late mean 0.0069 at commit 7fe2a4c). With p_b = {pb} = σ/(2Δx) (issue 10: a liquid-like \
+             oscillation with every kernel) the lattice-noise currents are larger: mean of the max speed {late_mean:.4} over \
+             the second half. See reports/validation/pb-sweep for spurious speed against p_b.",
+            pb = scene_pb
         ));
     }
-    rep.notes.push("Scene: oscillating-drop (quarter domain, R = 0.1875, σ = 1, μ = 0.05, p_b = σ/(2Δx) = 30) with no initial velocity and no relaxation: the lattice start itself is the only disturbance.".into());
+    rep.notes.push(format!("Scene: oscillating-drop (quarter domain, R = 0.1875, σ = 1, μ = 0.05, p_b = {scene_pb}) with no initial velocity and no relaxation: the lattice start itself is the only disturbance."));
     Ok(rep)
 }
