@@ -98,10 +98,7 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
             }
             let Some(g) = gpu else { continue };
             let gplan = ResourcePlan::new(&scene, 4, true);
-            if let Err(why) = gplan.check_gpu(g.limits.max_storage_buffer_binding_size.min(g.limits.max_buffer_size)) {
-                notes.insert(format!("{e} nx={nx}: GPU variants not run: {why}"));
-                continue;
-            }
+            let device = crate::plan::gpu::DeviceLimits::of(g, None);
             for &spec in &supported {
                 // E1 compares the searches: the default variant of each.
                 if e == "e1" && spec != (VariantSpec { search: spec.search, ..VariantSpec::default() }) {
@@ -111,6 +108,10 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
                     notes.insert(format!(
                         "direct GPU variants only up to {DIRECT_MAX_N} particles (O(N²)) unless named in --variants"
                     ));
+                    continue;
+                }
+                if let Err(why) = gplan.clone().for_variant(&spec).check_gpu(&device) {
+                    notes.insert(format!("{e} nx={nx}: {spec} not run: {why}"));
                     continue;
                 }
                 push(BackendId::Gpu(spec), 1);

@@ -73,7 +73,7 @@ pub fn adapter_slug(name: &str) -> String {
 
 /// The scaling resolutions whose host plan and GPU buffers fit this adapter.
 pub fn fitting_sizes(ctx: &GpuContext) -> Vec<u32> {
-    let max_buf = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+    let device = crate::plan::gpu::DeviceLimits::of(ctx, None);
     let limits = crate::plan::Limits::default();
     SCALING_NX
         .iter()
@@ -81,7 +81,7 @@ pub fn fitting_sizes(ctx: &GpuContext) -> Vec<u32> {
         .filter(|&nx| {
             let Ok(scene) = super::study_scene_with(nx, &[]) else { return false };
             crate::plan::Plan::new(&scene, 8, false).check(&limits).is_ok()
-                && crate::plan::Plan::new(&scene, 4, true).check_gpu(max_buf).is_ok()
+                && crate::plan::Plan::new(&scene, 4, true).check_gpu(&device).is_ok()
         })
         .collect()
 }
