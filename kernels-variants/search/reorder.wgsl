@@ -50,10 +50,15 @@ fn now() -> bool {
 fn reorder_decide() {
     let every = atomicLoad(&rctl[R_EVERY]);
 #ifdef TRACKING
-    let due = every > 0u && atomicLoad(&vctl[V_REBUILD]) != 0u;
+    var due = every > 0u && atomicLoad(&vctl[V_REBUILD]) != 0u;
 #else
-    let due = every > 0u && atomicLoad(&rctl[R_SINCE]) >= every;
+    var due = every > 0u && atomicLoad(&rctl[R_SINCE]) >= every;
 #endif
+    // A halted device (a failed step, kernels-variants/thread/integrate.wgsl) keeps its numbering,
+    // so the failing particle and the state read back map through the permutation of that step.
+    if atomicLoad(&ctl[CTL_BAD_STEP]) != 0xffffffffu || atomicLoad(&ctl[CTL_OVER_STEP]) != 0xffffffffu {
+        due = false;
+    }
     atomicStore(&rctl[R_NOW], select(0u, 1u, due));
     if due {
         atomicStore(&rctl[R_SINCE], 0u);
@@ -64,8 +69,8 @@ fn reorder_decide() {
 
 // Walls per cell (once: walls are static).
 @compute @workgroup_size(64)
-fn reorder_wall_count(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = params.n_fluid + gid.x;
+fn reorder_wall_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = params.n_fluid + linear_id(gid, nwg);
     if i >= params.n || !now() || atomicLoad(&rctl[R_WALLS_READY]) != 0u {
         return;
     }
@@ -92,8 +97,8 @@ fn reorder_wall_scan() {
 // One thread per slot of `sorted`: the new index of its fluid particle; `sorted` is renumbered
 // in place (each thread owns its slot), so it stays the cell sort of the new indices.
 @compute @workgroup_size(64)
-fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let s = gid.x;
+fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let s = linear_id(gid, nwg);
     if s >= params.n || !now() {
         return;
     }
@@ -107,8 +112,8 @@ fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let d = gid.x;
+fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = linear_id(gid, nwg);
     let nf = params.n_fluid;
     if d >= nf || !now() {
         return;
@@ -123,8 +128,8 @@ fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let d = gid.x;
+fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = linear_id(gid, nwg);
     let nf = params.n_fluid;
     if d >= nf || !now() {
         return;
@@ -141,8 +146,8 @@ fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // ṽ, a and the midpoint start state r⁰, v⁰ (live between predict and correct).
 @compute @workgroup_size(64)
-fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let d = gid.x;
+fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = linear_id(gid, nwg);
     let nf = params.n_fluid;
     if d >= nf || !now() {
         return;
@@ -154,8 +159,8 @@ fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let d = gid.x;
+fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = linear_id(gid, nwg);
     let nf = params.n_fluid;
     if d >= nf || !now() {
         return;
@@ -166,8 +171,8 @@ fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn reorder_gather_v0(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let d = gid.x;
+fn reorder_gather_v0(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = linear_id(gid, nwg);
     if d >= params.n_fluid || !now() {
         return;
     }
@@ -175,8 +180,8 @@ fn reorder_gather_v0(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn reorder_put_v0(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let d = gid.x;
+fn reorder_put_v0(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = linear_id(gid, nwg);
     if d >= params.n_fluid || !now() {
         return;
     }

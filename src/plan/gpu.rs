@@ -34,7 +34,7 @@ pub fn scan_blocks(cells: usize) -> usize {
 /// Words of the solver's control buffer (`ctl::LEN` of `gpu/solver_buffers.rs`).
 const CTL_WORDS: f64 = crate::gpu::solver_buffers::ctl::LEN as f64;
 /// Entries of `vparams` (`VBufs::new`).
-const VPARAMS: f64 = 12.0;
+const VPARAMS: f64 = crate::gpu::variant_buffers::vparam::LEN as f64;
 
 /// What the device offers.
 #[derive(Clone, Debug, Serialize, PartialEq)]
