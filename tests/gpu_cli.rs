@@ -161,7 +161,17 @@ fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
     let out = dir.path().join("out");
     let set = format!("domain.nx={nx}");
     let run = |extra: &[&str]| {
-        let mut args = vec!["run", "oscillating-drop", "--backend", "gpu", "--steps", "1", "--quiet"];
+        let mut args = vec![
+            "run",
+            "oscillating-drop",
+            "--backend",
+            "gpu",
+            "--steps",
+            "1",
+            "--quiet",
+            "--set",
+            "time.dt_policy=scale",
+        ];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--out", out.to_str().expect("utf8")]);
         sphlab(&args)
@@ -171,7 +181,7 @@ fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("`cache_wf`") && err.contains(&cap.to_string()) && err.contains("max_"), "{err}");
     assert!(!out.exists(), "nothing is written before the refusal");
-    let o = run(&["--gpu-memory", "1M"]);
+    let o = run(&["--gpu-memory", "1M", "--set", "domain.nx=200"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("device memory") && err.contains("1048576 bytes") && err.contains("--gpu-memory"), "{err}");

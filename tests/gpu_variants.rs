@@ -3,7 +3,9 @@
 //! field on `oscillating-drop` (relax off) and `sessile-90` Mode B at nx = 33 for every
 //! variant the adapter supports (the others must give a reason); bitwise reproducibility of
 //! the `fixed` accumulation and the `thread` mapping; neighbour overflow reported as
-//! `NeighbourOverflow`; tracking lists rebuilt on the CPU's schedule.
+//! `NeighbourOverflow`; tracking lists rebuilt on the CPU's schedule; thread, block and
+//! subgroup variants with the workgroups-per-dimension limit forced to 4 (2-D dispatch, the
+//! multi-workgroup cell scan) and the memory plan equal to what the solver allocates.
 
 mod common;
 
@@ -375,6 +377,7 @@ fn dispatch_spreads_over_two_dimensions() {
         "tracking.thread.cached.f32",
         "cells.block-atomic.fixed.recomputed.f32",
         "direct.block-tree.fixed.cached.f32",
+        "cells.subgroup.recomputed.f32",
     ] {
         let spec: VariantSpec = id.parse().unwrap();
         if spec.support(&ctx).is_err() {

@@ -251,6 +251,11 @@ impl<T: Real> GpuSolver<T> {
                 let (gx, gy) = spread(crate::plan::gpu::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
                 return [gx, gy, 1];
             }
+            Domain::Subgroups => {
+                let per_group = 64 / self.ctx.adapter_info.subgroup_max_size.clamp(1, 64) as usize;
+                let (gx, gy) = spread(self.n.div_ceil(per_group), self.max_groups_per_dim);
+                return [gx, gy, 1];
+            }
             Domain::Block => {
                 let (gx, gz) = spread(self.n.div_ceil(32), self.max_groups_per_dim);
                 return [gx, (vbufs::NBR_SLOTS / 16) as u32, gz];

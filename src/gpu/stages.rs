@@ -33,6 +33,8 @@ pub enum Domain {
     Group,
     /// The 16 × 32 block layout: N/32 workgroups in x, 4 in y (64 slots).
     Block,
+    /// One subgroup per particle: N / (64 / the adapter's largest subgroup) workgroups of 64.
+    Subgroups,
 }
 
 /// One kernel: entry point, file (relative to `kernels-variants/`), dispatch domain.
@@ -138,6 +140,7 @@ pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
     let block = |file| vec![k(stage.name(), file, Domain::Block), k(fin, "block/finalize.wgsl", Domain::All)];
     match (spec.mapping.layout(), spec.mapping.pair_file()) {
         (SumLayout::Block, Some(file)) => Some(block(file)),
+        (SumLayout::Subgroup, Some(file)) => Some(vec![k(stage.name(), file, Domain::Subgroups)]),
         (_, Some(file)) => Some(vec![k(stage.name(), file, Domain::All)]),
         (_, None) if spec.kernel_values == KernelValues::Cached => {
             Some(vec![k(stage.name(), "list/pair_sums.wgsl", Domain::All)])

@@ -1,8 +1,8 @@
 //! GPU variant ids (STUDY.md): search × mapping × accumulation × kernel values × precision,
 //! written `"{search}.{mapping}[.{accum}].{kernel_values}.{precision}"`, e.g.
 //! `cells.thread.recomputed.f32` or `tracking.block-atomic.fixed.cached.f32`; the mappings are
-//! registered in one table (`mappings!`: id, kernel file, layout). [`VariantSpec::all`]
-//! lists every combination that makes sense (an accumulation only for the block mappings; no
+//! registered in one table (`mappings!`: id, kernel file, layout; `subgroup` needs SUBGROUP).
+//! [`VariantSpec::all`] lists every combination that makes sense (an accumulation only for the block mappings; no
 //! float atomics in f64, so f64 block variants accumulate in fixed point only) and every one
 //! is implemented; [`VariantSpec::support`] says why an adapter cannot run one.
 
@@ -29,6 +29,9 @@ pub enum SumLayout {
     /// The thesis's 16 × 32 block over the 64-slot lists: atomics into an accumulator
     /// (`cas`, `native` or `fixed`), then a finalize kernel per field.
     Block,
+    /// One subgroup per particle over the 64-slot lists, lanes' sums added by `subgroupAdd`
+    /// (no atomics, no accumulation; needs SUBGROUP).
+    Subgroup,
 }
 
 /// How the block mappings accumulate.
@@ -126,6 +129,9 @@ mappings! {
     /// The same layout, tree reduction of each row in workgroup memory, then one atomic add
     /// per particle per workgroup.
     BlockTree = "block-tree": Some("block/tree.wgsl"), Block;
+    /// Beyond the thesis: one subgroup per particle over its list, the lanes' partial sums
+    /// added with `subgroupAdd` (Features::SUBGROUP).
+    Subgroup = "subgroup": Some("subgroup/pair_sums.wgsl"), Subgroup;
 }
 names!(Accumulation { None = "none", Cas = "cas", Native = "native", Fixed = "fixed" });
 names!(KernelValues { Recomputed = "recomputed", Cached = "cached" });
@@ -137,13 +143,16 @@ impl Default for VariantSpec {
     }
 }
 
+/// Largest subgroup the `subgroup` mapping takes (its workgroups have 64 threads).
+pub const SUBGROUP_MAX: u32 = 64;
+
 /// The variant `--backend gpu` uses without `--variant`.
 pub const DEFAULT_VARIANT: &str = "cells.thread.recomputed.f32";
 
 impl VariantSpec {
-    /// True when the accumulation fits the mapping (`none` exactly for `thread`).
+    /// True when the accumulation fits the mapping (`none` exactly for the non-block mappings).
     pub fn is_consistent(&self) -> bool {
-        (self.mapping.layout() == SumLayout::Thread) == (self.accumulation == Accumulation::None)
+        (self.mapping.layout() != SumLayout::Block) == (self.accumulation == Accumulation::None)
     }
 
     /// Every variant that makes sense, in a stable order.
@@ -171,10 +180,10 @@ impl VariantSpec {
         Self::all().iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
     }
 
-    /// True when the variant runs on explicit 64-slot neighbour lists (block mappings, cached
-    /// kernel values).
+    /// True when the variant runs on explicit 64-slot neighbour lists (block and subgroup
+    /// mappings, cached kernel values).
     pub fn has_lists(&self) -> bool {
-        self.mapping.layout() == SumLayout::Block || self.kernel_values == KernelValues::Cached
+        self.mapping.layout() != SumLayout::Thread || self.kernel_values == KernelValues::Cached
     }
 
     /// `Err(reason)` for a consistent id that is not a meaningful variant.
@@ -197,6 +206,9 @@ impl VariantSpec {
         }
         if self.accumulation == Accumulation::Native {
             v.push((wgpu::Features::SHADER_FLOAT32_ATOMIC, "SHADER_FLOAT32_ATOMIC"));
+        }
+        if self.mapping.layout() == SumLayout::Subgroup {
+            v.push((wgpu::Features::SUBGROUP, "SUBGROUP"));
         }
         v
     }
@@ -224,6 +236,12 @@ impl VariantSpec {
             if !ctx.has(feature) {
                 return Err(format!("{self}: the adapter lacks {name}"));
             }
+        }
+        let sg = ctx.adapter_info.subgroup_max_size;
+        if self.mapping.layout() == SumLayout::Subgroup && sg > SUBGROUP_MAX {
+            return Err(format!(
+                "{self}: subgroups of up to {sg} lanes do not fit the 64-thread workgroup of one particle per subgroup"
+            ));
         }
         Ok(())
     }
@@ -281,8 +299,8 @@ mod tests {
     #[test]
     fn ids_round_trip() {
         let all = VariantSpec::all();
-        // thread layouts: 3 searches × 2 kernel values × 2 precisions; block layouts: 3 searches ×
-        // 2 kernel values × (3 accumulations in f32 + fixed in f64).
+        // thread and subgroup layouts: 3 searches × 2 kernel values × 2 precisions; block
+        // layouts: 3 searches × 2 kernel values × (3 accumulations in f32 + fixed in f64).
         let blocks = Mapping::ALL.iter().filter(|m| m.layout() == SumLayout::Block).count();
         assert_eq!(all.len(), 3 * 2 * 2 * (Mapping::ALL.len() - blocks) + 3 * 2 * 4 * blocks);
         assert!(all.iter().all(|s| s.implemented().is_ok()));
