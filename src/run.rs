@@ -678,7 +678,14 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             eprintln!(
                 "engine: {:.4} submits, {:.4} readbacks, {:.1} dispatches, {:.4} host writes per step \
                  ({} steps, at most {} per submit); with the output frames {:.3} submits, {:.3} readbacks per step",
-                p.submits, p.readbacks, p.dispatches, p.writes, e.counters.steps, e.steps_per_submit, o.submits, o.readbacks
+                p.submits,
+                p.readbacks,
+                p.dispatches,
+                p.writes,
+                e.counters.steps,
+                e.steps_per_submit,
+                o.submits,
+                o.readbacks
             );
         }
     }
