@@ -552,15 +552,18 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         Err(e) => e,
     };
 
-    // Relaxation, then the initial velocity field.
+    let k_max = if opts.steps_per_submit == 0 { DEFAULT_STEPS_PER_SUBMIT } else { opts.steps_per_submit };
+    // Relaxation (in batches of steps, never past its end), then the initial velocity field.
     if let Some(r) = scene.relax.as_ref().filter(|r| r.t > 0.0) {
         let bar = if opts.quiet {
             output::Progress::hidden()
         } else {
             output::Progress::new((r.t / scene.time.dt.max(1e-300)).min(1e12) as u64, "relax")
         };
+        let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
         while backend.time() < r.t * (1.0 - 1e-12) {
-            if let Err(e) = backend.step() {
+            let (step0, t0) = (backend.steps(), backend.time());
+            if let Err(e) = backend.advance(batch_len(k_max, step0, 0, 0, None, t0, r.t, dt_est)) {
                 let wall = started.elapsed().as_secs_f64();
                 return Err(fail(&mut summary, &mut backend, e, None, &numbers, wall));
             }
@@ -568,7 +571,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
                 summary.relax_steps = backend.steps();
                 return Err(interrupted(&mut summary, &mut backend, None));
             }
-            bar.inc(1);
+            let step = backend.steps();
+            if scene.time.dt <= 0.0 && step > step0 {
+                dt_est = Some(((backend.time() - t0) / (step - step0) as f64, false));
+            }
+            bar.inc(step - step0);
         }
         bar.finish();
         summary.relax_steps = backend.steps();
@@ -607,7 +614,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         Some(n) => b.steps() >= n,
         None => b.time() >= t_end * (1.0 - 1e-12),
     };
-    let k_max = if opts.steps_per_submit == 0 { DEFAULT_STEPS_PER_SUBMIT } else { opts.steps_per_submit };
     // dt of the next steps, for the batch length of a time-driven run: the fixed dt, or the mean
     // of the last batch.
     let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
@@ -707,9 +713,38 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             eprintln!(
                 "engine: {:.4} submits, {:.4} readbacks, {:.1} dispatches, {:.4} host writes per step \
                  ({} steps, at most {} per submit); with the output frames {:.3} submits, {:.3} readbacks per step",
-                p.submits, p.readbacks, p.dispatches, p.writes, e.counters.steps, e.steps_per_submit, o.submits, o.readbacks
+                p.submits,
+                p.readbacks,
+                p.dispatches,
+                p.writes,
+                e.counters.steps,
+                e.steps_per_submit,
+                o.submits,
+                o.readbacks
             );
         }
     }
     Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::batch_len;
+
+    #[test]
+    fn batches_end_at_outputs_and_never_pass_the_end() {
+        // Step counts: the next row (every 10), snapshot (every 25) or the last step cuts.
+        assert_eq!(batch_len(64, 0, 10, 0, Some(100), 0.0, 1.0, None), 10);
+        assert_eq!(batch_len(64, 20, 10, 25, Some(100), 0.0, 1.0, None), 5);
+        assert_eq!(batch_len(4, 0, 10, 0, Some(100), 0.0, 1.0, None), 4);
+        assert_eq!(batch_len(64, 95, 1000, 0, Some(100), 0.0, 1.0, None), 5);
+        // Time-driven, fixed dt 1/8 to t_end 4 (exact in binary): stop one step short, then
+        // single steps.
+        assert_eq!(batch_len(64, 0, 1000, 0, None, 0.0, 4.0, Some((0.125, true))), 31);
+        assert_eq!(batch_len(64, 0, 1000, 0, None, 2.0, 4.0, Some((0.125, true))), 15);
+        assert_eq!(batch_len(64, 0, 1000, 0, None, 3.875, 4.0, Some((0.125, true))), 1);
+        // Adaptive: half the estimated remainder; no estimate yet: one step.
+        assert_eq!(batch_len(64, 0, 1000, 0, None, 2.0, 4.0, Some((0.125, false))), 8);
+        assert_eq!(batch_len(64, 0, 1000, 0, None, 0.0, 1.0, None), 1);
+    }
 }

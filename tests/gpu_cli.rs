@@ -139,6 +139,16 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
         } else {
             assert!(engine.is_null(), "CPU runs have no GPU engine figures");
         }
+        let engine = &summary["engine"];
+        if backend == "gpu" {
+            // Rows every 10 steps cut the batches: 3 submissions and 3 readbacks for 30 steps.
+            let c = &engine["counters"];
+            assert_eq!((c["steps"].as_u64(), c["submits"].as_u64()), (Some(30), Some(3)), "{engine}");
+            assert_eq!((c["readbacks"].as_u64(), c["writes"].as_u64()), (Some(3), Some(0)), "{engine}");
+            assert!(engine["per_step"]["dispatches"].as_f64().is_some_and(|d| d > 10.0), "{engine}");
+        } else {
+            assert!(engine.is_null(), "the CPU has no engine counters: {engine}");
+        }
         rows.push(series);
     }
     let head = |s: &str| s.lines().next().unwrap_or("").to_string();

@@ -336,8 +336,10 @@ fn a_blow_up_inside_a_batch_reports_and_keeps_the_failing_step() {
     b.check_every = 1;
     let eb = (0..200).find_map(|_| b.step().err()).expect("single steps blow up too");
     println!("batch: {ea}\nsingle: {eb}");
-    let (SolverError::BlowUp { step: sa, particle: pa, t: ta, .. }, SolverError::BlowUp { step: sb, particle: pb, t: tb, .. }) =
-        (&ea, &eb)
+    let (
+        SolverError::BlowUp { step: sa, particle: pa, t: ta, .. },
+        SolverError::BlowUp { step: sb, particle: pb, t: tb, .. },
+    ) = (&ea, &eb)
     else {
         panic!("expected blow-ups: {ea} / {eb}")
     };

@@ -84,7 +84,8 @@ impl ControlReader {
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         let c = {
             let view = self.staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
-            let words = |from: u64, to: u64| -> Vec<u32> { bytemuck::pod_collect_to_vec(&view[from as usize..to as usize]) };
+            let words =
+                |from: u64, to: u64| -> Vec<u32> { bytemuck::pod_collect_to_vec(&view[from as usize..to as usize]) };
             let clock: Vec<T> = bytemuck::pod_collect_to_vec(&view[CLOCK_AT as usize..]);
             Control {
                 ctl: words(0, CTL_BYTES),

@@ -107,11 +107,17 @@ pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
     (Stage::VerletKick, &[t(Stage::VerletKick, "thread/integrate.wgsl", Domain::Fluid)]),
     (
         Stage::Check,
-        &[k("clock_tick", "thread/integrate.wgsl", Domain::One), t(Stage::Check, "thread/integrate.wgsl", Domain::Fluid)],
+        &[
+            k("clock_tick", "thread/integrate.wgsl", Domain::One),
+            t(Stage::Check, "thread/integrate.wgsl", Domain::Fluid),
+        ],
     ),
     (
         Stage::ReduceMax,
-        &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid), k("dt_compute", "thread/integrate.wgsl", Domain::One)],
+        &[
+            t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid),
+            k("dt_compute", "thread/integrate.wgsl", Domain::One),
+        ],
     ),
 ];
 

@@ -25,7 +25,8 @@ pub fn timestep_twins<T: Real>(ctx: &GpuContext) {
             Case::new([h, cfl, c_max, v_max, nu_max, a_max, rho_mean, sigma_max].map(T::c).to_vec(), vec![])
         })
         .collect();
-    let body = "put(i, 0u, dt_limits_min(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a(i, 4u), a(i, 5u), a(i, 6u), a(i, 7u)));";
+    let body =
+        "put(i, 0u, dt_limits_min(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a(i, 4u), a(i, 5u), a(i, 6u), a(i, 7u)));";
     let limits = |c: &Case<T>| {
         let x: Vec<f64> = c.args.iter().map(|v| v.f64()).collect();
         DtLimits::compute(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7])
