@@ -164,7 +164,8 @@ def main():
     runs, out = sys.argv[1], sys.argv[2]
     os.makedirs(out, exist_ok=True)
     drops = sorted(glob.glob(f"{runs}/drop-*/")) + sorted(glob.glob("reports/validation/pb-sweep/runs/*-osc/"))
-    relaxes = sorted(glob.glob(f"{runs}/relax-*/")) + ["reports/validation/relax-60/runs/b-noslip"]
+    relaxes = (sorted(glob.glob(f"{runs}/relax-*/")) + ["reports/validation/relax-60/runs/b-noslip"]
+               + sorted(glob.glob("reports/validation/convergence/runs/nx*/")))
     drop, relax = drop_points([d.rstrip("/") for d in drops]), relax_points([d.rstrip("/") for d in relaxes])
     for pts in (drop, relax):
         pareto(pts, "pair_work_1e9", "pareto")
@@ -197,8 +198,10 @@ def main():
           "|T − 0.37|/0.37 (thesis period; period = time between the first two centroid maxima of a 5-sample "
           "moving average, the p_b sweep's estimator). nx = 24 f64 runs are the p_b sweep's (Wendland h = 1.3Δx, "
           "commit 7fe2a4c); the others use Wendland h = 1.5Δx.",
-          "* **relax-60**: Mode B no-slip to t = 5, nx = 26 with dt = 1.4e-4 (the quick set-up), plus the long run "
-          "of reports/validation/relax-60; error = |θ − 60°|/60° with θ the circle-fit angle averaged over t ∈ [4.3, 4.5].",
+          "* **relax-60**: Mode B no-slip to t = 5: the long runs of reports/validation/relax-60 (nx = 45, dt = 7e-5) and "
+          "convergence (dt scaled), and the committed nx = 33 run of commit 25041d7 (`runs/relax-nx33-pb33-f64`, copied "
+          "from git); error = |θ − 60°|/60° with θ the circle-fit angle averaged over t ∈ [4.3, 4.5]. The kernel × p_b × "
+          "precision runs at nx = 26 (`relax` in the script) were stopped for CPU time and are not in the table.",
           "* Pareto front: runs that no other run of the same case beats in both work and error (ringed and joined in "
           "the work plots, `pareto` in the CSV; `pareto_wall` is the same on wall time). Axes are log-log.", ""]
     for name, pts, q in [("drop", drop, "period"), ("relax-60", relax, "θ (deg)")]:

@@ -38,11 +38,7 @@ pub const THESIS_AMPLITUDE_TOL: f64 = 0.2;
 pub fn kernel_sets() -> [(&'static str, &'static str, Vec<&'static str>); 2] {
     [
         ("cubic", "cubic spline h = 1.2Δx", vec!["kernel.kind=cubic-spline", "kernel.h_ratio=1.2"]),
-        (
-            "wendland",
-            "Wendland C2 h = 1.5Δx (support 3Δx, as the quintic's)",
-            vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.5"],
-        ),
+        ("wendland", "Wendland C2 h = 1.5Δx (support 3Δx)", vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.5"]),
     ]
 }
 /// Accepted SPH period band (§9(a) "expect SPH in [0.30, 0.37]", widened by 0.01 each side).
@@ -192,7 +188,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     if let (Some((tw13, _)), Some((tw, _))) = (find("wendland13"), find("wendland")) {
         rep.notes.push(format!(
             "Wendland C2 at h = 1.3Δx (support 2.6Δx): period {tw13:.3}, {:+.1} % from the quintic's {quintic_period:.3}; at \
-             h = 1.5Δx (support 3Δx, as the quintic's; the h this case uses) {tw:.3} ({:+.1} %): the period follows the \
+             h = 1.5Δx (support 3Δx; the h this case uses) {tw:.3} ({:+.1} %): the period follows the \
              support radius in particle spacings, and both drops oscillate like a liquid (centroid back to the circle's).",
             (tw13 / quintic_period - 1.0) * 100.0,
             (tw / quintic_period - 1.0) * 100.0

@@ -368,7 +368,7 @@ pub fn write_index(
     );
     let _ = writeln!(
         m,
-        "Background pressure: the equal-density built-ins use p_b = σ/(2Δx) (the oscillating drop with the quintic at h = 1.2Δx, see oscillation/summary.md); the sweep behind that rule (spurious speed, Laplace jump, voids and period for three kernels against p_b) is [pb-sweep/summary.md](pb-sweep/summary.md) (`scripts/pb_sweep.sh`, not a `validate` case). Cross-code check against PySPH's oscillating rod: `tests/cross_code.rs` with `scenes/pysph-rod.toml`.\n"
+        "Background pressure: the equal-density built-ins use p_b = σ/(2Δx) (the oscillating drop with the quintic at h = 1.2Δx, see oscillation/summary.md); the sweep behind that rule (spurious speed, Laplace jump, voids and period for three kernels against p_b) is [pb-sweep/summary.md](pb-sweep/summary.md) (`scripts/pb_sweep.sh`, not a `validate` case). Cross-code check against PySPH's oscillating rod: `tests/cross_code.rs` with `scenes/pysph-rod.toml`. Time to solution against the error of the drop's period and relax-60's angle across kernels × p_b × resolution × precision, with the Pareto front: [speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md) (`scripts/speed_vs_physical_error.sh`, not a `validate` case).\n"
     );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
     if not_full.is_empty() {

@@ -1,7 +1,9 @@
 //! Case `speed-vs-error`: wall time against error, (1) for the oscillation case across kernels
-//! {quintic h = Δx, cubic h = 1.2Δx, Wendland C2 h = 1.3Δx} (error of the period against the
+//! {quintic h = 1.2Δx, cubic h = 1.2Δx, Wendland C2 h = 1.5Δx} (error of the period against the
 //! thesis's 0.37) and (2) for the convergence resolutions (error of D/D0 against 1.385).
-//! Reuses the oscillation and convergence runs when they are there (same scene, finished).
+//! Reuses the oscillation and convergence runs when they are there (same scene, finished). The
+//! wider study (kernels × p_b × resolution × precision, Pareto front) is
+//! `scripts/speed_vs_physical_error.sh` → reports/validation/speed-vs-physical-error/.
 
 use super::report::{write_csv, CaseReport, Row};
 use super::{convergence, oscillation, Ctx, ValidateError};
@@ -10,9 +12,9 @@ use std::path::PathBuf;
 /// Kernel variants: (id, label, overrides).
 pub fn kernels() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
     vec![
-        ("quintic", "quintic h=Δx", vec![]),
+        ("quintic", "quintic h=1.2Δx (default)", vec![]),
         ("osc-cubic", "cubic h=1.2Δx", vec!["kernel.kind=cubic-spline", "kernel.h_ratio=1.2"]),
-        ("osc-wendland", "wendland-c2 h=1.3Δx", vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.3"]),
+        ("osc-wendland", "wendland-c2 h=1.5Δx", vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.5"]),
     ]
 }
 
@@ -40,9 +42,10 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     );
     let mut osc = Vec::new();
     let mut csv = Vec::new();
-    let osc_dir = ctx.opts.out.join("oscillation").join("runs").join("quintic");
+    let osc_runs = ctx.opts.out.join("oscillation").join("runs");
     for (k, (id, label, sets)) in kernels().into_iter().enumerate() {
-        let also = if id == "quintic" { vec![osc_dir.clone()] } else { vec![] };
+        // the oscillation case's runs of the same scene (quintic, cubic, wendland)
+        let also = vec![osc_runs.join(id.trim_start_matches("osc-"))];
         let mut s = oscillation::spec(id, quick, &sets);
         s.id = format!("osc-{}", id.trim_start_matches("osc-"));
         let rec = match ctx.run(&s, &also) {
