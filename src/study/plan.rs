@@ -174,33 +174,39 @@ impl Probe {
             p.layout_s_per_particle = tl.elapsed().as_secs_f64() / layout.pos.len() as f64;
             let vel0 = initial_velocities(&scene, &layout, None);
             ns[k] = layout.pos.len() as f64;
-            let time = |id: BackendId| -> Result<(f64, f64), String> {
+            // Build time and ms/step; a run that fails while probing still costs its steps (the
+            // study records the failure), a backend that cannot be built costs nothing.
+            let time = |id: BackendId| -> Option<(f64, f64)> {
                 let tb = Instant::now();
-                let mut b = id.build(&scene, &layout, gpu)?;
+                let mut b = id.build(&scene, &layout, gpu).ok()?;
                 b.restart_with_velocities(&vel0);
                 let build = tb.elapsed().as_secs_f64();
-                advance(b.as_mut(), 1).map_err(|e| e.to_string())?;
+                let _ = advance(b.as_mut(), 1);
                 b.sync();
                 let t = Instant::now();
-                advance(b.as_mut(), PROBE_STEPS).map_err(|e| e.to_string())?;
+                let _ = advance(b.as_mut(), PROBE_STEPS);
                 b.sync();
-                Ok((build, t.elapsed().as_secs_f64() * 1e3 / PROBE_STEPS as f64))
+                Some((build, t.elapsed().as_secs_f64() * 1e3 / PROBE_STEPS as f64))
             };
             let cpu1 = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
-            c1[k] = time(cpu1)?.1;
-            c[k] =
-                time(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 })?.1;
+            let cpu = BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 };
+            c1[k] = time(cpu1).map_or(f64::NAN, |x| x.1);
+            c[k] = time(cpu).map_or(f64::NAN, |x| x.1);
             if let Some(spec) = first_gpu.filter(|_| gpu.is_some()) {
-                let (build, ms) = time(BackendId::Gpu(spec))?;
+                let (build, ms) = time(BackendId::Gpu(spec)).unwrap_or((0.0, f64::NAN));
                 if k == 0 {
                     p.gpu_build_s = build;
                 }
                 g[k] = ms;
             }
         }
-        p.cpu1 = Fit::from(ns, c1);
-        p.cpu = Fit::from(ns, c);
-        p.gpu = first_gpu.filter(|_| gpu.is_some()).map(|_| Fit::from(ns, g));
+        // A kind that could not be probed borrows the one-thread CPU's fit (or 1 µs/particle).
+        let fallback = Fit { a_ms: 0.0, b_ms: 1e-3 };
+        let fit = |ms: [f64; 2], or: Fit| if ms.iter().all(|x| x.is_finite()) { Fit::from(ns, ms) } else { or };
+        let cpu1_fit = fit(c1, fallback);
+        p.cpu1 = cpu1_fit;
+        p.cpu = fit(c, cpu1_fit);
+        p.gpu = first_gpu.filter(|_| gpu.is_some()).map(|_| fit(g, cpu1_fit));
         p.n0 = ns[1];
         p.seconds = t0.elapsed().as_secs_f64();
         Ok(p)
