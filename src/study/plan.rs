@@ -3,7 +3,8 @@
 //! largest sizes are dropped first, then any job the running estimate says would overrun).
 //!
 //! The estimate of a job is `build + warm-up + steps × ms/step(N)`, with ms/step(N) = a + b·N
-//! fitted per backend kind from two probe sizes (b·N² for direct search), and a GPU variant's
+//! fitted per backend kind on the cell search at two probe sizes (× N/50 for direct search:
+//! all pairs instead of ~50 neighbours), and a GPU variant's
 //! first build costing the probe's measured build (pipelines are compiled once per variant).
 //! While the study runs, the ratio of measured to estimated time corrects the remaining jobs.
 
@@ -120,7 +121,10 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
     Ok((out, notes.into_iter().collect()))
 }
 
-/// Per-step cost model a + b·N of one backend kind, from two probe sizes.
+/// Typical neighbours per particle of the study scene (direct search visits all N instead).
+const NEIGHBOURS: f64 = 50.0;
+
+/// Per-step cost model a + b·N of one backend kind (cell search), from two probe sizes.
 #[derive(Clone, Copy, Debug, Default)]
 struct Fit {
     a_ms: f64,
@@ -132,10 +136,14 @@ impl Fit {
         let b = ((ms[1] - ms[0]) / (n[1] - n[0])).max(ms[1] / n[1] * 0.25).max(0.0);
         Fit { a_ms: (ms[1] - b * n[1]).max(0.0), b_ms: b }
     }
-    fn ms(&self, n: f64, quadratic_from: Option<f64>) -> f64 {
-        match quadratic_from {
-            Some(n0) => self.a_ms + self.b_ms * n0 * (n / n0).powi(2),
-            None => self.a_ms + self.b_ms * n,
+    /// ms/step at N; a direct (all-pairs) search costs about N / [`NEIGHBOURS`] times the
+    /// cell search it was fitted on.
+    fn ms(&self, n: f64, direct: bool) -> f64 {
+        let cells = self.a_ms + self.b_ms * n;
+        if direct {
+            cells * (n / NEIGHBOURS).max(1.0)
+        } else {
+            cells
         }
     }
 }
@@ -148,7 +156,6 @@ pub struct Probe {
     gpu: Option<Fit>,
     gpu_build_s: f64,
     layout_s_per_particle: f64,
-    n0: f64,
     /// Wall time the probe took (s).
     pub seconds: f64,
 }
@@ -157,6 +164,19 @@ const PROBE_SIZES: [u32; 2] = [16, 32];
 const PROBE_STEPS: u64 = 2;
 
 impl Probe {
+    /// One line with the fitted costs (printed with the plan).
+    pub fn describe(&self) -> String {
+        let f = |x: &Fit| format!("{:.3} ms + {:.2e} ms·N", x.a_ms, x.b_ms);
+        format!(
+            "probe fits per step: cpu1 {}; cpu {}; gpu {}; first GPU build {:.2} s; layout {:.2e} s/particle",
+            f(&self.cpu1),
+            f(&self.cpu),
+            self.gpu.as_ref().map_or("-".into(), f),
+            self.gpu_build_s,
+            self.layout_s_per_particle
+        )
+    }
+
     /// Times `PROBE_STEPS` steps of `cpu1.cells.f64`, `cpu.cells.f64` and (with a GPU) the first
     /// GPU variant of the plan at two small sizes.
     pub fn run(
@@ -207,7 +227,6 @@ impl Probe {
         p.cpu1 = cpu1_fit;
         p.cpu = fit(c, cpu1_fit);
         p.gpu = first_gpu.filter(|_| gpu.is_some()).map(|_| fit(g, cpu1_fit));
-        p.n0 = ns[1];
         p.seconds = t0.elapsed().as_secs_f64();
         Ok(p)
     }
@@ -222,14 +241,13 @@ impl Probe {
                 BackendId::Cpu { search, .. } => search == SearchKind::Direct,
                 BackendId::Gpu(s) => s.search == SearchVariant::Direct,
             };
-            let quad = direct.then_some(self.n0);
             let (ms, build) = match j.id {
-                BackendId::Cpu { exec: Exec::Serial, .. } => (self.cpu1.ms(n, quad), 0.0),
-                BackendId::Cpu { .. } => (self.cpu.ms(n, quad), 0.0),
+                BackendId::Cpu { exec: Exec::Serial, .. } => (self.cpu1.ms(n, direct), 0.0),
+                BackendId::Cpu { .. } => (self.cpu.ms(n, direct), 0.0),
                 BackendId::Gpu(s) => {
                     let first = compiled.insert(s.to_string());
                     (
-                        self.gpu.unwrap_or(self.cpu).ms(n, quad),
+                        self.gpu.unwrap_or(self.cpu).ms(n, direct),
                         if first { self.gpu_build_s } else { 0.1 * self.gpu_build_s },
                     )
                 }
@@ -257,6 +275,8 @@ pub struct Selected {
     pub est_s: f64,
     /// Estimated seconds of every job of the shard.
     pub est_all_s: f64,
+    /// Estimated seconds of the shard's jobs by size (nx), before the budget cut.
+    pub by_size: Vec<(u32, f64)>,
 }
 
 /// Keeps the jobs of `shard` and, under `budget_s` (counting `spent_s` already used), drops the
@@ -265,6 +285,14 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
     let mut jobs: Vec<Job> =
         all.iter().enumerate().filter(|(k, _)| opts.shard.owns(*k)).map(|(_, j)| j.clone()).collect();
     let est_all_s: f64 = jobs.iter().map(|j| j.est_s).sum();
+    let mut by_size: Vec<(u32, f64)> = Vec::new();
+    for j in &jobs {
+        match by_size.iter_mut().find(|b| b.0 == j.nx) {
+            Some(b) => b.1 += j.est_s,
+            None => by_size.push((j.nx, j.est_s)),
+        }
+    }
+    by_size.sort_by_key(|b| b.0);
     let mut dropped_sizes = Vec::new();
     if let Some(budget) = opts.budget_s {
         while spent_s + jobs.iter().map(|j| j.est_s).sum::<f64>() > budget {
@@ -274,7 +302,7 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
         }
     }
     let est_s = jobs.iter().map(|j| j.est_s).sum();
-    Selected { jobs, dropped_sizes, est_s, est_all_s }
+    Selected { jobs, dropped_sizes, est_s, est_all_s, by_size }
 }
 
 /// The plan as text (printed first, and kept in `summary.md`).
@@ -302,6 +330,8 @@ pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: 
         "* estimated time: {:.1} s for the kept jobs (all jobs of this shard: {:.1} s; probe: {:.1} s)",
         sel.est_s, sel.est_all_s, probe_s
     );
+    let by: Vec<String> = sel.by_size.iter().map(|(nx, t)| format!("nx={nx}: {t:.1} s")).collect();
+    let _ = writeln!(s, "* estimated time by size: {}", if by.is_empty() { "-".into() } else { by.join(", ") });
     if let Some(b) = opts.budget_s {
         let d: Vec<String> = sel.dropped_sizes.iter().map(|nx| format!("nx={nx}")).collect();
         let _ = writeln!(
