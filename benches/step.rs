@@ -52,6 +52,11 @@ fn gpu() -> Option<&'static Arc<GpuContext>> {
 
 /// The GPU variants to time: supported on the adapter and named by `SPHLAB_BENCH_VARIANTS`.
 fn variants() -> Vec<VariantSpec> {
+    static V: OnceLock<Vec<VariantSpec>> = OnceLock::new();
+    V.get_or_init(supported_variants).clone()
+}
+
+fn supported_variants() -> Vec<VariantSpec> {
     let Some(ctx) = gpu() else { return Vec::new() };
     let only = std::env::var("SPHLAB_BENCH_VARIANTS").ok();
     VariantSpec::all()
@@ -73,7 +78,14 @@ fn cpu(exec: Exec, search: SearchKind, precision: Precision) -> BackendId {
 
 /// Particles of the study scene at `nx`, from the resource plan (no layout is built).
 fn particles(nx: u32) -> u64 {
-    sphlab::plan::Plan::new(&study_scene(nx), 8, false).n_total as u64
+    static N: std::sync::Mutex<Vec<(u32, u64)>> = std::sync::Mutex::new(Vec::new());
+    let mut memo = N.lock().expect("memo");
+    if let Some(&(_, n)) = memo.iter().find(|m| m.0 == nx) {
+        return n;
+    }
+    let n = sphlab::plan::Plan::new(&study_scene(nx), 8, false).n_total as u64;
+    memo.push((nx, n));
+    n
 }
 
 /// Builds `id` on the study scene at `nx` and takes one step (pipelines, neighbour structures).

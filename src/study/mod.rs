@@ -286,14 +286,25 @@ fn run_sweep(
     out: &mut Vec<Record>,
 ) -> Result<RunNotes, String> {
     let (mut all, notes) = plan::jobs(opts, gpu)?;
-    let first_gpu = all.iter().find_map(|j| match j.id {
-        BackendId::Gpu(s) => Some(s),
-        _ => None,
-    });
+    // The probe's GPU variant: the default one if planned, else the first non-direct one.
+    let planned: Vec<crate::gpu::variant::VariantSpec> = all
+        .iter()
+        .filter_map(|j| match j.id {
+            BackendId::Gpu(s) => Some(s),
+            _ => None,
+        })
+        .collect();
+    let first_gpu = planned
+        .iter()
+        .find(|s| **s == crate::gpu::variant::VariantSpec::default())
+        .or_else(|| planned.iter().find(|s| s.search != crate::gpu::variant::SearchVariant::Direct))
+        .or(planned.first())
+        .copied();
     let probe = if all.is_empty() { plan::Probe::default() } else { plan::Probe::run(opts, gpu, first_gpu)? };
     probe.estimate(&mut all, &opts.protocol);
     let sel = plan::select(&all, opts, t0.elapsed().as_secs_f64());
-    let text = plan::describe(opts, &sel, &notes, probe.seconds);
+    let mut text = plan::describe(opts, &sel, &notes, probe.seconds);
+    text.push_str(&format!("* {}\n", probe.describe()));
     eprintln!("study plan:\n{text}");
     let mut run_notes = RunNotes { plan: text, outcome: Vec::new() };
     if opts.dry_run {

@@ -3,7 +3,8 @@
 //! largest sizes are dropped first, then any job the running estimate says would overrun).
 //!
 //! The estimate of a job is `build + warm-up + steps × ms/step(N)`, with ms/step(N) = a + b·N
-//! fitted per backend kind from two probe sizes (b·N² for direct search), and a GPU variant's
+//! fitted per backend kind on the cell search at two probe sizes (× N/50 for direct search:
+//! all pairs instead of ~50 neighbours), and a GPU variant's
 //! first build costing the probe's measured build (pipelines are compiled once per variant).
 //! While the study runs, the ratio of measured to estimated time corrects the remaining jobs.
 
@@ -121,7 +122,10 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
     Ok((out, notes.into_iter().collect()))
 }
 
-/// Per-step cost model a + b·N of one backend kind, from two probe sizes.
+/// Typical neighbours per particle of the study scene (direct search visits all N instead).
+const NEIGHBOURS: f64 = 50.0;
+
+/// Per-step cost model a + b·N of one backend kind (cell search), from two probe sizes.
 #[derive(Clone, Copy, Debug, Default)]
 struct Fit {
     a_ms: f64,
@@ -133,10 +137,14 @@ impl Fit {
         let b = ((ms[1] - ms[0]) / (n[1] - n[0])).max(ms[1] / n[1] * 0.25).max(0.0);
         Fit { a_ms: (ms[1] - b * n[1]).max(0.0), b_ms: b }
     }
-    fn ms(&self, n: f64, quadratic_from: Option<f64>) -> f64 {
-        match quadratic_from {
-            Some(n0) => self.a_ms + self.b_ms * n0 * (n / n0).powi(2),
-            None => self.a_ms + self.b_ms * n,
+    /// ms/step at N; a direct (all-pairs) search costs about N / [`NEIGHBOURS`] times the
+    /// cell search it was fitted on.
+    fn ms(&self, n: f64, direct: bool) -> f64 {
+        let cells = self.a_ms + self.b_ms * n;
+        if direct {
+            cells * (n / NEIGHBOURS).max(1.0)
+        } else {
+            cells
         }
     }
 }
@@ -149,7 +157,6 @@ pub struct Probe {
     gpu: Option<Fit>,
     gpu_build_s: f64,
     layout_s_per_particle: f64,
-    n0: f64,
     /// Wall time the probe took (s).
     pub seconds: f64,
 }
@@ -158,6 +165,19 @@ const PROBE_SIZES: [u32; 2] = [16, 32];
 const PROBE_STEPS: u64 = 2;
 
 impl Probe {
+    /// One line with the fitted costs (printed with the plan).
+    pub fn describe(&self) -> String {
+        let f = |x: &Fit| format!("{:.3} ms + {:.2e} ms·N", x.a_ms, x.b_ms);
+        format!(
+            "probe fits per step: cpu1 {}; cpu {}; gpu {}; first GPU build {:.2} s; layout {:.2e} s/particle",
+            f(&self.cpu1),
+            f(&self.cpu),
+            self.gpu.as_ref().map_or("-".into(), f),
+            self.gpu_build_s,
+            self.layout_s_per_particle
+        )
+    }
+
     /// Times `PROBE_STEPS` steps of `cpu1.cells.f64`, `cpu.cells.f64` and (with a GPU) the first
     /// GPU variant of the plan at two small sizes.
     pub fn run(
@@ -175,34 +195,39 @@ impl Probe {
             p.layout_s_per_particle = tl.elapsed().as_secs_f64() / layout.pos.len() as f64;
             let vel0 = initial_velocities(&scene, &layout, None);
             ns[k] = layout.pos.len() as f64;
-            let time = |id: BackendId| -> Result<(f64, f64), String> {
+            // Build time and ms/step; a run that fails while probing still costs its steps (the
+            // study records the failure), a backend that cannot be built costs nothing.
+            let time = |id: BackendId| -> Option<(f64, f64)> {
                 let tb = Instant::now();
-                let mut b = id.build(&scene, &layout, gpu)?;
+                let mut b = id.build(&scene, &layout, gpu).ok()?;
                 b.restart_with_velocities(&vel0);
                 let build = tb.elapsed().as_secs_f64();
-                advance(b.as_mut(), 1).map_err(|e| e.to_string())?;
+                let _ = advance(b.as_mut(), 1);
                 b.sync();
                 let t = Instant::now();
-                advance(b.as_mut(), PROBE_STEPS).map_err(|e| e.to_string())?;
+                let _ = advance(b.as_mut(), PROBE_STEPS);
                 b.sync();
-                Ok((build, t.elapsed().as_secs_f64() * 1e3 / PROBE_STEPS as f64))
+                Some((build, t.elapsed().as_secs_f64() * 1e3 / PROBE_STEPS as f64))
             };
             let cpu1 = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision: Precision::F64 };
-            c1[k] = time(cpu1)?.1;
-            c[k] =
-                time(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 })?.1;
+            let cpu = BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision: Precision::F64 };
+            c1[k] = time(cpu1).map_or(f64::NAN, |x| x.1);
+            c[k] = time(cpu).map_or(f64::NAN, |x| x.1);
             if let Some(spec) = first_gpu.filter(|_| gpu.is_some()) {
-                let (build, ms) = time(BackendId::Gpu(spec))?;
+                let (build, ms) = time(BackendId::Gpu(spec)).unwrap_or((0.0, f64::NAN));
                 if k == 0 {
                     p.gpu_build_s = build;
                 }
                 g[k] = ms;
             }
         }
-        p.cpu1 = Fit::from(ns, c1);
-        p.cpu = Fit::from(ns, c);
-        p.gpu = first_gpu.filter(|_| gpu.is_some()).map(|_| Fit::from(ns, g));
-        p.n0 = ns[1];
+        // A kind that could not be probed borrows the one-thread CPU's fit (or 1 µs/particle).
+        let fallback = Fit { a_ms: 0.0, b_ms: 1e-3 };
+        let fit = |ms: [f64; 2], or: Fit| if ms.iter().all(|x| x.is_finite()) { Fit::from(ns, ms) } else { or };
+        let cpu1_fit = fit(c1, fallback);
+        p.cpu1 = cpu1_fit;
+        p.cpu = fit(c, cpu1_fit);
+        p.gpu = first_gpu.filter(|_| gpu.is_some()).map(|_| fit(g, cpu1_fit));
         p.seconds = t0.elapsed().as_secs_f64();
         Ok(p)
     }
@@ -217,14 +242,13 @@ impl Probe {
                 BackendId::Cpu { search, .. } => search == SearchKind::Direct,
                 BackendId::Gpu(s) => s.search == SearchVariant::Direct,
             };
-            let quad = direct.then_some(self.n0);
             let (ms, build) = match j.id {
-                BackendId::Cpu { exec: Exec::Serial, .. } => (self.cpu1.ms(n, quad), 0.0),
-                BackendId::Cpu { .. } => (self.cpu.ms(n, quad), 0.0),
+                BackendId::Cpu { exec: Exec::Serial, .. } => (self.cpu1.ms(n, direct), 0.0),
+                BackendId::Cpu { .. } => (self.cpu.ms(n, direct), 0.0),
                 BackendId::Gpu(s) => {
                     let first = compiled.insert(s.to_string());
                     (
-                        self.gpu.unwrap_or(self.cpu).ms(n, quad),
+                        self.gpu.unwrap_or(self.cpu).ms(n, direct),
                         if first { self.gpu_build_s } else { 0.1 * self.gpu_build_s },
                     )
                 }
@@ -252,6 +276,8 @@ pub struct Selected {
     pub est_s: f64,
     /// Estimated seconds of every job of the shard.
     pub est_all_s: f64,
+    /// Estimated seconds of the shard's jobs by size (nx), before the budget cut.
+    pub by_size: Vec<(u32, f64)>,
 }
 
 /// Keeps the jobs of `shard` and, under `budget_s` (counting `spent_s` already used), drops the
@@ -260,6 +286,14 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
     let mut jobs: Vec<Job> =
         all.iter().enumerate().filter(|(k, _)| opts.shard.owns(*k)).map(|(_, j)| j.clone()).collect();
     let est_all_s: f64 = jobs.iter().map(|j| j.est_s).sum();
+    let mut by_size: Vec<(u32, f64)> = Vec::new();
+    for j in &jobs {
+        match by_size.iter_mut().find(|b| b.0 == j.nx) {
+            Some(b) => b.1 += j.est_s,
+            None => by_size.push((j.nx, j.est_s)),
+        }
+    }
+    by_size.sort_by_key(|b| b.0);
     let mut dropped_sizes = Vec::new();
     if let Some(budget) = opts.budget_s {
         while spent_s + jobs.iter().map(|j| j.est_s).sum::<f64>() > budget {
@@ -269,7 +303,7 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
         }
     }
     let est_s = jobs.iter().map(|j| j.est_s).sum();
-    Selected { jobs, dropped_sizes, est_s, est_all_s }
+    Selected { jobs, dropped_sizes, est_s, est_all_s, by_size }
 }
 
 /// The plan as text (printed first, and kept in `summary.md`).
@@ -297,6 +331,8 @@ pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: 
         "* estimated time: {:.1} s for the kept jobs (all jobs of this shard: {:.1} s; probe: {:.1} s)",
         sel.est_s, sel.est_all_s, probe_s
     );
+    let by: Vec<String> = sel.by_size.iter().map(|(nx, t)| format!("nx={nx}: {t:.1} s")).collect();
+    let _ = writeln!(s, "* estimated time by size: {}", if by.is_empty() { "-".into() } else { by.join(", ") });
     if let Some(b) = opts.budget_s {
         let d: Vec<String> = sel.dropped_sizes.iter().map(|nx| format!("nx={nx}")).collect();
         let _ = writeln!(
