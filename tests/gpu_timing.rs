@@ -166,6 +166,7 @@ fn study_records_device_time_and_stage_table() {
         steps: 2,
         variants: vec![VariantSpec::default()],
         out: dir.path().to_path_buf(),
+        e23: Default::default(),
     };
     let recs = sphlab::study::run_study(&opts).expect("study");
     let gpu = recs.iter().find(|r| r.backend == "gpu").expect("a GPU record");

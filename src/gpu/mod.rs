@@ -8,6 +8,7 @@ pub mod compose;
 pub mod context;
 pub mod params;
 mod readback;
+pub mod residency;
 pub mod solver;
 pub mod solver_buffers;
 pub mod stages;

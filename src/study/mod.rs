@@ -15,11 +15,16 @@
 //! pass (`gpu::timing`): `gpu_ms_per_step` (median) and `stage_times.csv`. The error columns
 //! compare the backend's state after the timed steps with the CPU f64 one-thread run of the
 //! same steps (kinetic energy, centroid). Absolute GPU times mean something only on a real GPU; on lavapipe (a CPU emulation of Vulkan) read ratios and
-//! correctness only. E2 (residency hybrids) and E3 (subdomains) are not implemented. Every
+//! correctness only. E2 (residency hybrids, Fig. 6.8) and E3 (subdomain budgets, Fig. 6.9) run
+//! from [`e23`]; the thesis-style figures come from [`thesis_figs`]. Every
 //! backend is named by its [`BackendId`] (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …),
 //! the same id the CLI, the bench and `records.csv` use; the outputs are written by [`report`].
 
+pub mod e23;
+pub mod e2_residency;
+pub mod e3_subdomains;
 pub mod report;
+pub mod thesis_figs;
 
 use crate::backend::{Backend, BackendId, Frame};
 use crate::exec::Exec;
@@ -37,7 +42,7 @@ use std::time::Instant;
 pub const DIRECT_MAX_N: usize = 3000;
 
 /// One benchmark record (STUDY.md §5).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Record {
     /// Experiment (e1, e4, scaling).
     pub experiment: String,
@@ -91,6 +96,26 @@ pub struct Record {
     /// `stage_times.csv`, not to `records.csv`).
     #[serde(skip)]
     pub stage_ms: Vec<(String, f64)>,
+    /// E2: the stage groups on the CPU (`+`-joined, `-` for none); empty otherwise.
+    pub residency_cpu: String,
+    /// E2/E3: host → device bytes per step, counted at the copy calls.
+    pub bytes_h2d_per_step: Option<f64>,
+    /// E2/E3: device → host bytes per step, counted at the copy calls.
+    pub bytes_d2h_per_step: Option<f64>,
+    /// E3: particles per subdomain (empty: the unsplit run).
+    pub budget: Option<usize>,
+    /// E3: subdomains.
+    pub subdomains: Option<usize>,
+    /// E3: halo particles per force evaluation, summed over the subdomains.
+    pub halo_particles: Option<f64>,
+    /// E3: device bytes allocated by the (subdomain) solver.
+    pub device_bytes: Option<u64>,
+    /// E3: GPU busy fraction, device time (timestamps) ÷ wall time.
+    pub gpu_busy: Option<f64>,
+    /// E2: the GPU variant of the hybrids; E3: the thesis's configuration (○ ∆ □).
+    pub config: String,
+    /// E2/E3: verification verdict (against the CPU reference / the unsplit run).
+    pub verified: String,
 }
 
 /// What to run.
@@ -106,6 +131,8 @@ pub struct StudyOptions {
     pub variants: Vec<VariantSpec>,
     /// Output directory.
     pub out: std::path::PathBuf,
+    /// E2 and E3 settings.
+    pub e23: e23::E23Options,
 }
 
 /// The study scene at resolution nx: the oscillating drop without relaxation, its dt (1e-4 at
@@ -225,6 +252,7 @@ impl Ctx<'_> {
             commit: self.commit.clone(),
             date: self.date.clone(),
             stage_ms,
+            ..Record::default()
         })
     }
 }
@@ -306,7 +334,12 @@ pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
                     run_size("scaling", nx, opts, gpu.as_ref(), &[SearchKind::Cells], true, &mut recs)?;
                 }
             }
-            other => return Err(format!("--experiments: unknown experiment `{other}` (e1, e4, scaling)")),
+            "e2" | "e3" => match gpu.as_ref() {
+                Some(g) if e == "e2" => e23::run_e2(&opts.e23, opts.steps, g, &mut recs)?,
+                Some(g) => e23::run_e3(&opts.e23, g, &mut recs)?,
+                None => eprintln!("{e}: skipped: it needs a GPU adapter"),
+            },
+            other => return Err(format!("--experiments: unknown experiment `{other}` (e1, e2, e3, e4, scaling)")),
         }
     }
     report::write(&opts.out, &recs, gpu.as_ref().map(|g| g.describe()))?;

@@ -127,11 +127,10 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
         .map_err(|x| e(&p, x))?;
         let _ = writeln!(md, "![speed against error](speed_vs_error.svg)\n");
     }
-    let ts = if timed { "" } else { "; GPU timestamps (this adapter has none: all times are wall clock)" };
-    let _ = writeln!(
-        md,
-        "Not implemented: E2 (stages moved to the GPU one group at a time) and E3 (subdomain budgets){ts}."
-    );
+    super::thesis_figs::write(dir, recs, &mut md)?;
+    if !timed {
+        let _ = writeln!(md, "This adapter has no GPU timestamps: all times are wall clock.");
+    }
     let p = dir.join("summary.md");
     std::fs::write(&p, md).map_err(|x| e(&p, x))
 }
