@@ -462,5 +462,8 @@ pub fn verify_hybrid(
         .iter()
         .filter(|c| c.tolerance > 0.0 && c.max_rel.is_finite())
         .max_by(|a, b| (a.max_rel / a.tolerance).total_cmp(&(b.max_rel / b.tolerance)));
-    Ok(worst.map_or("pass".into(), |c| format!("pass (worst {} {:.1e})", c.name, c.max_rel)))
+    Ok(match worst {
+        Some(c) if c.max_rel > 0.0 => format!("pass (worst {} {:.1e})", c.name, c.max_rel),
+        _ => "pass (identical)".into(),
+    })
 }

@@ -128,7 +128,7 @@ pub fn write(dir: &Path, recs: &[Record], adapter: Option<String>) -> Result<(),
         let _ = writeln!(md, "![speed against error](speed_vs_error.svg)\n");
     }
     super::thesis_figs::write(dir, recs, &mut md)?;
-    if !timed {
+    if !timed && !recs.iter().any(|r| r.timing.contains("timestamps")) {
         let _ = writeln!(md, "This adapter has no GPU timestamps: all times are wall clock.");
     }
     let p = dir.join("summary.md");
