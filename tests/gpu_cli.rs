@@ -192,7 +192,8 @@ fn study_e2_e3_records_every_hybrid_and_budget() {
     let num = |r: &csv::StringRecord, c: &str| get(r, c).parse::<f64>().unwrap_or(f64::NAN);
     // E2: every hybrid, in order, verified and timed.
     let e2: Vec<&csv::StringRecord> = rows.iter().filter(|r| get(r, "experiment") == "e2").collect();
-    let names: Vec<String> = sphlab::study::e2_residency::HYBRIDS.iter().map(|h| format!("hybrid.{}", h.name)).collect();
+    let names: Vec<String> =
+        sphlab::study::e2_residency::HYBRIDS.iter().map(|h| format!("hybrid.{}", h.name)).collect();
     assert_eq!(e2.iter().map(|r| get(r, "variant")).collect::<Vec<_>>(), names);
     let bytes: Vec<f64> = e2.iter().map(|r| num(r, "bytes_h2d_per_step") + num(r, "bytes_d2h_per_step")).collect();
     for r in &e2 {
@@ -206,7 +207,8 @@ fn study_e2_e3_records_every_hybrid_and_budget() {
     for c in sphlab::study::e3_subdomains::CONFIGS {
         let rs: Vec<&csv::StringRecord> =
             rows.iter().filter(|r| get(r, "experiment") == "e3" && get(r, "variant") == c.variant).collect();
-        let at = |b: &str| rs.iter().find(|r| get(r, "budget") == b).unwrap_or_else(|| panic!("{} budget {b:?}", c.variant));
+        let at =
+            |b: &str| rs.iter().find(|r| get(r, "budget") == b).unwrap_or_else(|| panic!("{} budget {b:?}", c.variant));
         let (unsplit, small, large) = (at(""), at("120"), at("240"));
         assert_eq!(num(unsplit, "halo_particles"), 0.0);
         for r in [small, large] {
