@@ -283,7 +283,8 @@ fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
     ];
     svg(&dir.join("fig6_8_residency.svg"), (1100, 820), |a| {
         let (top, bottom) = a.split_vertically(410);
-        bars(&top, "Fig. 6.8 — runtime as stage groups move to the GPU", "time per step (ms)", &cats, &t, false)?;
+        let title = "Fig. 6.8 — runtime as stage groups move to the GPU (thesis: caption only, seed l. 400)";
+        bars(&top, title, "time per step (ms)", &cats, &t, false)?;
         bars(&bottom, "host↔device copies each hybrid implies (counted)", "KiB per step", &cats, &b, false)
     })?;
     let _ = writeln!(md, "\n![Fig. 6.8](fig6_8_residency.svg)\n");
@@ -404,4 +405,36 @@ pub fn write(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String>
     fig_6_9(dir, recs, md)?;
     thesis_table(recs, md);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rec(experiment: &str, variant: &str, backend: &str, ms: f64) -> Record {
+        let (experiment, variant, backend) = (experiment.into(), variant.into(), backend.into());
+        Record { experiment, variant, backend, ms_per_step_median: ms, adapter: "test".into(), ..Record::default() }
+    }
+
+    #[test]
+    fn fig_6_3_draws_every_search_on_both_backends() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let recs = vec![
+            rec("e1", "cpu1.direct.f64", "cpu1", 90.0),
+            rec("e1", "cpu1.cells.f64", "cpu1", 4.0),
+            rec("e1", "cpu1.tracking.f64", "cpu1", 3.5),
+            rec("e1", "direct.thread.recomputed.f32", "gpu", 1000.0),
+            rec("e1", "cells.thread.recomputed.f32", "gpu", 40.0),
+            rec("e1", "tracking.thread.recomputed.f32", "gpu", 12.0),
+        ];
+        let mut md = String::new();
+        write(dir.path(), &recs, &mut md).expect("figures");
+        let svg = std::fs::read_to_string(dir.path().join("fig6_3_search.svg")).expect("fig6_3_search.svg");
+        for label in ["direct", "cells", "tracking", "CPU, one thread", "GPU (test)"] {
+            assert!(svg.contains(label), "{label}");
+        }
+        // Six bars (rect elements filled with a series colour), one per (search, backend).
+        assert_eq!(svg.matches("fill=\"#1F77B4\"").count() + svg.matches("fill=\"#FF7F0E\"").count(), 6 + 2);
+        assert!(md.contains("fig6_3_search.svg") && !dir.path().join("fig6_8_residency.svg").exists());
+    }
 }
