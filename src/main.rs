@@ -117,6 +117,10 @@ impl Search {
 enum Experiment {
     /// Search × backend at 2,025 fluid particles.
     E1,
+    /// Residency hybrids (stage groups on the CPU or GPU) at 2,025 fluid particles.
+    E2,
+    /// Subdomain budgets × the thesis's three configurations at 10,000 fluid particles.
+    E3,
     /// Every GPU variant against the single-thread CPU at 10,000.
     E4,
     /// Time per step against N.
@@ -298,6 +302,18 @@ struct StudyArgs {
     /// Output directory (with --preset gpu: the root, default reports/gpu).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// E2 resolution (particles across the box; 45 = 2,025 fluid particles).
+    #[arg(long, default_value_t = 45, value_parser = clap::value_parser!(u32).range(10..=200))]
+    e2_nx: u32,
+    /// E3 resolution (100 = 10,000 fluid particles).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(10..=400))]
+    e3_nx: u32,
+    /// E3 timed iterations per configuration and budget (thesis: 200).
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+    e3_steps: u64,
+    /// E3 particle budgets per subdomain (comma-separated, each ≥ 100).
+    #[arg(long, default_value = "1500,3000,4500,6000")]
+    e3_budgets: String,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -883,7 +899,22 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
             Err(e) => return fail(2, e),
         },
     };
+    let mut e3_budgets = Vec::new();
+    for s in a.e3_budgets.split(',') {
+        match s.trim().parse::<usize>() {
+            Ok(b) if b >= 100 => e3_budgets.push(b),
+            _ => return fail(2, format!("--e3-budgets: `{s}` is not a particle count ≥ 100")),
+        }
+    }
+    let e23 = sphlab::study::e23::E23Options {
+        e2_nx: a.e2_nx,
+        e3_nx: a.e3_nx,
+        e3_steps: a.e3_steps,
+        e3_budgets,
+        ..Default::default()
+    };
     let opts = sphlab::study::StudyOptions {
+        e23,
         experiments,
         sizes,
         protocol: sphlab::study::timing::Protocol {

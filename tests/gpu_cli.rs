@@ -223,3 +223,71 @@ fn study_writes_records() {
     assert!(csv.contains("cells.thread.recomputed.f32") && csv.contains("cpu1.cells.f64"), "{csv}");
     assert!(dir.path().join("summary.md").exists() && dir.path().join("scaling.svg").exists());
 }
+
+/// `sphlab study --experiments e2,e3` at tiny sizes: a record for every hybrid and every
+/// (configuration, budget), each verified; the bytes copied per step rise as more stage groups
+/// live on the CPU (all-CPU copies nothing); the halo grows as the budget shrinks.
+#[test]
+fn study_e2_e3_records_every_hybrid_and_budget() {
+    let _g = common::serial();
+    if common::gpu_or_skip().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tempdir");
+    let o = sphlab(&[
+        "study",
+        "--experiments",
+        "e2,e3",
+        "--steps",
+        "2",
+        "--e2-nx",
+        "12",
+        "--e3-nx",
+        "16",
+        "--e3-steps",
+        "2",
+        "--e3-budgets",
+        "120,240",
+        "--out",
+        dir.path().to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rd = csv::Reader::from_path(dir.path().join("records.csv")).expect("records.csv");
+    let head = rd.headers().expect("header").clone();
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap_or_else(|| panic!("column {name}"));
+    let rows: Vec<csv::StringRecord> = rd.records().map(|r| r.expect("row")).collect();
+    let get = |r: &csv::StringRecord, c: &str| r[col(c)].to_string();
+    let num = |r: &csv::StringRecord, c: &str| get(r, c).parse::<f64>().unwrap_or(f64::NAN);
+    // E2: every hybrid, in order, verified and timed.
+    let e2: Vec<&csv::StringRecord> = rows.iter().filter(|r| get(r, "experiment") == "e2").collect();
+    let names: Vec<String> =
+        sphlab::study::e2_residency::HYBRIDS.iter().map(|h| format!("hybrid.{}", h.name)).collect();
+    assert_eq!(e2.iter().map(|r| get(r, "variant")).collect::<Vec<_>>(), names);
+    let bytes: Vec<f64> = e2.iter().map(|r| num(r, "bytes_h2d_per_step") + num(r, "bytes_d2h_per_step")).collect();
+    for r in &e2 {
+        assert!(get(r, "verified").starts_with("pass"), "{:?}", r);
+        assert!(num(r, "ms_per_step_median") > 0.0, "{:?}", r);
+    }
+    assert_eq!(bytes[0], 0.0, "all-CPU copies nothing: {bytes:?}");
+    // From gpu-forces (most groups on the CPU) to gpu-all (none) the copies fall strictly.
+    assert!(bytes[1..].windows(2).all(|w| w[0] > w[1] && w[1] > 0.0), "{bytes:?}");
+    // E3: each configuration's unsplit run and both budgets; smaller budget, more halo.
+    for c in sphlab::study::e3_subdomains::CONFIGS {
+        let rs: Vec<&csv::StringRecord> =
+            rows.iter().filter(|r| get(r, "experiment") == "e3" && get(r, "variant") == c.variant).collect();
+        let at =
+            |b: &str| rs.iter().find(|r| get(r, "budget") == b).unwrap_or_else(|| panic!("{} budget {b:?}", c.variant));
+        let (unsplit, small, large) = (at(""), at("120"), at("240"));
+        assert_eq!(num(unsplit, "halo_particles"), 0.0);
+        for r in [small, large] {
+            assert!(get(r, "verified").starts_with("pass"), "{:?}", r);
+            assert!(num(r, "bytes_h2d_per_step") > 0.0 && num(r, "device_bytes") > 0.0, "{:?}", r);
+        }
+        assert!(num(small, "halo_particles") > num(large, "halo_particles"), "{} halo", c.variant);
+        assert!(num(small, "subdomains") > num(large, "subdomains"), "{} subdomains", c.variant);
+        assert!(num(small, "halo_particles") > 0.0);
+    }
+    for f in ["fig6_8_residency.svg", "fig6_9_subdomains.svg", "summary.md"] {
+        assert!(dir.path().join(f).exists(), "{f}");
+    }
+}

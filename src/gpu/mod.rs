@@ -13,6 +13,7 @@ pub mod params;
 pub mod pipeline_cache;
 mod readback;
 pub mod reorder;
+pub mod residency;
 pub mod solver;
 pub mod solver_buffers;
 pub mod stages;

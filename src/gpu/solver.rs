@@ -227,7 +227,7 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Clears the control words and sets the clock to step 0, t = 0 (dt: the fixed one).
-    fn reset_ctl(&self) -> Result<(), GpuError> {
+    pub(super) fn reset_ctl(&self) -> Result<(), GpuError> {
         let mut c = vec![0u32; ctl::LEN];
         c[ctl::BAD_STEP] = u32::MAX;
         c[ctl::BAD] = u32::MAX;

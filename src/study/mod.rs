@@ -22,9 +22,13 @@
 //! its [`BackendId`], the id the CLI, the bench and `records.csv` use. [`preset`] is the one
 //! command for a GPU loan; [`report`] writes (and merges) the outputs.
 
+pub mod e23;
+pub mod e2_residency;
+pub mod e3_subdomains;
 pub mod plan;
 pub mod preset;
 pub mod report;
+pub mod thesis_figs;
 pub mod timing;
 
 use crate::backend::{BackendId, Frame};
@@ -44,7 +48,7 @@ use timing::{median, Failure, Protocol, Timed};
 pub const DIRECT_MAX_N: usize = 3000;
 
 /// Every experiment `--experiments` accepts, in run order.
-pub const EXPERIMENTS: &[&str] = &["e1", "e4", "scaling"];
+pub const EXPERIMENTS: &[&str] = &["e1", "e2", "e3", "e4", "scaling"];
 
 /// One benchmark record (STUDY.md §5). Timing and error columns are empty unless `status` is
 /// `ok`.
@@ -118,6 +122,33 @@ pub struct Record {
     /// written to `stage_times.csv`, not to `records.csv`).
     #[serde(skip)]
     pub stage_ms: Vec<(String, f64)>,
+    /// E2: the stage groups on the CPU (`+`-joined, `-` for none); empty otherwise.
+    pub residency_cpu: String,
+    /// E2/E3: host → device bytes per step, counted at the copy calls.
+    pub bytes_h2d_per_step: Option<f64>,
+    /// E2/E3: device → host bytes per step, counted at the copy calls.
+    pub bytes_d2h_per_step: Option<f64>,
+    /// E3: particles per subdomain (empty: the unsplit run).
+    pub budget: Option<usize>,
+    /// E3: subdomains.
+    pub subdomains: Option<usize>,
+    /// E3: halo particles per force evaluation, summed over the subdomains.
+    pub halo_particles: Option<f64>,
+    /// E3: device bytes allocated by the (subdomain) solver.
+    pub device_bytes: Option<u64>,
+    /// E3: GPU busy fraction, device time (timestamps) ÷ wall time.
+    pub gpu_busy: Option<f64>,
+    /// E2: the GPU variant of the hybrids; E3: the thesis's configuration (○ ∆ □).
+    pub config: String,
+    /// E2/E3: verification verdict (against the CPU reference / the unsplit run).
+    pub verified: String,
+}
+
+impl Record {
+    /// Throughput ms per step, NaN for a record without timing (a failed run).
+    pub fn ms(&self) -> f64 {
+        self.ms_per_step_median.unwrap_or(f64::NAN)
+    }
 }
 
 /// What to run.
@@ -143,12 +174,15 @@ pub struct StudyOptions {
     pub dry_run: bool,
     /// Output directory.
     pub out: std::path::PathBuf,
+    /// E2 and E3 settings.
+    pub e23: e23::E23Options,
 }
 
 impl Default for StudyOptions {
     fn default() -> Self {
         StudyOptions {
-            experiments: EXPERIMENTS.iter().map(|s| s.to_string()).collect(),
+            // The sweep experiments; E2 and E3 (minutes at their thesis sizes) by name.
+            experiments: plan::SWEEP_EXPERIMENTS.iter().map(|s| s.to_string()).collect(),
             sizes: vec![30, 60, 120],
             protocol: Protocol::default(),
             variants: Vec::new(),
@@ -158,6 +192,7 @@ impl Default for StudyOptions {
             budget_s: None,
             dry_run: false,
             out: "reports/study".into(),
+            e23: Default::default(),
         }
     }
 }
@@ -402,9 +437,13 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
     if opts.dry_run {
         return Ok(recs);
     }
-    #[allow(clippy::match_single_binding)]
     for e in opts.experiments.iter().filter(|e| !plan::SWEEP_EXPERIMENTS.contains(&e.as_str())) {
         match e.as_str() {
+            "e2" | "e3" => match gpu {
+                Some(g) if e == "e2" => e23::run_e2(&opts.e23, opts.protocol.steps, g, &mut recs)?,
+                Some(g) => e23::run_e3(&opts.e23, g, &mut recs)?,
+                None => eprintln!("{e}: skipped: it needs a GPU adapter"),
+            },
             other => return Err(format!("--experiments: `{other}` has no runner")),
         }
     }

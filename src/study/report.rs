@@ -182,6 +182,7 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
     }
     scaling_plots(dir, recs, side_by_side, &mut md)?;
     speed_vs_error(dir, recs, &mut md)?;
+    super::thesis_figs::write(dir, recs, &mut md)?;
     if !timed {
         let _ = writeln!(
             md,
