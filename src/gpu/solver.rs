@@ -61,8 +61,8 @@ pub struct GpuSolver<T: Real> {
     pub(super) ts: Timestamps,
 }
 
-/// Default of [`GpuSolver::set_reorder_every`] (WarpX found ~4 steps optimal on GPUs; the
-/// particles move far less than a cell in 16 steps here).
+/// Default of [`GpuSolver::set_reorder_every`] (WarpX found re-sorting every ~4 steps about
+/// optimal on GPUs; 16 is a prior, not yet measured on a real GPU).
 pub const DEFAULT_REORDER_EVERY: u64 = 16;
 
 fn v2<T: Real>(p: &[f64; 2]) -> V2<T> {
