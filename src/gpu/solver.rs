@@ -84,8 +84,8 @@ pub fn spread(groups: usize, max: u32) -> (u32, u32) {
     (groups.div_ceil(y) as u32, y as u32)
 }
 
-/// Default of [`GpuSolver::set_reorder_every`] (WarpX found ~4 steps optimal on GPUs; the
-/// particles move far less than a cell in 16 steps here).
+/// Default of [`GpuSolver::set_reorder_every`] (WarpX found re-sorting every ~4 steps about
+/// optimal on GPUs; 16 is a prior, not yet measured on a real GPU).
 pub const DEFAULT_REORDER_EVERY: u64 = 16;
 
 fn v2<T: Real>(p: &[f64; 2]) -> V2<T> {
