@@ -15,10 +15,11 @@ fn drop_with(sets: &[&str]) -> sphlab::scene::Scene {
 
 #[test]
 fn a_fixed_dt_above_each_limit_is_refused_naming_that_limit() {
-    // oscillating-drop at nx = 30: CFL 1.08e-4, viscous 6.9e-4, capillary 2.1e-4, no gravity.
+    // oscillating-drop at nx = 30 (h = 1.2Δx): CFL 1.29e-4, viscous 1.0e-3, capillary 2.8e-4, no
+    // gravity; with μ = 5 the viscous limit is 1.0e-5.
     let cases: [(&str, &[&str]); 4] = [
         ("cfl", &["time.dt=1.5e-4"]),
-        ("viscous", &["phases.0.mu=5.0", "phases.1.mu=5.0", "time.dt=1e-5"]),
+        ("viscous", &["phases.0.mu=5.0", "phases.1.mu=5.0", "time.dt=2e-5"]),
         ("force", &["gravity=[0.0,-1e6]", "time.dt=5e-5"]),
         ("capillary", &["surface_tension.sigma=100.0", "time.dt=5e-5"]),
     ];
@@ -55,9 +56,10 @@ fn scale_gives_the_study_and_convergence_dt() {
         let hand = 1e-4 * 30.0 / nx as f64;
         assert!((dt / hand - 1.0).abs() < 1e-12, "nx = {nx}: scale {dt} vs the study's {hand}");
     }
-    // At nx = 120 the capillary limit (∝ Δx^1.5) binds: scale keeps the nx = 30 fraction of it.
-    let dt = sphlab::study::study_scene(120).time.dt;
-    assert!(dt < 2.5e-5 && dt > 0.99 * 2.5e-5, "nx = 120: {dt}");
+    // At nx = 160 the capillary limit (∝ Δx^1.5) binds (from nx ≈ 143 with h = 1.2Δx): scale keeps
+    // the nx = 30 fraction of it, 5.5 % below the CFL-scaled 1.875e-5.
+    let dt = sphlab::study::study_scene(160).time.dt;
+    assert!(dt < 0.99 * 1.875e-5 && dt > 0.9 * 1.875e-5, "nx = 160: {dt}");
     // The convergence cases' old hand formula 7e-5·(65/nx)² is the viscous (Δx²) law: scale
     // reproduces it where the viscous limit binds (μ = 0.15, sessile-90's viscosity). With
     // relax-60's own μ = 0.05 (thesis §4.2.3) another limit binds, and scale keeps that limit's
