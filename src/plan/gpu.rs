@@ -279,11 +279,18 @@ mod tests {
     fn plan_refuses_with_the_buffer_and_numbers() {
         let spec: VariantSpec = "cells.thread.recomputed.f32".parse().unwrap();
         let lim = DeviceLimits::stated(1 << 40, 128 << 20, "test");
-        // grad holds 2N slots of 8 bytes: 128 MiB at N = 8,388,608.
-        assert!(GpuPlan::new(&spec, 8_388_608, 1000).check(&lim).is_ok());
-        let e = GpuPlan::new(&spec, 8_388_609, 1000).check(&lim).unwrap_err();
-        assert!(e.contains("`state0`") && e.contains("134217744") && e.contains("134217728"), "{e}");
-        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 8_388_608);
+        // The renumbering indices (2N + 4 N_fluid words) and scratch (3 vec2 per fluid particle)
+        // hold 24 bytes per particle when every particle is fluid (`new`): 128 MiB at
+        // N = 5,592,405; state0 and grad (2N × 8 B) reach it at 8,388,608.
+        assert!(GpuPlan::new(&spec, 5_592_405, 1000).check(&lim).is_ok());
+        let e = GpuPlan::new(&spec, 5_592_406, 1000).check(&lim).unwrap_err();
+        assert!(e.contains("`reorder_idx`") && e.contains("134217744") && e.contains("134217728"), "{e}");
+        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 5_592_405);
+        // With few fluid particles the renumbering buffers are no longer the largest.
+        let walls = GpuPlan::with_fluid(&spec, 8_388_608, 1_000_000, 1000);
+        assert!(walls.check(&lim).is_ok(), "{}", walls.largest().name);
+        let e = GpuPlan::with_fluid(&spec, 8_388_609, 1_000_000, 1000).check(&lim).unwrap_err();
+        assert!(e.contains("`state0`") && e.contains("134217744"), "{e}");
         let small = DeviceLimits::stated(1 << 30, 2 << 30, "test");
         let e = GpuPlan::new(&spec, 20_000_000, 1000).check(&small).unwrap_err();
         assert!(e.contains("device memory") && e.contains("1073741824"), "{e}");
