@@ -221,7 +221,7 @@ fn study_writes_records() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(dir.path().join("records.csv")).expect("records");
     assert!(csv.contains("cells.thread.recomputed.f32") && csv.contains("cpu1.cells.f64"), "{csv}");
-    assert!(dir.path().join("summary.md").exists() && dir.path().join("scaling_cells.svg").exists());
+    assert!(dir.path().join("summary.md").exists() && dir.path().join("scaling_cells_thread.svg").exists());
 }
 
 /// `sphlab study --experiments e2,e3` at tiny sizes: a record for every hybrid and every

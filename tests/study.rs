@@ -197,7 +197,7 @@ fn report_merges_two_runs() {
     let md = std::fs::read_to_string(m.join("summary.md")).expect("summary");
     assert!(md.contains("cells.thread.recomputed.f32") && md.contains("cells.thread.recomputed.f64"), "{md}");
     assert_eq!(records(&m).len(), records(&a).len() + records(&b).len());
-    assert!(m.join("scaling_cells.svg").exists());
+    assert!(m.join("scaling_cells_thread.svg").exists());
     let o = sphlab(&["report", dir.path().join("none").to_str().unwrap(), "--out", m.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }

@@ -193,46 +193,45 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
     std::fs::write(&p, md).map_err(|x| e(&p, x))
 }
 
-/// One scaling plot per neighbour search (`scaling_<search>.svg`): the GPU variants of that
-/// search (by adapter when several) and the CPU one-thread and all-thread f64 references.
+/// The scaling plots, faceted by neighbour search, then by mapping
+/// (`scaling_<search>_<mapping>.svg`): the GPU variants of that search and mapping (≤ 8 ids, by
+/// adapter when several, so the 10 colours do not repeat within a facet) and the CPU one-thread
+/// and all-thread f64 references in every facet.
 fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut String) -> Result<(), String> {
     let ok: Vec<&Record> = recs.iter().filter(|r| r.experiment == "scaling" && r.status == "ok").collect();
-    let mut facets: BTreeMap<String, BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
-    let searches: Vec<String> = {
-        let mut v: Vec<String> = ok
-            .iter()
-            .filter(|r| r.backend == "gpu")
-            .map(|r| r.variant.split('.').next().unwrap_or("").to_string())
-            .collect();
-        v.sort();
-        v.dedup();
-        if v.is_empty() {
-            v.push("cpu".into());
-        }
-        v
+    let facet_of = |variant: &str| {
+        let mut it = variant.split('.');
+        (it.next().unwrap_or("").to_string(), it.next().unwrap_or("").to_string())
     };
-    for s in &searches {
-        let f = facets.entry(s.clone()).or_default();
+    let mut facets: BTreeMap<(String, String), BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    for r in ok.iter().filter(|r| r.backend == "gpu") {
+        facets.entry(facet_of(&r.variant)).or_default();
+    }
+    if facets.is_empty() {
+        facets.insert(("cpu".into(), "reference".into()), BTreeMap::new());
+    }
+    for ((s, m), f) in facets.iter_mut() {
+        let prefix = format!("{s}.{m}.");
         for r in &ok {
             let Some(ms) = r.ms_per_step_median else { continue };
-            let keep = r.variant.starts_with(&format!("{s}.")) || r.variant == BASELINE || r.variant == "cpu.cells.f64";
-            if !keep {
+            let reference = r.variant == BASELINE || r.variant == "cpu.cells.f64";
+            if !(r.variant.starts_with(&prefix) || reference) {
                 continue;
             }
-            let label = if side_by_side && r.backend == "gpu" {
-                format!("{} @ {}", r.variant.trim_start_matches(&format!("{s}.")), r.adapter)
-            } else {
-                r.variant.trim_start_matches(&format!("{s}.")).to_string()
-            };
+            let short = if reference { r.variant.as_str() } else { r.variant.trim_start_matches(&prefix) };
+            let label = if side_by_side && r.backend == "gpu" { format!("{short} @ {}", r.adapter) } else { short.into() };
             f.entry(label).or_default().push((r.n as f64, ms));
         }
     }
-    for (s, series) in facets {
+    for ((s, m), series) in facets {
         if series.is_empty() {
             continue;
         }
-        let mut spec =
-            PlotSpec::new(format!("Time per step against N — {s} search"), "particles N", "time per step (ms)");
+        let mut spec = PlotSpec::new(
+            format!("Time per step against N — {s} search, {m} mapping"),
+            "particles N",
+            "time per step (ms)",
+        );
         spec.log_x = true;
         spec.log_y = true;
         spec.series = series
@@ -242,10 +241,10 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
                 Series::line_points(k, v)
             })
             .collect();
-        let name = format!("scaling_{s}.svg");
+        let name = format!("scaling_{s}_{m}.svg");
         let p = dir.join(&name);
         line_plot_svg(&p, &spec).map_err(|x| e(&p, x))?;
-        let _ = writeln!(md, "![scaling, {s} search]({name})\n");
+        let _ = writeln!(md, "![scaling, {s} search, {m} mapping]({name})\n");
     }
     Ok(())
 }
