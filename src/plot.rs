@@ -22,6 +22,8 @@ use crate::output::{ensure_parent, OutputError, Result};
 
 /// Picture size of every plot (pixels).
 pub const PLOT_SIZE: (u32, u32) = (1024, 720);
+/// Width (px) of the legend column of a plot with [`PlotSpec::legend_outside`].
+const LEGEND_WIDTH: i32 = 300;
 
 /// Colours of the series, in order (Tableau 10), then reused.
 const PALETTE: [RGBColor; 10] = [
@@ -122,6 +124,8 @@ pub struct PlotSpec {
     pub x_range: Option<(f64, f64)>,
     /// Fixed y range; `None`: from the data and reference lines, with a margin.
     pub y_range: Option<(f64, f64)>,
+    /// Legend in a column right of the plot (many series) instead of over its upper right.
+    pub legend_outside: bool,
 }
 
 impl PlotSpec {
@@ -283,6 +287,7 @@ fn msg<E: std::fmt::Display>(e: E) -> String {
 #[allow(clippy::too_many_arguments)]
 fn draw_lines<X, Y>(
     root: &Area<'_>,
+    legend: Option<&Area<'_>>,
     spec: &PlotSpec,
     xc: X,
     yc: Y,
@@ -371,7 +376,9 @@ where
             .label(r.label.as_str())
             .legend(move |(x, y)| DashedPathElement::new(vec![(x - 12, y), (x + 12, y)], 5, 3, style));
     }
-    if labelled {
+    if let Some(area) = legend {
+        draw_legend_column(area, spec)?;
+    } else if labelled {
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -380,6 +387,37 @@ where
             .border_style(BLACK)
             .draw()
             .map_err(msg)?;
+    }
+    Ok(())
+}
+
+/// The legend of `spec` as a column in `area` (right of the plot): one row per labelled series
+/// and reference line, in the colours and styles [`draw_lines`] gives them.
+fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(), String> {
+    let font = ("sans-serif", 15).into_font();
+    let mut y = 80;
+    let mut row = |label: &str, color: RGBColor, dashed: bool, dot: bool| -> std::result::Result<(), String> {
+        if label.is_empty() {
+            return Ok(());
+        }
+        let style = color.stroke_width(2);
+        if dashed {
+            area.draw(&DashedPathElement::new(vec![(10, y), (40, y)], 5, 3, style)).map_err(|e| e.to_string())?;
+        } else {
+            area.draw(&PathElement::new(vec![(10, y), (40, y)], style)).map_err(|e| e.to_string())?;
+        }
+        if dot {
+            area.draw(&Circle::new((25, y), 4, color.filled())).map_err(|e| e.to_string())?;
+        }
+        area.draw(&Text::new(label.to_string(), (48, y - 8), font.clone())).map_err(|e| e.to_string())?;
+        y += 24;
+        Ok(())
+    };
+    for (k, s) in spec.series.iter().enumerate() {
+        row(&s.label, PALETTE[k % PALETTE.len()], false, s.style != Style::Line)?;
+    }
+    for (j, r) in spec.refs.iter().enumerate() {
+        row(&r.label, PALETTE[(spec.series.len() + j) % PALETTE.len()], true, false)?;
     }
     Ok(())
 }
@@ -411,13 +449,20 @@ pub fn line_plot_svg(path: impl AsRef<Path>, spec: &PlotSpec) -> Result<()> {
     let yr = axis_range(spec.y_range, ys, spec.log_y, 0.05, "y", path)?;
 
     let root = svg_area(path)?;
+    let (plot, legend) = if spec.legend_outside {
+        let (p, l) = root.split_horizontally(PLOT_SIZE.0 as i32 - LEGEND_WIDTH);
+        (p, Some(l))
+    } else {
+        (root.clone(), None)
+    };
     let lin = |r: (f64, f64)| RangedCoordf64::from(r.0..r.1);
     let log = |r: (f64, f64)| LogCoord::<f64>::from((r.0..r.1).log_scale());
+    let l = legend.as_ref();
     let drawn = match (spec.log_x, spec.log_y) {
-        (false, false) => draw_lines(&root, spec, lin(xr), lin(yr), xr, yr),
-        (true, false) => draw_lines(&root, spec, log(xr), lin(yr), xr, yr),
-        (false, true) => draw_lines(&root, spec, lin(xr), log(yr), xr, yr),
-        (true, true) => draw_lines(&root, spec, log(xr), log(yr), xr, yr),
+        (false, false) => draw_lines(&plot, l, spec, lin(xr), lin(yr), xr, yr),
+        (true, false) => draw_lines(&plot, l, spec, log(xr), lin(yr), xr, yr),
+        (false, true) => draw_lines(&plot, l, spec, lin(xr), log(yr), xr, yr),
+        (true, true) => draw_lines(&plot, l, spec, log(xr), log(yr), xr, yr),
     };
     drawn.map_err(|m| OutputError::plot(path, m))?;
     root.present().map_err(|e| OutputError::plot(path, msg(e)))

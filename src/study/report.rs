@@ -234,6 +234,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
         );
         spec.log_x = true;
         spec.log_y = true;
+        spec.legend_outside = true;
         spec.series = series
             .into_iter()
             .map(|(k, mut v)| {
