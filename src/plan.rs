@@ -199,7 +199,8 @@ impl Plan {
         let particle_bytes = n_total * cpu_bytes_per_particle(host_real);
         let neighbour_bytes = if gpu { 0.0 } else { 4.0 * n_total * (k * 4.0 + 4.0) };
         let cell_bytes = if gpu { 0.0 } else { cells * 8.0 + n_total * 12.0 };
-        let gpu = gpu.then(|| gpu::GpuPlan::with_fluid(&Default::default(), n_total as u64, n_fluid as u64, cells as u64));
+        let gpu =
+            gpu.then(|| gpu::GpuPlan::with_fluid(&Default::default(), n_total as u64, n_fluid as u64, cells as u64));
         Plan {
             nx,
             ny,

@@ -268,8 +268,14 @@ impl<T: Real> GpuSolver<T> {
     /// Bytes of every device buffer this solver allocated (state, variant buffers, the parameter
     /// uniform; not the timestamp queries), the figure the memory plan predicts.
     pub fn device_bytes(&self) -> u64 {
-        let storage =
-            self.b.storage().into_iter().chain(self.vb.storage()).chain(self.rb.storage()).map(|b| b.size()).sum::<u64>();
+        let storage = self
+            .b
+            .storage()
+            .into_iter()
+            .chain(self.vb.storage())
+            .chain(self.rb.storage())
+            .map(|b| b.size())
+            .sum::<u64>();
         storage + self.b.params.buffer.size()
     }
 

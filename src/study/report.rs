@@ -219,7 +219,8 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
                 continue;
             }
             let short = if reference { r.variant.as_str() } else { r.variant.trim_start_matches(&prefix) };
-            let label = if side_by_side && r.backend == "gpu" { format!("{short} @ {}", r.adapter) } else { short.into() };
+            let label =
+                if side_by_side && r.backend == "gpu" { format!("{short} @ {}", r.adapter) } else { short.into() };
             f.entry(label).or_default().push((r.n as f64, ms));
         }
     }

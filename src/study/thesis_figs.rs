@@ -413,7 +413,15 @@ mod tests {
 
     fn rec(experiment: &str, variant: &str, backend: &str, ms: f64) -> Record {
         let (experiment, variant, backend) = (experiment.into(), variant.into(), backend.into());
-        Record { experiment, variant, backend, ms_per_step_median: Some(ms), status: "ok".into(), adapter: "test".into(), ..Record::default() }
+        Record {
+            experiment,
+            variant,
+            backend,
+            ms_per_step_median: Some(ms),
+            status: "ok".into(),
+            adapter: "test".into(),
+            ..Record::default()
+        }
     }
 
     #[test]
