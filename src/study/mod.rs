@@ -53,6 +53,8 @@ pub const EXPERIMENTS: &[&str] = &["e1", "e2", "e3", "e4", "scaling"];
 /// One benchmark record (STUDY.md §5). Timing and error columns are empty unless `status` is
 /// `ok`.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
+// Columns a record file of an earlier version lacks read as their defaults (`sphlab report`).
+#[serde(default)]
 pub struct Record {
     /// Experiment (e1, e4, scaling).
     pub experiment: String,
