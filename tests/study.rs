@@ -170,7 +170,7 @@ fn preset_gpu_refuses_a_cpu_adapter_and_prints_its_plan() {
         "limits: ",
         "variants.csv",
         "verify every variant",
-        "study e1,e4,scaling",
+        "study e1,e2,e3,e4,scaling",
         "validate impact",
         "study plan:",
         "estimated time",
