@@ -180,6 +180,8 @@ fn wgsl_constants_equal_rust_values() {
         ("CTL_VMAX", ctl::VMAX as i64),
         ("CTL_AMAX", ctl::AMAX as i64),
         ("CTL_CONTACTS_MAX", ctl::CONTACTS_MAX as i64),
+        ("CTL_STEP", ctl::STEP as i64),
+        ("CTL_OVER_STEP", ctl::OVER_STEP as i64),
         ("NBR_SLOTS", NBR_SLOTS as i64),
         ("CAND_SLOTS", CAND_SLOTS as i64),
         ("PACK_SHIFT", IMAGE_SHIFT as i64),
