@@ -139,7 +139,11 @@ fn budget_is_kept() {
     let e = stderr(&o);
     assert!(o.status.success(), "{e}");
     assert!(e.contains("study plan:") && e.contains("estimated time"), "the plan comes first: {e}");
-    assert!(took <= 1.2 * budget, "a {budget} s budget took {took:.1} s: {e}");
+    // Within ±20 %: sizes were dropped, so the kept jobs' timed blocks were raised to fill it.
+    assert!(
+        (0.8 * budget..=1.2 * budget).contains(&took),
+        "a {budget} s budget took {took:.1} s (must be within ±20 %): {e}"
+    );
     let md = std::fs::read_to_string(out.join("summary.md")).expect("summary");
     assert!(md.contains("budget: 20 s; dropped for it (largest first): nx=128"), "{md}");
     assert!(md.contains("Budget 20 s: the study took"), "{md}");

@@ -347,13 +347,15 @@ fn run_sweep(
     if opts.dry_run {
         return Ok(run_notes);
     }
+    // The budget may raise the timed blocks (plan::select); every job and record uses the same.
+    let protocol = Protocol { repeats: sel.repeats, ..opts.protocol };
     let common = Common {
         gpu,
         commit: crate::provenance::commit_label(),
         date: crate::output::now_utc_iso8601(),
         cpu_model: crate::provenance::cpu_model(),
         shard: opts.shard.label(),
-        protocol: opts.protocol,
+        protocol,
     };
     let (mut est_done, mut spent_done) = (0.0f64, 0.0f64);
     let mut references: HashMap<u32, Option<Frame>> = HashMap::new();
@@ -374,7 +376,7 @@ fn run_sweep(
             start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
         }
         let s = &start.as_ref().expect("set above").2;
-        let res = run_job(job, s, gpu, &opts.protocol);
+        let res = run_job(job, s, gpu, &protocol);
         if job.id == REFERENCE {
             references.entry(job.nx).or_insert_with(|| res.as_ref().ok().map(|t| t.snapshot.clone()));
         }
