@@ -9,12 +9,16 @@ use super::e2_residency::{time_hybrid, verify_hybrid, HybridSolver, HYBRIDS};
 use super::e3_subdomains::{time_split, time_unsplit, verify_split, SplitSolver, SplitTiming, CONFIGS};
 use super::{study_scene, Record};
 use crate::backend::Backend;
+use crate::cpu::CpuSolver;
+use crate::exec::Exec;
 use crate::gpu::solver::GpuSolver;
 use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
+use crate::neighbours::SearchKind;
 use crate::run::initial_velocities;
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::Scene;
+use crate::verify::Check;
 use std::sync::Arc;
 
 /// Settings of E2 and E3.
@@ -82,6 +86,48 @@ fn set_times(r: &mut Record, ms: &[f64], evals: f64) {
 fn set_failed(r: &mut Record, status: &str, reason: String) {
     r.status = status.into();
     r.reason = reason;
+}
+
+/// A device error as the E2/E3 runs report it.
+pub(super) fn gpu_err(e: impl std::fmt::Display) -> String {
+    format!("GPU: {e}")
+}
+
+/// The host solver an E2 hybrid or an E3 split runs on: f32, one thread, cells, restarted from
+/// `vel0`; both need a fixed dt (`what` names the experiment in the refusal).
+pub(super) fn host_solver(
+    scene: &Scene,
+    layout: &Layout,
+    vel0: &[[f64; 2]],
+    what: &str,
+) -> Result<CpuSolver<f32>, String> {
+    let mut host = CpuSolver::<f32>::new(scene, layout, Exec::Serial, SearchKind::Cells);
+    host.restart_with_velocities(vel0);
+    if host.model.dt_fixed <= 0.0 {
+        return Err(format!("{what} needs a fixed dt (time.dt > 0)"));
+    }
+    Ok(host)
+}
+
+/// The verdict of an E2/E3 verification: `Err(failed checks)` when any fails, else
+/// `Ok("pass (worst NAME max_rel)")` by the worst ratio to its tolerance.
+pub(super) fn verdict(checks: &[Check]) -> Result<String, String> {
+    let failed: Vec<String> = checks
+        .iter()
+        .filter(|c| !c.pass)
+        .map(|c| format!("{} {:.2e} > {:.0e}", c.name, c.max_rel, c.tolerance))
+        .collect();
+    if !failed.is_empty() {
+        return Err(failed.join(", "));
+    }
+    let worst = checks
+        .iter()
+        .filter(|c| c.tolerance > 0.0 && c.max_rel.is_finite())
+        .max_by(|a, b| (a.max_rel / a.tolerance).total_cmp(&(b.max_rel / b.tolerance)));
+    Ok(match worst {
+        Some(c) if c.max_rel > 0.0 => format!("pass (worst {} {:.1e})", c.name, c.max_rel),
+        _ => "pass (identical)".into(),
+    })
 }
 
 fn setup(nx: u32) -> Result<(Scene, Layout, Vec<[f64; 2]>), String> {

@@ -12,6 +12,7 @@
 //! every step ends with a device sync. Each hybrid is verified after a few steps against the CPU
 //! f32 reference with `verify::compare_fields` (the one tolerance table).
 
+use super::e23::gpu_err;
 use crate::backend::{Backend, SolverError};
 use crate::cpu::stages::{evaluation_fn, Ctx};
 use crate::cpu::{boundary_axis, CpuSolver};
@@ -121,10 +122,6 @@ pub struct HybridSolver {
     pub traffic: Traffic,
 }
 
-fn gpu_err(e: impl std::fmt::Display) -> String {
-    format!("GPU: {e}")
-}
-
 impl HybridSolver {
     /// A hybrid on `scene` with the GPU variant `spec` (f32, `cells` search without explicit
     /// lists when the search stays on the CPU).
@@ -136,11 +133,7 @@ impl HybridSolver {
         hybrid: Hybrid,
         vel0: &[[f64; 2]],
     ) -> Result<Self, String> {
-        let mut cpu = CpuSolver::<f32>::new(scene, layout, Exec::Serial, SearchKind::Cells);
-        cpu.restart_with_velocities(vel0);
-        if cpu.model.dt_fixed <= 0.0 {
-            return Err("E2 hybrids need a fixed dt (time.dt > 0)".into());
-        }
+        let cpu = super::e23::host_solver(scene, layout, vel0, "E2 hybrids")?;
         let st = cpu.model.stages;
         if st.contact_line && hybrid.gpu.len() != GROUPS.len() && !hybrid.gpu.is_empty() {
             return Err(format!("{}: contact points do not move between host and device", hybrid.name));
@@ -452,20 +445,5 @@ pub fn verify_hybrid(
     }
     h.gather()?;
     let checks = crate::verify::compare_fields("field", "", h.fields(), &r.f, &r.model, r.n_fluid, None);
-    let failed: Vec<String> = checks
-        .iter()
-        .filter(|c| !c.pass)
-        .map(|c| format!("{} {:.2e} > {:.0e}", c.name, c.max_rel, c.tolerance))
-        .collect();
-    if !failed.is_empty() {
-        return Err(failed.join(", "));
-    }
-    let worst = checks
-        .iter()
-        .filter(|c| c.tolerance > 0.0 && c.max_rel.is_finite())
-        .max_by(|a, b| (a.max_rel / a.tolerance).total_cmp(&(b.max_rel / b.tolerance)));
-    Ok(match worst {
-        Some(c) if c.max_rel > 0.0 => format!("pass (worst {} {:.1e})", c.name, c.max_rel),
-        _ => "pass (identical)".into(),
-    })
+    super::e23::verdict(&checks)
 }

@@ -17,16 +17,15 @@
 //! verified against the unsplit GPU run of the same variant after a few steps with
 //! `verify::compare_fields` (the one tolerance table).
 
+use super::e23::gpu_err;
 use crate::backend::Backend;
 use crate::cpu::{boundary_axis, CpuSolver};
-use crate::exec::Exec;
 use crate::fields::{Field, Fields};
 use crate::gpu::residency::Part;
 use crate::gpu::solver::GpuSolver;
 use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
 use crate::model::Images;
-use crate::neighbours::SearchKind;
 use crate::real::V2;
 use crate::scene::build::Layout;
 use crate::scene::Scene;
@@ -148,10 +147,6 @@ pub struct SplitSolver {
     pub subdomains: usize,
 }
 
-fn gpu_err(e: impl std::fmt::Display) -> String {
-    format!("GPU: {e}")
-}
-
 impl SplitSolver {
     /// A split run of `spec` on `scene` with `budget` particles per subdomain.
     pub fn new(
@@ -162,11 +157,7 @@ impl SplitSolver {
         budget: usize,
         vel0: &[[f64; 2]],
     ) -> Result<Self, String> {
-        let mut host = CpuSolver::<f32>::new(scene, layout, Exec::Serial, SearchKind::Cells);
-        host.restart_with_velocities(vel0);
-        if host.model.dt_fixed <= 0.0 {
-            return Err("E3 needs a fixed dt (time.dt > 0)".into());
-        }
+        let host = super::e23::host_solver(scene, layout, vel0, "E3")?;
         if host.model.stages.contact_line {
             return Err("E3: the contact line spans subdomains (scenes with contact points are not split)".into());
         }
@@ -416,22 +407,7 @@ pub fn verify_split(
     }
     let gf = g.read_fields().map_err(gpu_err)?;
     let checks = crate::verify::compare_fields("field", "", &s.host.f, &gf, &s.host.model, s.host.n_fluid, None);
-    let failed: Vec<String> = checks
-        .iter()
-        .filter(|c| !c.pass)
-        .map(|c| format!("{} {:.2e} > {:.0e}", c.name, c.max_rel, c.tolerance))
-        .collect();
-    if !failed.is_empty() {
-        return Err(failed.join(", "));
-    }
-    let worst = checks
-        .iter()
-        .filter(|c| c.tolerance > 0.0 && c.max_rel.is_finite())
-        .max_by(|a, b| (a.max_rel / a.tolerance).total_cmp(&(b.max_rel / b.tolerance)));
-    Ok(match worst {
-        Some(c) if c.max_rel > 0.0 => format!("pass (worst {} {:.1e})", c.name, c.max_rel),
-        _ => "pass (identical)".into(),
-    })
+    super::e23::verdict(&checks)
 }
 
 #[cfg(test)]
