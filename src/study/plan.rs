@@ -361,7 +361,9 @@ pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: 
     let _ = writeln!(
         s,
         "* estimated time: {:.1} s for the kept jobs (all jobs of this shard: {:.1} s; probe: {:.1} s)",
-        sel.est_s, sel.est_all_s, probe_s
+        sel.est_s.max(0.0),
+        sel.est_all_s.max(0.0),
+        probe_s
     );
     let by: Vec<String> = sel.by_size.iter().map(|(nx, t)| format!("nx={nx}: {t:.1} s")).collect();
     let _ = writeln!(s, "* estimated time by size: {}", if by.is_empty() { "-".into() } else { by.join(", ") });
@@ -371,6 +373,29 @@ pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: 
             s,
             "* budget: {b:.0} s; dropped for it (largest first): {}",
             if d.is_empty() { "nothing".into() } else { d.join(", ") }
+        );
+    }
+    let e = &opts.e23;
+    if exps.contains(&"e2") {
+        let _ = writeln!(
+            s,
+            "* e2 (after the sweep, not in the estimate): nx={} ({} fluid), {} hybrids, {} verification steps each",
+            e.e2_nx,
+            e.e2_nx * e.e2_nx,
+            super::e2_residency::HYBRIDS.len(),
+            e.verify_steps
+        );
+    }
+    if exps.contains(&"e3") {
+        let b: Vec<String> = e.e3_budgets.iter().map(|b| b.to_string()).collect();
+        let _ = writeln!(
+            s,
+            "* e3 (after the sweep, not in the estimate): nx={} ({} fluid), {} iterations, budgets {}, configurations {}",
+            e.e3_nx,
+            e.e3_nx * e.e3_nx,
+            e.e3_steps,
+            b.join(", "),
+            super::e3_subdomains::CONFIGS.iter().map(|c| format!("{} {}", c.symbol, c.variant)).collect::<Vec<_>>().join(", ")
         );
     }
     for n in notes {
