@@ -125,7 +125,7 @@ enum Experiment {
     E4,
     /// Time per step against N.
     Scaling,
-    /// e1, e4 and scaling.
+    /// Every experiment (sphlab::study::EXPERIMENTS).
     All,
 }
 
