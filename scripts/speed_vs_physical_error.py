@@ -41,6 +41,8 @@ def point(d, s):
         "p_b": par["phases"][0]["p_b"],
         "p_b_dx_over_sigma": par["phases"][0]["p_b"] * 0.5 / par["domain"]["nx"],
         "precision": s.get("precision", "f64"),
+        "backend": s.get("backend", "cpu1"),
+        "gpu": "." in s.get("backend", "") and not s.get("backend", "").startswith("cpu"),
         "steps": s.get("steps"),
         "wall_time_s": s.get("wall_time_s", math.nan),
         "ms_per_step": s.get("ms_per_step", math.nan),
@@ -142,7 +144,11 @@ def svg(pts, path, title, ylabel, x="wall_time_s", flag="pareto", xlabel="time t
         kind = p["kernel"].split()[0]
         xp, y, c = Xv(p[x]), Y(p["error"]), COLOURS.get(kind, "black")
         r = 3 + 1.5 * (p["nx"] - 20) / 10
-        if p["precision"] == "f32":
+        if p["gpu"]:  # a GPU variant: a triangle (filled f64, open f32)
+            pts_ = f"{xp:.1f},{y - r - 1:.1f} {xp - r - 1:.1f},{y + r:.1f} {xp + r + 1:.1f},{y + r:.1f}"
+            fill = "none" if p["precision"] == "f32" else c
+            o.append(f'<polygon points="{pts_}" fill="{fill}" fill-opacity="0.5" stroke="{c}" stroke-width="1.5"/>')
+        elif p["precision"] == "f32":
             o.append(f'<rect x="{xp - r:.1f}" y="{y - r:.1f}" width="{2 * r:.1f}" height="{2 * r:.1f}" fill="none" stroke="{c}" stroke-width="1.5"/>')
         else:
             o.append(f'<circle cx="{xp:.1f}" cy="{y:.1f}" r="{r:.1f}" fill="{c}" fill-opacity="0.5" stroke="{c}"/>')
@@ -156,6 +162,7 @@ def svg(pts, path, title, ylabel, x="wall_time_s", flag="pareto", xlabel="time t
     o.append(f'<circle cx="{W - R + 20}" cy="{ly0 + 56}" r="5" fill="gray"/><text x="{W - R + 30}" y="{ly0 + 60}">f64 (size: nx)</text>')
     o.append(f'<rect x="{W - R + 15}" y="{ly0 + 67}" width="10" height="10" fill="none" stroke="gray"/><text x="{W - R + 30}" y="{ly0 + 76}">f32</text>')
     o.append(f'<circle cx="{W - R + 20}" cy="{ly0 + 92}" r="8" fill="none" stroke="black"/><text x="{W - R + 32}" y="{ly0 + 96}">Pareto front (dashed)</text>')
+    o.append(f'<polygon points="{W - R + 20},{ly0 + 106} {W - R + 14},{ly0 + 117} {W - R + 26},{ly0 + 117}" fill="none" stroke="gray"/><text x="{W - R + 32}" y="{ly0 + 116}">GPU variant (lavapipe)</text>')
     o.append("</svg>")
     open(path, "w").write("\n".join(o))
 
@@ -170,7 +177,7 @@ def main():
     for pts in (drop, relax):
         pareto(pts, "pair_work_1e9", "pareto")
         pareto(pts, "wall_time_s", "pareto_wall")
-    keys = ["case", "kernel", "nx", "p_b", "p_b_dx_over_sigma", "precision", "steps", "pair_work_1e9", "wall_time_s",
+    keys = ["case", "backend", "kernel", "nx", "p_b", "p_b_dx_over_sigma", "precision", "steps", "pair_work_1e9", "wall_time_s",
             "ms_per_step", "quantity", "error", "pareto", "pareto_wall", "status", "commit", "run"]
     with open(f"{out}/speed_vs_physical_error.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
@@ -187,7 +194,9 @@ def main():
     svg(relax, f"{out}/relax60_time_vs_angle_error.svg", "relax-60 Mode B no-slip: wall time vs angle error (load-dependent)",
         "|θ(t ≈ 4.4) − 60°| / 60°", "wall_time_s", "pareto_wall")
     md = ["# Speed against physical error (issue 10 item 7)", "",
-          "CPU runs, one thread each, on the shared 2-core machine (`scripts/speed_vs_physical_error.sh`, analysed by "
+          "CPU runs, one thread each, and GPU variants on lavapipe (Mesa's software Vulkan on the same CPU: a GPU row's "
+          "wall time is a CPU's, kept to compare variants, precisions and resolutions with each other, not with hardware), "
+          "on the shared 2-core machine (`scripts/speed_vs_physical_error.sh`, analysed by "
           "`scripts/speed_vs_physical_error.py`). Time to solution = the run's wall time (`summary.json`). It carries "
           "the machine's load at the time (five other sessions compiling and running): the same run's ms/step varied "
           "about 5× between runs here, so the Pareto front is drawn on a deterministic work measure instead — pair "
@@ -205,12 +214,12 @@ def main():
           "* Pareto front: runs that no other run of the same case beats in both work and error (ringed and joined in "
           "the work plots, `pareto` in the CSV; `pareto_wall` is the same on wall time). Axes are log-log.", ""]
     for name, pts, q in [("drop", drop, "period"), ("relax-60", relax, "θ (deg)")]:
-        md += [f"## {name}", "", f"| kernel | nx | p_b (p_bΔx/σ) | precision | work (1e9 pairs) | wall time (s) | ms/step | {q} | rel. error | Pareto | commit |",
-               "|---|---|---|---|---|---|---|---|---|---|---|"]
+        md += [f"## {name}", "", f"| backend | kernel | nx | p_b (p_bΔx/σ) | precision | work (1e9 pairs) | wall time (s) | ms/step | {q} | rel. error | Pareto (work / wall) | commit |",
+               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in sorted(pts, key=lambda p: p["pair_work_1e9"]):
-            md.append(f'| {p["kernel"]} | {p["nx"]} | {p["p_b"]:g} ({p["p_b_dx_over_sigma"]:.2f}) | {p["precision"]} | '
+            md.append(f'| {p["backend"]} | {p["kernel"]} | {p["nx"]} | {p["p_b"]:g} ({p["p_b_dx_over_sigma"]:.2f}) | {p["precision"]} | '
                       f'{p["pair_work_1e9"]:.2f} | {p["wall_time_s"]:.1f} | {p["ms_per_step"]:.2f} | {p["quantity"]:.4g} | '
-                      f'{p["error"]:.4f} | {"**yes**" if p["pareto"] else ""} | {p["commit"]} |')
+                      f'{p["error"]:.4f} | {"**yes**" if p["pareto"] else "no"} / {"**yes**" if p["pareto_wall"] else "no"} | {p["commit"]} |')
         md.append("")
     md += ["## Plots and data", "", "* [drop_work_vs_period_error.svg](drop_work_vs_period_error.svg)",
            "* [relax60_work_vs_angle_error.svg](relax60_work_vs_angle_error.svg)",

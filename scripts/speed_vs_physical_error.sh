@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Speed against physical error (issue 10 item 7 / issue 9 item 7): CPU runs, one thread, of
+# Speed against physical error (issue 10 item 7 / issue 9 item 7): CPU runs, one thread, and GPU
+# variants (`gpu`, GPU_ONLY=1 runs just those) of
 #   drop:  the oscillating drop, relax 0.1, T84 field on every fluid particle, t = 0.6 (error of
 #          the period against the thesis's 0.37), kernels × p_b × nx × precision;
 #   relax: relax-60 Mode B no-slip to t = 5 at nx = 26 with dt = 1.4e-4 (error of the circle-fit
@@ -23,6 +24,20 @@ relax() { # id kind h p_b precision
     --set domain.nx=26 --set time.dt=1.4e-4 --set output.every=100 --set kernel.kind=$2 --set kernel.h_ratio=$3 \
     --set phases.0.p_b=$4 --set phases.1.p_b=$4 --t-end 5 --every 0 --out "$d" > "$d.log" 2>&1
 }
+gpu() { # id nx variant: the default drop set-up (quintic, p_b = σ/(2Δx) = nx) on a GPU variant
+  local d="$out/drop-$1"
+  [ -f "$d/summary.json" ] || "$bin" run oscillating-drop --backend gpu --variant "$3" --quiet --steps-per-submit 64 \
+    --set domain.nx=$2 --set kernel.kind=quintic --set kernel.h_ratio=1.0 --set phases.0.p_b=$2 --set phases.1.p_b=$2 \
+    --set relax.t=0.1 --t-end 0.6 --every 0 --out "$d" > "$d.log" 2>&1
+}
+if [ "${GPU_ONLY:-0}" = 1 ]; then # the GPU rows alone (variants × precision × resolution)
+  for v in cells.thread.recomputed.f32 cells.thread.recomputed.f64 cells.block-tree.fixed.recomputed.f32 tracking.subgroup.recomputed.f32; do
+    gpu "q30-pb30-$v" 30 $v
+  done
+  gpu q24-pb24-cells.thread.recomputed.f32 24 cells.thread.recomputed.f32
+  gpu q36-pb36-cells.thread.recomputed.f32 36 cells.thread.recomputed.f32
+  exit 0
+fi
 # most informative first, so a cut-short sweep still has every axis
 for pb in 24 30 60; do
   drop q30-pb$pb-f64 30 quintic 1.0 $pb f64

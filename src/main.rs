@@ -809,8 +809,9 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
         eprintln!("adapter: {}; scene {}; {} variants; {} steps", ctx.describe(), scene.name, specs.len(), a.steps);
     }
     let mut reports = Vec::new();
+    let verifier = sphlab::verify::Verifier::new(&scene, a.steps, a.per_stage);
     for spec in specs {
-        let r = sphlab::verify::verify_variant(&ctx, &scene, spec, a.steps, a.per_stage);
+        let r = verifier.variant(&ctx, spec);
         if !a.json {
             eprintln!("{} {}", r.variant, r.status);
         }

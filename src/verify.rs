@@ -19,10 +19,13 @@ use crate::gpu::GpuContext;
 use crate::model::Model;
 use crate::neighbours::SearchKind;
 use crate::real::Real;
+use crate::real::V2;
 use crate::run::{initial_velocities, measure};
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::Scene;
+use crate::stage::Stage;
 use serde::Serialize;
+use std::cell::OnceCell;
 use std::sync::Arc;
 
 /// Per-field tolerances of one evaluation, `(field, f32 (max-rel, rel-L2), f64 (max-rel, rel-L2))`,
@@ -226,88 +229,129 @@ fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
     out
 }
 
-fn verify_typed<T: Real>(
-    ctx: &Arc<GpuContext>,
-    scene: &Scene,
-    layout: &Layout,
-    spec: VariantSpec,
-    steps: u64,
-    per_stage: bool,
-) -> Result<Vec<Check>, String> {
-    let vel0 = initial_velocities(scene, layout, None);
-    let mut cpu = CpuSolver::<T>::new(scene, layout, Exec::Parallel, SearchKind::Cells);
-    cpu.restart_with_velocities(&vel0);
-    let mut gpu = GpuSolver::<T>::new(ctx.clone(), scene, layout, spec).map_err(|e| e.to_string())?;
-    gpu.restart_with_velocities(&vel0);
-    let nf = layout.n_fluid;
-    let stagewise = cpu.evaluate_stagewise().map_err(|e| e.to_string())?;
-    gpu.evaluate_once().map_err(|e| e.to_string())?;
-    let gf = gpu.read_fields().map_err(|e| e.to_string())?;
-    let mut checks = compare_fields("field", "", &gf, &cpu.f, &cpu.model, nf, None);
-    if per_stage {
-        let (pos, vel) = (cpu.pos.clone(), cpu.vel.clone());
-        for w in stagewise.windows(2) {
-            let ((_, before), (stage, after)) = (&w[0], &w[1]);
-            let outputs: Vec<Field> = stage.outputs().collect();
-            if outputs.is_empty() {
-                continue;
-            }
-            match gpu.run_stage_from(&pos, &vel, before, *stage) {
-                Ok(g) => {
-                    let c = compare_fields("stage", &format!("{stage}:"), &g, after, &cpu.model, nf, Some(&outputs));
-                    checks.extend(c)
-                }
-                Err(e) => checks.push(Check {
-                    kind: "stage".into(),
-                    name: format!("{stage}: {e}"),
-                    max_rel: f64::INFINITY,
-                    rel_l2: f64::NAN,
-                    tolerance: 0.0,
-                    pass: false,
-                }),
-            }
-        }
-        gpu.restart_with_velocities(&vel0);
-    }
-    for _ in 0..steps {
-        cpu.advance().map_err(|e| format!("CPU: {e}"))?;
-    }
-    // The GPU takes all its steps in one submission (the device clock, adaptive dt and check).
-    Backend::advance(&mut gpu, steps).map_err(|e| format!("GPU: {e}"))?;
-    let (g, c) = (gpu.frame(), cpu.frame());
-    checks.extend(observables(scene, &g, &c));
-    Ok(checks)
+/// The CPU side of a verification, computed once per precision and shared by every variant
+/// checked against it: the fields of the first evaluation (and each stage's, for `--per-stage`),
+/// the initial positions and velocities, and the frame after the observable steps.
+struct CpuReference<T: Real> {
+    fields: Fields<T>,
+    model: Model<T>,
+    n_fluid: usize,
+    stagewise: Vec<(Stage, Fields<T>)>,
+    pos: Vec<V2<T>>,
+    vel: Vec<V2<T>>,
+    frame: Frame,
 }
 
-/// Verifies one variant on `scene` (relaxation is skipped: the initial state is compared).
-pub fn verify_variant(
-    ctx: &Arc<GpuContext>,
-    scene: &Scene,
-    spec: VariantSpec,
+impl<T: Real> CpuReference<T> {
+    fn new(scene: &Scene, layout: &Layout, vel0: &[[f64; 2]], steps: u64) -> Result<Self, String> {
+        let mut cpu = CpuSolver::<T>::new(scene, layout, Exec::Parallel, SearchKind::Cells);
+        cpu.restart_with_velocities(vel0);
+        let stagewise = cpu.evaluate_stagewise().map_err(|e| e.to_string())?;
+        let (fields, pos, vel) = (cpu.f.clone(), cpu.pos.clone(), cpu.vel.clone());
+        for _ in 0..steps {
+            cpu.advance().map_err(|e| format!("CPU: {e}"))?;
+        }
+        let frame = cpu.frame();
+        Ok(Self { fields, model: cpu.model.clone(), n_fluid: cpu.n_fluid, stagewise, pos, vel, frame })
+    }
+}
+
+/// Verifies variants on one scene: the layout and the CPU reference of each precision are built
+/// once (on first use) and shared by every variant.
+pub struct Verifier {
+    scene: Scene,
+    layout: Result<Layout, String>,
+    vel0: Vec<[f64; 2]>,
     steps: u64,
     per_stage: bool,
-) -> VariantReport {
-    let variant = spec.to_string();
-    let mut s = scene.clone();
-    s.relax = None;
-    if let Err(reason) = spec.support(ctx) {
-        return VariantReport { variant, status: "unsupported".into(), reason, checks: Vec::new() };
+    f32: OnceCell<Result<CpuReference<f32>, String>>,
+    f64: OnceCell<Result<CpuReference<f64>, String>>,
+}
+
+impl Verifier {
+    /// A verifier of `scene` (relaxation is skipped: the initial state is compared) over `steps`
+    /// steps, each stage alone too when `per_stage`.
+    pub fn new(scene: &Scene, steps: u64, per_stage: bool) -> Self {
+        let mut scene = scene.clone();
+        scene.relax = None;
+        let layout = build_layout(&scene).map_err(|e| e.to_string());
+        let vel0 = layout.as_ref().map(|l| initial_velocities(&scene, l, None)).unwrap_or_default();
+        Verifier { scene, layout, vel0, steps, per_stage, f32: OnceCell::new(), f64: OnceCell::new() }
     }
-    let layout = match build_layout(&s) {
-        Ok(l) => l,
-        Err(e) => return VariantReport { variant, status: "error".into(), reason: e.to_string(), checks: Vec::new() },
-    };
-    let r = match spec.precision {
-        Precision::F32 => verify_typed::<f32>(ctx, &s, &layout, spec, steps, per_stage),
-        Precision::F64 => verify_typed::<f64>(ctx, &s, &layout, spec, steps, per_stage),
-    };
-    match r {
-        Ok(checks) => {
-            let failed: Vec<String> = checks.iter().filter(|c| !c.pass).map(|c| c.name.clone()).collect();
-            let status = if failed.is_empty() { "pass" } else { "FAIL" };
-            VariantReport { variant, status: status.into(), reason: failed.join(", "), checks }
+
+    /// The report of one variant.
+    pub fn variant(&self, ctx: &Arc<GpuContext>, spec: VariantSpec) -> VariantReport {
+        let variant = spec.to_string();
+        if let Err(reason) = spec.support(ctx) {
+            return VariantReport { variant, status: "unsupported".into(), reason, checks: Vec::new() };
         }
-        Err(e) => VariantReport { variant, status: "error".into(), reason: e, checks: Vec::new() },
+        let layout = match &self.layout {
+            Ok(l) => l,
+            Err(e) => return VariantReport { variant, status: "error".into(), reason: e.clone(), checks: Vec::new() },
+        };
+        let (scene, vel0, steps) = (&self.scene, &self.vel0[..], self.steps);
+        let r = match spec.precision {
+            Precision::F32 => match self.f32.get_or_init(|| CpuReference::new(scene, layout, vel0, steps)) {
+                Ok(c) => self.typed(ctx, layout, spec, c),
+                Err(e) => Err(e.clone()),
+            },
+            Precision::F64 => match self.f64.get_or_init(|| CpuReference::new(scene, layout, vel0, steps)) {
+                Ok(c) => self.typed(ctx, layout, spec, c),
+                Err(e) => Err(e.clone()),
+            },
+        };
+        match r {
+            Ok(checks) => {
+                let failed: Vec<String> = checks.iter().filter(|c| !c.pass).map(|c| c.name.clone()).collect();
+                let status = if failed.is_empty() { "pass" } else { "FAIL" };
+                VariantReport { variant, status: status.into(), reason: failed.join(", "), checks }
+            }
+            Err(e) => VariantReport { variant, status: "error".into(), reason: e, checks: Vec::new() },
+        }
+    }
+
+    fn typed<T: Real>(
+        &self,
+        ctx: &Arc<GpuContext>,
+        layout: &Layout,
+        spec: VariantSpec,
+        cpu: &CpuReference<T>,
+    ) -> Result<Vec<Check>, String> {
+        let mut gpu = GpuSolver::<T>::new(ctx.clone(), &self.scene, layout, spec).map_err(|e| e.to_string())?;
+        gpu.restart_with_velocities(&self.vel0);
+        let nf = cpu.n_fluid;
+        gpu.evaluate_once().map_err(|e| e.to_string())?;
+        let gf = gpu.read_fields().map_err(|e| e.to_string())?;
+        let mut checks = compare_fields("field", "", &gf, &cpu.fields, &cpu.model, nf, None);
+        if self.per_stage {
+            for w in cpu.stagewise.windows(2) {
+                let ((_, before), (stage, after)) = (&w[0], &w[1]);
+                let outputs: Vec<Field> = stage.outputs().collect();
+                if outputs.is_empty() {
+                    continue;
+                }
+                match gpu.run_stage_from(&cpu.pos, &cpu.vel, before, *stage) {
+                    Ok(g) => {
+                        let c =
+                            compare_fields("stage", &format!("{stage}:"), &g, after, &cpu.model, nf, Some(&outputs));
+                        checks.extend(c)
+                    }
+                    Err(e) => checks.push(Check {
+                        kind: "stage".into(),
+                        name: format!("{stage}: {e}"),
+                        max_rel: f64::INFINITY,
+                        rel_l2: f64::NAN,
+                        tolerance: 0.0,
+                        pass: false,
+                    }),
+                }
+            }
+            gpu.restart_with_velocities(&self.vel0);
+        }
+        // The GPU takes all its steps in one submission (the device clock, adaptive dt and check).
+        Backend::advance(&mut gpu, self.steps).map_err(|e| format!("GPU: {e}"))?;
+        checks.extend(observables(&self.scene, &gpu.frame(), &cpu.frame));
+        Ok(checks)
     }
 }
 

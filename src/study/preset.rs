@@ -203,10 +203,11 @@ pub fn run(out_root: &Path, budget_s: f64, allow_cpu_adapter: bool, dry_run: boo
     // 2. verify
     for name in VERIFY_SCENES {
         let scene = builtin(name).expect("built-in");
+        let verifier = crate::verify::Verifier::new(&scene, VERIFY_STEPS, false);
         let reports: Vec<_> = VariantSpec::all()
             .into_iter()
             .map(|v| {
-                let r = crate::verify::verify_variant(&ctx, &scene, v, VERIFY_STEPS, false);
+                let r = verifier.variant(&ctx, v);
                 eprintln!("verify {name} {} {}", r.variant, r.status);
                 r
             })
