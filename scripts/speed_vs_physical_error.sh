@@ -31,11 +31,12 @@ gpu() { # id nx variant: the default drop set-up (quintic, p_b = σ/(2Δx) = nx)
     --set relax.t=0.1 --t-end 0.6 --every 0 --out "$d" > "$d.log" 2>&1
 }
 if [ "${GPU_ONLY:-0}" = 1 ]; then # the GPU rows alone (variants × precision × resolution)
-  for v in cells.thread.recomputed.f32 cells.thread.recomputed.f64 cells.block-tree.fixed.recomputed.f32 tracking.subgroup.recomputed.f32; do
-    gpu "q30-pb30-$v" 30 $v
-  done
+  gpu q30-pb30-cells.thread.recomputed.f32 30 cells.thread.recomputed.f32
   gpu q24-pb24-cells.thread.recomputed.f32 24 cells.thread.recomputed.f32
+  gpu q30-pb30-cells.thread.recomputed.f64 30 cells.thread.recomputed.f64
+  gpu q30-pb30-cells.block-tree.fixed.recomputed.f32 30 cells.block-tree.fixed.recomputed.f32
   gpu q36-pb36-cells.thread.recomputed.f32 36 cells.thread.recomputed.f32
+  gpu q30-pb30-tracking.subgroup.recomputed.f32 30 tracking.subgroup.recomputed.f32
   exit 0
 fi
 # most informative first, so a cut-short sweep still has every axis
