@@ -125,6 +125,8 @@ enum Experiment {
     E4,
     /// Time per step against N.
     Scaling,
+    /// The GPU engine before and after issue 8 at the E4 size (`--engine-nx`).
+    Engine,
     /// e1, e4 and scaling.
     All,
 }
@@ -314,6 +316,9 @@ struct StudyArgs {
     /// E3 particle budgets per subdomain (comma-separated, each ≥ 100).
     #[arg(long, default_value = "1500,3000,4500,6000")]
     e3_budgets: String,
+    /// Resolution of the `engine` experiment (100 = the E4 size, 11,236 particles).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(10..=400))]
+    engine_nx: u32,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -915,6 +920,7 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     };
     let opts = sphlab::study::StudyOptions {
         e23,
+        engine_nx: a.engine_nx,
         experiments,
         sizes,
         protocol: sphlab::study::timing::Protocol {

@@ -72,6 +72,36 @@ pub struct GpuSolver<T: Real> {
     traffic0: EngineCounters,
     /// Steps taken since construction (restarts included).
     steps_total: u64,
+    /// Most steps one `advance` submission records (0: all k; [`EngineMode`]).
+    max_steps_per_submit: u64,
+}
+
+/// How the engine drives the device: the study's before/after comparison (`study::engine_ab`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EngineMode {
+    /// Renumber the particles in cell order every this many steps (0: never).
+    pub reorder_every: u64,
+    /// Most steps per submission, each followed by its blocking control readback (0: all the
+    /// steps of an `advance(k)` in one submission).
+    pub max_steps_per_submit: u64,
+}
+
+impl EngineMode {
+    /// The engine before issue 8's `advance(k)` and renumbering: lattice order, one step per
+    /// submission with a blocking control readback after every step.
+    pub const BEFORE: EngineMode = EngineMode { reorder_every: 0, max_steps_per_submit: 1 };
+    /// The current engine (the solver's default): renumbering every [`DEFAULT_REORDER_EVERY`]
+    /// steps, k steps per submission and one readback per `advance(k)`.
+    pub const AFTER: EngineMode = EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0 };
+
+    /// `before`, `after`, or the settings.
+    pub fn name(&self) -> String {
+        match *self {
+            Self::BEFORE => "before".into(),
+            Self::AFTER => "after".into(),
+            m => format!("reorder {} / {} steps per submit", m.reorder_every, m.max_steps_per_submit),
+        }
+    }
 }
 
 /// `groups` workgroups as (x, y) with x ≤ `max` (as even as possible; (0, 1) for none).
@@ -169,6 +199,7 @@ impl<T: Real> GpuSolver<T> {
             control,
             traffic0,
             steps_total: 0,
+            max_steps_per_submit: 0,
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
@@ -195,6 +226,14 @@ impl<T: Real> GpuSolver<T> {
         let every = k.saturating_mul(Self::evaluations_per_step(self.integrator)).min(u32::MAX as u64);
         self.rb.set_every(&self.ctx, every as u32)?;
         self.reorder_every = k;
+        Ok(())
+    }
+
+    /// Drives the device as `mode` says from the next step on (renumbering period, steps per
+    /// submission).
+    pub fn set_engine_mode(&mut self, mode: EngineMode) -> Result<(), GpuError> {
+        self.set_reorder_every(mode.reorder_every)?;
+        self.max_steps_per_submit = mode.max_steps_per_submit;
         Ok(())
     }
 
@@ -490,7 +529,17 @@ impl<T: Real> Backend for GpuSolver<T> {
         self.run_steps(1, read)
     }
     fn advance(&mut self, k: u64) -> Result<(), SolverError> {
-        self.run_steps(k, true)
+        if k == 0 {
+            return self.run_steps(0, true);
+        }
+        let most = if self.max_steps_per_submit == 0 { k } else { self.max_steps_per_submit };
+        let mut left = k;
+        while left > 0 {
+            let n = left.min(most);
+            self.run_steps(n, true)?;
+            left -= n;
+        }
+        Ok(())
     }
     fn engine_counters(&self) -> Option<EngineCounters> {
         Some(GpuSolver::engine_counters(self))
