@@ -153,13 +153,14 @@ impl<T: Real> GpuSolver<T> {
         let grid = GridSpec::new(&pos, model.support());
         // The memory plan before any buffer exists: each buffer within the adapter's caps, the
         // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
-        let plan = GpuPlan::with_fluid(&spec, n as u64, n_fluid as u64, grid.cells() as u64);
+        let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);
         plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
         let vb = VBufs::new(&ctx, spec, &model, n)?;
         let evals = Self::evaluations_per_step(scene.time.integrator);
-        let rb = RBufs::new(&ctx, n, n_fluid, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32)?;
+        let renumbers = spec.search != super::variant::SearchVariant::Direct;
+        let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
         let compiled = ctx.pipelines.get(&ctx, &spec)?;
         let pipes = compiled.pipes.clone();
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
@@ -401,7 +402,19 @@ impl<T: Real> GpuSolver<T> {
     pub fn evaluate_once(&mut self) -> Result<(), GpuError> {
         self.submit(|enc| self.record_evaluate(enc))?;
         self.ctx.wait_idle()?;
-        Ok(self.vb.overflow(&self.ctx, self.step)?)
+        self.vb.overflow(&self.ctx, self.step).map_err(|e| self.to_original(e))?;
+        Ok(())
+    }
+
+    /// `e` with the overflowing particle's device index (`VBufs::overflow`) mapped through the
+    /// renumbering to its original id.
+    pub(super) fn to_original(&self, mut e: SolverError) -> SolverError {
+        if let SolverError::NeighbourOverflow { particle: Some(p), .. } = &mut e {
+            if let Some(o) = self.device_order().ok().and_then(|order| order.get(*p).copied()) {
+                *p = o as usize;
+            }
+        }
+        e
     }
 
     /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
@@ -436,7 +449,7 @@ impl<T: Real> GpuSolver<T> {
         }
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
         if over != u32::MAX && over <= bad {
-            self.vb.overflow_in(&self.ctx, c.vctl, over as u64)?;
+            self.vb.overflow_in(&self.ctx, c.vctl, over as u64).map_err(|e| self.to_original(e))?;
         }
         if c.ctl[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
             let count = c.ctl[ctl::CONTACTS_MAX] as usize;
