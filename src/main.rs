@@ -125,7 +125,7 @@ enum Experiment {
     E4,
     /// Time per step against N.
     Scaling,
-    /// The GPU engine before and after issue 8 at the E4 size (`--engine-nx`).
+    /// The GPU engine before and after issue 8 at the E4 size (`--engine-nx`); only when named.
     Engine,
     /// e1, e4 and scaling.
     All,
@@ -872,7 +872,8 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
         Err(e) => return fail(2, e),
     };
     let experiments: Vec<String> = if a.experiments.contains(&Experiment::All) {
-        sphlab::study::EXPERIMENTS.iter().map(|s| s.to_string()).collect()
+        let named = a.experiments.contains(&Experiment::Engine).then_some("engine");
+        sphlab::study::EXPERIMENTS.iter().copied().chain(named).map(|s| s.to_string()).collect()
     } else {
         a.experiments.iter().filter_map(|e| e.to_possible_value()).map(|v| v.get_name().to_string()).collect()
     };
