@@ -280,10 +280,16 @@ pub enum SolverError {
         cap: usize,
     },
     /// A particle has more neighbours than the variant's slots (GPU block layouts).
-    #[error("step {step}: {particles} particles have more than {slots} neighbours (max {max}); variant {variant} cannot hold them")]
+    #[error(
+        "step {step}: {particles} particles have more than {slots} neighbours (max {max}), the first {}; variant {variant} cannot hold them",
+        .particle.map_or("not recorded".to_string(), |p| format!("particle {p}"))
+    )]
     NeighbourOverflow {
         /// Step.
         step: u64,
+        /// The overflowing particle with the lowest (device) index in that step, as an original
+        /// particle id (`None`: not recorded).
+        particle: Option<usize>,
         /// Number of overflowing particles.
         particles: usize,
         /// Slot capacity.

@@ -125,7 +125,9 @@ enum Experiment {
     E4,
     /// Time per step against N.
     Scaling,
-    /// Every experiment (sphlab::study::EXPERIMENTS).
+    /// The GPU engine before and after issue 8 at the E4 size (`--engine-nx`); only when named.
+    Engine,
+    /// e1, e2, e3, e4 and scaling (sphlab::study::EXPERIMENTS; not `engine`, which is unbudgeted).
     All,
 }
 
@@ -314,6 +316,9 @@ struct StudyArgs {
     /// E3 particle budgets per subdomain (comma-separated, each ≥ 100).
     #[arg(long, default_value = "1500,3000,4500,6000")]
     e3_budgets: String,
+    /// Resolution of the `engine` experiment (100 = the E4 size, 11,236 particles).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(10..=400))]
+    engine_nx: u32,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -868,7 +873,8 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
         Err(e) => return fail(2, e),
     };
     let experiments: Vec<String> = if a.experiments.contains(&Experiment::All) {
-        sphlab::study::EXPERIMENTS.iter().map(|s| s.to_string()).collect()
+        let named = a.experiments.contains(&Experiment::Engine).then_some("engine");
+        sphlab::study::EXPERIMENTS.iter().copied().chain(named).map(|s| s.to_string()).collect()
     } else {
         a.experiments.iter().filter_map(|e| e.to_possible_value()).map(|v| v.get_name().to_string()).collect()
     };
@@ -916,6 +922,7 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     };
     let opts = sphlab::study::StudyOptions {
         e23,
+        engine_nx: a.engine_nx,
         experiments,
         sizes,
         protocol: sphlab::study::timing::Protocol {

@@ -199,8 +199,7 @@ impl Plan {
         let particle_bytes = n_total * cpu_bytes_per_particle(host_real);
         let neighbour_bytes = if gpu { 0.0 } else { 4.0 * n_total * (k * 4.0 + 4.0) };
         let cell_bytes = if gpu { 0.0 } else { cells * 8.0 + n_total * 12.0 };
-        let gpu =
-            gpu.then(|| gpu::GpuPlan::with_fluid(&Default::default(), n_total as u64, n_fluid as u64, cells as u64));
+        let gpu = gpu.then(|| gpu::GpuPlan::new(&Default::default(), n_total as u64, cells as u64));
         Plan {
             nx,
             ny,
@@ -220,7 +219,7 @@ impl Plan {
 
     /// The plan with the device buffers of `spec` (same particles and cells).
     pub fn for_variant(mut self, spec: &crate::gpu::variant::VariantSpec) -> Plan {
-        self.gpu = Some(gpu::GpuPlan::with_fluid(spec, self.n_total as u64, self.n_fluid as u64, self.cells as u64));
+        self.gpu = Some(gpu::GpuPlan::new(spec, self.n_total as u64, self.cells as u64));
         self
     }
 

@@ -350,3 +350,67 @@ fn a_blow_up_inside_a_batch_reports_and_keeps_the_failing_step() {
     let (fa, fb) = (a.frame(), b.frame());
     assert!((fa.pos, fa.vel) == (fb.pos, fb.vel), "the halted state is the failing step's");
 }
+
+/// The study's `engine` experiment at a small N writes, in one run, the CPU single-thread rows,
+/// and before AND after rows for the fastest variant and `cells.thread.recomputed.f32`; the
+/// engine's own counters show the two engines differ (before: one submission and one readback
+/// per step; after: one per block of K steps), and summary.md has the before/after table.
+#[test]
+fn study_engine_experiment_writes_before_and_after_rows() {
+    use sphlab::study::engine_ab::THREAD_RECOMPUTED;
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let k = 4;
+    let other: VariantSpec = "cells.block-tree.cas.recomputed.f32".parse().unwrap();
+    let opts = sphlab::study::StudyOptions {
+        experiments: vec!["engine".into()],
+        engine_nx: 16,
+        sizes: vec![],
+        protocol: sphlab::study::timing::Protocol { steps: k, repeats: 1, warmup_s: 0.0, latency_samples: 1 },
+        // The experiment adds THREAD_RECOMPUTED to the sweep itself.
+        variants: vec![other],
+        out: dir.path().to_path_buf(),
+        ..Default::default()
+    };
+    let recs = sphlab::study::run_study_on(&opts, Some(&ctx), std::time::Instant::now()).expect("study");
+    let rows: Vec<_> = recs.iter().filter(|r| r.experiment == "engine").collect();
+    for r in &rows {
+        println!(
+            "{} {} {} {:?} submits {:?} readbacks {:?}",
+            r.variant, r.engine, r.status, r.ms_per_step_median, r.submits_per_step, r.readbacks_per_step
+        );
+    }
+    for cpu in ["cpu1.cells.f64", "cpu1.cells.f32"] {
+        let r = rows.iter().find(|r| r.variant == cpu).unwrap_or_else(|| panic!("{cpu} row"));
+        assert!(r.status == "ok" && r.ms_per_step_median.is_some() && r.engine == "cpu", "{cpu}: {}", r.reason);
+    }
+    let after: Vec<_> = rows.iter().filter(|r| r.engine == "after").collect();
+    assert_eq!(after.len(), 2, "after rows: `other` and THREAD_RECOMPUTED");
+    let best = after.iter().min_by(|a, b| a.ms().total_cmp(&b.ms())).expect("after rows").variant.clone();
+    let mut compared = vec![best, THREAD_RECOMPUTED.to_string()];
+    compared.dedup();
+    assert_eq!(
+        rows.iter().filter(|r| r.engine == "before").count(),
+        compared.len(),
+        "before: the fastest and {THREAD_RECOMPUTED}"
+    );
+    for v in compared {
+        let get = |e: &str| {
+            let r = rows.iter().find(|r| r.variant == v && r.engine == e).unwrap_or_else(|| panic!("{v} {e} row"));
+            assert_eq!(r.status, "ok", "{v} {e}: {}", r.reason);
+            assert!(r.ms_per_step_median.is_some() && r.n == rows[0].n && r.ke_rel_error.is_some(), "{v} {e}");
+            assert!(r.modelled_bytes_per_eval.is_some_and(|b| b > 0.0) && r.device_bytes.is_some(), "{v} {e}");
+            (r.submits_per_step.expect("counted"), r.readbacks_per_step.expect("counted"))
+        };
+        let (before, after) = (get("before"), get("after"));
+        assert_eq!(before, (1.0, 1.0), "{v}: before = one submission and one readback per step");
+        assert_eq!(after, (1.0 / k as f64, 1.0 / k as f64), "{v}: after = one of each per K = {k} steps");
+    }
+    let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary.md");
+    assert!(md.contains("## Engine — before and after issue 8"), "{md}");
+    assert!(md.contains(&format!("| `{THREAD_RECOMPUTED}` |")), "{md}");
+    let csv = std::fs::read_to_string(dir.path().join("records.csv")).expect("records.csv");
+    assert!(csv.lines().next().is_some_and(|h| h.contains("engine") && h.contains("roofline_fraction")), "{csv}");
+}

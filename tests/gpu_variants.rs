@@ -206,6 +206,47 @@ fn neighbour_overflow_is_reported() {
     g.evaluate_once().expect("thread/cells has no slot limit");
 }
 
+/// The overflow names its particle, by ORIGINAL id through the renumbering: from a start whose
+/// fluid particles are numbered in reverse lattice order, with a support where every particle
+/// has more than 64 neighbours, the particle `evaluate_once` reports (the first evaluation
+/// renumbers) is the one at device index 0 (the lowest overflowing one), mapped back: not 0.
+/// A failing `advance` reports the step and a particle, and the message says both.
+#[test]
+fn neighbour_overflow_names_the_original_particle() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let (s, mut l) =
+        scene("sessile-90", &["contact.mode=b", "domain.nx=21", "kernel.kind=quintic", "kernel.h_ratio=1.6"]);
+    let nf = l.n_fluid;
+    l.pos[..nf].reverse();
+    l.vel[..nf].reverse();
+    l.phase[..nf].reverse();
+    let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Serial, SearchKind::Cells);
+    cpu.evaluate().expect("the CPU has no slot limit");
+    let over: Vec<usize> = (0..l.pos.len()).filter(|&i| cpu.nbrs.of(i).len() > 64).collect();
+    println!("{} of {} particles ({nf} fluid) have more than 64 neighbours", over.len(), l.pos.len());
+    let spec: VariantSpec = "cells.block-atomic.cas.recomputed.f32".parse().unwrap();
+    let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+    let Err(GpuError::Solver(e)) = g.evaluate_once() else { panic!("expected an overflow") };
+    println!("evaluate_once: {e}");
+    let SolverError::NeighbourOverflow { particle: Some(p), particles, .. } = e else { panic!("{e}") };
+    let orig_of = g.device_order().unwrap();
+    let mut new_of = vec![0; orig_of.len()];
+    for (d, &o) in orig_of.iter().enumerate() {
+        new_of[o as usize] = d;
+    }
+    let first = *over.iter().min_by_key(|&&o| new_of[o]).expect("overflowing particles");
+    assert_eq!((p, particles), (first, over.len()), "the lowest device index, as its original id");
+    assert!(p != new_of[p] && over.contains(&p), "mapped through a renumbering: device {} → {p}", new_of[p]);
+    assert!(e.to_string().contains(&format!("the first particle {p};")), "{e}");
+    let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+    let e = g.advance(4).expect_err("the first step overflows");
+    println!("advance(4): {e}");
+    let SolverError::NeighbourOverflow { step: 1, particle: Some(p), .. } = e else { panic!("{e}") };
+    assert!(over.contains(&p) && e.to_string().starts_with("step 1: "), "{e}");
+}
+
 /// GPU tracking lists rebuild on the CPU's schedule (first evaluation, every 20, or after a
 /// skin/2 displacement) and keep matching the cells search.
 #[test]
@@ -391,7 +432,7 @@ fn dispatch_spreads_over_two_dimensions() {
         // More than one scan block, so the multi-workgroup cell scan runs (spread too).
         assert!(forced.cells() > SCAN_BLOCK, "{id}: {} cells", forced.cells());
         // The memory plan predicts exactly what the solver allocated.
-        let plan = GpuPlan::with_fluid(&spec, l.pos.len() as u64, l.n_fluid as u64, forced.cells() as u64);
+        let plan = GpuPlan::new(&spec, l.pos.len() as u64, forced.cells() as u64);
         assert_eq!(plan.total_bytes, forced.device_bytes(), "{id}: planned vs allocated device bytes");
         forced.evaluate_once().unwrap();
         assert_neighbours_match(id, &cpu, &forced);

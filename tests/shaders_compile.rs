@@ -196,6 +196,7 @@ fn wgsl_constants_equal_rust_values() {
         ("V_REBUILDS", vctl::REBUILDS as i64),
         ("V_EVERY", vctl::EVERY as i64),
         ("V_FIXED_OVER", vctl::FIXED_OVER as i64),
+        ("V_OVER_FIRST", vctl::OVER_FIRST as i64),
         ("V_CAND_STALE", vctl::CAND_STALE as i64),
     ];
     for (name, value) in rust {

@@ -34,6 +34,7 @@ const V_REBUILDS: u32 = 7u;   // builds so far
 const V_EVERY: u32 = 8u;      // rebuild at least every this many evaluations (host-written)
 const V_FIXED_OVER: u32 = 9u; // fixed-point terms beyond the representable range
 const V_CAND_STALE: u32 = 10u; // particles whose current candidate list overflowed (until the next build)
+const V_OVER_FIRST: u32 = 11u; // lowest device index whose list overflowed while the device ran (0xFFFFFFFF: none)
 
 // Entries of `vparams` (twin of `vparam::*`).
 const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)
@@ -53,6 +54,14 @@ const VP_SIGMA_MAX: u32 = 20u;
 const F_DENSITY: u32 = 0u;
 const F_GRAD: u32 = 1u;
 const F_ACC: u32 = 2u;
+
+// Notes particle i (device index) as overflowing a neighbour or candidate list, unless the
+// device has already halted on an earlier failure (then the failing step's particle stays).
+fn note_overflow(i: u32) {
+    if atomicLoad(&ctl[CTL_BAD_STEP]) == 0xffffffffu && atomicLoad(&ctl[CTL_OVER_STEP]) == 0xffffffffu {
+        atomicMin(&vctl[V_OVER_FIRST], i);
+    }
+}
 
 fn pack_nb(j: u32, code: u32) -> u32 {
     return j | (code << PACK_SHIFT);

@@ -2,7 +2,8 @@
 // values (thesis §6.4.1 layout: at most NBR_SLOTS = 64 neighbours per particle), built every
 // evaluation from the variant's search (direct, cells or tracking candidates, through
 // common/neighbours.wgsl) after the search kernels ran. counts[i] = neighbour count (may exceed
-// 64: the particle is then counted in vctl and the host reports `NeighbourOverflow`; no entry
+// 64: the particle is then counted in vctl, the lowest such index noted, and the host reports
+// `NeighbourOverflow` with that particle; no entry
 // beyond slot 63 is written and the stages read min(count, 64), so numbers from an overflowing
 // evaluation are never returned as valid). With `CACHED` the kernel values W_ij, F'(r_ij) and
 // the image position x_j are stored per slot; they stay valid for this evaluation (positions do not change until
@@ -39,5 +40,6 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if count > NBR_SLOTS {
         atomicAdd(&vctl[V_NBR_OVER], 1u);
         atomicMax(&vctl[V_NBR_MAX], count);
+        note_overflow(i);
     }
 }

@@ -3,22 +3,24 @@
 // with `TRACKING`, exactly when the tracking lists are rebuilt, which they are next in this
 // stage) the fluid particles are renumbered in cell order and every per-particle array that
 // persists across stages (pos, vel, phase, colour, mass, vt, acc, state0's r⁰ and v⁰) is
-// gathered into scratch and put back. Fluids stay in 0..n_fluid among themselves; walls are
-// static and keep their indices. Within a cell `sorted` lists fluids first (it is sorted by
-// index), so the new index of the fluid in slot s of cell c is s − (walls in cells < c): the
-// per-cell wall prefix `wall_before` is computed once (walls never move) at the first reorder.
-// `orig_of[new]` / `new_of[orig]` keep the permutation for the host (`gpu::reorder`), which maps
-// everything it reads or writes back to the original order. Per-evaluation fields (σ, χ, ρ, p,
-// ∇C, Π, lists, candidates, accumulators) are recomputed after this point, so they do not move.
+// gathered into scratch and put back, two vec2 per particle at a time. Fluids stay in
+// 0..n_fluid among themselves; walls are static and keep their indices. Within a cell `sorted`
+// lists fluids first (it is sorted by index), so the new index of the fluid in slot s of cell c
+// is s − (walls in cells < c): the per-cell wall prefix `wall_before` is computed once (walls
+// never move) at the first reorder. `orig_of[new]` keeps the permutation for the host
+// (`gpu::reorder`), which maps everything it reads or writes back to the original order.
+// Per-evaluation fields (σ, χ, ρ, p, ∇C, Π, lists, candidates, accumulators) are recomputed
+// after this point, so they do not move, and two of them are the scratch: `counts` (2n words:
+// the source index of each new index, then the gathered `orig_of`) and `grad` (2n vec2: two
+// gathered vec2 fields; zeroed at the end, as it is where no colour gradient is computed).
 // Twin of `gpu::reorder::{R_*, RBufs}` (group 2, bound only by these pipelines).
 
 #import common/variant_bindings
 
-// Three buffers only: the reorder pipelines bind groups 0, 1 and 2, and lavapipe allows 32
+// Two buffers only: the reorder pipelines bind groups 0, 1 and 2, and lavapipe allows 32
 // storage buffers per stage.
 @group(2) @binding(0) var<storage, read_write> rctl: array<atomic<u32>>; // R_* words, then wall_before (cells + 1)
-@group(2) @binding(1) var<storage, read_write> ridx: array<u32>;         // orig_of, new_of, src, tmp_u
-@group(2) @binding(2) var<storage, read_write> tmp2: array<real2>;       // 3 n_fluid
+@group(2) @binding(1) var<storage, read_write> orig_of: array<u32>;      // device index → original (n)
 
 // Words of `rctl` (twin of `gpu::reorder::R_*`).
 const R_NOW: u32 = 0u;         // 1: renumber in this evaluation
@@ -28,18 +30,12 @@ const R_COUNT: u32 = 3u;       // renumberings so far
 const R_WALLS_READY: u32 = 4u; // 1 once `wall_before` holds the prefix
 const R_WALL_BEFORE: u32 = 8u; // rctl[R_WALL_BEFORE + c]: walls in cells < c (after the scan)
 
-// Sections of `ridx` (twin of `gpu::reorder::RBufs::new`).
-fn orig_at(d: u32) -> u32 {          // orig_of: device index → original (n)
+// The scratch in `counts` (module comment).
+fn src_at(d: u32) -> u32 {           // old device index of new index d (n_fluid)
     return d;
 }
-fn new_at(o: u32) -> u32 {           // new_of: original → device index (n)
-    return params.n + o;
-}
-fn src_at(d: u32) -> u32 {           // old device index of new index d (n_fluid)
-    return 2u * params.n + d;
-}
-fn tmp_u_at(k: u32) -> u32 {         // scratch: phase, colour, orig (3 n_fluid)
-    return 2u * params.n + params.n_fluid + k;
+fn orig_tmp_at(d: u32) -> u32 {      // orig_of of the particle that gets new index d (n_fluid)
+    return params.n + d;
 }
 
 fn now() -> bool {
@@ -56,7 +52,10 @@ fn reorder_decide() {
 #endif
     // A halted device (a failed step, kernels-variants/thread/integrate.wgsl) keeps its numbering,
     // so the failing particle and the state read back map through the permutation of that step.
-    if atomicLoad(&ctl[CTL_BAD_STEP]) != 0xffffffffu || atomicLoad(&ctl[CTL_OVER_STEP]) != 0xffffffffu {
+    // Nor does one with an overflowing particle noted and not yet read (a midpoint step's second
+    // evaluation comes before the step's clock_tick).
+    if atomicLoad(&ctl[CTL_BAD_STEP]) != 0xffffffffu || atomicLoad(&ctl[CTL_OVER_STEP]) != 0xffffffffu
+        || atomicLoad(&vctl[V_OVER_FIRST]) != 0xffffffffu {
         due = false;
     }
     atomicStore(&rctl[R_NOW], select(0u, 1u, due));
@@ -107,83 +106,108 @@ fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         return;
     }
     let d = s - atomicLoad(&rctl[R_WALL_BEFORE + cell_of[j]]);
-    ridx[src_at(d)] = j;
+    counts[src_at(d)] = j;
     sorted[s] = d;
+}
+
+// Gather (into `grad[d]`, `grad[nf + d]`) and put back, one pair of fields at a time.
+fn gather_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
+    let d = linear_id(gid, nwg);
+    if d >= params.n_fluid || !now() {
+        return 0xffffffffu;
+    }
+    return d;
 }
 
 @compute @workgroup_size(64)
 fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = linear_id(gid, nwg);
-    let nf = params.n_fluid;
-    if d >= nf || !now() {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
         return;
     }
-    let o = ridx[src_at(d)];
-    tmp2[d] = pos[o];
-    tmp2[nf + d] = vel[o];
-    tmp2[2u * nf + d] = real2(mass[o], real(0.0));
-    ridx[tmp_u_at(d)] = phase[o];
-    ridx[tmp_u_at(nf + d)] = bitcast<u32>(colour[o]);
-    ridx[tmp_u_at(2u * nf + d)] = ridx[orig_at(o)];
+    let o = counts[src_at(d)];
+    grad[d] = pos[o];
+    grad[params.n_fluid + d] = vel[o];
+    counts[orig_tmp_at(d)] = orig_of[o];
 }
 
 @compute @workgroup_size(64)
 fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = linear_id(gid, nwg);
-    let nf = params.n_fluid;
-    if d >= nf || !now() {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
         return;
     }
-    pos[d] = tmp2[d];
-    vel[d] = tmp2[nf + d];
-    mass[d] = tmp2[2u * nf + d].x;
-    phase[d] = ridx[tmp_u_at(d)];
-    colour[d] = bitcast<i32>(ridx[tmp_u_at(nf + d)]);
-    let o = ridx[tmp_u_at(2u * nf + d)];
-    ridx[orig_at(d)] = o;
-    ridx[new_at(o)] = d;
+    pos[d] = grad[d];
+    vel[d] = grad[params.n_fluid + d];
+    orig_of[d] = counts[orig_tmp_at(d)];
 }
 
-// ṽ, a and the midpoint start state r⁰, v⁰ (live between predict and correct).
+// Mass, phase and colour (small integers: exact as reals).
 @compute @workgroup_size(64)
-fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = linear_id(gid, nwg);
-    let nf = params.n_fluid;
-    if d >= nf || !now() {
+fn reorder_gather_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
         return;
     }
-    let o = ridx[src_at(d)];
-    tmp2[d] = vt[o];
-    tmp2[nf + d] = acc[o];
-    tmp2[2u * nf + d] = state0[o];
+    let o = counts[src_at(d)];
+    grad[d] = real2(mass[o], real(phase[o]));
+    grad[params.n_fluid + d] = real2(real(colour[o]), real(0.0));
+}
+
+@compute @workgroup_size(64)
+fn reorder_put_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
+        return;
+    }
+    mass[d] = grad[d].x;
+    phase[d] = u32(grad[d].y);
+    colour[d] = i32(grad[params.n_fluid + d].x);
+}
+
+// ṽ and a.
+@compute @workgroup_size(64)
+fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
+        return;
+    }
+    let o = counts[src_at(d)];
+    grad[d] = vt[o];
+    grad[params.n_fluid + d] = acc[o];
 }
 
 @compute @workgroup_size(64)
 fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = linear_id(gid, nwg);
-    let nf = params.n_fluid;
-    if d >= nf || !now() {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
         return;
     }
-    vt[d] = tmp2[d];
-    acc[d] = tmp2[nf + d];
-    state0[d] = tmp2[2u * nf + d];
+    vt[d] = grad[d];
+    acc[d] = grad[params.n_fluid + d];
+}
+
+// The midpoint start state r⁰, v⁰ (live between predict and correct; Verlet's v_{n+½}), then
+// the scratch zeroed.
+@compute @workgroup_size(64)
+fn reorder_gather_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
+        return;
+    }
+    let o = counts[src_at(d)];
+    grad[d] = state0[o];
+    grad[params.n_fluid + d] = state0[params.n + o];
 }
 
 @compute @workgroup_size(64)
-fn reorder_gather_v0(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = linear_id(gid, nwg);
-    if d >= params.n_fluid || !now() {
+fn reorder_put_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d == 0xffffffffu {
         return;
     }
-    tmp2[d] = state0[params.n + ridx[src_at(d)]];
-}
-
-@compute @workgroup_size(64)
-fn reorder_put_v0(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = linear_id(gid, nwg);
-    if d >= params.n_fluid || !now() {
-        return;
-    }
-    state0[params.n + d] = tmp2[d];
+    state0[d] = grad[d];
+    state0[params.n + d] = grad[params.n_fluid + d];
+    grad[d] = real2(real(0.0));
+    grad[params.n_fluid + d] = real2(real(0.0));
 }

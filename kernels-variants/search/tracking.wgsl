@@ -97,6 +97,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         atomicAdd(&vctl[V_CAND_OVER], 1u);
         atomicAdd(&vctl[V_CAND_STALE], 1u);
         atomicMax(&vctl[V_CAND_MAX], count);
+        note_overflow(i);
     }
 }
 

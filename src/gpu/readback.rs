@@ -88,7 +88,7 @@ impl<T: Real> GpuSolver<T> {
         self.reorder_every = every;
         done?;
         self.ctx.wait_idle()?;
-        self.vb.overflow(&self.ctx, self.step)?;
+        self.vb.overflow(&self.ctx, self.step).map_err(|e| self.to_original(e))?;
         self.read_fields()
     }
 

@@ -1,14 +1,15 @@
 //! Cell-ordered particles (twin of `kernels-variants/search/reorder.wgsl`, bind group 2, bound
-//! only by the reorder pipelines): the control words, the device permutation `orig_of[device]`
-//! / `new_of[original]`, the per-cell wall prefix and the gather scratch, plus the host side of
-//! the permutation. The device renumbers the fluid particles in cell order every
+//! only by the reorder pipelines): the control words with the per-cell wall prefix and the
+//! device permutation `orig_of[device]` (the gathers' scratch is `counts` and `grad`, free at
+//! that point of an evaluation), plus the host side of the permutation. The direct search never
+//! renumbers: it allocates one-word stand-ins and its permutation is the identity. The device renumbers the fluid particles in cell order every
 //! [`RBufs::set_every`] evaluations (tracking variants: whenever their lists are rebuilt) inside
 //! `neighbour_search`; walls keep their indices. Everything the host reads or writes goes
 //! through [`to_original`] / [`to_device`], so outputs, snapshots, `verify` and the CPU
 //! comparison see particles in their original order.
 
 use super::{GpuContext, GpuError, GpuVec};
-use crate::real::{Real, V2};
+use crate::real::Real;
 
 /// The kernel file.
 pub const FILE: &str = "search/reorder.wgsl";
@@ -29,33 +30,44 @@ pub mod rctl {
     pub const LEN: usize = 8;
 }
 
-/// Storage buffers of group 2 (three: with groups 0 and 1 that is lavapipe's 32 per stage).
-pub const N_RSTORAGE: u32 = 3;
+/// Storage buffers of group 2 (two: with groups 0 and 1 that is 31 of lavapipe's 32 per stage).
+pub const N_RSTORAGE: u32 = 2;
+
+/// Elements of (`reorder_ctl`, `reorder_idx`) for `n` particles on `cells` cells; one-word
+/// stand-ins (the control words alone) when the search never renumbers. The memory plan's twin.
+pub fn lens(renumbers: bool, n: usize, cells: usize) -> (usize, usize) {
+    if renumbers {
+        (rctl::LEN + cells + 1, n.max(1))
+    } else {
+        (rctl::LEN, 1)
+    }
+}
 
 /// The group-2 buffers.
 pub struct RBufs<T: Real> {
     /// Control words ([`rctl`]), then the per-cell wall prefix.
     pub rctl: GpuVec<u32>,
-    /// `orig_of` (n), `new_of` (n), the renumbering source (n_fluid), u32 scratch (3 n_fluid).
+    /// `orig_of` (n).
     pub ridx: GpuVec<u32>,
-    /// Scratch of the gathers (3 n_fluid).
-    pub tmp2: GpuVec<V2<T>>,
     n: usize,
+    renumbers: bool,
+    _real: std::marker::PhantomData<T>,
 }
 
 impl<T: Real> RBufs<T> {
-    /// Allocates the permutation (identity) and scratch of `n` particles, `n_fluid` of them
-    /// fluid, on a grid of `cells` cells; renumbering every `every` evaluations (0: never).
-    pub fn new(ctx: &GpuContext, n: usize, n_fluid: usize, cells: usize, every: u32) -> Result<Self, GpuError> {
+    /// Allocates the permutation (identity) of `n` particles on a grid of `cells` cells when the
+    /// search `renumbers` (stand-ins otherwise); renumbering every `every` evaluations (0: never).
+    pub fn new(ctx: &GpuContext, n: usize, cells: usize, every: u32, renumbers: bool) -> Result<Self, GpuError> {
+        let (lc, li) = lens(renumbers, n, cells);
         let b = Self {
-            rctl: GpuVec::new(ctx, "sphlab.reorder_ctl", rctl::LEN + cells + 1)?,
-            ridx: GpuVec::new(ctx, "sphlab.reorder_idx", (2 * n + 4 * n_fluid).max(1))?,
-            tmp2: GpuVec::new(ctx, "sphlab.reorder_tmp2", (3 * n_fluid).max(1))?,
+            rctl: GpuVec::new(ctx, "sphlab.reorder_ctl", lc)?,
+            ridx: GpuVec::new(ctx, "sphlab.reorder_idx", li)?,
             n,
+            renumbers,
+            _real: std::marker::PhantomData,
         };
-        if n > 0 {
-            let identity = (0..n as u32).chain(0..n as u32).chain(std::iter::repeat_n(0, 4 * n_fluid));
-            b.ridx.upload(ctx, &identity.collect::<Vec<u32>>())?;
+        if renumbers && n > 0 {
+            b.ridx.upload(ctx, &(0..n as u32).collect::<Vec<u32>>())?;
         }
         b.set_every(ctx, every)?;
         Ok(b)
@@ -78,13 +90,16 @@ impl<T: Real> RBufs<T> {
 
     /// `orig_of`: the original index of each device index.
     pub fn orig_of(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
+        if !self.renumbers {
+            return Ok((0..self.n as u32).collect());
+        }
         let mut v = self.ridx.read_back(ctx)?;
         v.truncate(self.n);
         Ok(v)
     }
 
     pub fn storage(&self) -> [&wgpu::Buffer; N_RSTORAGE as usize] {
-        [&self.rctl.buffer, &self.ridx.buffer, &self.tmp2.buffer]
+        [&self.rctl.buffer, &self.ridx.buffer]
     }
 
     /// The bind group of `layout` (group 2) over these buffers.

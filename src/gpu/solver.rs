@@ -72,6 +72,36 @@ pub struct GpuSolver<T: Real> {
     traffic0: EngineCounters,
     /// Steps taken since construction (restarts included).
     steps_total: u64,
+    /// Most steps one `advance` submission records (0: all k; [`EngineMode`]).
+    max_steps_per_submit: u64,
+}
+
+/// How the engine drives the device: the study's before/after comparison (`study::engine_ab`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EngineMode {
+    /// Renumber the particles in cell order every this many steps (0: never).
+    pub reorder_every: u64,
+    /// Most steps per submission, each followed by its blocking control readback (0: all the
+    /// steps of an `advance(k)` in one submission).
+    pub max_steps_per_submit: u64,
+}
+
+impl EngineMode {
+    /// The engine before issue 8's `advance(k)` and renumbering: lattice order, one step per
+    /// submission with a blocking control readback after every step.
+    pub const BEFORE: EngineMode = EngineMode { reorder_every: 0, max_steps_per_submit: 1 };
+    /// The current engine (the solver's default): renumbering every [`DEFAULT_REORDER_EVERY`]
+    /// steps, k steps per submission and one readback per `advance(k)`.
+    pub const AFTER: EngineMode = EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0 };
+
+    /// `before`, `after`, or the settings.
+    pub fn name(&self) -> String {
+        match *self {
+            Self::BEFORE => "before".into(),
+            Self::AFTER => "after".into(),
+            m => format!("reorder {} / {} steps per submit", m.reorder_every, m.max_steps_per_submit),
+        }
+    }
 }
 
 /// `groups` workgroups as (x, y) with x ≤ `max` (as even as possible; (0, 1) for none).
@@ -123,13 +153,14 @@ impl<T: Real> GpuSolver<T> {
         let grid = GridSpec::new(&pos, model.support());
         // The memory plan before any buffer exists: each buffer within the adapter's caps, the
         // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
-        let plan = GpuPlan::with_fluid(&spec, n as u64, n_fluid as u64, grid.cells() as u64);
+        let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);
         plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
         let vb = VBufs::new(&ctx, spec, &model, n)?;
         let evals = Self::evaluations_per_step(scene.time.integrator);
-        let rb = RBufs::new(&ctx, n, n_fluid, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32)?;
+        let renumbers = spec.search != super::variant::SearchVariant::Direct;
+        let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
         let compiled = ctx.pipelines.get(&ctx, &spec)?;
         let pipes = compiled.pipes.clone();
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
@@ -169,6 +200,7 @@ impl<T: Real> GpuSolver<T> {
             control,
             traffic0,
             steps_total: 0,
+            max_steps_per_submit: 0,
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
@@ -195,6 +227,14 @@ impl<T: Real> GpuSolver<T> {
         let every = k.saturating_mul(Self::evaluations_per_step(self.integrator)).min(u32::MAX as u64);
         self.rb.set_every(&self.ctx, every as u32)?;
         self.reorder_every = k;
+        Ok(())
+    }
+
+    /// Drives the device as `mode` says from the next step on (renumbering period, steps per
+    /// submission).
+    pub fn set_engine_mode(&mut self, mode: EngineMode) -> Result<(), GpuError> {
+        self.set_reorder_every(mode.reorder_every)?;
+        self.max_steps_per_submit = mode.max_steps_per_submit;
         Ok(())
     }
 
@@ -362,7 +402,19 @@ impl<T: Real> GpuSolver<T> {
     pub fn evaluate_once(&mut self) -> Result<(), GpuError> {
         self.submit(|enc| self.record_evaluate(enc))?;
         self.ctx.wait_idle()?;
-        Ok(self.vb.overflow(&self.ctx, self.step)?)
+        self.vb.overflow(&self.ctx, self.step).map_err(|e| self.to_original(e))?;
+        Ok(())
+    }
+
+    /// `e` with the overflowing particle's device index (`VBufs::overflow`) mapped through the
+    /// renumbering to its original id.
+    pub(super) fn to_original(&self, mut e: SolverError) -> SolverError {
+        if let SolverError::NeighbourOverflow { particle: Some(p), .. } = &mut e {
+            if let Some(o) = self.device_order().ok().and_then(|order| order.get(*p).copied()) {
+                *p = o as usize;
+            }
+        }
+        e
     }
 
     /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
@@ -397,7 +449,7 @@ impl<T: Real> GpuSolver<T> {
         }
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
         if over != u32::MAX && over <= bad {
-            self.vb.overflow_in(&self.ctx, c.vctl, over as u64)?;
+            self.vb.overflow_in(&self.ctx, c.vctl, over as u64).map_err(|e| self.to_original(e))?;
         }
         if c.ctl[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
             let count = c.ctl[ctl::CONTACTS_MAX] as usize;
@@ -490,7 +542,17 @@ impl<T: Real> Backend for GpuSolver<T> {
         self.run_steps(1, read)
     }
     fn advance(&mut self, k: u64) -> Result<(), SolverError> {
-        self.run_steps(k, true)
+        if k == 0 {
+            return self.run_steps(0, true);
+        }
+        let most = if self.max_steps_per_submit == 0 { k } else { self.max_steps_per_submit };
+        let mut left = k;
+        while left > 0 {
+            let n = left.min(most);
+            self.run_steps(n, true)?;
+            left -= n;
+        }
+        Ok(())
     }
     fn engine_counters(&self) -> Option<EngineCounters> {
         Some(GpuSolver::engine_counters(self))

@@ -77,10 +77,12 @@ pub const REORDER: &[KernelDef] = &[
     k("reorder_perm", super::reorder::FILE, Domain::All),
     k("reorder_gather_state", super::reorder::FILE, Domain::Fluid),
     k("reorder_put_state", super::reorder::FILE, Domain::Fluid),
+    k("reorder_gather_tags", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_tags", super::reorder::FILE, Domain::Fluid),
     k("reorder_gather_rates", super::reorder::FILE, Domain::Fluid),
     k("reorder_put_rates", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_v0", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_v0", super::reorder::FILE, Domain::Fluid),
+    k("reorder_gather_start", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_start", super::reorder::FILE, Domain::Fluid),
 ];
 
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).

@@ -53,6 +53,9 @@ pub mod vctl {
     pub const FIXED_OVER: usize = 9;
     /// Particles whose current (truncated) candidate list overflowed; cleared by a rebuild.
     pub const CAND_STALE: usize = 10;
+    /// Lowest device index of a particle whose list overflowed while the device ran (`u32::MAX`:
+    /// none; cleared when read).
+    pub const OVER_FIRST: usize = 11;
     /// Words.
     pub const LEN: usize = 12;
 }
@@ -160,6 +163,7 @@ impl<T: Real> VBufs<T> {
     /// Clears the control words and forces a tracking rebuild at the next evaluation.
     pub fn reset(&self, ctx: &GpuContext) -> Result<(), GpuError> {
         let mut c = vec![0u32; vctl::LEN];
+        c[vctl::OVER_FIRST] = u32::MAX;
         c[vctl::REBUILD] = 1;
         c[vctl::EVERY] = self.every;
         self.vctl.upload(ctx, &c)
@@ -179,7 +183,8 @@ impl<T: Real> VBufs<T> {
     }
 
     /// `Err(NeighbourOverflow)` when a particle had more neighbours than the 64 list slots
-    /// since the last call or its current tracking list (96 slots) is truncated, `Err(Gpu)` when a
+    /// since the last call or its current tracking list (96 slots) is truncated (its `particle`
+    /// is the noted DEVICE index: the solver maps it to the original one), `Err(Gpu)` when a
     /// fixed-point term left the accumulator's range (then clears the counters).
     pub fn overflow(&self, ctx: &GpuContext, step: u64) -> Result<(), SolverError> {
         let c = self.vctl.read_back(ctx).map_err(|e| SolverError::Gpu(e.to_string()))?;
@@ -201,9 +206,11 @@ impl<T: Real> VBufs<T> {
         if err.is_none() && fixed == 0 {
             return Ok(());
         }
+        let first = c[vctl::OVER_FIRST];
         for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::FIXED_OVER] {
             c[w] = 0;
         }
+        c[vctl::OVER_FIRST] = u32::MAX;
         if c[vctl::CAND_STALE] == 0 {
             c[vctl::CAND_MAX] = 0;
         }
@@ -216,6 +223,7 @@ impl<T: Real> VBufs<T> {
         };
         Err(SolverError::NeighbourOverflow {
             step,
+            particle: (first != u32::MAX).then_some(first as usize),
             particles: particles as usize,
             slots,
             max: max as usize,

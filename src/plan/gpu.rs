@@ -120,15 +120,9 @@ fn alloc(len: u64, size: u64) -> u64 {
 }
 
 impl GpuPlan {
-    /// The plan of `spec` for `n` particles and `cells` grid cells, counting every particle as
-    /// fluid (an upper bound: the renumbering buffers scale with the fluid particles).
+    /// The plan of `spec` for `n` particles on `cells` grid cells: exactly the bytes
+    /// `GpuSolver::new` allocates (tested).
     pub fn new(spec: &VariantSpec, n: u64, cells: u64) -> Self {
-        Self::with_fluid(spec, n, n, cells)
-    }
-
-    /// The plan of `spec` for `n` particles of which `n_fluid` fluid, on `cells` grid cells:
-    /// exactly the bytes `GpuSolver::new` allocates (tested).
-    pub fn with_fluid(spec: &VariantSpec, n: u64, n_fluid: u64, cells: u64) -> Self {
         let r = if spec.precision == Precision::F64 { 8 } else { 4 };
         let v2 = 2 * r;
         let lists = spec.has_lists();
@@ -145,7 +139,9 @@ impl GpuPlan {
         } as u64)
             .max(16)
             .next_multiple_of(16);
-        let list: [(&'static str, u64, u64); 33] = [
+        let (reorder_ctl, reorder_idx) =
+            crate::gpu::reorder::lens(tracking || spec.search == SearchVariant::Cells, n as usize, cells as usize);
+        let list: [(&'static str, u64, u64); 32] = [
             ("pos", n, v2),
             ("vel", n, v2),
             ("phase", n, 4),
@@ -176,11 +172,10 @@ impl GpuPlan {
             ("ref_pos", on(tracking, n), v2),
             ("accum", on(block, 8 * n), 4),
             ("params", 1, params),
-            // Cell ordering (gpu::reorder): control words + per-cell wall prefix, the
-            // permutation and renumbering indices, the gather scratch.
-            ("reorder_ctl", crate::gpu::reorder::rctl::LEN as u64 + cells + 1, 4),
-            ("reorder_idx", (2 * n + 4 * n_fluid).max(1), 4),
-            ("reorder_tmp2", (3 * n_fluid).max(1), v2),
+            // Cell ordering (gpu::reorder; cells and tracking searches only): control words +
+            // per-cell wall prefix, the permutation (the gathers' scratch is counts and grad).
+            ("reorder_ctl", reorder_ctl as u64, 4),
+            ("reorder_idx", reorder_idx as u64, 4),
         ];
         let buffers: Vec<BufferPlan> =
             list.iter().map(|&(name, len, size)| BufferPlan { name, bytes: alloc(len, size) }).collect();
@@ -279,18 +274,18 @@ mod tests {
     fn plan_refuses_with_the_buffer_and_numbers() {
         let spec: VariantSpec = "cells.thread.recomputed.f32".parse().unwrap();
         let lim = DeviceLimits::stated(1 << 40, 128 << 20, "test");
-        // The renumbering indices (2N + 4 N_fluid words) and scratch (3 vec2 per fluid particle)
-        // hold 24 bytes per particle when every particle is fluid (`new`): 128 MiB at
-        // N = 5,592,405; state0 and grad (2N × 8 B) reach it at 8,388,608.
-        assert!(GpuPlan::new(&spec, 5_592_405, 1000).check(&lim).is_ok());
-        let e = GpuPlan::new(&spec, 5_592_406, 1000).check(&lim).unwrap_err();
-        assert!(e.contains("`reorder_idx`") && e.contains("134217744") && e.contains("134217728"), "{e}");
-        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 5_592_405);
-        // With few fluid particles the renumbering buffers are no longer the largest.
-        let walls = GpuPlan::with_fluid(&spec, 8_388_608, 1_000_000, 1000);
-        assert!(walls.check(&lim).is_ok(), "{}", walls.largest().name);
-        let e = GpuPlan::with_fluid(&spec, 8_388_609, 1_000_000, 1000).check(&lim).unwrap_err();
-        assert!(e.contains("`state0`") && e.contains("134217744"), "{e}");
+        // state0 and grad (2N × 8 B) are the largest buffers: 128 MiB at N = 8,388,608 (the
+        // renumbering keeps 4 B per particle, its scratch is counts and grad).
+        assert!(GpuPlan::new(&spec, 8_388_608, 1000).check(&lim).is_ok());
+        let e = GpuPlan::new(&spec, 8_388_609, 1000).check(&lim).unwrap_err();
+        assert!(e.contains("`state0`") && e.contains("134217744") && e.contains("134217728"), "{e}");
+        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 8_388_608);
+        let reorder =
+            |p: &GpuPlan| p.buffers.iter().filter(|b| b.name.starts_with("reorder")).map(|b| b.bytes).sum::<u64>();
+        assert_eq!(reorder(&GpuPlan::new(&spec, 1000, 10)), 4 * (1000 + 8 + 10 + 1), "permutation + control words");
+        // The direct search never renumbers: one-word stand-ins and the control words.
+        let direct: VariantSpec = "direct.thread.recomputed.f32".parse().unwrap();
+        assert_eq!(reorder(&GpuPlan::new(&direct, 1000, 10)), 4 * (1 + 8));
         let small = DeviceLimits::stated(1 << 30, 2 << 30, "test");
         let e = GpuPlan::new(&spec, 20_000_000, 1000).check(&small).unwrap_err();
         assert!(e.contains("device memory") && e.contains("1073741824"), "{e}");

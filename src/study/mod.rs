@@ -25,6 +25,7 @@
 pub mod e23;
 pub mod e2_residency;
 pub mod e3_subdomains;
+pub mod engine_ab;
 pub mod plan;
 pub mod preset;
 pub mod report;
@@ -144,6 +145,20 @@ pub struct Record {
     pub config: String,
     /// E2/E3: verification verdict (against the CPU reference / the unsplit run).
     pub verified: String,
+    /// engine: `before` or `after` issue 8 (GPU), `cpu` ([`engine_ab`]).
+    pub engine: String,
+    /// engine: modelled bytes one force evaluation moves (`gpu::bandwidth`, a lower bound).
+    pub modelled_bytes_per_eval: Option<f64>,
+    /// engine: the adapter's measured streaming bandwidth (GB/s).
+    pub bandwidth_gb_s: Option<f64>,
+    /// engine: modelled bytes per step ÷ (ms/step × bandwidth).
+    pub roofline_fraction: Option<f64>,
+    /// engine: queue submissions per step (the engine's counters).
+    pub submits_per_step: Option<f64>,
+    /// engine: blocking readbacks per step.
+    pub readbacks_per_step: Option<f64>,
+    /// engine: compute dispatches per step.
+    pub dispatches_per_step: Option<f64>,
 }
 
 impl Record {
@@ -178,6 +193,8 @@ pub struct StudyOptions {
     pub out: std::path::PathBuf,
     /// E2 and E3 settings.
     pub e23: e23::E23Options,
+    /// Resolution of the `engine` experiment ([`engine_ab`]).
+    pub engine_nx: u32,
 }
 
 impl Default for StudyOptions {
@@ -195,6 +212,7 @@ impl Default for StudyOptions {
             dry_run: false,
             out: "reports/study".into(),
             e23: Default::default(),
+            engine_nx: engine_ab::DEFAULT_NX,
         }
     }
 }
@@ -432,8 +450,10 @@ pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
 pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, String> {
     let mut recs = Vec::new();
     for e in &opts.experiments {
-        if !EXPERIMENTS.contains(&e.as_str()) {
-            return Err(format!("--experiments: unknown experiment `{e}` ({})", EXPERIMENTS.join(", ")));
+        // `engine` runs only when named (not in `all` nor the preset: it is not budgeted).
+        if !EXPERIMENTS.contains(&e.as_str()) && e != engine_ab::EXPERIMENT {
+            let known = [EXPERIMENTS, &[engine_ab::EXPERIMENT]].concat();
+            return Err(format!("--experiments: unknown experiment `{e}` ({})", known.join(", ")));
         }
     }
     // The job sweep (e1, e4, scaling); further experiments dispatch below by name.
@@ -448,6 +468,7 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
                 Some(g) => e23::run_e3(&opts.e23, g, &mut recs)?,
                 None => eprintln!("{e}: skipped: it needs a GPU adapter"),
             },
+            engine_ab::EXPERIMENT => engine_ab::run(opts, gpu, &mut recs)?,
             other => return Err(format!("--experiments: `{other}` has no runner")),
         }
     }

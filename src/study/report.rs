@@ -180,6 +180,7 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
         }
         let _ = writeln!(md);
     }
+    super::engine_ab::summary(&mut md, recs);
     scaling_plots(dir, recs, side_by_side, &mut md)?;
     speed_vs_error(dir, recs, &mut md)?;
     super::thesis_figs::write(dir, recs, &mut md)?;
