@@ -37,7 +37,11 @@ use std::sync::Arc;
 /// terms (a few ulp); p inherits ρ's error times γ; ∇C, Π and the acceleration are sums of ~30
 /// terms of both signs that cancel to a small fraction of their size (the pressure term with
 /// p_b = B cancels to ~1e-3), so the reordering error of the large terms shows at 1e-4–1e-3 of
-/// the result's scale in f32. Colours and masses are copied or typed, never summed: exact.
+/// the result's scale in f32. The acceleration's rel-L2 bound is 3e-4: at the impact scene's
+/// density ratio of 833 the gas particles' pressure and viscous terms cancel further, and every
+/// f32 variant (direct and cells alike, whose f64 twins agree to 1e-12) measures 1.2–1.6e-4 there
+/// from summation order alone (measured at commit c76924d). Colours and masses are copied
+/// or typed, never summed: exact.
 pub const TOLERANCES: &[(Field, (f64, f64), (f64, f64))] = &[
     (Field::Colour, (0.0, 0.0), (0.0, 0.0)),
     (Field::Mass, (0.0, 0.0), (0.0, 0.0)),
@@ -51,7 +55,7 @@ pub const TOLERANCES: &[(Field, (f64, f64), (f64, f64))] = &[
     (Field::Vt, TOL_SUM, TOL_F64),
 ];
 const TOL_SUM: (f64, f64) = (1e-4, 1e-5);
-const TOL_ACC: (f64, f64) = (1e-3, 1e-4);
+const TOL_ACC: (f64, f64) = (1e-3, 3e-4);
 const TOL_F64: (f64, f64) = (1e-9, 1e-9);
 /// Contact points: position error relative to max(|r|, Δx) plus the side difference.
 pub const CONTACT_TOLERANCE: f64 = 1e-5;
