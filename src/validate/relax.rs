@@ -155,6 +155,27 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                 }
             }
         }
+        // Plateau or still relaxing: the area-inversion angle (from D and the area, steadier
+        // than the circle fit) over the two halves of the second part of the run.
+        let (h1, h2) = (window_stats(&area, 0.3 * t_end, 0.6 * t_end), window_stats(&area, 0.7 * t_end, t_end));
+        if let (Some(h1), Some(h2), false) = (h1, h2, quick) {
+            let steady = (h1.0 - h2.0).abs() < 0.5;
+            rep.notes.push(format!(
+                "{label}: θ (area inversion) {:.2}° ± {:.2} over t ∈ [{:.1}, {:.1}] and {:.2}° ± {:.2} over [{:.1}, {t_end:.1}]: {}",
+                h1.0 + 60.0,
+                h1.1,
+                0.3 * t_end,
+                0.6 * t_end,
+                h2.0 + 60.0,
+                h2.1,
+                0.7 * t_end,
+                if steady {
+                    "a plateau, not a slow relaxation: the contact line stays pinned off 60° (the offset is the method's at this resolution, not a time the run lacks)"
+                } else {
+                    "still moving"
+                }
+            ));
+        }
         if let (Some(c), Some(t2)) = (window_stats(&circle, wa, wb), window_stats(&two, wa, wb)) {
             if t2.0 < c.0 - 5.0 && !quick {
                 rep.notes.push(format!(
