@@ -1,6 +1,20 @@
 //! Time integration updates (PHYSICS.md §7.2). CPU twin of `shaders/integrate.wgsl`.
-//! Midpoint predictor–corrector (default, sph-blitz `step`) and velocity Verlet.
+//! Midpoint predictor–corrector (default, sph-blitz `step`, as in §7.2) and velocity Verlet.
 //! `vt` is the advection velocity (v, or the XSPH-smoothed velocity).
+//!
+//! The velocity Verlet sphlab runs (`time.integrator = "verlet"`, CPU `CpuSolver::verlet_drift`
+//! / `verlet_kick`, WGSL `integrate.wgsl`) is not §7.2's form: the evaluation after the drift
+//! sees the predicted velocity, so the viscous force does not lag and the scheme is second
+//! order in dt with viscosity (measured 2.007 in x, 2.018 in v at b85f740):
+//! ```text
+//! v_{n+½} = v_n + (dt/2) a_n
+//! r_{n+1} = r_n + dt (v_{n+½} + ṽ_n − v_n)            (ṽ − v: the XSPH correction, 0 without XSPH)
+//! a_{n+1} = A(r_{n+1}, v_n + dt a_n)
+//! v_{n+1} = v_{n+½} + (dt/2) a_{n+1}
+//! ```
+//! §7.2's form, `a_{n+1} = A(r_{n+1}, v_{n+½})` (PySPH's PEC integrator), is kept as
+//! `time.integrator = "verlet-pec"` (CPU only, first order with viscosity) for the PySPH
+//! cross-code scene `scenes/pysph-rod.toml`.
 
 use crate::real::{Real, V2};
 

@@ -373,7 +373,8 @@ pub enum WallVelocity {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Time {
-    /// midpoint (predictor–corrector) or verlet.
+    /// midpoint (predictor–corrector), verlet or verlet-pec ([`Integrator`]; the Verlet form is
+    /// written out in `physics::integrate`).
     #[serde(default = "default_integrator")]
     pub integrator: Integrator,
     /// Fixed dt; 0 means "min of the limits" recomputed each step.
