@@ -171,7 +171,7 @@ def main():
     runs, out = sys.argv[1], sys.argv[2]
     os.makedirs(out, exist_ok=True)
     drops = sorted(glob.glob(f"{runs}/drop-*/")) + sorted(glob.glob("reports/validation/pb-sweep/runs/*-osc/"))
-    relaxes = (sorted(glob.glob(f"{runs}/relax-*/")) + ["reports/validation/relax-60/runs/b-noslip"]
+    relaxes = (sorted(glob.glob(f"{runs}/relax-*/")) + sorted(glob.glob("reports/validation/relax-60/runs/b-noslip*/"))
                + sorted(glob.glob("reports/validation/convergence/runs/nx*/")))
     drop, relax = drop_points([d.rstrip("/") for d in drops]), relax_points([d.rstrip("/") for d in relaxes])
     for pts in (drop, relax):
