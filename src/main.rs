@@ -960,8 +960,16 @@ fn cmd_report(a: ReportArgs) -> ExitCode {
         return fail(2, e);
     }
     for d in &a.dirs {
-        if !d.join("records.csv").is_file() {
-            return fail(2, format!("{}: no records.csv (not a study output directory)", d.display()));
+        let journal = d.join(sphlab::study::report::JOURNAL);
+        if !d.join("records.csv").is_file() && !journal.is_file() {
+            return fail(
+                2,
+                format!(
+                    "{}: no records.csv nor {} (not a study output directory)",
+                    d.display(),
+                    sphlab::study::report::JOURNAL
+                ),
+            );
         }
     }
     match sphlab::study::report::merge(&a.dirs, &a.out) {

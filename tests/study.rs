@@ -148,6 +148,7 @@ fn budget_is_kept() {
     assert!(md.contains("budget: 20 s; dropped for it (largest first): nx=128"), "{md}");
     assert!(md.contains("Budget 20 s: the study took"), "{md}");
     assert!(!records(&out).is_empty());
+    assert!(!out.join("records.partial.csv").exists(), "a finished study removes its journal");
 }
 
 #[test]

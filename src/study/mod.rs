@@ -419,6 +419,7 @@ fn run_sweep(
             ),
             Err(f) => eprintln!("{} nx={} {}: {}: {}", job.experiment, job.nx, rec.variant, f.status, f.reason),
         }
+        report::journal(&opts.out, std::slice::from_ref(&rec))?;
         out.push(rec);
         est_done += job.est_s;
         spent_done += tj.elapsed().as_secs_f64();
@@ -456,12 +457,17 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
             return Err(format!("--experiments: unknown experiment `{e}` ({})", known.join(", ")));
         }
     }
+    if !opts.dry_run {
+        // A journal left by an earlier study in this directory is not this run's.
+        let _ = std::fs::remove_file(opts.out.join(report::JOURNAL));
+    }
     // The job sweep (e1, e4, scaling); further experiments dispatch below by name.
     let notes = run_sweep(opts, gpu, t0, &mut recs)?;
     if opts.dry_run {
         return Ok(recs);
     }
     for e in opts.experiments.iter().filter(|e| !plan::SWEEP_EXPERIMENTS.contains(&e.as_str())) {
+        let before = recs.len();
         match e.as_str() {
             "e2" | "e3" => match gpu {
                 Some(g) if e == "e2" => e23::run_e2(&opts.e23, opts.protocol.steps, g, &mut recs)?,
@@ -471,6 +477,7 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
             engine_ab::EXPERIMENT => engine_ab::run(opts, gpu, &mut recs)?,
             other => return Err(format!("--experiments: `{other}` has no runner")),
         }
+        report::journal(&opts.out, &recs[before..])?;
     }
     report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes)?;
     Ok(recs)

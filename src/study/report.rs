@@ -56,6 +56,27 @@ fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map_or("-".into(), f)
 }
 
+/// The journal of a running study: every record is appended to it as soon as it exists, so an
+/// interrupted study keeps what it measured (`sphlab report` reads it where `records.csv` is missing).
+/// [`write`] removes it once `records.csv` is written.
+pub const JOURNAL: &str = "records.partial.csv";
+
+/// Appends `recs` to `dir`'s [`JOURNAL`] (with the header when the file is new).
+pub fn journal(dir: &Path, recs: &[Record]) -> Result<(), String> {
+    if recs.is_empty() {
+        return Ok(());
+    }
+    std::fs::create_dir_all(dir).map_err(|x| e(dir, x))?;
+    let p = dir.join(JOURNAL);
+    let f = std::fs::OpenOptions::new().create(true).append(true).open(&p).map_err(|x| e(&p, x))?;
+    let fresh = f.metadata().map_err(|x| e(&p, x))?.len() == 0;
+    let mut w = csv::WriterBuilder::new().has_headers(fresh).from_writer(f);
+    for r in recs {
+        w.serialize(r).map_err(|x| e(&p, x))?;
+    }
+    w.flush().map_err(|x| e(&p, x))
+}
+
 /// Writes every output of the study into `dir` (records annotated first).
 pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &RunNotes) -> Result<(), String> {
     annotate(recs);
@@ -66,6 +87,7 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
         w.serialize(r).map_err(|x| e(&csv_path, x))?;
     }
     w.flush().map_err(|x| e(&csv_path, x))?;
+    let _ = std::fs::remove_file(dir.join(JOURNAL));
     let timed = recs.iter().any(|r| !r.stage_ms.is_empty());
     if timed {
         write_stage_csv(&dir.join("stage_times.csv"), recs)?;
@@ -281,9 +303,14 @@ fn speed_vs_error(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), St
     Ok(())
 }
 
-/// Reads `records.csv` of a study output directory.
+/// Reads `records.csv` of a study output directory, or the [`JOURNAL`] of a study that did not
+/// finish (with a warning).
 pub fn read_records(dir: &Path) -> Result<Vec<Record>, String> {
-    let p = dir.join("records.csv");
+    let mut p = dir.join("records.csv");
+    if !p.exists() && dir.join(JOURNAL).exists() {
+        eprintln!("warning: {}: no records.csv; reading the journal of an unfinished study ({JOURNAL})", dir.display());
+        p = dir.join(JOURNAL);
+    }
     let mut r = csv::Reader::from_path(&p).map_err(|x| e(&p, x))?;
     r.deserialize().map(|x| x.map_err(|err| e(&p, err))).collect()
 }
