@@ -1,6 +1,10 @@
 // neighbours.wgsl: the neighbour loop of the `thread` stages, as an iterator, for the three
 // searches: `DIRECT` defined = every particle under every existing image code (O(N²·images),
-// the order of the CPU lists: code, then index); `TRACKING` defined = the particle's tracking
+// the order of the CPU lists: code, then index), tested DIRECT_CHUNK candidates per loop
+// iteration in straight-line code (lavapipe ends every loop of an invocation group after 65,535
+// iterations in all, gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, silently: one candidate per
+// iteration lost neighbours from ~2,300 particles; the plan refuses direct beyond
+// `plan::gpu::LAVAPIPE_LOOP_CANDIDATES` there); `TRACKING` defined = the particle's tracking
 // candidates (kernels-variants/search/tracking.wgsl) under the exact distance test; otherwise the 3×3 cells around
 // `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*, walked as three
 // contiguous slot ranges of `sorted`, one per row (DualSPHysics' "range" loops; the same order
@@ -22,7 +26,12 @@ struct Nb {
     k: u32,        // row of the 3×3 block (cells)
     cx: i32,
     cy: i32,
+    mask: u32,     // DIRECT: hits of the current chunk not yet returned (bit k = candidate base + k)
+    base: u32,     // DIRECT: flat cursor (code·n + j) of the current chunk's first candidate
 }
+
+// Candidates tested per loop iteration of the direct search.
+const DIRECT_CHUNK: u32 = 8u;
 
 // Cell coordinates of p, clamped to [−2, n+1] like `CellGrid::coords`.
 fn cell_coords(p: real2) -> vec2<i32> {
@@ -48,7 +57,7 @@ fn nb_begin(i: u32, xi: real2) -> Nb {
     it.cur = 0u;
     it.end = 0u;
 #ifdef DIRECT
-    it.end = params.n;
+    it.end = 9u * params.n; // flat cursor: code·n + j over the nine codes
 #else
 #ifdef TRACKING
     it.cur = i * CAND_SLOTS;
@@ -73,20 +82,61 @@ fn nb_next_code(it: ptr<function, Nb>) -> bool {
     return c < 9u;
 }
 
+#ifdef DIRECT
+// Bit k set when candidate `c0 + k` (flat cursor, below `stop`) of code `code` is a neighbour.
+fn direct_hit(xi: real2, code: u32, c0: u32, stop: u32, k: u32) -> u32 {
+    let c = c0 + k;
+    if c >= stop {
+        return 0u;
+    }
+    let d = xi - image_pos(params, code, pos[c - code * params.n]);
+    return select(0u, 1u << k, d.x * d.x + d.y * d.y < params.support2);
+}
+#endif
+
 // Advances to the next neighbour; false at the end.
 fn nb_next(it: ptr<function, Nb>) -> bool {
+#ifdef DIRECT
+    loop {
+        if (*it).mask != 0u {
+            let c = (*it).base + firstTrailingBit((*it).mask);
+            (*it).mask &= (*it).mask - 1u;
+            let code = c / params.n;
+            let j = c - code * params.n;
+            (*it).j = j;
+            (*it).code = code;
+            (*it).xj = image_pos(params, code, pos[j]);
+            return true;
+        }
+        if (*it).cur >= (*it).end {
+            return false;
+        }
+        let code = (*it).cur / params.n;
+        if !image_exists(params, code) {
+            (*it).cur = (code + 1u) * params.n;
+            continue;
+        }
+        // DIRECT_CHUNK candidates of this code, unrolled: one loop iteration for all of them.
+        let c0 = (*it).cur;
+        let stop = min(c0 + DIRECT_CHUNK, (code + 1u) * params.n);
+        let xi = (*it).xi;
+        (*it).mask = direct_hit(xi, code, c0, stop, 0u) | direct_hit(xi, code, c0, stop, 1u)
+            | direct_hit(xi, code, c0, stop, 2u) | direct_hit(xi, code, c0, stop, 3u)
+            | direct_hit(xi, code, c0, stop, 4u) | direct_hit(xi, code, c0, stop, 5u)
+            | direct_hit(xi, code, c0, stop, 6u) | direct_hit(xi, code, c0, stop, 7u);
+        (*it).base = c0;
+        (*it).cur = stop;
+    }
+    return false;
+#else
     loop {
         if (*it).cur < (*it).end {
-#ifdef DIRECT
-            let j = (*it).cur;
-#else
 #ifdef TRACKING
             let e = cand[(*it).cur];
             let j = e & PACK_MASK;
             (*it).code = e >> PACK_SHIFT;
 #else
             let j = sorted[(*it).cur];
-#endif
 #endif
             (*it).cur += 1u;
             let xj = image_pos(params, (*it).code, pos[j]);
@@ -98,13 +148,6 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             }
             continue;
         }
-#ifdef DIRECT
-        if !nb_next_code(it) {
-            return false;
-        }
-        (*it).cur = 0u;
-        (*it).end = params.n;
-#else
 #ifdef TRACKING
         return false;
 #else
@@ -130,7 +173,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
         (*it).cur = cell_start[row + u32(x0)];
         (*it).end = cell_start[row + u32(x1) + 1u];
 #endif
-#endif
     }
     return false;
+#endif
 }

@@ -155,6 +155,9 @@ impl<T: Real> GpuSolver<T> {
         // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
         let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);
         plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
+        let codes = model.images.codes().len() as u64;
+        let driver = format!("{} {}", ctx.adapter_info.name, ctx.adapter_info.driver);
+        crate::plan::gpu::direct_loop_check(&spec, n as u64, codes, &driver).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
         let vb = VBufs::new(&ctx, spec, &model, n)?;

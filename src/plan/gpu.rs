@@ -237,6 +237,38 @@ impl GpuPlan {
     }
 }
 
+/// Loop iterations lavapipe allows one invocation group in all, over every loop of a shader
+/// (Mesa gallivm's `LP_MAX_TGSI_LOOP_ITERATIONS`); past it every loop exits silently.
+pub const LAVAPIPE_LOOP_ITERATIONS: u64 = 65_535;
+
+/// Candidates the direct search tests per loop iteration (`DIRECT_CHUNK` in
+/// kernels-variants/common/neighbours.wgsl).
+pub const DIRECT_CHUNK: u64 = 8;
+
+/// Invocations lavapipe runs in lockstep (256-bit vectors of 32-bit lanes).
+const LAVAPIPE_LANES: u64 = 8;
+
+/// Ok unless `spec` is a direct search on lavapipe (`driver` names llvmpipe) whose loops could
+/// pass its per-group iteration cap: each invocation scans `codes · n` candidates,
+/// `DIRECT_CHUNK` per iteration, plus two iterations per neighbour (up to 64); lanes of a group
+/// that find neighbours at different candidates iterate apart, so the bound takes the group's
+/// worst case, every lane apart. Measured: a one-candidate loop lost neighbours from
+/// 2,304 particles (4 codes) on; the chunked loop is exact at 11,664 (this bound: 16,126).
+pub fn direct_loop_check(spec: &VariantSpec, n: u64, codes: u64, driver: &str) -> Result<(), String> {
+    if spec.search != SearchVariant::Direct || !driver.to_ascii_lowercase().contains("llvmpipe") {
+        return Ok(());
+    }
+    let per_lane = (codes * n).div_ceil(DIRECT_CHUNK) + 2 * 64;
+    let worst = LAVAPIPE_LANES * per_lane;
+    if worst > LAVAPIPE_LOOP_ITERATIONS {
+        let max_n = (LAVAPIPE_LOOP_ITERATIONS / LAVAPIPE_LANES - 2 * 64) * DIRECT_CHUNK / codes.max(1);
+        return Err(format!(
+            "{spec} on lavapipe: the direct search scans {codes} image codes × {n} particles per thread;              lavapipe ends every loop after {LAVAPIPE_LOOP_ITERATIONS} iterations per invocation group              (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS), silently, which would drop neighbours (worst case              {worst} iterations); direct runs there up to {max_n} particles with {codes} codes; use a              cells or tracking variant"
+        ));
+    }
+    Ok(())
+}
+
 /// Bytes per particle of `spec` (the buffers' growth per particle, cells at `cells_per_particle`).
 pub fn bytes_per_particle(spec: &VariantSpec, cells_per_particle: f64) -> f64 {
     let n = 1u64 << 20;
@@ -269,6 +301,19 @@ pub fn max_particles(spec: &VariantSpec, cells_per_particle: f64, lim: &DeviceLi
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn direct_is_refused_on_lavapipe_past_the_loop_cap() {
+        let direct: VariantSpec = "direct.thread.recomputed.f32".parse().unwrap();
+        let cells: VariantSpec = "cells.thread.recomputed.f32".parse().unwrap();
+        let lp = "llvmpipe Mesa 22.3.6 (LLVM 15.0.6)";
+        assert!(direct_loop_check(&direct, 11_664, 4, lp).is_ok());
+        assert!(direct_loop_check(&direct, 16_126, 4, lp).is_ok());
+        let e = direct_loop_check(&direct, 16_127, 4, lp).unwrap_err();
+        assert!(e.contains("65535") && e.contains("16126 particles") && e.contains(&direct.to_string()), "{e}");
+        assert!(direct_loop_check(&direct, 10_000_000, 4, "NVIDIA 580.95").is_ok());
+        assert!(direct_loop_check(&cells, 10_000_000, 4, lp).is_ok());
+    }
 
     #[test]
     fn plan_refuses_with_the_buffer_and_numbers() {
