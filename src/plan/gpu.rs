@@ -263,7 +263,11 @@ pub fn direct_loop_check(spec: &VariantSpec, n: u64, codes: u64, driver: &str) -
     if worst > LAVAPIPE_LOOP_ITERATIONS {
         let max_n = (LAVAPIPE_LOOP_ITERATIONS / LAVAPIPE_LANES - 2 * 64) * DIRECT_CHUNK / codes.max(1);
         return Err(format!(
-            "{spec} on lavapipe: the direct search scans {codes} image codes × {n} particles per thread;              lavapipe ends every loop after {LAVAPIPE_LOOP_ITERATIONS} iterations per invocation group              (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS), silently, which would drop neighbours (worst case              {worst} iterations); direct runs there up to {max_n} particles with {codes} codes; use a              cells or tracking variant"
+            "{spec} on lavapipe: the direct search scans {codes} image codes × {n} particles per thread; \
+             lavapipe ends every loop after {LAVAPIPE_LOOP_ITERATIONS} iterations per invocation group \
+             (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS), silently, which would drop neighbours (worst case \
+             {worst} iterations); direct runs there up to {max_n} particles with {codes} codes; use a \
+             cells or tracking variant"
         ));
     }
     Ok(())
