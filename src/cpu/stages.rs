@@ -124,7 +124,10 @@ fn in_band<T: Real>(m: &Model<T>, y: T) -> bool {
 /// `contact_line`: contact points of the liquid (phase 0) in the first-row band (§8.4 step 2).
 /// For each liquid band particle, its predecessor and successor are the nearest band particles
 /// (images included) on either side among its neighbours; a gas neighbour there makes a contact
-/// point at the midpoint, no neighbour at all a point Δx/2 beyond the particle.
+/// point at the midpoint, no neighbour at all a point Δx/2 beyond the particle. The point lies on
+/// the wall surface (PHYSICS.md §8 ambiguity 2): anchoring the line at the first row's height or
+/// at a particle centre moved relax-60's equilibrium by less than the run-to-run scatter
+/// (`reports/validation/relax-60/anchor-check/README.md`).
 pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
     let half = T::c(0.5);
@@ -308,7 +311,9 @@ fn single_field_gradient<T: Real>(c: &Ctx<T>, colour: &[i32], sigma: &[T], i: us
 
 /// `normal_correction` (Algorithm 1): near the wall (fluid with y − y_w ≤ 1.2Δx, or a typed wall
 /// particle) the gradient towards the other fluid keeps its magnitude and takes the direction
-/// ±n̂_θ of the nearest contact point.
+/// ±n̂_θ of the nearest contact point. The band holds the first row only (ambiguity 3), with no
+/// κh restriction (ambiguity 4); correcting two rows stops relax-60 further from 60°, the
+/// restriction changes nothing measurable (`reports/validation/relax-60/anchor-check/`).
 pub fn normal_correction<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
     if f.contacts.is_empty() {
