@@ -177,7 +177,7 @@ fn fifty_steps_observables_match_cpu() {
 }
 
 /// Fluid positions and velocities of the coarse viscous drop (nx = 16, μ = 0.05) after t = 0.02
-/// at `dt` with the GPU's f64 velocity Verlet (`verlet_drift` keeps v_{n+½} in state0).
+/// at `dt` with the GPU's f64 velocity Verlet (`verlet_drift` keeps v_{n+½} in vel0).
 fn gpu_verlet_state(ctx: &Arc<GpuContext>, dt: f64) -> [Vec<[f64; 2]>; 2] {
     let dts = format!("time.dt={dt}");
     let (s, l) = scene("oscillating-drop", &["domain.nx=16", "time.integrator=\"verlet\"", &dts]);
