@@ -177,7 +177,7 @@ fn fifty_steps_observables_match_cpu() {
 }
 
 /// Fluid positions and velocities of the coarse viscous drop (nx = 16, μ = 0.05) after t = 0.02
-/// at `dt` with the GPU's f64 velocity Verlet (`verlet_drift` keeps v_{n+½} in state0).
+/// at `dt` with the GPU's f64 velocity Verlet (`verlet_drift` keeps v_{n+½} in vel0).
 fn gpu_verlet_state(ctx: &Arc<GpuContext>, dt: f64) -> [Vec<[f64; 2]>; 2] {
     let dts = format!("time.dt={dt}");
     let (s, l) = scene("oscillating-drop", &["domain.nx=16", "time.integrator=\"verlet\"", &dts]);
@@ -264,6 +264,7 @@ fn advance_k_is_one_submit_and_matches_single_steps() {
     for sets in [&[][..], &["time.integrator=verlet"][..]] {
         let (s, l) = scene("oscillating-drop", sets);
         let mut a = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        assert!(a.engine_counters_exclusive(), "the one solver on its context");
         let c0 = a.engine_counters();
         a.advance(8).unwrap();
         a.advance(8).unwrap();
@@ -272,6 +273,10 @@ fn advance_k_is_one_submit_and_matches_single_steps() {
         assert_eq!((c.steps, c.submits, c.readbacks, c.writes), (16, 2, 2, 0), "{sets:?}: {c:?}");
         assert!(c.dispatches >= 16 * 8, "{sets:?}: every stage is dispatched: {c:?}");
         let mut b = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        // The counters' contract (gpu::counters): with two solvers alive on one context neither
+        // count is a solver's own, and the Backend reports none rather than shared ones.
+        assert!(!a.engine_counters_exclusive() && !b.engine_counters_exclusive(), "two solvers on one context");
+        assert!(Backend::engine_counters(&a).is_none() && Backend::engine_counters(&b).is_none());
         let c0 = b.engine_counters();
         for _ in 0..16 {
             b.step().unwrap();
@@ -281,6 +286,9 @@ fn advance_k_is_one_submit_and_matches_single_steps() {
         let (fa, fb) = (a.frame(), b.frame());
         assert_eq!((fa.step, fa.t), (16, fb.t));
         assert!((fa.pos, fa.vel, fa.acc) == (fb.pos, fb.vel, fb.acc), "{sets:?}: advance(8) ≠ 8 × step()");
+        drop((a, b));
+        let c = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        assert!(Backend::engine_counters(&c).is_some(), "alone again once the others are dropped");
     }
 }
 

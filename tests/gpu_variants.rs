@@ -210,7 +210,8 @@ fn neighbour_overflow_is_reported() {
 /// fluid particles are numbered in reverse lattice order, with a support where every particle
 /// has more than 64 neighbours, the particle `evaluate_once` reports (the first evaluation
 /// renumbers) is the one at device index 0 (the lowest overflowing one), mapped back: not 0.
-/// A failing `advance` reports the step and a particle, and the message says both.
+/// A failing `advance` reports the step, a particle and the number of overflowing particles
+/// (not particle-evaluations), and the message says the step and the particle.
 #[test]
 fn neighbour_overflow_names_the_original_particle() {
     let _g = serial();
@@ -243,8 +244,13 @@ fn neighbour_overflow_names_the_original_particle() {
     let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
     let e = g.advance(4).expect_err("the first step overflows");
     println!("advance(4): {e}");
-    let SolverError::NeighbourOverflow { step: 1, particle: Some(p), .. } = e else { panic!("{e}") };
+    let SolverError::NeighbourOverflow { step: 1, particle: Some(p), particles, .. } = e else { panic!("{e}") };
     assert!(over.contains(&p) && e.to_string().starts_with("step 1: "), "{e}");
+    // Several evaluations ran before the one readback (the device halts its integrators, not
+    // its evaluations): the count is of particles (the most in one evaluation), never the sum
+    // of the evaluations' counts.
+    assert!(particles <= l.pos.len(), "{particles} overflowing of {} particles: a sum over evaluations", l.pos.len());
+    assert_eq!(particles, over.len(), "the overflowing particles, once each");
 }
 
 /// GPU tracking lists rebuild on the CPU's schedule (first evaluation, every 20, or after a

@@ -13,23 +13,25 @@
 @group(0) @binding(1) var<storage, read_write> pos: array<real2>;
 @group(0) @binding(2) var<storage, read_write> vel: array<real2>;
 @group(0) @binding(3) var<storage, read_write> phase: array<u32>;
-@group(0) @binding(4) var<storage, read_write> state0: array<real2>;   // r⁰ (0..n), v⁰ (n..2n)
-@group(0) @binding(5) var<storage, read_write> sigma: array<real>;
-@group(0) @binding(6) var<storage, read_write> chi: array<real>;
-@group(0) @binding(7) var<storage, read_write> mass: array<real>;
-@group(0) @binding(8) var<storage, read_write> colour: array<i32>;
-@group(0) @binding(9) var<storage, read_write> rho: array<real>;
-@group(0) @binding(10) var<storage, read_write> pres: array<real>;
-@group(0) @binding(11) var<storage, read_write> grad: array<real2>;    // slot s of i at 2i + s
-@group(0) @binding(12) var<storage, read_write> pi: array<real2>;      // (Π_xx, Π_xy)
-@group(0) @binding(13) var<storage, read_write> acc: array<real2>;
-@group(0) @binding(14) var<storage, read_write> vt: array<real2>;
-@group(0) @binding(15) var<storage, read_write> contacts: array<real>; // (x, y, s, 0) × 32
-@group(0) @binding(16) var<storage, read_write> ctl: array<atomic<u32>>;
-@group(0) @binding(17) var<storage, read_write> cell_counts: array<atomic<u32>>;
-@group(0) @binding(18) var<storage, read_write> cell_start: array<u32>;
-@group(0) @binding(19) var<storage, read_write> sorted: array<u32>;
-@group(0) @binding(20) var<storage, read_write> cell_of: array<u32>;
+@group(0) @binding(4) var<storage, read_write> pos0: array<real2>;    // r⁰ of the midpoint step
+@group(0) @binding(5) var<storage, read_write> vel0: array<real2>;    // v⁰ (midpoint), v_{n+½} (Verlet)
+@group(0) @binding(6) var<storage, read_write> sigma: array<real>;
+@group(0) @binding(7) var<storage, read_write> chi: array<real>;
+@group(0) @binding(8) var<storage, read_write> mass: array<real>;
+@group(0) @binding(9) var<storage, read_write> colour: array<i32>;
+@group(0) @binding(10) var<storage, read_write> rho: array<real>;
+@group(0) @binding(11) var<storage, read_write> pres: array<real>;
+@group(0) @binding(12) var<storage, read_write> grad0: array<real2>;  // ∇C slot 0 of each particle
+@group(0) @binding(13) var<storage, read_write> grad1: array<real2>;  // ∇C slot 1
+@group(0) @binding(14) var<storage, read_write> pi: array<real2>;      // (Π_xx, Π_xy)
+@group(0) @binding(15) var<storage, read_write> acc: array<real2>;
+@group(0) @binding(16) var<storage, read_write> vt: array<real2>;
+@group(0) @binding(17) var<storage, read_write> contacts: array<real>; // (x, y, s, 0) × 32
+@group(0) @binding(18) var<storage, read_write> ctl: array<atomic<u32>>;
+@group(0) @binding(19) var<storage, read_write> cell_counts: array<atomic<u32>>;
+@group(0) @binding(20) var<storage, read_write> cell_start: array<u32>;
+@group(0) @binding(21) var<storage, read_write> sorted: array<u32>;
+@group(0) @binding(22) var<storage, read_write> cell_of: array<u32>;
 
 // Words of `ctl` (twin of `CTL_*` in src/gpu/solver_buffers.rs).
 const CTL_CONTACTS_FOUND: u32 = 0u; // points found in the last contact_line (may exceed 32)
@@ -41,6 +43,15 @@ const CTL_AMAX: u32 = 5u;           // f32 bits of max |a| (fluids)
 const CTL_CONTACTS_MAX: u32 = 6u;   // largest contact count seen since the last read
 const CTL_STEP: u32 = 7u;           // device clock: steps completed (src/gpu/clock.rs)
 const CTL_OVER_STEP: u32 = 8u;      // first step whose evaluations overflowed (0xFFFFFFFF: none)
+
+// Colour-gradient slot s (0 or 1) of particle i: one binding per slot, so neither passes the
+// storage-binding cap before the per-particle vec2 arrays do (src/plan/gpu.rs).
+fn grad_at(i: u32, s: u32) -> real2 {
+    if s == 0u {
+        return grad0[i];
+    }
+    return grad1[i];
+}
 
 // Index of the contact point nearest to r (first in x order on ties), or −1 when there is none.
 fn nearest_contact(r: real2) -> i32 {

@@ -124,8 +124,8 @@ fn grad_pair(k: i32, kp: KernelParams, p: Pair) -> Grad2 {
 }
 
 fn grad_out(i: u32, g: Grad2) {
-    grad[2u * i] = g.g0 * sigma[i];
-    grad[2u * i + 1u] = g.g1 * sigma[i];
+    grad0[i] = g.g0 * sigma[i];
+    grad1[i] = g.g1 * sigma[i];
 }
 
 // acceleration: what the pair terms need to know about particle i.

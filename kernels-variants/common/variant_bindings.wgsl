@@ -23,9 +23,9 @@ const PACK_SHIFT: u32 = 28u;  // twin of neighbours::IMAGE_SHIFT
 const PACK_MASK: u32 = 0x0FFFFFFFu;
 
 // Words of `vctl` (twin of `vctl::*` in src/gpu/variant_buffers.rs).
-const V_NBR_OVER: u32 = 0u;   // particles with more than NBR_SLOTS neighbours (sticky until read)
+const V_NBR_OVER: u32 = 0u;   // most particles over NBR_SLOTS neighbours in one evaluation (sticky until read)
 const V_NBR_MAX: u32 = 1u;    // largest neighbour count seen
-const V_CAND_OVER: u32 = 2u;  // particles with more than CAND_SLOTS candidates
+const V_CAND_OVER: u32 = 2u;  // most particles over CAND_SLOTS candidates in one evaluation (sticky until read)
 const V_CAND_MAX: u32 = 3u;   // largest candidate count seen
 const V_REBUILD: u32 = 4u;    // 1: rebuild the tracking lists in this evaluation
 const V_SINCE: u32 = 5u;      // evaluations since the last build
@@ -35,6 +35,7 @@ const V_EVERY: u32 = 8u;      // rebuild at least every this many evaluations (h
 const V_FIXED_OVER: u32 = 9u; // fixed-point terms beyond the representable range
 const V_CAND_STALE: u32 = 10u; // particles whose current candidate list overflowed (until the next build)
 const V_OVER_FIRST: u32 = 11u; // lowest device index whose list overflowed while the device ran (0xFFFFFFFF: none)
+const V_NBR_EVAL: u32 = 12u;  // particles over NBR_SLOTS in this evaluation (nbr_fold moves it into V_NBR_OVER)
 
 // Entries of `vparams` (twin of `vparam::*`).
 const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)

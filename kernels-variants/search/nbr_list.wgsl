@@ -3,7 +3,9 @@
 // evaluation from the variant's search (direct, cells or tracking candidates, through
 // common/neighbours.wgsl) after the search kernels ran. counts[i] = neighbour count (may exceed
 // 64: the particle is then counted in vctl, the lowest such index noted, and the host reports
-// `NeighbourOverflow` with that particle; no entry
+// `NeighbourOverflow` with that particle and the most particles that overflowed in one
+// evaluation — a count of particles, not of particle-evaluations: `nbr_fold` keeps the
+// maximum of the per-evaluation counts; no entry
 // beyond slot 63 is written and the stages read min(count, 64), so numbers from an overflowing
 // evaluation are never returned as valid). With `CACHED` the kernel values W_ij, F'(r_ij) and
 // the image position x_j are stored per slot; they stay valid for this evaluation (positions do not change until
@@ -38,8 +40,15 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
     counts[i] = count;
     if count > NBR_SLOTS {
-        atomicAdd(&vctl[V_NBR_OVER], 1u);
+        atomicAdd(&vctl[V_NBR_EVAL], 1u);
         atomicMax(&vctl[V_NBR_MAX], count);
         note_overflow(i);
     }
+}
+
+// One thread, after `nbr_build`: this evaluation's overflowing particles into the maximum.
+@compute @workgroup_size(1)
+fn nbr_fold() {
+    atomicMax(&vctl[V_NBR_OVER], atomicLoad(&vctl[V_NBR_EVAL]));
+    atomicStore(&vctl[V_NBR_EVAL], 0u);
 }

@@ -2,25 +2,26 @@
 // (so `sorted` and `cell_of` describe the current positions), every `EVERY` evaluations (and,
 // with `TRACKING`, exactly when the tracking lists are rebuilt, which they are next in this
 // stage) the fluid particles are renumbered in cell order and every per-particle array that
-// persists across stages (pos, vel, phase, colour, mass, vt, acc, state0's r⁰ and v⁰) is
+// persists across stages (pos, vel, phase, colour, mass, vt, acc, the step's start r⁰ and v⁰) is
 // gathered into scratch and put back, two vec2 per particle at a time. Fluids stay in
 // 0..n_fluid among themselves; walls are static and keep their indices. Within a cell `sorted`
 // lists fluids first (it is sorted by index), so the new index of the fluid in slot s of cell c
 // is s − (walls in cells < c): the per-cell wall prefix `wall_before` is computed once (walls
-// never move) at the first reorder. `orig_of[new]` keeps the permutation for the host
+// never move) at the first reorder. `orig_of(new)` keeps the permutation for the host
 // (`gpu::reorder`), which maps everything it reads or writes back to the original order.
 // Per-evaluation fields (σ, χ, ρ, p, ∇C, Π, lists, candidates, accumulators) are recomputed
 // after this point, so they do not move, and two of them are the scratch: `counts` (2n words:
-// the source index of each new index, then the gathered `orig_of`) and `grad` (2n vec2: two
-// gathered vec2 fields; zeroed at the end, as it is where no colour gradient is computed).
-// Twin of `gpu::reorder::{R_*, RBufs}` (group 2, bound only by these pipelines).
+// the source index of each new index, then the gathered `orig_of`) and `grad0`, `grad1` (n vec2
+// each: two gathered vec2 fields; zeroed at the end, as they are where no colour gradient is
+// computed). Twin of `gpu::reorder::{R_*, RBufs}` (group 2, bound only by these pipelines).
+
+
 
 #import common/variant_bindings
 
-// Two buffers only: the reorder pipelines bind groups 0, 1 and 2, and lavapipe allows 32
-// storage buffers per stage.
-@group(2) @binding(0) var<storage, read_write> rctl: array<atomic<u32>>; // R_* words, then wall_before (cells + 1)
-@group(2) @binding(1) var<storage, read_write> orig_of: array<u32>;      // device index → original (n)
+// One buffer: the reorder pipelines bind groups 0, 1 and 2, and lavapipe allows 32 storage
+// buffers per stage (22 + 9 + 1).
+@group(2) @binding(0) var<storage, read_write> rctl: array<atomic<u32>>; // R_* words, wall_before (cells + 1), orig_of (n)
 
 // Words of `rctl` (twin of `gpu::reorder::R_*`).
 const R_NOW: u32 = 0u;         // 1: renumber in this evaluation
@@ -29,6 +30,11 @@ const R_EVERY: u32 = 2u;       // renumber every this many evaluations (0: never
 const R_COUNT: u32 = 3u;       // renumberings so far
 const R_WALLS_READY: u32 = 4u; // 1 once `wall_before` holds the prefix
 const R_WALL_BEFORE: u32 = 8u; // rctl[R_WALL_BEFORE + c]: walls in cells < c (after the scan)
+
+// Word of `rctl` holding orig_of[d] (device index d → original index), after the wall prefix.
+fn orig_word(d: u32) -> u32 {
+    return R_WALL_BEFORE + params.grid_nx * params.grid_ny + 1u + d;
+}
 
 // The scratch in `counts` (module comment).
 fn src_at(d: u32) -> u32 {           // old device index of new index d (n_fluid)
@@ -110,7 +116,7 @@ fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     sorted[s] = d;
 }
 
-// Gather (into `grad[d]`, `grad[nf + d]`) and put back, one pair of fields at a time.
+// Gather (into `grad0[d]`, `grad1[d]`) and put back, one pair of fields at a time.
 fn gather_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     let d = linear_id(gid, nwg);
     if d >= params.n_fluid || !now() {
@@ -126,9 +132,9 @@ fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
         return;
     }
     let o = counts[src_at(d)];
-    grad[d] = pos[o];
-    grad[params.n_fluid + d] = vel[o];
-    counts[orig_tmp_at(d)] = orig_of[o];
+    grad0[d] = pos[o];
+    grad1[d] = vel[o];
+    counts[orig_tmp_at(d)] = atomicLoad(&rctl[orig_word(o)]);
 }
 
 @compute @workgroup_size(64)
@@ -137,9 +143,9 @@ fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
     if d == 0xffffffffu {
         return;
     }
-    pos[d] = grad[d];
-    vel[d] = grad[params.n_fluid + d];
-    orig_of[d] = counts[orig_tmp_at(d)];
+    pos[d] = grad0[d];
+    vel[d] = grad1[d];
+    atomicStore(&rctl[orig_word(d)], counts[orig_tmp_at(d)]);
 }
 
 // Mass, phase and colour (small integers: exact as reals).
@@ -150,8 +156,8 @@ fn reorder_gather_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(n
         return;
     }
     let o = counts[src_at(d)];
-    grad[d] = real2(mass[o], real(phase[o]));
-    grad[params.n_fluid + d] = real2(real(colour[o]), real(0.0));
+    grad0[d] = real2(mass[o], real(phase[o]));
+    grad1[d] = real2(real(colour[o]), real(0.0));
 }
 
 @compute @workgroup_size(64)
@@ -160,9 +166,9 @@ fn reorder_put_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     if d == 0xffffffffu {
         return;
     }
-    mass[d] = grad[d].x;
-    phase[d] = u32(grad[d].y);
-    colour[d] = i32(grad[params.n_fluid + d].x);
+    mass[d] = grad0[d].x;
+    phase[d] = u32(grad0[d].y);
+    colour[d] = i32(grad1[d].x);
 }
 
 // ṽ and a.
@@ -173,8 +179,8 @@ fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
         return;
     }
     let o = counts[src_at(d)];
-    grad[d] = vt[o];
-    grad[params.n_fluid + d] = acc[o];
+    grad0[d] = vt[o];
+    grad1[d] = acc[o];
 }
 
 @compute @workgroup_size(64)
@@ -183,8 +189,8 @@ fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
     if d == 0xffffffffu {
         return;
     }
-    vt[d] = grad[d];
-    acc[d] = grad[params.n_fluid + d];
+    vt[d] = grad0[d];
+    acc[d] = grad1[d];
 }
 
 // The midpoint start state r⁰, v⁰ (live between predict and correct; Verlet's v_{n+½}), then
@@ -196,8 +202,8 @@ fn reorder_gather_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
         return;
     }
     let o = counts[src_at(d)];
-    grad[d] = state0[o];
-    grad[params.n_fluid + d] = state0[params.n + o];
+    grad0[d] = pos0[o];
+    grad1[d] = vel0[o];
 }
 
 @compute @workgroup_size(64)
@@ -206,8 +212,8 @@ fn reorder_put_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
     if d == 0xffffffffu {
         return;
     }
-    state0[d] = grad[d];
-    state0[params.n + d] = grad[params.n_fluid + d];
-    grad[d] = real2(real(0.0));
-    grad[params.n_fluid + d] = real2(real(0.0));
+    pos0[d] = grad0[d];
+    vel0[d] = grad1[d];
+    grad0[d] = real2(real(0.0));
+    grad1[d] = real2(real(0.0));
 }

@@ -10,7 +10,8 @@
 // PERF: the cell sort of search/cell_*.wgsl still runs every evaluation (cheap next to the
 // pair stages); indirect dispatch could skip it too. Candidates beyond CAND_SLOTS are counted
 // in vctl and reported as `NeighbourOverflow` by the host, never dropped silently; the
-// truncated lists stay flagged (V_CAND_STALE) for every evaluation until the next build.
+// truncated lists stay flagged (V_CAND_STALE: particles, counted by the build) for every
+// evaluation until the next build, and `track_clear` keeps their most in V_CAND_OVER.
 
 #import common/neighbours
 
@@ -94,7 +95,6 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     counts[params.n + i] = count;
     ref_pos[i] = xi;
     if count > CAND_SLOTS {
-        atomicAdd(&vctl[V_CAND_OVER], 1u);
         atomicAdd(&vctl[V_CAND_STALE], 1u);
         atomicMax(&vctl[V_CAND_MAX], count);
         note_overflow(i);
@@ -103,5 +103,6 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 
 @compute @workgroup_size(1)
 fn track_clear() {
+    atomicMax(&vctl[V_CAND_OVER], atomicLoad(&vctl[V_CAND_STALE]));
     atomicStore(&vctl[V_REBUILD], 0u);
 }

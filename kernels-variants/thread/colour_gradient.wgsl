@@ -1,6 +1,6 @@
 // colour_gradient.wgsl (thread mapping): T71, for each coloured particle
 // σ_i Σ_{j of colour l} ∇_iW_ij/σ_j² towards every other colour l with σ^{kl} > 0, by slot
-// (grad[2i + slot]). The pair term and the output are common/pair_terms.wgsl's, as in every
+// (grad0[i], grad1[i]). The pair term and the output are common/pair_terms.wgsl's, as in every
 // mapping. Twin of `cpu::stages::colour_gradient`.
 
 #import common/neighbours

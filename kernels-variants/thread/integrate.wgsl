@@ -1,7 +1,7 @@
 // integrate.wgsl (thread mapping): the integrator stages of §7.2 on fluid particles, each
 // followed by the mirror/periodic boundary fix (`boundary_axis` of shaders/geometry.wgsl):
 // `midpoint_predict` (saves r⁰, v⁰), `midpoint_correct`, `verlet_drift` (kick + drift, saves
-// v_{n+½} in state0[n..]), `verlet_kick`; plus `check` (the FIRST bad particle and step, kept in `ctl` until read back)
+// v_{n+½} in vel0), `verlet_kick`; plus `check` (the FIRST bad particle and step, kept in `ctl` until read back)
 // and `reduce_max` (max |v|, |a| as f32 bits: workgroup reduction, then one u32 atomicMax per
 // workgroup, for the adaptive dt).
 //
@@ -46,8 +46,8 @@ fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     if i >= params.n_fluid || halted() {
         return;
     }
-    state0[i] = pos[i];
-    state0[params.n + i] = vel[i];
+    pos0[i] = pos[i];
+    vel0[i] = vel[i];
     let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
     store_fixed(i, s.r, s.v);
 }
@@ -58,7 +58,7 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     if i >= params.n_fluid || halted() {
         return;
     }
-    let s = integrate_correct(state0[i], state0[params.n + i], vt[i], acc[i], clock_dt());
+    let s = integrate_correct(pos0[i], vel0[i], vt[i], acc[i], clock_dt());
     store_fixed(i, s.r, s.v);
 }
 
@@ -71,7 +71,7 @@ fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     let v0 = vel[i];
     let vh = integrate_kick(v0, acc[i], clock_dt());
     let r = integrate_drift(pos[i], vh + (vt[i] - v0), clock_dt());
-    // v_{n+½} (with the same mirror fix) waits in state0[n + i] for the closing kick; the
+    // v_{n+½} (with the same mirror fix) waits in vel0[i] for the closing kick; the
     // evaluation sees the predicted v_n + dt·a_n (second order with viscosity, as the CPU's).
     var x = r.x;
     var y = r.y;
@@ -79,7 +79,7 @@ fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     var hy = vh.y;
     boundary_axis(params, 0u, params.lo_x, params.hi_x, &x, &hx);
     boundary_axis(params, 2u, params.lo_y, params.hi_y, &y, &hy);
-    state0[params.n + i] = real2(hx, hy);
+    vel0[i] = real2(hx, hy);
     store_fixed(i, r, integrate_kick(vh, acc[i], clock_dt()));
 }
 
@@ -91,7 +91,7 @@ fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
     // The transport velocity follows the kick (ṽ − v keeps the evaluation's XSPH correction for
     // the next drift), as in the CPU reference's Verlet.
-    let vn = integrate_kick(state0[params.n + i], acc[i], clock_dt());
+    let vn = integrate_kick(vel0[i], acc[i], clock_dt());
     vt[i] = vt[i] + (vn - vel[i]);
     store_fixed(i, pos[i], vn);
 }

@@ -14,7 +14,7 @@ fn normal_correction(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
         return;
     }
     let k = colour[i];
-    let g = grad[2u * i];
+    let g = grad0[i];
     if !(k == 0 || k == 1) || g.x * g.x + g.y * g.y == real(0.0) {
         return;
     }
@@ -25,5 +25,5 @@ fn normal_correction(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
     if cp < 0 {
         return;
     }
-    grad[2u * i] = corrected_normal(g, contact_normal_of(cp), k == 0);
+    grad0[i] = corrected_normal(g, contact_normal_of(cp), k == 0);
 }

@@ -16,7 +16,7 @@ fn surface_stress(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
         for (var slot = 0; slot < 2; slot++) {
             let l = select(slot + 1, slot, slot < k);
             if l < 3 {
-                t = sym2_add(t, stress_tensor(grad[2u * i + u32(slot)], params_sigma(params, k, l)));
+                t = sym2_add(t, stress_tensor(grad_at(i, u32(slot)), params_sigma(params, k, l)));
             }
         }
     }

@@ -88,12 +88,7 @@ pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError
         usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sphlab.bandwidth.staging"),
-        size: qbytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let staging = super::staging::staging_buffer(ctx, "sphlab.bandwidth.staging", qbytes);
     let (gx, gy) = spread((bytes / 16).div_ceil(64) as usize, ctx.limits.max_compute_workgroups_per_dimension);
     ctx.scoped(|d| {
         let mut enc = d.create_command_encoder(&Default::default());
@@ -115,19 +110,8 @@ pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError
         enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, qbytes);
         ctx.queue.submit([enc.finish()]);
     })?;
-    let (tx, rx) = std::sync::mpsc::channel();
-    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.wait_idle()?;
-    rx.recv()
-        .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let ticks: Vec<u64> = {
-        let view = staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
-        bytemuck::pod_collect_to_vec(&view[..])
-    };
-    staging.unmap();
+    ctx.traffic.submit();
+    let ticks: Vec<u64> = super::staging::map_read(ctx, &staging, qbytes)?;
     let period = ctx.queue.get_timestamp_period() as f64;
     let best_ns = (1..passes as usize)
         .map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period)

@@ -2,7 +2,7 @@
 //! and [`Uniform<T>`]. `T` is a `bytemuck::Pod` type whose layout matches its WGSL twin.
 //!
 //! Read back copies into a fresh `MAP_READ` staging buffer, maps it and waits on the device
-//! (`poll(wait_indefinitely)`), so it is a synchronisation point; the solver reads back only
+//! ([`super::staging`]), so it is a synchronisation point; the solver reads back only
 //! for checks and output. `fill` writes a sentinel (f32 NaN bits, `u32::MAX`) so a shader that
 //! forgets to write an element is caught by the comparison (wgpu tests, ARCHITECTURE.md ladder 3).
 
@@ -96,36 +96,16 @@ impl<T: Pod> GpuVec<T> {
 
     /// Copies the buffer back to the host (submits, maps and waits).
     pub fn read_back(&self, ctx: &GpuContext) -> Result<Vec<T>, GpuError> {
-        let bytes = self.bytes();
-        if bytes == 0 {
-            return Ok(Vec::new());
-        }
-        let size = bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-        let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sphlab.readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(&self.buffer, 0, &staging, 0, size);
-        ctx.queue.submit([enc.finish()]);
-        ctx.traffic.submit();
-        ctx.traffic.readback();
-        let (tx, rx) = std::sync::mpsc::channel();
-        staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait_idle()?;
-        rx.recv()
-            .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let out = {
-            let view = staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
-            bytemuck::pod_collect_to_vec(&view[..bytes as usize])
-        };
-        staging.unmap();
-        Ok(out)
+        self.read_range(ctx, 0, self.len)
+    }
+
+    /// Copies `len` elements from element `start` back to the host (clamped to the buffer; one
+    /// submission, one readback: [`super::staging::read_range`]).
+    pub fn read_range(&self, ctx: &GpuContext, start: usize, len: usize) -> Result<Vec<T>, GpuError> {
+        let start = start.min(self.len);
+        let len = len.min(self.len - start);
+        let size = size_of::<T>() as u64;
+        super::staging::read_range(ctx, &self.buffer, start as u64 * size, len as u64 * size)
     }
 }
 

@@ -54,12 +54,7 @@ impl ControlReader {
     /// A staging buffer for a solver in precision `T`.
     pub fn new<T: Real>(ctx: &GpuContext) -> Self {
         let real = size_of::<T>() as u64;
-        let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sphlab.control.staging"),
-            size: CLOCK_AT + CLOCK_LEN as u64 * real,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let staging = super::staging::staging_buffer(ctx, "sphlab.control.staging", CLOCK_AT + CLOCK_LEN as u64 * real);
         Self { staging, real }
     }
 
@@ -73,29 +68,16 @@ impl ControlReader {
 
     /// Maps the staging buffer (after the submission that recorded the copies) and decodes it.
     pub fn read<T: Real>(&self, ctx: &GpuContext) -> Result<Control, GpuError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait_idle()?;
-        ctx.traffic.readback();
-        rx.recv()
-            .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let c = {
-            let view = self.staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
-            let words =
-                |from: u64, to: u64| -> Vec<u32> { bytemuck::pod_collect_to_vec(&view[from as usize..to as usize]) };
-            let clock: Vec<T> = bytemuck::pod_collect_to_vec(&view[CLOCK_AT as usize..]);
-            Control {
-                ctl: words(0, CTL_BYTES),
-                vctl: words(CTL_BYTES, CLOCK_AT),
-                dt: clock[0].f64(),
-                t: clock[1].f64() + clock[2].f64(),
-            }
-        };
-        self.staging.unmap();
-        Ok(c)
+        let bytes: Vec<u8> = super::staging::map_read(ctx, &self.staging, CLOCK_AT + CLOCK_LEN as u64 * self.real)?;
+        let words =
+            |from: u64, to: u64| -> Vec<u32> { bytemuck::pod_collect_to_vec(&bytes[from as usize..to as usize]) };
+        let clock: Vec<T> = bytemuck::pod_collect_to_vec(&bytes[CLOCK_AT as usize..]);
+        Ok(Control {
+            ctl: words(0, CTL_BYTES),
+            vctl: words(CTL_BYTES, CLOCK_AT),
+            dt: clock[0].f64(),
+            t: clock[1].f64() + clock[2].f64(),
+        })
     }
 }
 

@@ -17,6 +17,7 @@ pub mod residency;
 pub mod solver;
 pub mod solver_buffers;
 pub mod stages;
+pub mod staging;
 pub mod timing;
 pub mod variant;
 pub mod variant_buffers;

@@ -49,8 +49,10 @@ impl<T: Real> GpuSolver<T> {
         b.colour.upload(ctx, &to_device(&f.colour, 1, &o))?;
         b.rho.upload(ctx, &to_device(&f.rho, 1, &o))?;
         b.p.upload(ctx, &to_device(&f.p, 1, &o))?;
-        let grad: Vec<V2<T>> = f.grad.iter().flat_map(|g| [g[0], g[1]]).collect();
-        b.grad.upload(ctx, &to_device(&grad, 2, &o))?;
+        for (s, slot) in [&b.grad0, &b.grad1].into_iter().enumerate() {
+            let g: Vec<V2<T>> = f.grad.iter().map(|g| g[s]).collect();
+            slot.upload(ctx, &to_device(&g, 1, &o))?;
+        }
         let pi: Vec<V2<T>> = f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect();
         b.pi.upload(ctx, &to_device(&pi, 1, &o))?;
         b.acc.upload(ctx, &to_device(&f.acc, 1, &o))?;
@@ -65,7 +67,10 @@ impl<T: Real> GpuSolver<T> {
                 Field::Mass => b.mass.fill(ctx, nan)?,
                 Field::Rho => b.rho.fill(ctx, nan)?,
                 Field::P => b.p.fill(ctx, nan)?,
-                Field::Grad => b.grad.fill(ctx, nan2)?,
+                Field::Grad => {
+                    b.grad0.fill(ctx, nan2)?;
+                    b.grad1.fill(ctx, nan2)?
+                }
                 Field::Pi => b.pi.fill(ctx, nan2)?,
                 Field::Acc => b.acc.fill(ctx, nan2)?,
                 Field::Vt => b.vt.fill(ctx, nan2)?,
@@ -112,7 +117,7 @@ impl<T: Real> GpuSolver<T> {
         let raw = b.contacts.read_back(ctx)?;
         let kept = (w[ctl::CONTACTS] as usize).min(MAX_CONTACTS);
         let o = self.device_order()?;
-        let grad = to_original(b.grad.read_back(ctx)?, 2, &o);
+        let (g0, g1) = (to_original(b.grad0.read_back(ctx)?, 1, &o), to_original(b.grad1.read_back(ctx)?, 1, &o));
         Ok(Fields {
             sigma: to_original(b.sigma.read_back(ctx)?, 1, &o),
             chi: to_original(b.chi.read_back(ctx)?, 1, &o),
@@ -120,7 +125,7 @@ impl<T: Real> GpuSolver<T> {
             colour: to_original(b.colour.read_back(ctx)?, 1, &o),
             rho: to_original(b.rho.read_back(ctx)?, 1, &o),
             p: to_original(b.p.read_back(ctx)?, 1, &o),
-            grad: grad.chunks(2).map(|g| [g[0], g[1]]).collect(),
+            grad: g0.into_iter().zip(g1).map(|(a, c)| [a, c]).collect(),
             pi: to_original(b.pi.read_back(ctx)?, 1, &o).iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
             acc: to_original(b.acc.read_back(ctx)?, 1, &o),
             vt: to_original(b.vt.read_back(ctx)?, 1, &o),

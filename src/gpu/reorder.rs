@@ -1,8 +1,10 @@
 //! Cell-ordered particles (twin of `kernels-variants/search/reorder.wgsl`, bind group 2, bound
-//! only by the reorder pipelines): the control words with the per-cell wall prefix and the
-//! device permutation `orig_of[device]` (the gathers' scratch is `counts` and `grad`, free at
-//! that point of an evaluation), plus the host side of the permutation. The direct search never
-//! renumbers: it allocates one-word stand-ins and its permutation is the identity. The device renumbers the fluid particles in cell order every
+//! only by the reorder pipelines): ONE buffer holding the control words, the per-cell wall
+//! prefix and the device permutation `orig_of[device]` (one binding: with the state's 22 and the
+//! variant's 9 that is lavapipe's 32 per stage; the gathers' scratch is `counts`, `grad0` and
+//! `grad1`, free at that point of an evaluation), plus the host side of the permutation. The
+//! direct search never renumbers: it allocates the control words alone and its permutation is
+//! the identity. The device renumbers the fluid particles in cell order every
 //! [`RBufs::set_every`] evaluations (tracking variants: whenever their lists are rebuilt) inside
 //! `neighbour_search`; walls keep their indices. Everything the host reads or writes goes
 //! through [`to_original`] / [`to_device`], so outputs, snapshots, `verify` and the CPU
@@ -26,30 +28,30 @@ pub mod rctl {
     pub const COUNT: usize = 3;
     /// 1 once the per-cell wall prefix is computed.
     pub const WALLS_READY: usize = 4;
-    /// Control words; the per-cell wall prefix (cells + 1 words) follows.
+    /// Control words; the per-cell wall prefix (cells + 1 words) and `orig_of` (n) follow.
     pub const LEN: usize = 8;
 }
 
-/// Storage buffers of group 2 (two: with groups 0 and 1 that is 31 of lavapipe's 32 per stage).
-pub const N_RSTORAGE: u32 = 2;
+/// Storage buffers of group 2 (one: with groups 0 and 1 that is 32, lavapipe's per-stage maximum).
+pub const N_RSTORAGE: u32 = 1;
 
-/// Elements of (`reorder_ctl`, `reorder_idx`) for `n` particles on `cells` cells; one-word
-/// stand-ins (the control words alone) when the search never renumbers. The memory plan's twin.
-pub fn lens(renumbers: bool, n: usize, cells: usize) -> (usize, usize) {
+/// Words of the `reorder` buffer for `n` particles on `cells` cells: the control words, the
+/// wall prefix (cells + 1) and `orig_of` (n); the control words alone when the search never
+/// renumbers. The memory plan's twin.
+pub fn len(renumbers: bool, n: usize, cells: usize) -> usize {
     if renumbers {
-        (rctl::LEN + cells + 1, n.max(1))
+        rctl::LEN + cells + 1 + n
     } else {
-        (rctl::LEN, 1)
+        rctl::LEN
     }
 }
 
-/// The group-2 buffers.
+/// The group-2 buffer.
 pub struct RBufs<T: Real> {
-    /// Control words ([`rctl`]), then the per-cell wall prefix.
-    pub rctl: GpuVec<u32>,
-    /// `orig_of` (n).
-    pub ridx: GpuVec<u32>,
+    /// Control words ([`rctl`]), the per-cell wall prefix, `orig_of`.
+    pub buf: GpuVec<u32>,
     n: usize,
+    cells: usize,
     renumbers: bool,
     _real: std::marker::PhantomData<T>,
 }
@@ -58,17 +60,20 @@ impl<T: Real> RBufs<T> {
     /// Allocates the permutation (identity) of `n` particles on a grid of `cells` cells when the
     /// search `renumbers` (stand-ins otherwise); renumbering every `every` evaluations (0: never).
     pub fn new(ctx: &GpuContext, n: usize, cells: usize, every: u32, renumbers: bool) -> Result<Self, GpuError> {
-        let (lc, li) = lens(renumbers, n, cells);
         let b = Self {
-            rctl: GpuVec::new(ctx, "sphlab.reorder_ctl", lc)?,
-            ridx: GpuVec::new(ctx, "sphlab.reorder_idx", li)?,
+            buf: GpuVec::new(ctx, "sphlab.reorder", len(renumbers, n, cells))?,
             n,
+            cells,
             renumbers,
             _real: std::marker::PhantomData,
         };
-        if renumbers && n > 0 {
-            b.ridx.upload(ctx, &(0..n as u32).collect::<Vec<u32>>())?;
+        let mut init = vec![0u32; b.buf.len()];
+        if renumbers {
+            for (d, w) in init[b.orig_at()..].iter_mut().enumerate() {
+                *w = d as u32;
+            }
         }
+        b.buf.upload(ctx, &init)?;
         b.set_every(ctx, every)?;
         Ok(b)
     }
@@ -76,16 +81,23 @@ impl<T: Real> RBufs<T> {
     /// Renumbers every `every` evaluations from now on, the first at the next evaluation
     /// (0: never), keeping the count and the wall prefix.
     pub fn set_every(&self, ctx: &GpuContext, every: u32) -> Result<(), GpuError> {
-        let mut c = self.rctl.read_back(ctx)?;
+        let mut c = self.buf.read_range(ctx, 0, rctl::LEN)?;
         c[rctl::NOW] = 0;
         c[rctl::EVERY] = every;
         c[rctl::SINCE] = every;
-        self.rctl.upload(ctx, &c)
+        ctx.queue.write_buffer(&self.buf.buffer, 0, bytemuck::cast_slice(&c));
+        ctx.traffic.write();
+        Ok(())
     }
 
     /// Renumberings so far.
     pub fn count(&self, ctx: &GpuContext) -> Result<u64, GpuError> {
-        Ok(self.rctl.read_back(ctx)?[rctl::COUNT] as u64)
+        Ok(self.buf.read_range(ctx, rctl::COUNT, 1)?[0] as u64)
+    }
+
+    /// Word where `orig_of` starts (`orig_word` in reorder.wgsl).
+    fn orig_at(&self) -> usize {
+        rctl::LEN + self.cells + 1
     }
 
     /// `orig_of`: the original index of each device index.
@@ -93,13 +105,11 @@ impl<T: Real> RBufs<T> {
         if !self.renumbers {
             return Ok((0..self.n as u32).collect());
         }
-        let mut v = self.ridx.read_back(ctx)?;
-        v.truncate(self.n);
-        Ok(v)
+        self.buf.read_range(ctx, self.orig_at(), self.n)
     }
 
     pub fn storage(&self) -> [&wgpu::Buffer; N_RSTORAGE as usize] {
-        [&self.rctl.buffer, &self.ridx.buffer]
+        [&self.buf.buffer]
     }
 
     /// The bind group of `layout` (group 2) over these buffers.

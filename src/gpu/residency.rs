@@ -59,37 +59,7 @@ fn write_prefix<P: Pod>(ctx: &GpuContext, v: &GpuVec<P>, data: &[P]) -> Result<u
 
 /// Reads the first `len` elements of `v` back (a synchronisation point).
 fn read_prefix<P: Pod>(ctx: &GpuContext, v: &GpuVec<P>, len: usize) -> Result<Vec<P>, GpuError> {
-    if len == v.len() {
-        return v.read_back(ctx);
-    }
-    let bytes = (len.min(v.len()) * size_of::<P>()) as u64;
-    if bytes == 0 {
-        return Ok(Vec::new());
-    }
-    let size = bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sphlab.readback.prefix"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    enc.copy_buffer_to_buffer(&v.buffer, 0, &staging, 0, size);
-    ctx.queue.submit([enc.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.wait_idle()?;
-    rx.recv()
-        .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let out = {
-        let view = staging.slice(..).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
-        bytemuck::pod_collect_to_vec(&view[..bytes as usize])
-    };
-    staging.unmap();
-    Ok(out)
+    v.read_range(ctx, 0, len)
 }
 
 impl<T: Real> GpuSolver<T> {
@@ -137,8 +107,8 @@ impl<T: Real> GpuSolver<T> {
                 Field::Rho => write_prefix(ctx, &b.rho, &f.rho[..r]),
                 Field::P => write_prefix(ctx, &b.p, &f.p[..r]),
                 Field::Grad => {
-                    let g: Vec<V2<T>> = f.grad[..r].iter().flat_map(|g| [g[0], g[1]]).collect();
-                    write_prefix(ctx, &b.grad, &g)
+                    let slot = |s: usize| f.grad[..r].iter().map(|g| g[s]).collect::<Vec<V2<T>>>();
+                    Ok(write_prefix(ctx, &b.grad0, &slot(0))? + write_prefix(ctx, &b.grad1, &slot(1))?)
                 }
                 Field::Pi => {
                     let p: Vec<V2<T>> = f.pi[..r].iter().map(|t| V2::new(t.xx, t.xy)).collect();
@@ -180,11 +150,11 @@ impl<T: Real> GpuSolver<T> {
                 Field::Rho => put(&mut f.rho[..r], read_prefix(ctx, &b.rho, r)?),
                 Field::P => put(&mut f.p[..r], read_prefix(ctx, &b.p, r)?),
                 Field::Grad => {
-                    let g = read_prefix(ctx, &b.grad, 2 * r)?;
-                    for (i, c) in g.chunks(2).enumerate() {
-                        f.grad[i] = [c[0], c[1]];
+                    let (g0, g1) = (read_prefix(ctx, &b.grad0, r)?, read_prefix(ctx, &b.grad1, r)?);
+                    for (i, (a, c)) in g0.iter().zip(&g1).enumerate() {
+                        f.grad[i] = [*a, *c];
                     }
-                    (g.len() * size_of::<V2<T>>()) as u64
+                    ((g0.len() + g1.len()) * size_of::<V2<T>>()) as u64
                 }
                 Field::Pi => {
                     let p = read_prefix(ctx, &b.pi, r)?;

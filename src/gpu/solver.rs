@@ -74,6 +74,8 @@ pub struct GpuSolver<T: Real> {
     steps_total: u64,
     /// Most steps one `advance` submission records (0: all k; [`EngineMode`]).
     max_steps_per_submit: u64,
+    /// This solver's hold on the context's counters (`gpu::counters`: exact only while alone).
+    claim: super::counters::Claim,
 }
 
 /// How the engine drives the device: the study's before/after comparison (`study::engine_ab`).
@@ -175,6 +177,7 @@ impl<T: Real> GpuSolver<T> {
         let ctx_groups = ctx.limits.max_compute_workgroups_per_dimension;
         let control = ControlReader::new::<T>(&ctx);
         let traffic0 = ctx.traffic.totals();
+        let claim = super::counters::Claim::new(ctx.clone());
         let s = Self {
             ctx,
             spec,
@@ -204,6 +207,7 @@ impl<T: Real> GpuSolver<T> {
             traffic0,
             steps_total: 0,
             max_steps_per_submit: 0,
+            claim,
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
@@ -526,9 +530,16 @@ impl<T: Real> GpuSolver<T> {
         Ok(())
     }
 
-    /// What the solver did to the device since it was built (`gpu::counters`).
+    /// What was done to the solver's context since the solver was built (`gpu::counters`): the
+    /// solver's own work while [`Self::engine_counters_exclusive`].
     pub fn engine_counters(&self) -> EngineCounters {
         EngineCounters { steps: self.steps_total, ..self.ctx.traffic.totals().since(&self.traffic0) }
+    }
+
+    /// True while this has been the only solver alive on its context since it was built, so
+    /// that [`Self::engine_counters`] counts its work alone.
+    pub fn engine_counters_exclusive(&self) -> bool {
+        self.claim.exclusive()
     }
 }
 
@@ -558,7 +569,8 @@ impl<T: Real> Backend for GpuSolver<T> {
         Ok(())
     }
     fn engine_counters(&self) -> Option<EngineCounters> {
-        Some(GpuSolver::engine_counters(self))
+        // Another solver on the context since this one was built: its work would be counted too.
+        self.engine_counters_exclusive().then(|| GpuSolver::engine_counters(self))
     }
     fn time(&self) -> f64 {
         self.t

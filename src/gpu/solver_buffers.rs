@@ -1,6 +1,6 @@
 //! The device-resident particle state of the GPU solver and its one bind group (twin of
 //! `shaders/bindings.wgsl`: binding k here is binding k there). All stages share one explicit
-//! layout (uniform at 0, read-write storage 1..=20), so a stage binds everything and touches
+//! layout (uniform at 0, read-write storage 1..=22), so a stage binds everything and touches
 //! what it needs. Every allocation is checked against the adapter limits (`GpuError::TooLarge`
 //! names the buffer).
 
@@ -33,8 +33,9 @@ pub mod ctl {
     pub const LEN: usize = 12;
 }
 
-/// Number of storage bindings after the uniform.
-pub const N_STORAGE: u32 = 20;
+/// Number of storage bindings after the uniform (with the variant group's 9 and the reorder
+/// group's 1, 32: lavapipe's per-stage maximum).
+pub const N_STORAGE: u32 = 22;
 
 /// The buffers (fluids first, then walls).
 pub struct Bufs<T: Real> {
@@ -42,14 +43,20 @@ pub struct Bufs<T: Real> {
     pub pos: GpuVec<V2<T>>,
     pub vel: GpuVec<V2<T>>,
     pub phase: GpuVec<u32>,
-    pub state0: GpuVec<V2<T>>,
+    /// r⁰ of the midpoint step.
+    pub pos0: GpuVec<V2<T>>,
+    /// v⁰ of the midpoint step, v_{n+½} of Verlet's.
+    pub vel0: GpuVec<V2<T>>,
     pub sigma: GpuVec<T>,
     pub chi: GpuVec<T>,
     pub mass: GpuVec<T>,
     pub colour: GpuVec<i32>,
     pub rho: GpuVec<T>,
     pub p: GpuVec<T>,
-    pub grad: GpuVec<V2<T>>,
+    /// Colour-gradient slot 0 (one binding per slot: `grad_at` in bindings.wgsl).
+    pub grad0: GpuVec<V2<T>>,
+    /// Colour-gradient slot 1.
+    pub grad1: GpuVec<V2<T>>,
     pub pi: GpuVec<V2<T>>,
     pub acc: GpuVec<V2<T>>,
     pub vt: GpuVec<V2<T>>,
@@ -72,14 +79,16 @@ impl<T: Real> Bufs<T> {
             pos: v2("pos", n)?,
             vel: v2("vel", n)?,
             phase: u("phase", n)?,
-            state0: v2("state0", 2 * n)?,
+            pos0: v2("pos0", n)?,
+            vel0: v2("vel0", n)?,
             sigma: s("sigma", n)?,
             chi: s("chi", n)?,
             mass: s("mass", n)?,
             colour: GpuVec::new(ctx, "sphlab.colour", n)?,
             rho: s("rho", n)?,
             p: s("p", n)?,
-            grad: v2("grad", 2 * n)?,
+            grad0: v2("grad0", n)?,
+            grad1: v2("grad1", n)?,
             pi: v2("pi", n)?,
             acc: v2("acc", n)?,
             vt: v2("vt", n)?,
@@ -93,20 +102,22 @@ impl<T: Real> Bufs<T> {
         })
     }
 
-    /// The storage buffers in binding order 1..=20.
+    /// The storage buffers in binding order 1..=22.
     pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_STORAGE as usize] {
         [
             &self.pos.buffer,
             &self.vel.buffer,
             &self.phase.buffer,
-            &self.state0.buffer,
+            &self.pos0.buffer,
+            &self.vel0.buffer,
             &self.sigma.buffer,
             &self.chi.buffer,
             &self.mass.buffer,
             &self.colour.buffer,
             &self.rho.buffer,
             &self.p.buffer,
-            &self.grad.buffer,
+            &self.grad0.buffer,
+            &self.grad1.buffer,
             &self.pi.buffer,
             &self.acc.buffer,
             &self.vt.buffer,

@@ -131,8 +131,10 @@ pub const TRACKING_PRE: &[KernelDef] =
 pub const TRACKING_POST: &[KernelDef] =
     &[k("track_build", "search/tracking.wgsl", Domain::All), k("track_clear", "search/tracking.wgsl", Domain::One)];
 
-/// The explicit lists (and cached kernel values), built last in `neighbour_search`.
-pub const NBR_BUILD: KernelDef = k("nbr_build", "search/nbr_list.wgsl", Domain::All);
+/// The explicit lists (and cached kernel values), built last in `neighbour_search`, then the
+/// evaluation's overflow count folded into its maximum (one thread).
+pub const NBR_BUILD: &[KernelDef] =
+    &[k("nbr_build", "search/nbr_list.wgsl", Domain::All), k("nbr_fold", "search/nbr_list.wgsl", Domain::One)];
 
 /// The pair-sum stages whose kernels depend on the mapping and the kernel values, each with
 /// the entry point that finalises a block accumulation.
@@ -165,7 +167,7 @@ pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
         SearchVariant::Tracking => [TRACKING_PRE, CELLS_SEARCH, REORDER, TRACKING_POST].concat(),
     };
     if spec.has_lists() {
-        search.push(NBR_BUILD);
+        search.extend_from_slice(NBR_BUILD);
     }
     let mut t = vec![(Stage::NeighbourSearch, search)];
     t.extend(THREAD_STAGES.iter().map(|(s, ks)| (*s, pair_stage(spec, *s).unwrap_or_else(|| ks.to_vec()))));

@@ -104,20 +104,7 @@ impl Timestamps {
             ctx.queue.submit([enc.finish()]);
         })?;
         ctx.traffic.submit();
-        ctx.traffic.readback();
-        let (tx, rx) = std::sync::mpsc::channel();
-        pool.staging.slice(..bytes).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait_idle()?;
-        rx.recv()
-            .map_err(|e| GpuError::Readback(format!("map callback dropped: {e}")))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let ticks: Vec<u64> = {
-            let view = pool.staging.slice(..bytes).get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
-            bytemuck::pod_collect_to_vec(&view[..])
-        };
-        pool.staging.unmap();
+        let ticks: Vec<u64> = super::staging::map_read(ctx, &pool.staging, bytes)?;
         let labels = std::mem::take(&mut s.labels);
         for (k, label) in labels.into_iter().enumerate() {
             let ns = ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * pool.period_ns;
@@ -171,7 +158,7 @@ impl Timestamps {
                 count: CAPACITY,
             }),
             resolve: buffer("sphlab.timestamps.resolve", U::QUERY_RESOLVE | U::COPY_SRC),
-            staging: buffer("sphlab.timestamps.staging", U::MAP_READ | U::COPY_DST),
+            staging: super::staging::staging_buffer(ctx, "sphlab.timestamps.staging", bytes),
             period_ns: ctx.queue.get_timestamp_period() as f64,
             state: Mutex::new(State { last_step: step, ..State::default() }),
         }))

@@ -31,11 +31,13 @@ pub const N_VSTORAGE: u32 = 9;
 
 /// Words of `vctl` (`V_*` in variant_bindings.wgsl).
 pub mod vctl {
-    /// Particles with more than 64 neighbours.
+    /// The most particles with more than 64 neighbours in one evaluation since the last read
+    /// (particles, not particle-evaluations: `nbr_fold` keeps the maximum of [`NBR_EVAL`]).
     pub const NBR_OVER: usize = 0;
     /// Largest neighbour count.
     pub const NBR_MAX: usize = 1;
-    /// Particles with more than 96 candidates.
+    /// The most particles with more than 96 candidates in one evaluation since the last read
+    /// (`track_clear` keeps the maximum of [`CAND_STALE`]).
     pub const CAND_OVER: usize = 2;
     /// Largest candidate count.
     pub const CAND_MAX: usize = 3;
@@ -56,8 +58,10 @@ pub mod vctl {
     /// Lowest device index of a particle whose list overflowed while the device ran (`u32::MAX`:
     /// none; cleared when read).
     pub const OVER_FIRST: usize = 11;
+    /// Particles over 64 neighbours in the current evaluation (`nbr_build`; zeroed by `nbr_fold`).
+    pub const NBR_EVAL: usize = 12;
     /// Words.
-    pub const LEN: usize = 12;
+    pub const LEN: usize = 16;
 }
 
 /// Entries of `vparams` (`VP_*` in variant_bindings.wgsl): the variant constants, then the

@@ -4,7 +4,11 @@
 //! multiple of 4 as `GpuVec` allocates; a test holds the total equal to what a solver really
 //! allocates), compared with what the device offers:
 //! * every buffer is bound whole, so each must fit `max_storage_buffer_binding_size` and
-//!   `max_buffer_size` (the smaller is the cap; nothing is split);
+//!   `max_buffer_size` (the smaller is the cap). Nothing holds more than two words or one vec2
+//!   per particle (the step's start state r⁰, v⁰ and the two colour-gradient slots are one
+//!   binding each), so the per-particle vec2 arrays (`pos`, …) and `counts` reach the cap first:
+//!   8 B × N in f32 on lavapipe's 128 MiB, N ≤ 16,777,216 (the 2N-element `state0` and `grad`
+//!   they replace stopped at 8,388,608);
 //! * the sum must fit the device memory. wgpu has no query for it, so it comes from
 //!   `--gpu-memory`, else, on a CPU adapter (lavapipe: device memory is host memory), from
 //!   `MemAvailable`, else it is unknown and only the per-buffer caps are checked
@@ -139,20 +143,22 @@ impl GpuPlan {
         } as u64)
             .max(16)
             .next_multiple_of(16);
-        let (reorder_ctl, reorder_idx) =
-            crate::gpu::reorder::lens(tracking || spec.search == SearchVariant::Cells, n as usize, cells as usize);
-        let list: [(&'static str, u64, u64); 32] = [
+        let reorder =
+            crate::gpu::reorder::len(tracking || spec.search == SearchVariant::Cells, n as usize, cells as usize);
+        let list: [(&'static str, u64, u64); 33] = [
             ("pos", n, v2),
             ("vel", n, v2),
             ("phase", n, 4),
-            ("state0", 2 * n, v2),
+            ("pos0", n, v2),
+            ("vel0", n, v2),
             ("sigma", n, r),
             ("chi", n, r),
             ("mass", n, r),
             ("colour", n, 4),
             ("rho", n, r),
             ("p", n, r),
-            ("grad", 2 * n, v2),
+            ("grad0", n, v2),
+            ("grad1", n, v2),
             ("pi", n, v2),
             ("acc", n, v2),
             ("vt", n, v2),
@@ -172,10 +178,10 @@ impl GpuPlan {
             ("ref_pos", on(tracking, n), v2),
             ("accum", on(block, 8 * n), 4),
             ("params", 1, params),
-            // Cell ordering (gpu::reorder; cells and tracking searches only): control words +
-            // per-cell wall prefix, the permutation (the gathers' scratch is counts and grad).
-            ("reorder_ctl", reorder_ctl as u64, 4),
-            ("reorder_idx", reorder_idx as u64, 4),
+            // Cell ordering (gpu::reorder): control words, and for the cells and tracking
+            // searches the per-cell wall prefix and the permutation (the gathers' scratch is
+            // counts, grad0 and grad1).
+            ("reorder", reorder as u64, 4),
         ];
         let buffers: Vec<BufferPlan> =
             list.iter().map(|&(name, len, size)| BufferPlan { name, bytes: alloc(len, size) }).collect();
@@ -323,18 +329,23 @@ mod tests {
     fn plan_refuses_with_the_buffer_and_numbers() {
         let spec: VariantSpec = "cells.thread.recomputed.f32".parse().unwrap();
         let lim = DeviceLimits::stated(1 << 40, 128 << 20, "test");
-        // state0 and grad (2N × 8 B) are the largest buffers: 128 MiB at N = 8,388,608 (the
-        // renumbering keeps 4 B per particle, its scratch is counts and grad).
-        assert!(GpuPlan::new(&spec, 8_388_608, 1000).check(&lim).is_ok());
-        let e = GpuPlan::new(&spec, 8_388_609, 1000).check(&lim).unwrap_err();
-        assert!(e.contains("`state0`") && e.contains("134217744") && e.contains("134217728"), "{e}");
-        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 8_388_608);
+        // The per-particle vec2 arrays (N × 8 B, pos first) are the largest buffers: 128 MiB at
+        // N = 16,777,216 (r⁰, v⁰ and the two gradient slots are separate bindings; the
+        // renumbering keeps 4 B per particle in the one reorder buffer, its scratch is counts
+        // and the gradient slots). nx = 3000 of the drop (9,048,064 particles) fits.
+        assert!(GpuPlan::new(&spec, 16_777_216, 1000).check(&lim).is_ok());
+        assert!(GpuPlan::new(&spec, 9_048_064, 9_000_000).check(&lim).is_ok());
+        let e = GpuPlan::new(&spec, 16_777_217, 1000).check(&lim).unwrap_err();
+        assert!(e.contains("`pos`") && e.contains("134217736") && e.contains("134217728"), "{e}");
+        assert_eq!(max_particles(&spec, 0.0, &lim, 1 << 28), 16_777_216);
+        let f64_spec: VariantSpec = "cells.thread.recomputed.f64".parse().unwrap();
+        assert_eq!(max_particles(&f64_spec, 0.0, &lim, 1 << 28), 8_388_608);
         let reorder =
             |p: &GpuPlan| p.buffers.iter().filter(|b| b.name.starts_with("reorder")).map(|b| b.bytes).sum::<u64>();
         assert_eq!(reorder(&GpuPlan::new(&spec, 1000, 10)), 4 * (1000 + 8 + 10 + 1), "permutation + control words");
-        // The direct search never renumbers: one-word stand-ins and the control words.
+        // The direct search never renumbers: the control words alone.
         let direct: VariantSpec = "direct.thread.recomputed.f32".parse().unwrap();
-        assert_eq!(reorder(&GpuPlan::new(&direct, 1000, 10)), 4 * (1 + 8));
+        assert_eq!(reorder(&GpuPlan::new(&direct, 1000, 10)), 4 * 8);
         let small = DeviceLimits::stated(1 << 30, 2 << 30, "test");
         let e = GpuPlan::new(&spec, 20_000_000, 1000).check(&small).unwrap_err();
         assert!(e.contains("device memory") && e.contains("1073741824"), "{e}");
