@@ -82,21 +82,53 @@ fn reorder_wall_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(nu
     atomicAdd(&rctl[R_WALL_BEFORE + cell_of[i]], 1u);
 }
 
-// Exclusive prefix of the wall counts, one thread (once).
-@compute @workgroup_size(1)
-fn reorder_wall_scan() {
-    if !now() || atomicLoad(&rctl[R_WALLS_READY]) != 0u {
+// Exclusive prefix of the wall counts (once), by one workgroup: each thread sums a contiguous
+// chunk of cells, thread 0 scans the WALL_SCAN partial sums, each thread writes its chunk's
+// prefix. A serial loop over every cell passed lavapipe's cap of 65,535 loop iterations per
+// invocation group (silently) from 65,536 cells (about a million particles); here a thread
+// iterates cells / WALL_SCAN times.
+const WALL_SCAN: u32 = 256u;
+var<workgroup> wall_part: array<u32, 256>;
+var<workgroup> wall_due: u32;
+
+@compute @workgroup_size(256)
+fn reorder_wall_scan(@builtin(local_invocation_index) t: u32) {
+    // Read by one thread and shared uniformly (the barriers below need every thread).
+    if t == 0u {
+        wall_due = select(0u, 1u, now() && atomicLoad(&rctl[R_WALLS_READY]) == 0u);
+    }
+    if workgroupUniformLoad(&wall_due) == 0u {
         return;
     }
     let cells = params.grid_nx * params.grid_ny;
-    var run = 0u;
-    for (var c = 0u; c < cells; c++) {
+    let chunk = (cells + WALL_SCAN - 1u) / WALL_SCAN;
+    let a = min(t * chunk, cells);
+    let e = min(a + chunk, cells);
+    var s = 0u;
+    for (var c = a; c < e; c++) {
+        s += atomicLoad(&rctl[R_WALL_BEFORE + c]);
+    }
+    wall_part[t] = s;
+    workgroupBarrier();
+    if t == 0u {
+        var run = 0u;
+        for (var k = 0u; k < WALL_SCAN; k++) {
+            let v = wall_part[k];
+            wall_part[k] = run;
+            run += v;
+        }
+        atomicStore(&rctl[R_WALL_BEFORE + cells], run);
+    }
+    workgroupBarrier();
+    var run = wall_part[t];
+    for (var c = a; c < e; c++) {
         let v = atomicLoad(&rctl[R_WALL_BEFORE + c]);
         atomicStore(&rctl[R_WALL_BEFORE + c], run);
         run += v;
     }
-    atomicStore(&rctl[R_WALL_BEFORE + cells], run);
-    atomicStore(&rctl[R_WALLS_READY], 1u);
+    if t == 0u {
+        atomicStore(&rctl[R_WALLS_READY], 1u);
+    }
 }
 
 // One thread per slot of `sorted`: the new index of its fluid particle; `sorted` is renumbered
