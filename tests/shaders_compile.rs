@@ -198,6 +198,7 @@ fn wgsl_constants_equal_rust_values() {
         ("V_FIXED_OVER", vctl::FIXED_OVER as i64),
         ("V_OVER_FIRST", vctl::OVER_FIRST as i64),
         ("V_CAND_STALE", vctl::CAND_STALE as i64),
+        ("V_NBR_EVAL", vctl::NBR_EVAL as i64),
     ];
     for (name, value) in rust {
         assert_eq!(w.get(*name), Some(value), "WGSL `{name}` differs from Rust");
@@ -206,5 +207,12 @@ fn wgsl_constants_equal_rust_values() {
     for name in w.keys().filter(|n| n.starts_with("STAGE_") || n.starts_with("CTL_") || n.starts_with("V_")) {
         assert!(rust.iter().any(|(r, _)| r == name), "WGSL `{name}` has no Rust twin in this test");
     }
-    assert!((ctl::CONTACTS_MAX as i64) < ctl::LEN as i64 && (vctl::CAND_STALE as i64) < vctl::LEN as i64);
+    assert!((ctl::CONTACTS_MAX as i64) < ctl::LEN as i64 && (vctl::NBR_EVAL as i64) < vctl::LEN as i64);
+    // The direct search's candidates per loop iteration: the WGSL chunk and the plan's bound.
+    let nb = wgsl_constants("#import common/neighbours\n");
+    assert_eq!(
+        nb.get("DIRECT_CHUNK"),
+        Some(&(sphlab::plan::gpu::DIRECT_CHUNK as i64)),
+        "WGSL DIRECT_CHUNK differs from Rust"
+    );
 }
