@@ -103,6 +103,9 @@ pub struct Fields<T> {
     pub contacts: Vec<ContactPoint<T>>,
     /// Contact points found beyond [`crate::model::MAX_CONTACTS`] in the last evaluation.
     pub contact_overflow: usize,
+    /// Background-pressure shift acceleration a_b of the fluids (transport-velocity formulation,
+    /// CPU only; empty otherwise): the drift moves with ṽ + (dt/2)·a_b.
+    pub shift: Vec<V2<T>>,
 }
 
 impl<T: Real> Fields<T> {
@@ -121,6 +124,7 @@ impl<T: Real> Fields<T> {
             vt: vec![V2::zero(); n],
             contacts: Vec::new(),
             contact_overflow: 0,
+            shift: Vec::new(),
         }
     }
     /// Sum of the colour-gradient slots (the gradient towards every other colour).

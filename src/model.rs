@@ -254,6 +254,11 @@ pub struct Model<T> {
     pub dt_fixed: f64,
     /// Colour gradient by one colour field (PySPH's form) instead of the thesis's T71.
     pub single_field_colour: bool,
+    /// Transport-velocity formulation (`time.background = "transport"`): the background
+    /// pressure of each phase, by phase, moved out of the EOS (`phases[k].p_b` is then 0) into
+    /// the shift acceleration `a_b` ([`crate::scene::Background::Transport`]). `None`: p_b is in
+    /// the momentum equation.
+    pub transport_p_b: Option<Vec<T>>,
 }
 
 /// χ − ½ of a particle at Δx/2 above a flat wall (lattice sum in f64), the Holmes floor.
@@ -284,6 +289,8 @@ impl<T: Real> Model<T> {
         let kernel = KernelParams::<T>::new(kind, h);
         let support = scene.support();
         let sigma0 = lattice_sum(kind, h, dx);
+        let transport = scene.time.background == crate::scene::Background::Transport;
+        let transport_p_b = transport.then(|| scene.phases.iter().map(|p| T::c(p.p_b)).collect());
         let phases: Vec<PhaseConst<T>> = scene
             .phases
             .iter()
@@ -292,7 +299,7 @@ impl<T: Real> Model<T> {
                 mass: T::c(p.rho0 / sigma0),
                 stiffness: T::c(crate::physics::eos::eos_stiffness(p.rho0, p.c0, p.gamma)),
                 gamma: T::c(p.gamma),
-                p_b: T::c(p.p_b),
+                p_b: if transport { T::zero() } else { T::c(p.p_b) },
                 eta: T::c(p.mu),
             })
             .collect();
@@ -380,6 +387,7 @@ impl<T: Real> Model<T> {
             dt_fixed: crate::scene::dt_policy::effective_dt(scene),
             single_field_colour: surface
                 && scene.surface_tension.as_ref().is_some_and(|s| s.colour_gradient == ColourGradient::SingleField),
+            transport_p_b,
         }
     }
 

@@ -72,6 +72,10 @@ fn bad_inputs_exit_2_with_a_message() {
     assert_input_error(&gpu, "colour_gradient");
     let mode_b = [&["run", "sessile-90", "--out", out][..], &single[..]].concat();
     assert_input_error(&mode_b, "surface_tension.colour_gradient");
+    // So is the transport-velocity formulation.
+    let tvf = ["--set", "time.background=\"transport\""];
+    let gpu = [&["run", "oscillating-drop", "--backend", "gpu", "--out", out][..], &tvf[..]].concat();
+    assert_input_error(&gpu, "time.background");
     // clap's own errors (unknown flag) also exit 2.
     let o = sphlab(&["run", "oscillating-drop", "--no-such-flag"]);
     assert_eq!(o.status.code(), Some(2), "unknown flag exits 2");

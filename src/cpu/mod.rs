@@ -269,16 +269,26 @@ impl<T: Real> CpuSolver<T> {
         }
     }
 
+    /// The advection velocity of the evaluation for a step of `dt`: ṽ (v or XSPH), plus
+    /// (dt/2)·a_b with the transport-velocity formulation (Adami, Hu & Adams 2013, eq. 10).
+    fn advection(&self, dt: T) -> Vec<V2<T>> {
+        let mut vt = self.f.vt.clone();
+        for (v, a) in vt.iter_mut().zip(&self.f.shift) {
+            *v += *a * (T::c(0.5) * dt);
+        }
+        vt
+    }
+
     /// `midpoint_predict`: half step from the evaluation at the start of the step.
     pub fn midpoint_predict(&mut self, dt: T) {
-        let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
+        let (vt, acc) = (self.advection(dt), self.f.acc.clone());
         self.fluid_update(|i, r, v| integrate_predict(r, v, vt[i], acc[i], dt));
     }
 
     /// `midpoint_correct`: the full step from the start state `(r0, v0)` with the midpoint
     /// evaluation.
     pub fn midpoint_correct(&mut self, r0: &[V2<T>], v0: &[V2<T>], dt: T) {
-        let (vt, acc) = (self.f.vt.clone(), self.f.acc.clone());
+        let (vt, acc) = (self.advection(dt), self.f.acc.clone());
         self.fluid_update(|i, _, _| integrate_correct(r0[i], v0[i], vt[i], acc[i], dt));
     }
 
@@ -290,7 +300,8 @@ impl<T: Real> CpuSolver<T> {
     pub fn verlet_drift(&mut self, dt: T) {
         self.vhalf.resize(self.n_fluid, V2::from_f64(0.0, 0.0));
         let predicted = self.integrator == Integrator::Verlet;
-        let (vt, acc) = (&self.f.vt, &self.f.acc);
+        let vt = self.advection(dt);
+        let acc = &self.f.acc;
         for i in 0..self.n_fluid {
             let v0 = self.vel[i];
             let vh = integrate_kick(v0, acc[i], dt);

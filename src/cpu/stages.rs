@@ -427,6 +427,36 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         a
     });
     f.acc[..c.n_fluid].copy_from_slice(&acc);
+    if let Some(p_b) = &m.transport_p_b {
+        f.shift = background_shift(c, &f.sigma, p_b);
+    }
+}
+
+/// The transport-velocity formulation's shift acceleration (Adami, Hu & Adams 2013, eq. 13) of
+/// every fluid particle: `a_b,i = −(p_b,i/m_i) Σ_j (V_i² + V_j²) ∇_iW_ij` over every neighbour,
+/// walls included, i.e. the pressure term (T68) of a uniform pressure p_b. Zero on a full
+/// regular lattice; on a disordered set it points towards the under-filled side.
+pub fn background_shift<T: Real>(c: &Ctx<T>, sigma: &[T], p_b: &[T]) -> Vec<V2<T>> {
+    let m = c.m;
+    let kp = m.kernel;
+    exec::map(c.exec, c.n_fluid, |i| {
+        let xi = c.pos[i];
+        let pb = p_b[c.phase[i] as usize];
+        let inv_s2_i = T::one() / (sigma[i] * sigma[i]);
+        let mut sum = V2::zero();
+        for &e in c.nbrs.of(i) {
+            let (j, code) = unpack(e);
+            let x_ij = xi - m.images.image_pos(code, c.pos[j]);
+            let r2 = x_ij.norm2();
+            if r2 == T::zero() {
+                continue;
+            }
+            let r = r2.sqrt();
+            let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
+            sum += pressure_acc_ij(pb, inv_s2_i, pb, T::one() / (sigma[j] * sigma[j]), gw);
+        }
+        sum / m.phases[c.phase[i] as usize].mass
+    })
 }
 
 /// `xsph` (T51): ṽ_i = v_i + ε Σ_{j same fluid phase} 2m_j/(ρ_i+ρ_j) (v_j − v_i) W_ij.

@@ -141,6 +141,13 @@ impl<T: Real> GpuSolver<T> {
                     .into(),
             ));
         }
+        if model.transport_p_b.is_some() {
+            return Err(GpuError::Unsupported(
+                "time.background = \"transport\" (transport-velocity formulation) is CPU only (the WGSL \
+                 stages add p_b to the EOS pressure); use --backend cpu or background = \"momentum\""
+                    .into(),
+            ));
+        }
         if scene.time.integrator == crate::scene::Integrator::VerletPec {
             return Err(GpuError::Unsupported(
                 "time.integrator = \"verlet-pec\" is CPU only (the WGSL Verlet evaluates at the predicted \

@@ -395,6 +395,36 @@ pub struct Time {
     /// from it to `domain.nx` (0: `domain.nx`, no rescaling).
     #[serde(default)]
     pub dt_nx: u32,
+    /// Where the phases' background pressure p_b acts ([`Background`]): `momentum` (default, the
+    /// thesis's Hu–Adams form) or `transport` (Adami, Hu & Adams 2013, CPU only). Not written
+    /// when `momentum`, so summaries of earlier runs still match (`validate --reuse`).
+    #[serde(default, skip_serializing_if = "Background::is_momentum")]
+    pub background: Background,
+}
+
+/// Where the background pressure `phases.*.p_b` acts.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Background {
+    /// Added to the EOS pressure (T66 + p_b), so it enters the momentum equation (T68): the
+    /// thesis's form. Its pair sum does not vanish on a disordered particle set and acts on the
+    /// particle arrangement like a spring (issue 10).
+    #[default]
+    Momentum,
+    /// Transport-velocity formulation (Adami, Hu & Adams 2013, JCP 241, eqs. 9–13): the EOS and
+    /// the momentum equation see no p_b; particles move with the transport velocity
+    /// `ṽ = v + (dt/2)·a_b`, `a_b,i = −(p_b,i/m_i) Σ_j (V_i² + V_j²) ∇_iW_ij` over every
+    /// neighbour (walls included), which keeps the particle set regular without a force on the
+    /// fluid. The artificial stress `A = ρv(ṽ − v)` of their eq. 12 is left out (second order in
+    /// the shift; `reports/validation/tvf/README.md`). CPU only.
+    Transport,
+}
+
+impl Background {
+    /// True for the default, p_b in the momentum equation.
+    pub fn is_momentum(&self) -> bool {
+        *self == Background::Momentum
+    }
 }
 
 /// What a fixed `dt` does against the stability limits at load (see [`dt_policy`]).

@@ -1,0 +1,143 @@
+//! The transport-velocity formulation (`time.background = "transport"`, Adami, Hu & Adams 2013)
+//! on the CPU reference, on a perturbed 90° sessile drop (walls, Mode B, both fluids):
+//! * the background pressure leaves the EOS and the momentum equation, and the shift a_b is
+//!   exactly the pressure term (T68) of a uniform p_b that the momentum form carries: for every
+//!   fluid particle `a(momentum) − a(transport) = a_b` to rounding;
+//! * the drift moves with v + (dt/2)(a + a_b) (one Verlet step from the same state);
+//! * the shift vanishes with p_b = 0 and has zero total momentum in a fully periodic box.
+
+use sphlab::cpu::CpuSolver;
+use sphlab::exec::Exec;
+use sphlab::neighbours::SearchKind;
+use sphlab::real::V2;
+use sphlab::scene::build::build_layout;
+use sphlab::scene::builtin::builtin;
+use sphlab::scene::overrides::apply_overrides;
+
+/// Deterministic pseudo-random numbers in [0, 1).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+const P_B: f64 = 20.0;
+
+/// `scene` at the given overrides, fluid positions jittered by ±0.1Δx and velocities in ±0.1
+/// (the same for every call with the same seed).
+fn perturbed(scene: &str, sets: &[String], seed: u64) -> CpuSolver<f64> {
+    let scene = apply_overrides(&builtin(scene).unwrap(), sets).unwrap();
+    let layout = build_layout(&scene).unwrap();
+    let mut s = CpuSolver::<f64>::new(&scene, &layout, Exec::Serial, SearchKind::Cells);
+    let dx = scene.domain.dx();
+    let mut rng = Lcg(seed);
+    for i in 0..s.n_fluid {
+        s.pos[i] += V2::new(0.2 * dx * (rng.next() - 0.5), 0.2 * dx * (rng.next() - 0.5));
+        s.vel[i] = V2::new(0.2 * (rng.next() - 0.5), 0.2 * (rng.next() - 0.5));
+    }
+    s.search.invalidate();
+    s
+}
+
+fn sessile(background: &str, p_b: f64, extra: &[&str]) -> CpuSolver<f64> {
+    let mut sets: Vec<String> = vec![
+        "domain.nx=20".into(),
+        format!("phases.0.p_b={p_b}"),
+        format!("phases.1.p_b={p_b}"),
+        format!("time.background=\"{background}\""),
+    ];
+    sets.extend(extra.iter().map(|s| s.to_string()));
+    perturbed("sessile-90", &sets, 7)
+}
+
+fn max_norm(v: &[V2<f64>]) -> f64 {
+    v.iter().map(|a| a.norm()).fold(0.0, f64::max)
+}
+
+#[test]
+fn shift_is_the_pressure_term_of_the_uniform_background() {
+    for wall in ["t-wall", "r-wall"] {
+        let w = format!("walls.pressure=\"{wall}\"");
+        let mut m = sessile("momentum", P_B, &[&w]);
+        let mut t = sessile("transport", P_B, &[&w]);
+        m.evaluate().unwrap();
+        t.evaluate().unwrap();
+        assert!(m.f.shift.is_empty(), "the momentum form has no shift");
+        assert_eq!(t.f.shift.len(), t.n_fluid, "one shift per fluid particle");
+        for i in 0..t.n_fluid {
+            assert!((m.f.p[i] - t.f.p[i] - P_B).abs() < 1e-9, "{wall}: p_b must leave the EOS (particle {i})");
+        }
+        let scale = max_norm(&t.f.shift);
+        // p_b/ρ0 over Δx times a disorder of ~0.1: well above rounding, far below p_b/Δx.
+        assert!(scale > 1.0 && scale < 1e4, "{wall}: |a_b| max {scale}");
+        let mut worst = 0.0_f64;
+        for i in 0..t.n_fluid {
+            let d = m.f.acc[i] - t.f.acc[i] - t.f.shift[i];
+            worst = worst.max(d.norm());
+        }
+        assert!(worst < 1e-9 * scale, "{wall}: a(momentum) − a(transport) − a_b up to {worst} (|a_b| {scale})");
+    }
+    // No background, no shift.
+    let mut z = sessile("transport", 0.0, &[]);
+    z.evaluate().unwrap();
+    assert_eq!(max_norm(&z.f.shift), 0.0, "p_b = 0 gives no shift");
+}
+
+#[test]
+fn drift_moves_with_half_a_step_of_the_shift() {
+    let extra = ["time.integrator=\"verlet\"", "time.dt=1e-4"];
+    let mut probe = sessile("transport", P_B, &extra);
+    probe.evaluate().unwrap();
+    let (r0, v0) = (probe.pos.clone(), probe.vel.clone());
+    let (a0, b0) = (probe.f.acc.clone(), probe.f.shift.clone());
+    let mut s = sessile("transport", P_B, &extra);
+    s.advance().unwrap();
+    let dt = s.dt;
+    assert!((dt - 1e-4).abs() < 1e-15, "fixed dt {dt}");
+    let (lo, hi) = (s.model.lo, s.model.hi);
+    let margin = 3.0 * s.model.dx;
+    let (mut worst, mut moved) = (0.0_f64, 0.0_f64);
+    for i in 0..s.n_fluid {
+        let p = r0[i];
+        if p.x < lo.x + margin || p.x > hi.x - margin || p.y < lo.y + margin || p.y > hi.y - margin {
+            continue; // boundary reflections apply there
+        }
+        let expect = p + (v0[i] + (a0[i] + b0[i]) * (0.5 * dt)) * dt;
+        worst = worst.max((s.pos[i] - expect).norm());
+        moved = moved.max((b0[i] * (0.5 * dt * dt)).norm());
+    }
+    assert!(moved > 1e-12, "the shift must move some particle measurably ({moved})");
+    assert!(worst < 1e-14, "r1 − (r0 + dt(v0 + dt/2 (a0 + a_b))) up to {worst} (shift displacement up to {moved})");
+}
+
+#[test]
+fn shift_carries_no_momentum_in_a_periodic_box() {
+    let sets: Vec<String> = [
+        "domain.x=[0.0,40.0]",
+        "domain.y=[0.0,40.0]",
+        "domain.nx=40",
+        "domain.left=\"periodic\"",
+        "domain.right=\"periodic\"",
+        "domain.top=\"periodic\"",
+        "domain.bottom=\"periodic\"",
+        "shapes.0.centre=[20.0,20.0]",
+        "shapes.0.radius=10.0",
+        "relax.t=0.0",
+        "time.background=\"transport\"",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let mut s = perturbed("oscillating-drop", &sets, 11);
+    assert_eq!(s.n_fluid, s.pos.len(), "no walls in a periodic box");
+    s.evaluate().unwrap();
+    let (mut sum, mut abs) = (V2::new(0.0, 0.0), 0.0);
+    for i in 0..s.n_fluid {
+        sum += s.f.shift[i] * s.f.mass[i];
+        abs += s.f.shift[i].norm() * s.f.mass[i];
+    }
+    assert!(abs > 0.0, "a perturbed set has a shift");
+    assert!(sum.norm() < 1e-12 * abs, "Σ m a_b = {sum:?} against Σ m |a_b| = {abs}");
+}
