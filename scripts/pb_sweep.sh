@@ -4,18 +4,25 @@
 #   rest: initial velocity and relaxation removed, t = 0.3 (spurious speed, Laplace jump, voids);
 #   osc:  relax 0.1, then the T84 field on every fluid particle, t = 0.6 (period, amplitude).
 # Analysis: scripts/pb_sweep.py → reports/validation/pb-sweep/. Usage: scripts/pb_sweep.sh OUTDIR (the committed runs: reports/validation/pb-sweep/runs)
+# BACKGROUND=transport: the same runs with the transport-velocity formulation
+# (time.background = "transport", directories transport-KIND-pbPB) at p_b 48, B = 175 and
+# ρ0c0² = 1225 (Adami, Hu & Adams 2013 / PySPH's TVF scheme take p_b = ρ0c0²).
 set -euo pipefail
 out=${1:-out/pb-sweep}
 bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
+pbs="24 175 48 12 0" prefix="" bg=()
+if [ "${BACKGROUND:-momentum}" = transport ]; then
+  pbs="1225 175 48" prefix="transport-" bg=(--set 'time.background="transport"')
+fi
 # p_b outer, most informative first (the rule's 24, the former B = 175, then 48, 12, 0), so a
 # sweep cut short still compares the kernels at the same p_b.
-for pb in 24 175 48 12 0; do
+for pb in $pbs; do
   for k in "quintic 1.0" "cubic-spline 1.2" "wendland-c2 1.3"; do
     set -- $k; kind=$1; hr=$2
     common=(--backend cpu1 --quiet --set kernel.kind=$kind --set kernel.h_ratio=$hr --set domain.nx=24
-            --set phases.0.p_b=$pb --set phases.1.p_b=$pb)
-    d="$out/$kind-pb$pb"
+            --set phases.0.p_b=$pb --set phases.1.p_b=$pb "${bg[@]}")
+    d="$out/$prefix$kind-pb$pb"
     [ -f "$d-rest/summary.json" ] || "$bin" run oscillating-drop "${common[@]}" --set relax.t=0 \
         --set initial_velocity.v0=0 --t-end 0.3 --every 0 --out "$d-rest" > "$d-rest.log" 2>&1 || true
     [ -f "$d-osc/summary.json" ] || "$bin" run oscillating-drop "${common[@]}" --set relax.t=0.1 \
