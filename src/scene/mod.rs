@@ -416,7 +416,7 @@ pub enum Background {
     /// `ṽ = v + (dt/2)·a_b`, `a_b,i = −(p_b,i/m_i) Σ_j (V_i² + V_j²) ∇_iW_ij` over every
     /// neighbour (walls included), which keeps the particle set regular without a force on the
     /// fluid. The artificial stress `A = ρv(ṽ − v)` of their eq. 12 is left out (second order in
-    /// the shift; `reports/validation/tvf/README.md`). CPU only.
+    /// the shift; `reports/validation/pb-sweep/summary.md`). CPU only.
     Transport,
 }
 
