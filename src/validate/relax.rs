@@ -30,11 +30,7 @@ pub fn variants() -> Vec<(&'static str, &'static str, Vec<String>)> {
         (
             "b-noslip-tvf",
             "Mode B, no-slip, transport velocity",
-            vec![
-                "time.background=\"transport\"".into(),
-                format!("phases.0.p_b={p_b}"),
-                format!("phases.1.p_b={p_b}"),
-            ],
+            vec!["time.background=\"transport\"".into(), format!("phases.0.p_b={p_b}"), format!("phases.1.p_b={p_b}")],
         ),
         ("b-freeslip", "Mode B, free-slip", vec!["domain.bottom=free-slip".into()]),
         ("a-noslip", "Mode A, no-slip", vec!["contact.mode=a".into()]),
