@@ -22,26 +22,17 @@ impl Lcg {
     }
 }
 
-const SETS: [&str; 11] = [
-    "domain.x=[0.0,40.0]",
-    "domain.y=[0.0,40.0]",
-    "domain.nx=40",
-    "domain.left=\"periodic\"",
-    "domain.right=\"periodic\"",
-    "domain.top=\"periodic\"",
-    "domain.bottom=\"periodic\"",
-    "shapes.0.centre=[20.0,20.0]",
-    "shapes.0.radius=10.0",
-    "relax.t=0.0",
-    // CFL limit 0.25 h/c = 7e-3; a large fixed step so 50 steps move the particles
-    "time.dt=0.002",
-];
+mod common;
+
+/// The periodic drop with a large fixed step (CFL limit 0.25 h/c = 7e-3) so 50 steps move the
+/// particles.
+const DT: &str = "time.dt=0.002";
 
 /// The perturbed periodic drop: positions jittered by ±0.05Δx, velocities uniform in ±0.2
 /// (c0 = 35, so the Mach number stays below 1 %), both phases.
 fn perturbed<T: Real>(extra: &[&str], seed: u64) -> CpuSolver<T> {
     let base = builtin("oscillating-drop").unwrap();
-    let sets: Vec<String> = SETS.iter().chain(extra).map(|s| s.to_string()).collect();
+    let sets: Vec<String> = common::PERIODIC_DROP.iter().chain(&[DT]).chain(extra).map(|s| s.to_string()).collect();
     let scene = apply_overrides(&base, &sets).unwrap();
     let layout = build_layout(&scene).unwrap();
     assert_eq!(layout.n_wall(), 0, "a fully periodic box must have no wall particles");
@@ -119,7 +110,8 @@ fn each_force_term_is_antisymmetric() {
     ];
     for (name, extra, jitter) in cases {
         let base = builtin("oscillating-drop").unwrap();
-        let sets: Vec<String> = SETS.iter().chain(extra.iter()).map(|s| s.to_string()).collect();
+        let sets: Vec<String> =
+            common::PERIODIC_DROP.iter().chain(&[DT]).chain(extra.iter()).map(|s| s.to_string()).collect();
         let scene = apply_overrides(&base, &sets).unwrap();
         let layout = build_layout(&scene).unwrap();
         let mut s = CpuSolver::<f64>::new(&scene, &layout, Exec::Serial, SearchKind::Cells);

@@ -14,14 +14,7 @@ use sphlab::scene::build::build_layout;
 use sphlab::scene::builtin::builtin;
 use sphlab::scene::overrides::apply_overrides;
 
-/// Deterministic pseudo-random numbers in [0, 1).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+mod common;
 
 const P_B: f64 = 20.0;
 
@@ -32,10 +25,10 @@ fn perturbed(scene: &str, sets: &[String], seed: u64) -> CpuSolver<f64> {
     let layout = build_layout(&scene).unwrap();
     let mut s = CpuSolver::<f64>::new(&scene, &layout, Exec::Serial, SearchKind::Cells);
     let dx = scene.domain.dx();
-    let mut rng = Lcg(seed);
+    let mut rng = common::Rng::new(seed);
     for i in 0..s.n_fluid {
-        s.pos[i] += V2::new(0.2 * dx * (rng.next() - 0.5), 0.2 * dx * (rng.next() - 0.5));
-        s.vel[i] = V2::new(0.2 * (rng.next() - 0.5), 0.2 * (rng.next() - 0.5));
+        s.pos[i] += V2::new(rng.range(-0.1 * dx, 0.1 * dx), rng.range(-0.1 * dx, 0.1 * dx));
+        s.vel[i] = V2::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1));
     }
     s.search.invalidate();
     s
@@ -114,22 +107,8 @@ fn drift_moves_with_half_a_step_of_the_shift() {
 
 #[test]
 fn shift_carries_no_momentum_in_a_periodic_box() {
-    let sets: Vec<String> = [
-        "domain.x=[0.0,40.0]",
-        "domain.y=[0.0,40.0]",
-        "domain.nx=40",
-        "domain.left=\"periodic\"",
-        "domain.right=\"periodic\"",
-        "domain.top=\"periodic\"",
-        "domain.bottom=\"periodic\"",
-        "shapes.0.centre=[20.0,20.0]",
-        "shapes.0.radius=10.0",
-        "relax.t=0.0",
-        "time.background=\"transport\"",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let sets: Vec<String> =
+        common::PERIODIC_DROP.iter().chain(&["time.background=\"transport\""]).map(|s| s.to_string()).collect();
     let mut s = perturbed("oscillating-drop", &sets, 11);
     assert_eq!(s.n_fluid, s.pos.len(), "no walls in a periodic box");
     s.evaluate().unwrap();

@@ -47,6 +47,21 @@ pub fn gpu_or_skip() -> Option<GpuContext> {
     }
 }
 
+/// The oscillating-drop scene as a fully periodic 40Δx box (Δx = 1) with a drop of R = 10Δx at
+/// its centre and no relaxation: no walls, so every pair force is antisymmetric.
+pub const PERIODIC_DROP: [&str; 10] = [
+    "domain.x=[0.0,40.0]",
+    "domain.y=[0.0,40.0]",
+    "domain.nx=40",
+    "domain.left=\"periodic\"",
+    "domain.right=\"periodic\"",
+    "domain.top=\"periodic\"",
+    "domain.bottom=\"periodic\"",
+    "shapes.0.centre=[20.0,20.0]",
+    "shapes.0.radius=10.0",
+    "relax.t=0.0",
+];
+
 /// SplitMix64: a tiny, seeded, reproducible generator (no `rand` dependency needed).
 pub struct Rng(u64);
 
