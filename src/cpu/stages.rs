@@ -379,7 +379,7 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let kp = m.kernel;
     let st = m.stages;
     let fr = &*f;
-    let acc: Vec<V2<T>> = exec::map(c.exec, c.n_fluid, |i| {
+    let out: Vec<(V2<T>, V2<T>)> = exec::map(c.exec, c.n_fluid, |i| {
         let xi = c.pos[i];
         let vi = c.vel[i];
         let inv_s2_i = T::one() / (fr.sigma[i] * fr.sigma[i]);
@@ -387,6 +387,10 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         let wall = m.nearest_wall(xi);
         let d_i = wall.map_or(T::zero(), |w| w.wall_distance(xi));
         let mut sum = V2::zero();
+        // Transport-velocity shift a_b (Adami, Hu & Adams 2013, eq. 13): the pressure term (T68)
+        // of a uniform p_b, summed in the same walk (zero unless `time.background = "transport"`).
+        let p_b = m.transport_p_b.as_ref().map_or(T::zero(), |p| p[c.phase[i] as usize]);
+        let mut shift = V2::zero();
         for &e in c.nbrs.of(i) {
             let (j, code) = unpack(e);
             let xj = m.images.image_pos(code, c.pos[j]);
@@ -400,6 +404,9 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             let gw = grad_w_ij(dwdr, x_ij, r);
             let inv_s2_j = T::one() / (fr.sigma[j] * fr.sigma[j]);
             sum += pressure_acc_ij(fr.p[i], inv_s2_i, fr.p[j], inv_s2_j, gw);
+            if p_b != T::zero() {
+                shift += pressure_acc_ij(p_b, inv_s2_i, p_b, inv_s2_j, gw);
+            }
             if st.viscosity {
                 let fac = viscous_fac_ij(dwdr, r, kp.h);
                 let (eta_ij, v_ij) = if j < c.n_fluid {
@@ -424,39 +431,12 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         if st.lennard_jones {
             a += lennard_jones(m, xi);
         }
-        a
+        (a, shift / fr.mass[i])
     });
-    f.acc[..c.n_fluid].copy_from_slice(&acc);
-    if let Some(p_b) = &m.transport_p_b {
-        f.shift = background_shift(c, &f.sigma, p_b);
+    for (k, (a, _)) in out.iter().enumerate() {
+        f.acc[k] = *a;
     }
-}
-
-/// The transport-velocity formulation's shift acceleration (Adami, Hu & Adams 2013, eq. 13) of
-/// every fluid particle: `a_b,i = −(p_b,i/m_i) Σ_j (V_i² + V_j²) ∇_iW_ij` over every neighbour,
-/// walls included, i.e. the pressure term (T68) of a uniform pressure p_b. Zero on a full
-/// regular lattice; on a disordered set it points towards the under-filled side.
-pub fn background_shift<T: Real>(c: &Ctx<T>, sigma: &[T], p_b: &[T]) -> Vec<V2<T>> {
-    let m = c.m;
-    let kp = m.kernel;
-    exec::map(c.exec, c.n_fluid, |i| {
-        let xi = c.pos[i];
-        let pb = p_b[c.phase[i] as usize];
-        let inv_s2_i = T::one() / (sigma[i] * sigma[i]);
-        let mut sum = V2::zero();
-        for &e in c.nbrs.of(i) {
-            let (j, code) = unpack(e);
-            let x_ij = xi - m.images.image_pos(code, c.pos[j]);
-            let r2 = x_ij.norm2();
-            if r2 == T::zero() {
-                continue;
-            }
-            let r = r2.sqrt();
-            let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
-            sum += pressure_acc_ij(pb, inv_s2_i, pb, T::one() / (sigma[j] * sigma[j]), gw);
-        }
-        sum / m.phases[c.phase[i] as usize].mass
-    })
+    f.shift = if m.transport_p_b.is_some() { out.into_iter().map(|o| o.1).collect() } else { Vec::new() };
 }
 
 /// `xsph` (T51): ṽ_i = v_i + ε Σ_{j same fluid phase} 2m_j/(ρ_i+ρ_j) (v_j − v_i) W_ij.
