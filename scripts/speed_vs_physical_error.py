@@ -36,7 +36,8 @@ def point(d, s):
     par = s["parameters"]
     return {
         "run": os.path.relpath(d),
-        "kernel": f'{par["kernel"]["kind"]} h={par["kernel"]["h_ratio"]}Δx',
+        "kernel": f'{par["kernel"]["kind"]} h={par["kernel"]["h_ratio"]}Δx'
+        + (" (transport)" if par["time"].get("background") == "transport" else ""),
         "nx": par["domain"]["nx"],
         "p_b": par["phases"][0]["p_b"],
         "p_b_dx_over_sigma": par["phases"][0]["p_b"] * 0.5 / par["domain"]["nx"],
@@ -47,9 +48,22 @@ def point(d, s):
         "wall_time_s": s.get("wall_time_s", math.nan),
         "ms_per_step": s.get("ms_per_step", math.nan),
         "commit": s.get("git_commit") or s.get("provenance", {}).get("commit", "?"),
+        "date": s.get("provenance", {}).get("date", "?"),
+        "adapter": device(s),
         "pair_work_1e9": pair_work(s),
         "status": s.get("status", "?"),
     }
+
+
+def device(s):
+    """Where the run ran: the GPU adapter and driver from the provenance, or the host CPU."""
+    prov = s.get("provenance", {})
+    g = prov.get("gpu")
+    if g:
+        return f'{g.get("adapter", "?")} / {g.get("driver", "?")}'
+    host = prov.get("host", {})  # host.threads is the rayon pool; the cpu1 backend runs on one thread
+    threads = 1 if s.get("backend", "").startswith("cpu1") else host.get("threads", "?")
+    return f'{host.get("cpu", "CPU")} ({threads} thread{"" if threads == 1 else "s"})'
 
 
 def drop_points(dirs):
@@ -86,6 +100,34 @@ def relax_points(dirs):
             p.update(quantity=math.nan, error=math.nan)
         pts.append(p)
     return pts
+
+
+def centroid(run):
+    return [(float(r["t"]), float(r["centroid_x"])) for r in csv.DictReader(open(run + "/series.csv"))]
+
+
+def gpu_section(drop):
+    """Each GPU drop run beside the CPU f64 run of the same kernel, nx and p_b: the largest
+    difference of the centroid curve over the whole run, against the first-cycle amplitude."""
+    md = ["## GPU variants against the CPU reference (drop)", "",
+          "Each GPU run beside the one-thread CPU f64 run of the same scene (kernel, nx, p_b): the largest "
+          "|Δ centroid_x| over every series row (t = 0 to 0.6, same sample times), the period each gives, "
+          "and the wall-time ratio (lavapipe on the same 2 cores: a ratio between two CPU programs, not a GPU figure).", "",
+          "| GPU variant | nx | CPU run | max abs. Δ centroid_x | period GPU / CPU | wall time GPU / CPU |",
+          "|---|---|---|---|---|---|"]
+    cpu = [p for p in drop if not p["gpu"] and p["precision"] == "f64"]
+    for g in sorted((p for p in drop if p["gpu"]), key=lambda p: (p["nx"], p["backend"])):
+        ref = [c for c in cpu if (c["kernel"], c["nx"], c["p_b"]) == (g["kernel"], g["nx"], g["p_b"])]
+        if not ref:
+            md.append(f'| {g["backend"]} | {g["nx"]} | none of the same set-up | — | {g["quantity"]:.4g} / — | — |')
+            continue
+        c = ref[0]
+        a, b = centroid(g["run"]), centroid(c["run"])
+        same = len(a) == len(b) and all(abs(x[0] - y[0]) < 1e-9 for x, y in zip(a, b))
+        dmax = max(abs(x[1] - y[1]) for x, y in zip(a, b)) if same else math.nan
+        md.append(f'| {g["backend"]} | {g["nx"]} | {c["run"].split("/")[-1]} ({c["backend"]}) | '
+                  f'{dmax:.2e} | {g["quantity"]:.4g} / {c["quantity"]:.4g} | {g["wall_time_s"] / c["wall_time_s"]:.2f} |')
+    return md + [""]
 
 
 def pareto(pts, x, flag):
@@ -178,7 +220,7 @@ def main():
         pareto(pts, "pair_work_1e9", "pareto")
         pareto(pts, "wall_time_s", "pareto_wall")
     keys = ["case", "backend", "kernel", "nx", "p_b", "p_b_dx_over_sigma", "precision", "steps", "pair_work_1e9", "wall_time_s",
-            "ms_per_step", "quantity", "error", "pareto", "pareto_wall", "status", "commit", "run"]
+            "ms_per_step", "quantity", "error", "pareto", "pareto_wall", "status", "adapter", "commit", "date", "run"]
     with open(f"{out}/speed_vs_physical_error.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
@@ -214,13 +256,14 @@ def main():
           "* Pareto front: runs that no other run of the same case beats in both work and error (ringed and joined in "
           "the work plots, `pareto` in the CSV; `pareto_wall` is the same on wall time). Axes are log-log.", ""]
     for name, pts, q in [("drop", drop, "period"), ("relax-60", relax, "θ (deg)")]:
-        md += [f"## {name}", "", f"| backend | kernel | nx | p_b (p_bΔx/σ) | precision | work (1e9 pairs) | wall time (s) | ms/step | {q} | rel. error | Pareto (work / wall) | commit |",
-               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        md += [f"## {name}", "", f"| backend | kernel | nx | p_b (p_bΔx/σ) | precision | work (1e9 pairs) | wall time (s) | ms/step | {q} | rel. error | Pareto (work / wall) | adapter / driver | commit | date |",
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in sorted(pts, key=lambda p: p["pair_work_1e9"]):
             md.append(f'| {p["backend"]} | {p["kernel"]} | {p["nx"]} | {p["p_b"]:g} ({p["p_b_dx_over_sigma"]:.2f}) | {p["precision"]} | '
                       f'{p["pair_work_1e9"]:.2f} | {p["wall_time_s"]:.1f} | {p["ms_per_step"]:.2f} | {p["quantity"]:.4g} | '
-                      f'{p["error"]:.4f} | {"**yes**" if p["pareto"] else "no"} / {"**yes**" if p["pareto_wall"] else "no"} | {p["commit"]} |')
+                      f'{p["error"]:.4f} | {"**yes**" if p["pareto"] else "no"} / {"**yes**" if p["pareto_wall"] else "no"} | {p["adapter"]} | {p["commit"]} | {p["date"][:10]} |')
         md.append("")
+    md += gpu_section(drop)
     md += ["## Plots and data", "", "* [drop_work_vs_period_error.svg](drop_work_vs_period_error.svg)",
            "* [relax60_work_vs_angle_error.svg](relax60_work_vs_angle_error.svg)",
            "* [drop_time_vs_period_error.svg](drop_time_vs_period_error.svg)",

@@ -14,7 +14,9 @@ bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
 drop() { # id nx kind h p_b precision
   local d="$out/drop-$1"
-  [ -f "$d/summary.json" ] || "$bin" run oscillating-drop --threads 1 --quiet --precision "$6" \
+  local scale=() # above nx = 30 the scene's dt breaks the CFL limit: rescale it (time.dt_policy)
+  [ "$2" -gt 30 ] && scale=(--set time.dt_policy=scale)
+  [ -f "$d/summary.json" ] || "$bin" run oscillating-drop --threads 1 --quiet --precision "$6" "${scale[@]}" \
     --set domain.nx=$2 --set kernel.kind=$3 --set kernel.h_ratio=$4 --set phases.0.p_b=$5 --set phases.1.p_b=$5 \
     --set relax.t=0.1 --t-end 0.6 --every 0 --out "$d" > "$d.log" 2>&1
 }
@@ -27,7 +29,7 @@ relax() { # id kind h p_b precision
 gpu() { # id nx variant: the default drop set-up (quintic, p_b = σ/(2Δx) = nx) on a GPU variant
   local d="$out/drop-$1"
   [ -f "$d/summary.json" ] || "$bin" run oscillating-drop --backend gpu --variant "$3" --quiet --steps-per-submit 64 \
-    --set domain.nx=$2 --set kernel.kind=quintic --set kernel.h_ratio=1.0 --set phases.0.p_b=$2 --set phases.1.p_b=$2 \
+    --set domain.nx=$2 --set time.dt_policy=scale --set kernel.kind=quintic --set kernel.h_ratio=1.0 --set phases.0.p_b=$2 --set phases.1.p_b=$2 \
     --set relax.t=0.1 --t-end 0.6 --every 0 --out "$d" > "$d.log" 2>&1
 }
 if [ "${GPU_ONLY:-0}" = 1 ]; then # the GPU rows alone (variants × precision × resolution)
