@@ -8,7 +8,9 @@ import csv, glob, json, math, os, sys
 R, SIGMA, DX = 0.1875, 1.0, 1.0 / 48
 LAPLACE = SIGMA / R                      # 2D Laplace jump σ/R
 CENTROID = 4 * R / (3 * math.pi)         # quarter-circle centroid
-SUPPORT = {"quintic": 3.0 * 1.0, "cubic-spline": 2.0 * 1.2, "wendland-c2": 2.0 * 1.3}
+SUPPORT = {"quintic": 3.0 * 1.0, "cubic-spline": 2.0 * 1.2, "wendland-c2": 2.0 * 1.3,
+           "johnson": 2.0 * 1.2, "gaussian": 3.0 * 1.0}
+CORE = ["quintic", "cubic-spline", "wendland-c2"]  # always listed; the others when they were run
 
 
 def num(v):
@@ -84,10 +86,10 @@ def main():
     rows = []
     sweeps = [("momentum", "", [0, 12, 24, 48, 175]), ("transport", "transport-", [48, 175, 1225])]
     for background, prefix, pbs in sweeps:
-      for kind in ["quintic", "cubic-spline", "wendland-c2"]:
+      for kind in SUPPORT:
         for pb in pbs:
             base = f"{runs}/{prefix}{kind}-pb{pb}"
-            if background != "momentum" and not os.path.exists(base + "-rest"):
+            if (background != "momentum" or kind not in CORE) and not os.path.exists(base + "-rest"):
                 continue
             row = {"background": background, "kernel": kind, "p_b": pb, "p_b_dx_over_sigma": pb * DX / SIGMA}
             for tag, fn, keys in [("rest", lambda d: rest(d, kind), ["spurious_speed", "laplace_jump", "min_rho", "n_rho_below_0.95"]),
@@ -139,7 +141,7 @@ def main():
            "σ|∇C|/2 ≈ 0.23σ/Δx: spurious speeds of 0.27–0.99 and Laplace jumps 8–64 % low. Too high "
            "(p_b = B = 175, p_b Δx/σ = 3.6) the pressure-sum error on the disordered lattice acts as a "
            "spring: the cubic-spline and Wendland drops ring at T ≈ 0.19 and 0.14 with a third to a half "
-           "of the amplitude, like an elastic solid. At p_b Δx/σ = 0.5 every kernel oscillates like a liquid (period "
+           "of the amplitude, like an elastic solid. At p_b Δx/σ = 0.5 the quintic, the cubic spline and Wendland C2 oscillate like a liquid (period "
            "0.32–0.39 on this coarse lattice, centroid back on the circle's 0.0796) with spurious speeds "
            "≤ 0.13 and a Laplace jump within 4–6 % at nx = 24 (−2.0 % for the quintic at the default nx = 30, "
            "reports/validation/spurious); p_b Δx/σ = 1 improves the jump (within 2.1 %) and the spurious speed "
@@ -147,6 +149,18 @@ def main():
            "the quintic's 0.344. No voids were detected at any p_b "
            "(min ρ/ρ0 ≥ 0.987, no fluid particle below 0.95ρ0 at the end of the rest runs). Rows marked "
            "'not run', if any, did not finish.",
+           "", "## The thesis's other two kernels", "",
+           "The truncated Gaussian (T40, h = Δx, support 3Δx) behaves like the quintic: at the rule period 0.370 "
+           "(quintic 0.390), amplitude 0.0085, Laplace jump −7.6 %, spurious speed 0.10; at p_b Δx/σ = 1 period "
+           "0.328 and jump −3.3 %; at B = 175 it rings at 0.268 and its centroid settles at 0.0838 (solid-like, "
+           "as the cubic spline). The Johnson quadratic (T41) at h = 1.2Δx (support 2.4Δx, PHYSICS.md §1's "
+           "lattice-sum value) is solid-like at every p_b > 0: periods 0.260, 0.222, 0.188 and 0.098 at p_b 12, "
+           "24, 48 and 175, spurious speeds 0.02–0.06 and Laplace jumps 9–17 % low; only p_b = 0 gives a liquid's "
+           "period (0.376), at a spurious speed of 0.82. Its gradient does not vanish as r → 0 (f'(0) ≠ 0, "
+           "PHYSICS.md §1), so the pressure term of close pairs is a stiff repulsion that holds the lattice. "
+           "Widening the support removes it: at the rule, h = 1.5Δx (support 3Δx) gives period 0.334 and "
+           "jump −6.0 %, and h = 2Δx gives 0.372 and −0.1 % (johnson-h/README.md). `validate oscillation` "
+           "runs it at h = 2Δx (at nx = 30, h = 1.5Δx still rings 27 % fast; h = 2Δx is 8 % off the quintic).",
            "", "## The transport-velocity formulation", "",
            "With `time.background = \"transport\"` (Adami, Hu & Adams 2013; CPU only) p_b leaves the EOS and "
            "the momentum equation and only moves the particles (ṽ = v + (dt/2)a_b, a_b the pressure term of a "

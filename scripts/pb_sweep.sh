@@ -12,14 +12,18 @@ out=${1:-out/pb-sweep}
 bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
 pbs="24 175 48 12 0" prefix="" bg=()
+# KERNELS (kind:h_ratio, space-separated) and PBS narrow the sweep, e.g. KERNELS="johnson:1.2
+# gaussian:1.0" PBS="24 48 175" for the thesis's other two kernels.
+kernels=${KERNELS:-"quintic:1.0 cubic-spline:1.2 wendland-c2:1.3"}
 if [ "${BACKGROUND:-momentum}" = transport ]; then
   pbs="1225 175 48" prefix="transport-" bg=(--set 'time.background="transport"')
 fi
+pbs=${PBS:-$pbs}
 # p_b outer, most informative first (the rule's 24, the former B = 175, then 48, 12, 0), so a
 # sweep cut short still compares the kernels at the same p_b.
 for pb in $pbs; do
-  for k in "quintic 1.0" "cubic-spline 1.2" "wendland-c2 1.3"; do
-    set -- $k; kind=$1; hr=$2
+  for k in $kernels; do
+    kind=${k%%:*} hr=${k##*:}
     common=(--backend cpu1 --quiet --set kernel.kind=$kind --set kernel.h_ratio=$hr --set domain.nx=24
             --set phases.0.p_b=$pb --set phases.1.p_b=$pb "${bg[@]}")
     d="$out/$prefix$kind-pb$pb"
