@@ -98,9 +98,10 @@ fn unknown_case_is_an_error() {
 /// The default oscillating drop (30×30, relax 0.5, quintic h = 1.2Δx, p_b = 30; full resolution: coarser
 /// lattices damp the amplitude below the band) against the thesis: period within 5 % of 0.37
 /// (0.366 measured), first-cycle amplitude within 20 % of 0.012
-/// (0.0100); the cubic spline (h = 1.2Δx) and Wendland C2 (h = 1.5Δx) oscillate like a liquid:
-/// period within 15 % of the quintic's (−14 %, −2 % measured) and the centroid back within
-/// 0.002 of the circle's 0.0796 for t ≥ 0.4. Three runs of 11,000 steps of 900 particles.
+/// (0.0100); every other kernel (`oscillation::kernel_sets`: cubic spline h = 1.2Δx, Wendland C2
+/// h = 1.5Δx, Johnson h = 2Δx, Gaussian h = 1.2Δx) oscillates like a liquid: period within 15 %
+/// of the quintic's (−14 %, −2 %, −8 %, −0.5 % measured) and the centroid back within 0.002 of
+/// the circle's 0.0796 for t ≥ 0.4. Five runs of 11,000 steps of 900 particles.
 #[test]
 fn oscillating_drop_matches_thesis_with_every_kernel() {
     use sphlab::validate::oscillation::{self as osc, kernel_sets, measure};
