@@ -9,13 +9,12 @@ use super::report::{write_csv, CaseReport, Row};
 use super::{convergence, oscillation, Ctx, ValidateError};
 use std::path::PathBuf;
 
-/// Kernel variants: (id, label, overrides).
-pub fn kernels() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
-    vec![
-        ("quintic", "quintic h=1.2Δx (default)", vec![]),
-        ("osc-cubic", "cubic h=1.2Δx", vec!["kernel.kind=cubic-spline", "kernel.h_ratio=1.2"]),
-        ("osc-wendland", "wendland-c2 h=1.5Δx", vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.5"]),
-    ]
+/// Kernel variants: (id, label, overrides): the default quintic and the oscillation case's
+/// other kernels (`oscillation::kernel_sets`, the one list of kernels and their h).
+pub fn kernels() -> Vec<(String, &'static str, Vec<&'static str>)> {
+    let mut v = vec![("quintic".to_string(), "quintic h = 1.2Δx (default)", vec![])];
+    v.extend(oscillation::kernel_sets().into_iter().map(|(id, label, sets)| (format!("osc-{id}"), label, sets)));
+    v
 }
 
 fn scatter(
@@ -46,7 +45,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     for (k, (id, label, sets)) in kernels().into_iter().enumerate() {
         // the oscillation case's runs of the same scene (quintic, cubic, wendland)
         let also = vec![osc_runs.join(id.trim_start_matches("osc-"))];
-        let mut s = oscillation::spec(id, quick, &sets);
+        let mut s = oscillation::spec(&id, quick, &sets);
         s.id = format!("osc-{}", id.trim_start_matches("osc-"));
         let rec = match ctx.run(&s, &also) {
             Ok(r) => r,
