@@ -115,8 +115,7 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
     // With p_b = σ/(2Δx) p_b grows as Δx shrinks; say so when the end angle follows it.
     let ends: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[3], r[2])).collect();
     if ends.len() >= 3 && ends.windows(2).all(|w| w[1].1 > w[0].1) {
-        let list: Vec<String> =
-            ends.iter().map(|(nx, th, d)| format!("nx = {nx}: θ {th:.1}°, D/D0 {d:.3} (p_b = {nx})")).collect();
+        let list: Vec<String> = ends.iter().map(|(nx, th, d)| format!("nx = {nx}: θ {th:.1}°, D/D0 {d:.3}")).collect();
         rep.notes.push(format!(
             "The equilibrium moves away from 60° as the resolution rises: {}. Under the built-ins' rule p_b = σ/(2Δx) \
              the background pressure grows with 1/Δx, and with it the pinning of the contact line by the pressure-sum \

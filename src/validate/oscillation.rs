@@ -162,7 +162,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                     &format!("within {:.0} % of the thesis's 0.37", THESIS_PERIOD_TOL * 100.0),
                 )
             }
-            "cubic" | "wendland" | "johnson" | "gaussian" => row.check(
+            k if kernel_sets().iter().any(|s| s.0 == k) => row.check(
                 (period / quintic_period - 1.0).abs() <= KERNEL_PERIOD_TOL,
                 &format!("within {:.0} % of the quintic's {quintic_period:.3}", KERNEL_PERIOD_TOL * 100.0),
             ),
@@ -195,7 +195,8 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         let late_mean = late.iter().sum::<f64>() / late.len().max(1) as f64;
         let circle = 4.0 * 0.1875 / (3.0 * std::f64::consts::PI);
         let late_row = Row::new(&format!("mean centroid t ≥ {LATE_T}, {what}"), late_mean, 4, None, Some(circle));
-        rep.rows.push(if matches!(*id, "quintic" | "cubic" | "wendland" | "johnson" | "gaussian") && !quick {
+        let judged = *id == "quintic" || kernel_sets().iter().any(|s| s.0 == *id);
+        rep.rows.push(if judged && !quick {
             late_row.check((late_mean - circle).abs() <= LATE_TOL, &format!("within {LATE_TOL} of the circle's"))
         } else {
             late_row

@@ -153,8 +153,9 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         } else {
             row
         });
+        let dw = wall_spread(&rows, dx);
         if !quick {
-            let dw = window_stats(&wall_spread(&rows, dx), wa, wb).map_or(f64::NAN, |s| s.0);
+            let dw = window_stats(&dw, wa, wb).map_or(f64::NAN, |s| s.0);
             let row = Row::new(&format!("{label}: D/D0 at the wall, mean over {wtext}"), dw, 3, None, Some(d_an));
             rep.rows.push(if b_noslip {
                 row.check((dw / d_an - 1.0).abs() < 0.03, "within 3 % of 1.385 (issue 10)")
@@ -195,7 +196,6 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                 rep.rows.push(Row::new(&format!("{label}: max |ρ/ρ0 − 1|, t ≥ 1"), peak, 3, None, Some(0.0)));
             }
             let half = 0.7 * t_end;
-            let dw = wall_spread(&rows, dx);
             if let (Some(dm), Some(cm)) = (window_stats(&dw, half, t_end), window_stats(&circle, half, t_end)) {
                 rep.rows.push(
                     Row::new(
