@@ -139,7 +139,8 @@ fn budget_is_kept() {
     let e = stderr(&o);
     assert!(o.status.success(), "{e}");
     assert!(e.contains("study plan:") && e.contains("estimated time"), "the plan comes first: {e}");
-    // Within ±20 %: sizes were dropped, so the kept jobs' timed blocks were raised to fill it.
+    // Within ±20 %: sizes were dropped, so the kept jobs' timed blocks were raised to fill it (a
+    // whole round of blocks does not fit here: the fill goes block by block, plan::select).
     assert!(
         (0.8 * budget..=1.2 * budget).contains(&took),
         "a {budget} s budget took {took:.1} s (must be within ±20 %): {e}"

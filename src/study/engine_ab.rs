@@ -130,6 +130,7 @@ fn job(s: &Start, id: BackendId) -> Job {
         threads: 1,
         est_s: 0.0,
         rep_s: 0.0,
+        extra_blocks: 0,
     }
 }
 

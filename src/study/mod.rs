@@ -268,7 +268,7 @@ impl Common<'_> {
             n: s.layout.pos.len(),
             n_fluid: s.layout.n_fluid,
             steps: self.protocol.steps,
-            repeats: self.protocol.repeats,
+            repeats: self.protocol.repeats + job.extra_blocks,
             backend: job.id.kind().into(),
             adapter,
             driver,
@@ -394,7 +394,7 @@ fn run_sweep(
             start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
         }
         let s = &start.as_ref().expect("set above").2;
-        let res = run_job(job, s, gpu, &protocol);
+        let res = run_job(job, s, gpu, &Protocol { repeats: protocol.repeats + job.extra_blocks, ..protocol });
         if job.id == REFERENCE {
             references.entry(job.nx).or_insert_with(|| res.as_ref().ok().map(|t| t.snapshot.clone()));
         }
