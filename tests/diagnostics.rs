@@ -141,7 +141,7 @@ fn empty_inputs_give_none() {
     assert!(max_normal_deviation(&[], &[], &[], DX, 0.0, [0.0; 2]).is_none());
     assert!(centroid(&[], &[], &[], 0)[0].is_nan());
     assert_eq!(kinetic_energy(&[], &[], &[], 0), 0.0);
-    assert!(wall_shear_profile(&[], &[], &[], DX, 0.0, 0.5, 4).iter().all(|b| b.2 == 0));
+    assert!(wall_shear_profile(&[], &[], &[], DX, 0.0, 0.5, 4, false).iter().all(|b| b.2 == 0));
     // All-liquid: no gas, so no interface.
     let (pos, _) = cap_scene(DX, 0.1, 0.0, 0.0);
     let phase = vec![0; pos.len()];
@@ -267,8 +267,18 @@ fn wall_shear_profile_of_linear_shear() {
         }
     }
     let vel: Vec<[f64; 2]> = pos.iter().map(|p| [if p[1] > 0.0 { gamma * p[1] } else { 0.0 }, 0.0]).collect();
-    let prof = wall_shear_profile(&pos, &vel, &phase, DX, 0.0, 0.5, 20);
+    let prof = wall_shear_profile(&pos, &vel, &phase, DX, 0.0, 0.5, 20, false);
     let worst = prof.iter().map(|b| (b.1 - gamma).abs()).fold(0.0, f64::max);
+    // Flow towards −x from x = 0.25 on (the bins from 0.5 of the wall): |γ̇| is the same, the signed mean changes sign there.
+    let back: Vec<[f64; 2]> =
+        pos.iter().zip(&vel).map(|(p, v)| [if p[0] >= 0.25 { -v[0] } else { v[0] }, v[1]]).collect();
+    let abs = wall_shear_profile(&pos, &back, &phase, DX, 0.0, 0.5, 20, false);
+    let signed = wall_shear_profile(&pos, &back, &phase, DX, 0.0, 0.5, 20, true);
+    for ((a, s), b) in abs.iter().zip(&signed).zip(&prof) {
+        assert!((a.1 - b.1).abs() < 1e-12 && a.2 == s.2, "{a:?} {b:?}");
+        let want = if s.0 * 0.5 > 0.25 { -gamma } else { gamma };
+        assert!((s.1 - want).abs() < 1e-12, "bin at {}: signed {} (want {want})", s.0, s.1);
+    }
     eprintln!(
         "wall shear: {} bins, counts {:?}, max |γ̇ − {gamma}| = {worst:.2e}",
         prof.len(),

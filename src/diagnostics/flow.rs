@@ -54,8 +54,11 @@ pub fn max_density_error(rho: &[f64], rho0_of_phase: &[f64], phase: &[u32]) -> f
 
 /// Wall shear-rate profile, §9(b) quick check for a no-slip wall: for the first-row fluid
 /// particles (`0 < y − y_w ≤ 1.2Δx`, any fluid phase) `γ̇_i ≈ u_i/(y_i − y_w)`, binned in x over
-/// `[0, x_max]` into `bins` equal bins. Returns per bin (bin-centre x / x_max, mean |γ̇|, count);
-/// empty bins report mean 0 with count 0. Particles outside `[0, x_max]` are ignored.
+/// `[0, x_max]` into `bins` equal bins. Returns per bin (bin-centre x / x_max, mean |γ̇| or, with
+/// `signed`, mean γ̇ (positive = flow towards +x), count); empty bins report mean 0 with count 0.
+/// Particles outside `[0, x_max]` are ignored. The signed mean, averaged over many snapshots, is
+/// the mean flow's shear (noise cancels); the mean of |γ̇| counts the noise too.
+#[allow(clippy::too_many_arguments)]
 pub fn wall_shear_profile(
     pos: &[[f64; 2]],
     vel: &[[f64; 2]],
@@ -64,6 +67,7 @@ pub fn wall_shear_profile(
     y_w: f64,
     x_max: f64,
     bins: usize,
+    signed: bool,
 ) -> Vec<(f64, f64, usize)> {
     if bins == 0 || !(x_max > 0.0) || !(dx > 0.0) {
         return Vec::new();
@@ -76,7 +80,7 @@ pub fn wall_shear_profile(
             continue;
         }
         let b = ((p[0] / x_max * bins as f64) as usize).min(bins - 1);
-        sum[b] += (v[0] / s).abs();
+        sum[b] += if signed { v[0] / s } else { (v[0] / s).abs() };
         cnt[b] += 1;
     }
     (0..bins)

@@ -115,11 +115,11 @@ pub fn snapshots_in(dir: &Path, rows: &[Row], a: f64, b: f64) -> Vec<Snap> {
 /// Wall shear-rate profile averaged over snapshots (count-weighted per bin):
 /// `(fraction of the wall, mean |γ̇|)` for the non-empty bins, via
 /// [`crate::diagnostics::wall_shear_profile`].
-pub fn mean_shear_profile(snaps: &[Snap], dx: f64, y_w: f64, x_max: f64, bins: usize) -> Vec<(f64, f64)> {
+pub fn mean_shear_profile(snaps: &[Snap], dx: f64, y_w: f64, x_max: f64, bins: usize, signed: bool) -> Vec<(f64, f64)> {
     let mut sum = vec![0.0; bins];
     let mut cnt = vec![0usize; bins];
     for s in snaps {
-        let prof = crate::diagnostics::wall_shear_profile(&s.pos, &s.vel, &s.phase, dx, y_w, x_max, bins);
+        let prof = crate::diagnostics::wall_shear_profile(&s.pos, &s.vel, &s.phase, dx, y_w, x_max, bins, signed);
         for (b, (_, m, c)) in prof.into_iter().enumerate() {
             sum[b] += m * c as f64;
             cnt[b] += c;

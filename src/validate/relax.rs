@@ -132,8 +132,8 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             angle.series.push(Series::line(format!("{label}: area inversion"), area.clone()));
         }
         spread.series.push(Series::line(label.to_string(), d.clone()));
-        let early = mean_shear_profile(&snapshots_in(&dir, &rows, ea, eb), dx, y_w, x_max, 20);
-        let late = mean_shear_profile(&snapshots_in(&dir, &rows, wa, wb), dx, y_w, x_max, 20);
+        let early = mean_shear_profile(&snapshots_in(&dir, &rows, ea, eb), dx, y_w, x_max, 20, false);
+        let late = mean_shear_profile(&snapshots_in(&dir, &rows, wa, wb), dx, y_w, x_max, 20, false);
         shear.series.push(Series::line_points(format!("{label}, t ∈ [{ea:.2}, {eb:.2}]"), early.clone()));
         shear.series.push(Series::line_points(format!("{label}, {wtext}"), late.clone()));
         for (x, g) in &early {
