@@ -35,6 +35,16 @@ pub fn capillary_background_pressure(sigma: f64, dx: f64) -> f64 {
     sigma / (2.0 * dx)
 }
 
+/// The background pressure of a drop at rest on a wall (`sessile-90`, issue 10): `p_b = σ/Δx`,
+/// twice [`capillary_background_pressure`]. Nothing has to move there, so the spring p_b puts
+/// on the arrangement costs nothing and buys order: at nx = 45, Mode B over t ∈ [1, 2], p_b = 45
+/// (σ/(2Δx)) left the liquid's kinetic energy at 2.6e-6 and the Fig. 4.9 normal deviation at
+/// 10.4°, p_b = 65 and 90 at 2e-7 and 6.2–7.7° (`reports/validation/sessile-90/pb-check/`).
+/// A moving contact line needs the lower rule: a higher p_b pins it (relax-60, convergence).
+pub fn at_rest_background_pressure(sigma: f64, dx: f64) -> f64 {
+    sigma / dx
+}
+
 /// The background pressure of the transport-velocity formulation (`time.background =
 /// "transport"`): `ρ0c0²`, as Adami, Hu & Adams 2013 and PySPH's TVF scheme take it. Below it the
 /// shift is too weak to keep the particles ordered against the interface tension (relax-60 at
@@ -121,8 +131,8 @@ pub fn sessile(theta_deg: f64) -> Scene {
         },
         kernel: KernelCfg { kind: KernelKind::CubicSpline, h_ratio: 1.2 },
         // μ = 0.15 (thesis §4.2.2: "equal density and viscosity of 1.0 and 0.15"), σ = 1;
-        // p_b = σ/(2Δx) = 65 at Δx = 0.5/65.
-        phases: equal_phases(0.15, 20.0, capillary_background_pressure(1.0, 0.5 / 65.0)),
+        // p_b = σ/Δx = 130 at Δx = 0.5/65 (a drop at rest; relax-60 takes σ/(2Δx)).
+        phases: equal_phases(0.15, 20.0, at_rest_background_pressure(1.0, 0.5 / 65.0)),
         fill: "gas".into(),
         shapes: vec![Shape::circle([0.0, 0.0], 0.25, "liquid", [0.0, 0.0])],
         surface_tension: Some(SurfaceTension::thesis(1.0)),
@@ -163,6 +173,8 @@ pub fn relax_60() -> Scene {
     s.description = "Thesis §4.2.3 / Figs. 4.10–4.15: 90° drop relaxing to 60° (D/D0 → 1.385)".into();
     for p in &mut s.phases {
         p.mu = 0.05;
+        // The contact line moves: p_b = σ/(2Δx) = 65 (a higher p_b pins it; convergence case).
+        p.p_b = capillary_background_pressure(1.0, 0.5 / 65.0);
     }
     s.contact.sigma_ls = 0.5;
     s.contact.sigma_gs = 1.0;

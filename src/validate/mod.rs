@@ -45,8 +45,8 @@ pub struct ValidateOptions {
     pub reuse: bool,
     /// End time of the long sessile/relax/convergence runs (default: the thesis's t = 5).
     pub t_end_long: Option<f64>,
-    /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65), with
-    /// p_b = σ/(2Δx) at that resolution (the built-ins' rule).
+    /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65), with the
+    /// scene's p_b rule at that resolution (σ/Δx for sessile-90, σ/(2Δx) for relax-60).
     pub nx_long: Option<u32>,
     /// With `reuse`: skip (and report) runs that have no finished output instead of running them.
     pub skip_missing: bool,
@@ -91,11 +91,13 @@ impl ValidateOptions {
     }
 
     /// Overrides of the full sessile-90 / relax-60 runs: none at nx = 65; else the resolution
-    /// and the background pressure σ/(2Δx) of that resolution (σ = 1, box width 0.5).
-    pub fn long_sets(&self) -> Vec<String> {
+    /// and the scene's background-pressure rule `p_b(σ, Δx)` at that resolution (σ = 1, box
+    /// width 0.5): [`crate::scene::builtin::at_rest_background_pressure`] for sessile-90,
+    /// [`crate::scene::builtin::capillary_background_pressure`] for relax-60.
+    pub fn long_sets(&self, p_b: fn(f64, f64) -> f64) -> Vec<String> {
         match self.nx_long {
             Some(nx) if nx != 65 => {
-                let pb = crate::scene::builtin::capillary_background_pressure(1.0, 0.5 / nx as f64);
+                let pb = p_b(1.0, 0.5 / nx as f64);
                 vec![format!("domain.nx={nx}"), format!("phases.0.p_b={pb}"), format!("phases.1.p_b={pb}")]
             }
             _ => vec![],

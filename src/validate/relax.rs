@@ -335,7 +335,13 @@ fn dt_comparison(
     rep: &mut CaseReport,
     angle: &mut PlotSpec,
 ) {
-    let spec = RunSpec::new("b-noslip-dt7e-5", "relax-60", &ctx.opts.long_sets(), Some(t_end), 2);
+    let spec = RunSpec::new(
+        "b-noslip-dt7e-5",
+        "relax-60",
+        &ctx.opts.long_sets(crate::scene::builtin::capillary_background_pressure),
+        Some(t_end),
+        2,
+    );
     let dir = ctx.dir.join("runs").join(&spec.id);
     let Ok(scene) = spec.scene() else { return };
     let Some(rec) = crate::validate::RunRecord::reuse(&dir, &scene, Some(t_end), &spec.command(&dir)) else {
