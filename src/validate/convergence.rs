@@ -121,8 +121,8 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
              the background pressure grows with 1/Δx, and with it the pinning of the contact line by the pressure-sum \
              error on the disordered arrangement (the momentum form). With p_b out of the momentum equation \
              (`time.background = \"transport\"`) the contact line is not pinned at nx = 45 or 65 \
-             (../relax-60/summary.md, ../relax-60/tvf-nx65/README.md). Held at p_b = 45 instead of the rule's 65, nx = 65 \
-             lands at the nx = 45 equilibrium (pb-fixed/README.md): the divergence is the background pressure, not the \
+             (../relax-60/summary.md, ../relax-60/tvf-nx65/README.md). Held at p_b = 45 at every resolution, nx = 65 and 85 \
+             land at the nx = 45 equilibrium (pb-fixed/README.md): the divergence is the background pressure, not the \
              resolution. The thesis's claim of convergence from 0.5/65 is not reproduced with the thesis's form and this rule.",
             list.join("; ")
         ));
