@@ -326,15 +326,15 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
     let mut repeats = opts.protocol.repeats;
     if let (Some(budget), false) = (opts.budget_s, dropped_sizes.is_empty()) {
         let cap = MAX_REPEAT_FACTOR * repeats.max(1);
-        let est = |jobs: &[Job]| jobs.iter().map(|j| j.est_s).sum::<f64>();
         let per_round: f64 = jobs.iter().map(|j| j.rep_s).sum();
-        let slack = BUDGET_FILL * budget - spent_s - est(&jobs);
-        if per_round > 0.0 && slack > per_round {
-            let extra = ((slack / per_round).floor() as usize).min(cap.saturating_sub(repeats));
+        let mut room = BUDGET_FILL * budget - spent_s - jobs.iter().map(|j| j.est_s).sum::<f64>();
+        if per_round > 0.0 && room > per_round {
+            let extra = ((room / per_round).floor() as usize).min(cap.saturating_sub(repeats));
             for j in &mut jobs {
                 j.est_s += extra as f64 * j.rep_s;
             }
             repeats += extra;
+            room -= extra as f64 * per_round;
         }
         // The remainder, one block at a time, cheapest job first, while it fits.
         let mut order: Vec<usize> = (0..jobs.len()).filter(|&k| jobs[k].rep_s > 0.0).collect();
@@ -343,10 +343,10 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
         while added {
             added = false;
             for &k in &order {
-                let room = BUDGET_FILL * budget - spent_s - est(&jobs);
                 if repeats + jobs[k].extra_blocks < cap && jobs[k].rep_s <= room {
                     jobs[k].extra_blocks += 1;
                     jobs[k].est_s += jobs[k].rep_s;
+                    room -= jobs[k].rep_s;
                     added = true;
                 }
             }

@@ -261,7 +261,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     if !quick && nx != 65 {
         rep.not_full_because(format!(
             "nx = {nx} instead of the thesis's 65 (CPU time on a shared 2-core machine), p_b = σ/Δx = {} (a drop at rest: pb-check/README.md)",
-            2 * nx
+            crate::scene::builtin::at_rest_background_pressure(1.0, 0.5 / nx as f64)
         ));
     }
     if !quick && t_end < 5.0 {
