@@ -83,6 +83,25 @@ fn in_band(m: f64, axisym: f64, model_c: f64) -> bool {
     m >= 0.9 * axisym.min(model_c) && m <= 1.1 * axisym.max(model_c)
 }
 
+/// The steps between consecutive angles where D_max/D0 rises with θ.
+fn rising(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points.windows(2).filter(|w| w[1].1 > w[0].1).map(|w| (w[0].0, w[1].0)).collect()
+}
+
+fn rises_count(points: &[(f64, f64)]) -> usize {
+    rising(points).len()
+}
+
+/// "falls at every step", or where it rises.
+fn rises(points: &[(f64, f64)]) -> String {
+    let r = rising(points);
+    if r.is_empty() {
+        return "falls at every step".into();
+    }
+    let at: Vec<String> = r.iter().map(|(a, b)| format!("{a:.0}°→{b:.0}°")).collect();
+    format!("rises at {}", at.join(", "))
+}
+
 /// Runs `spec`, or notes it as not run under `--skip-missing` (None).
 fn run_or_skip(
     ctx: &Ctx,
@@ -256,6 +275,15 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                 .sphlab_text(text)
                 .thesis_text("all (Fig. 5.5)"),
         );
+        let mut text = format!("nx = {}: {}", nx.unwrap_or(0), rises(&sph));
+        if let Some(n) = check_nx {
+            text += &format!("; nx = {n}: {}", rises(&sph_check));
+        }
+        rep.rows.push(
+            Row::new("D_max/D0 against θ: steps where it rises", rises_count(&sph) as f64, 0, None, None)
+                .sphlab_text(text)
+                .thesis_text("falls with θ (Fig. 5.5)"),
+        );
     }
     if let (Some(a), Some(b)) = (at_end.first(), at_end.last()) {
         rep.rows.push(
@@ -312,5 +340,12 @@ mod tests {
         let c = spread_2d_c(RE, WE, t).unwrap().xi;
         assert!(in_band(2.786, a, c) && in_band(0.91 * a, a, c) && in_band(1.09 * c, a, c));
         assert!(!in_band(4.518, a, c) && !in_band(0.89 * a, a, c) && !in_band(1.11 * c, a, c));
+    }
+
+    #[test]
+    fn rises_names_the_steps_where_the_spread_grows_with_theta() {
+        assert_eq!(rises(&[(50.0, 4.4), (90.0, 2.8), (160.0, 1.9)]), "falls at every step");
+        assert_eq!(rises(&[(50.0, 4.40), (70.0, 4.52), (90.0, 4.51), (175.0, 4.6)]), "rises at 50°→70°, 90°→175°");
+        assert_eq!(rises_count(&[(50.0, 1.0), (70.0, 1.0)]), 0);
     }
 }
