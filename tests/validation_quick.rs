@@ -38,7 +38,8 @@ fn oscillation_period_in_band() {
 /// 3° (the thesis's bound at full resolution). Mode A's peak wall shear must exceed Mode B's
 /// (9.6× measured at this resolution; the thesis reports ~160× at 65×65 and t ≈ 4.4), and so
 /// must its mean flow along the wall at the contact line (9.6× measured over t ∈ [0.15, 0.3];
-/// required 3×; 74× at nx = 45 to t = 5, reports/validation/sessile-90).
+/// required 3×; 74× at nx = 45 to t = 5; 7.4× at nx = 65 to t = 5, reports/validation/sessile-90,
+/// where Mode A's mean flow peaks at the right wall's corner and Mode B's beside the drop).
 #[test]
 fn sessile_mode_b_holds_90() {
     let (rep, _d) = quick("sessile-90");

@@ -26,7 +26,8 @@ pub const RE: f64 = 440.0;
 /// Weber number.
 pub const WE: f64 = 6.86;
 /// Resolution of the CPU case (particles across the 1125 µm half domain; 10.7 drop particles
-/// per radius, Δx = 23.4 µm): ≈ 24 min per angle on one thread, nine angles ≈ 2 h on 2 cores.
+/// per radius, Δx = 23.4 µm): 997–1176 s CPU per angle on one thread (measured, e1d1803), nine
+/// angles ≈ 1 h 40 min on 2 cores; nx = 64 would take ≈ 3.2 h (`impact/nx32-check/README.md`).
 pub const CPU_NX: u32 = 48;
 /// Coarser resolution: the quick case and the CPU case's resolution check (5.3 particles per
 /// radius, Δx = 46.9 µm).
