@@ -35,12 +35,33 @@ pub fn capillary_background_pressure(sigma: f64, dx: f64) -> f64 {
     sigma / (2.0 * dx)
 }
 
+/// First-row |∇C|·Δx on a flat interface (`tests/surface_tension.rs`): the Hu–Adams stress's
+/// tensile normal stress on the interface band is `σ|∇C|/2 = 0.2314σ/Δx`.
+pub const FLAT_FIRST_ROW_GRAD: f64 = 0.4628;
+
+/// p_b of a moving contact line in units of the capillary pressure σ/R (`relax-60` and the
+/// convergence case): 11.25, the value σ/(2Δx) takes at the thesis's coarsest 0.5/45 with R = 0.25.
+pub const MOVING_CONTACT_PB_PER_CAPILLARY: f64 = 11.25;
+
+/// The background pressure of a drop whose contact line has to move (`relax-60`, convergence;
+/// issue 10): fixed in units of the capillary pressure, `p_b = 11.25·σ/R` (45 for R = 0.25),
+/// floored at the interface band's tensile stress `0.2314σ/Δx` (binds from nx ≈ 98 across 0.5).
+/// A rule that grows with 1/Δx pins the contact line more at every refinement: under
+/// σ/(2Δx) θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105; at p_b = 45 the
+/// resolutions agree, θ 61.6°, 61.0°, 62.2° and D/D0 1.350, 1.378, 1.380 at nx = 45, 65, 85
+/// (`reports/validation/convergence/pb-check/README.md`). The price is motion: 5× (nx = 65) to
+/// 25× (nx = 85) the liquid kinetic energy of the σ/(2Δx) runs.
+pub fn moving_contact_background_pressure(sigma: f64, radius: f64, dx: f64) -> f64 {
+    (MOVING_CONTACT_PB_PER_CAPILLARY * sigma / radius).max(0.5 * FLAT_FIRST_ROW_GRAD * sigma / dx)
+}
+
 /// The background pressure of a drop at rest on a wall (`sessile-90`, issue 10): `p_b = σ/Δx`,
 /// twice [`capillary_background_pressure`]. Nothing has to move there, so the spring p_b puts
 /// on the arrangement costs nothing and buys order: at nx = 45, Mode B over t ∈ [1, 2], p_b = 45
 /// (σ/(2Δx)) left the liquid's kinetic energy at 2.6e-6 and the Fig. 4.9 normal deviation at
 /// 10.4°, p_b = 65 and 90 at 2e-7 and 6.2–7.7° (`reports/validation/sessile-90/pb-check/`).
-/// A moving contact line needs the lower rule: a higher p_b pins it (relax-60, convergence).
+/// A moving contact line needs a lower p_b: a higher one pins it
+/// ([`moving_contact_background_pressure`]: relax-60, convergence).
 pub fn at_rest_background_pressure(sigma: f64, dx: f64) -> f64 {
     sigma / dx
 }
@@ -131,7 +152,7 @@ pub fn sessile(theta_deg: f64) -> Scene {
         },
         kernel: KernelCfg { kind: KernelKind::CubicSpline, h_ratio: 1.2 },
         // μ = 0.15 (thesis §4.2.2: "equal density and viscosity of 1.0 and 0.15"), σ = 1;
-        // p_b = σ/Δx = 130 at Δx = 0.5/65 (a drop at rest; relax-60 takes σ/(2Δx)).
+        // p_b = σ/Δx = 130 at Δx = 0.5/65 (a drop at rest; relax-60 takes 11.25σ/R = 45).
         phases: equal_phases(0.15, 20.0, at_rest_background_pressure(1.0, 0.5 / 65.0)),
         fill: "gas".into(),
         shapes: vec![Shape::circle([0.0, 0.0], 0.25, "liquid", [0.0, 0.0])],
@@ -173,8 +194,9 @@ pub fn relax_60() -> Scene {
     s.description = "Thesis §4.2.3 / Figs. 4.10–4.15: 90° drop relaxing to 60° (D/D0 → 1.385)".into();
     for p in &mut s.phases {
         p.mu = 0.05;
-        // The contact line moves: p_b = σ/(2Δx) = 65 (a higher p_b pins it; convergence case).
-        p.p_b = capillary_background_pressure(1.0, 0.5 / 65.0);
+        // The contact line moves: p_b = 11.25σ/R = 45, fixed in capillary units (a p_b growing
+        // with 1/Δx pins it more at every refinement; convergence case).
+        p.p_b = moving_contact_background_pressure(1.0, 0.25, 0.5 / 65.0);
     }
     s.contact.sigma_ls = 0.5;
     s.contact.sigma_gs = 1.0;
@@ -273,5 +295,27 @@ pub fn poiseuille() -> Scene {
         relax: None,
         initial_velocity: None,
         output: Output { every: 100 },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_moving_contact_rule_is_fixed_in_capillary_units_until_the_interface_floor_binds() {
+        let pb = |nx: f64| moving_contact_background_pressure(1.0, 0.25, 0.5 / nx);
+        // 45 at the convergence case's 0.5/45, 65 and 85 (the value σ/(2Δx) takes at 0.5/45) ...
+        for nx in [45.0, 65.0, 85.0] {
+            assert!((pb(nx) - 45.0).abs() < 1e-12, "nx {nx}: {}", pb(nx));
+        }
+        assert_eq!(pb(45.0), capillary_background_pressure(1.0, 0.5 / 45.0));
+        // ... and the band's tensile stress 0.2314σ/Δx once that is larger (from nx ≈ 97.2).
+        assert!((pb(105.0) - 0.2314 * 210.0).abs() < 1e-9, "{}", pb(105.0));
+        assert!(pb(97.0) == 45.0 && pb(98.0) > 45.0);
+        // In units of σ/R: a smaller drop at the same Δx takes a proportionally larger p_b.
+        assert!((moving_contact_background_pressure(2.0, 0.125, 0.5 / 65.0) - 180.0).abs() < 1e-12);
+        assert_eq!(relax_60().phases[0].p_b, pb(65.0));
+        assert_eq!(relax_60().phases[1].p_b, pb(65.0));
     }
 }

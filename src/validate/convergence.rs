@@ -16,12 +16,18 @@ pub const FULL_NX: [u32; 4] = [45, 65, 85, 105];
 /// Resolutions of the quick study.
 pub const QUICK_NX: [u32; 3] = [20, 26, 33];
 
-/// The overrides at `nx`: the background pressure σ/(2Δx) of that resolution (the built-ins'
-/// rule; relax-60's own 65 belongs to nx = 65) and `time.dt_policy = "scale"` from relax-60's
-/// own 7e-5 at nx = 65 (dt follows the tightest limit); quick: from 1.4e-4 at 26 (the CFL limit
-/// binds there, so dt ∝ Δx).
+/// The background pressure of the long runs at `nx`: relax-60's rule
+/// ([`crate::scene::builtin::moving_contact_background_pressure`], 45 up to nx ≈ 97, then the
+/// interface floor: 48.59 at 105).
+pub fn pb_for(nx: u32) -> f64 {
+    crate::scene::builtin::moving_contact_background_pressure(1.0, super::relax::R0, 0.5 / nx as f64)
+}
+
+/// The overrides at `nx`: the background pressure of relax-60's rule at that resolution
+/// ([`pb_for`]) and `time.dt_policy = "scale"` from relax-60's own 7e-5 at nx = 65 (dt follows
+/// the tightest limit); quick: from 1.4e-4 at 26 (the CFL limit binds there, so dt ∝ Δx).
 fn dt_sets(nx: u32, quick: bool) -> Vec<String> {
-    let pb = crate::scene::builtin::capillary_background_pressure(1.0, 0.5 / nx as f64);
+    let pb = pb_for(nx);
     let mut sets = vec![
         format!("domain.nx={nx}"),
         format!("phases.0.p_b={pb}"),
@@ -108,23 +114,36 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
             None,
             None,
         ));
-        csv.push(vec![nx as f64, dt_for(nx, quick), d_end, th_end, err, rec.wall_time_s, rec.ms_per_step]);
+        csv.push(vec![nx as f64, dt_for(nx, quick), pb_for(nx), d_end, th_end, err, rec.wall_time_s, rec.ms_per_step]);
         pts.push((format!("relax-60 nx={nx}"), rec.wall_time_s, rec.ms_per_step, err, (th_end - 60.0).abs()));
         rep.runs.push(rec);
     }
-    // With p_b = σ/(2Δx) p_b grows as Δx shrinks; say so when the end angle follows it.
-    let ends: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[3], r[2])).collect();
-    if ends.len() >= 3 && ends.windows(2).all(|w| w[1].1 > w[0].1) {
-        let list: Vec<String> = ends.iter().map(|(nx, th, d)| format!("nx = {nx}: θ {th:.1}°, D/D0 {d:.3}")).collect();
+    let ends: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[4], r[3])).collect();
+    let pbs: Vec<String> = ends.iter().map(|e| format!("{:.2} at nx = {}", pb_for(e.0 as u32), e.0)).collect();
+    rep.notes.push(format!(
+        "Background pressure: relax-60's rule p_b = max(11.25σ/R, 0.2314σ/Δx) \
+         (scene::builtin::moving_contact_background_pressure): {}. Under the former rule p_b = σ/(2Δx), \
+         which grows with 1/Δx, θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105: the growing \
+         background pressure pinned the contact line farther at every refinement (pb-check/README.md).",
+        pbs.join(", ")
+    ));
+    if ends.len() >= 2 {
+        let span = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
+            ends.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+        };
+        let ((t0, t1), (d0, d1)) = (span(&|e| e.1), span(&|e| e.2));
+        let list: Vec<String> = ends.iter().map(|(nx, th, d)| format!("nx = {nx}: θ {th:.2}°, D/D0 {d:.3}")).collect();
+        let trend = if ends.len() >= 3 && ends.windows(2).all(|w| w[1].1 > w[0].1) {
+            "; θ rises with every refinement, away from 60°"
+        } else {
+            ""
+        };
         rep.notes.push(format!(
-            "The equilibrium moves away from 60° as the resolution rises: {}. Under the built-ins' rule p_b = σ/(2Δx) \
-             the background pressure grows with 1/Δx, and with it the pinning of the contact line by the pressure-sum \
-             error on the disordered arrangement (the momentum form). With p_b out of the momentum equation \
-             (`time.background = \"transport\"`) the contact line is not pinned at nx = 45 or 65 \
-             (../relax-60/summary.md, ../relax-60/tvf-nx65/README.md). Held at p_b = 45 at every resolution, nx = 65 and 85 \
-             land at the nx = 45 equilibrium (pb-fixed/README.md): the divergence is the background pressure, not the \
-             resolution. The thesis's claim of convergence from 0.5/65 is not reproduced with the thesis's form and this rule.",
-            list.join("; ")
+            "End values ({wtext}): {}. Across the resolutions θ spans {t0:.2}–{t1:.2}° ({:.2}°) and D/D0 {d0:.3}–{d1:.3} \
+             ({:.1} % of {d_an:.3}){trend}.",
+            list.join("; "),
+            t1 - t0,
+            100.0 * (d1 - d0) / d_an
         ));
     }
     spread.refs = vec![RefLine::horizontal(format!("analytic equilibrium {d_an:.3}"), d_an)];
@@ -135,7 +154,7 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
         ctx,
         rep,
         "convergence.csv",
-        "nx,dt,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step",
+        "nx,dt,p_b,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step",
         &csv,
     )?;
     Ok(pts)

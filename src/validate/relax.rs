@@ -12,7 +12,7 @@ use crate::plot::{PlotSpec, RefLine, Series};
 use std::path::PathBuf;
 
 /// Initial drop radius of `relax-60`.
-const R0: f64 = 0.25;
+pub(super) const R0: f64 = 0.25;
 
 /// The analytic equilibrium D/D0 of the R = 0.25 half-drop at 60°, at the wall.
 pub fn analytic_spread() -> f64 {
@@ -66,7 +66,8 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let (dx, y_w, x_max) = geometry(nx);
     if !quick && nx != 65 {
         rep.not_full_because(format!(
-            "nx = {nx} instead of the thesis's 65 (CPU time on a shared 2-core machine), p_b = σ/(2Δx) = {nx}, dt = {:.4e} (the thesis's 7e-5 at nx = 65 scaled with the viscous limit, as in the convergence case)",
+            "nx = {nx} instead of the thesis's 65 (CPU time on a shared 2-core machine), p_b = {:.2} (the rule max(11.25σ/R, 0.2314σ/Δx)), dt = {:.4e} (the thesis's 7e-5 at nx = 65 scaled with the viscous limit, as in the convergence case)",
+            super::convergence::pb_for(nx),
             super::convergence::dt_for(nx, false)
         ));
     }
@@ -98,7 +99,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut b_circle: Vec<(f64, f64)> = Vec::new();
     let variants = if quick { variants().into_iter().take(1).collect() } else { variants() };
     for (k, (id, label, extra)) in variants.into_iter().enumerate() {
-        // The long runs take the convergence case's sets at this nx (p_b = σ/(2Δx), dt scaled
+        // The long runs take the convergence case's sets at this nx (relax-60's p_b rule, dt scaled
         // from the thesis's 7e-5 at nx = 65, a row every ~0.035), so Mode B no-slip is the
         // convergence run at the same nx and either case reuses the other's.
         let mut sets = if quick { quick_sets() } else { super::convergence::spec(nx, false, t_end).sets };
@@ -338,7 +339,7 @@ fn dt_comparison(
     let spec = RunSpec::new(
         "b-noslip-dt7e-5",
         "relax-60",
-        &ctx.opts.long_sets(crate::scene::builtin::capillary_background_pressure),
+        &ctx.opts.long_sets(|sigma, dx| crate::scene::builtin::moving_contact_background_pressure(sigma, R0, dx)),
         Some(t_end),
         2,
     );
