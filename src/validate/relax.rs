@@ -201,7 +201,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                         med,
                         3,
                         None,
-                        Some(0.0),
+                        None,
                     )
                     .sphlab_text(format!("{med:.2e}")),
                 );
