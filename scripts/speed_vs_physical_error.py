@@ -214,7 +214,9 @@ def main():
     os.makedirs(out, exist_ok=True)
     drops = sorted(glob.glob(f"{runs}/drop-*/")) + sorted(glob.glob("reports/validation/pb-sweep/runs/*-osc/"))
     relaxes = (sorted(glob.glob(f"{runs}/relax-*/")) + sorted(glob.glob("reports/validation/relax-60/runs/b-noslip*/"))
-               + sorted(glob.glob("reports/validation/convergence/runs/nx*/")))
+               + sorted(glob.glob("reports/validation/relax-60/nx45/runs/b-noslip*/"))
+               + sorted(glob.glob("reports/validation/convergence/runs/nx*/"))
+               + sorted(glob.glob("reports/validation/convergence/pb-check/runs/nx*/")))
     drop, relax = drop_points([d.rstrip("/") for d in drops]), relax_points([d.rstrip("/") for d in relaxes])
     for pts in (drop, relax):
         pareto(pts, "pair_work_1e9", "pareto")
@@ -249,8 +251,9 @@ def main():
           "|T − 0.37|/0.37 (thesis period; period = time between the first two centroid maxima of a 5-sample "
           "moving average, the p_b sweep's estimator). nx = 24 f64 runs are the p_b sweep's (Wendland h = 1.3Δx, "
           "commit 7fe2a4c); the others use Wendland h = 1.5Δx.",
-          "* **relax-60**: Mode B no-slip to t = 5: the long runs of reports/validation/relax-60 (nx = 45, dt = 7e-5) and "
-          "convergence (dt scaled), and the committed nx = 33 run of commit 25041d7 (`runs/relax-nx33-pb33-f64`, copied "
+          "* **relax-60**: Mode B no-slip to t = 5: the long runs of reports/validation/relax-60 (nx = 65 and, "
+          "in relax-60/nx45, 45), convergence (dt scaled; p_b = max(11.25σ/R, 0.2314σ/Δx)) and its pb-check "
+          "(the former rule σ/(2Δx) at nx = 65, 85, 105, and p_b = 30 at 65), and the committed nx = 33 run of commit 25041d7 (`runs/relax-nx33-pb33-f64`, copied "
           "from git); error = |θ − 60°|/60° with θ the circle-fit angle averaged over t ∈ [4.3, 4.5]. The kernel × p_b × "
           "precision runs at nx = 26 (`relax` in the script) were stopped for CPU time and are not in the table.",
           "* Pareto front: runs that no other run of the same case beats in both work and error (ringed and joined in "
