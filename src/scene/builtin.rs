@@ -47,10 +47,10 @@ pub const MOVING_CONTACT_PB_PER_CAPILLARY: f64 = 11.25;
 /// issue 10): fixed in units of the capillary pressure, `p_b = 11.25·σ/R` (45 for R = 0.25),
 /// floored at the interface band's tensile stress `0.2314σ/Δx` (binds from nx ≈ 98 across 0.5).
 /// A rule that grows with 1/Δx pins the contact line more at every refinement: under
-/// σ/(2Δx) θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105; at p_b = 45 the
-/// resolutions agree, θ 61.6°, 61.0°, 62.2° and D/D0 1.350, 1.378, 1.380 at nx = 45, 65, 85
+/// σ/(2Δx) θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105; under this rule
+/// θ 61.6°, 61.0°, 62.2°, 63.4° and D/D0 at the wall 1.350, 1.378, 1.380, 1.353
 /// (`reports/validation/convergence/pb-check/README.md`). The price is motion: 5× (nx = 65) to
-/// 25× (nx = 85) the liquid kinetic energy of the σ/(2Δx) runs.
+/// 45× (nx = 105) the liquid kinetic energy of the σ/(2Δx) runs.
 pub fn moving_contact_background_pressure(sigma: f64, radius: f64, dx: f64) -> f64 {
     (MOVING_CONTACT_PB_PER_CAPILLARY * sigma / radius).max(0.5 * FLAT_FIRST_ROW_GRAD * sigma / dx)
 }
