@@ -82,16 +82,17 @@ pub fn mean_flow_window(t_end: f64) -> (f64, f64) {
 pub fn measure(dir: &std::path::Path, nx: u32, a: f64, b: f64, t_end: f64) -> Measured {
     let (dx, y_w, x_max) = geometry(nx);
     let rows = read_series(dir);
-    let snaps = snapshots_in(dir, &rows, a, b);
-    let shear = mean_shear_profile(&snaps, dx, y_w, x_max, 20, false);
-    let (fa, fb) = mean_flow_window(t_end);
-    let mean_flow = mean_shear_profile(&snapshots_in(dir, &rows, fa, fb), dx, y_w, x_max, 20, true)
+    // Every snapshot read once, in step (so time) order; each window is a slice of them.
+    let snaps = snapshots_in(dir, &rows, f64::NEG_INFINITY, f64::INFINITY);
+    let within =
+        |(lo, hi): (f64, f64)| &snaps[snaps.partition_point(|s| s.t < lo)..snaps.partition_point(|s| s.t <= hi)];
+    let shear = mean_shear_profile(within((a, b)), dx, y_w, x_max, 20, false);
+    let mean_flow = mean_shear_profile(within(mean_flow_window(t_end)), dx, y_w, x_max, 20, true)
         .into_iter()
         .map(|(x, g)| (x, g.abs()))
         .collect();
     let normal = normal_deviation_series(dir, &rows, dx, y_w, [0.0, 0.0], 0.25, 3.0 * dx);
-    let (sa, sb) = startup_window(t_end);
-    let startup = mean_shear_profile(&snapshots_in(dir, &rows, sa, sb), dx, y_w, x_max, 20, false);
+    let startup = mean_shear_profile(within(startup_window(t_end)), dx, y_w, x_max, 20, false);
     Measured { rows, shear, mean_flow, normal, startup }
 }
 
