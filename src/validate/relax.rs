@@ -1,7 +1,8 @@
 //! Case `relax-60` (PHYSICS.md §9(c), thesis §4.2.3, Figs. 4.10–4.15): the 90° drop relaxing
-//! to 60°, Mode B and Mode A, no-slip and free-slip bottom walls. Contact angle vs time (three
-//! methods), D/D0 vs time against the analytic equilibrium cap (1.385), shear profiles near
-//! t = 0.25 and at the end.
+//! to 60°, Mode B and Mode A, no-slip and free-slip bottom walls, and both no-slip modes again
+//! from a 45° cap, so that each mode's end angle is approached from both sides (equilibrium or
+//! pinning). Contact angle vs time (three methods), D/D0 vs time against the analytic
+//! equilibrium cap (1.385), shear profiles near t = 0.25 and at the end.
 
 use super::data::{col, mean_shear_profile, read_series, snapshots_in, window_stats, Row as SRow};
 use super::report::{plot, write_csv, CaseReport, Row};
@@ -39,21 +40,66 @@ pub fn wall_spread(rows: &[SRow], dx: f64) -> Vec<(f64, f64)> {
 /// Thesis Fig. 4.13: D/D0 stays within [1, 1.4].
 pub const THESIS_SPREAD_MAX: f64 = 1.4;
 
-/// `(id, label, overrides)` of the variants: the thesis's four, and Mode B no-slip with the
-/// transport-velocity formulation at p_b = ρ0c0² (Adami, Hu & Adams 2013; CPU only).
-pub fn variants() -> Vec<(&'static str, &'static str, Vec<String>)> {
+/// A relax-60 run of the case: its id (the run directory), its label in the report, its scene
+/// overrides, and the angle at which its drop starts on the wall.
+pub struct Variant {
+    /// Run id.
+    pub id: &'static str,
+    /// Label in rows, notes and plots.
+    pub label: &'static str,
+    /// Scene overrides beyond the case's common ones (`KEY=VALUE`).
+    pub sets: Vec<String>,
+    /// Initial contact angle (deg): 90 is the scene's half-disc, anything else the cap of the same
+    /// area ([`start_sets`]).
+    pub start_deg: f64,
+}
+
+/// The angle the second start comes from: below 60°, so that the contact line recedes to its
+/// equilibrium while the 90° start advances to it.
+pub const START_BELOW_DEG: f64 = 45.0;
+
+/// The initial cap of the half-disc's area meeting the wall at `theta_deg` (analytic_flows'
+/// `equilibrium_cap`, centred on the symmetry line below the wall).
+fn start_cap(theta_deg: f64) -> crate::diagnostics::Cap {
+    equilibrium_cap(std::f64::consts::PI * R0 * R0 / 2.0, theta_deg.to_radians())
+}
+
+/// Overrides that start the drop at `theta_deg` instead of 90°: the circle of the equal-area cap
+/// (none at 90°). `scripts/relax_start_angle.sh` writes the same scene for any nx and mode.
+pub fn start_sets(theta_deg: f64) -> Vec<String> {
+    if theta_deg == 90.0 {
+        return Vec::new();
+    }
+    let cap = start_cap(theta_deg);
+    vec![format!("shapes.0.centre=[0.0,{}]", cap.centre_y), format!("shapes.0.radius={}", cap.radius)]
+}
+
+/// The variants: the thesis's four; Mode B no-slip with the transport-velocity formulation at
+/// p_b = ρ0c0² (Adami, Hu & Adams 2013; CPU only); and both modes, no-slip, started below 60°
+/// ([`START_BELOW_DEG`]), so that each mode's end angle is approached from both sides.
+pub fn variants() -> Vec<Variant> {
     let ph = &crate::scene::builtin::relax_60().phases[0];
     let p_b = crate::scene::builtin::transport_background_pressure(ph.rho0, ph.c0);
+    let v = |id, label, sets: Vec<String>, start_deg| Variant { id, label, sets, start_deg };
+    let mode_a = || vec!["contact.mode=a".to_string()];
     vec![
-        ("b-noslip", "Mode B, no-slip", vec![]),
-        (
+        v("b-noslip", "Mode B, no-slip", vec![], 90.0),
+        v(
             "b-noslip-tvf",
             "Mode B, no-slip, transport velocity",
             vec!["time.background=\"transport\"".into(), format!("phases.0.p_b={p_b}"), format!("phases.1.p_b={p_b}")],
+            90.0,
         ),
-        ("b-freeslip", "Mode B, free-slip", vec!["domain.bottom=free-slip".into()]),
-        ("a-noslip", "Mode A, no-slip", vec!["contact.mode=a".into()]),
-        ("a-freeslip", "Mode A, free-slip", vec!["contact.mode=a".into(), "domain.bottom=free-slip".into()]),
+        v("b-freeslip", "Mode B, free-slip", vec!["domain.bottom=free-slip".into()], 90.0),
+        v("a-noslip", "Mode A, no-slip", mode_a(), 90.0),
+        v("a-freeslip", "Mode A, free-slip", [mode_a(), vec!["domain.bottom=free-slip".into()]].concat(), 90.0),
+        v("b-noslip-from45", "Mode B, no-slip, from 45°", start_sets(START_BELOW_DEG), START_BELOW_DEG),
+        v(
+            "a-noslip-from45",
+            "Mode A, no-slip, from 45°",
+            [mode_a(), start_sets(START_BELOW_DEG)].concat(),
+            START_BELOW_DEG,
+        ),
     ]
 }
 
@@ -98,7 +144,9 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut csv = Vec::new();
     let mut b_circle: Vec<(f64, f64)> = Vec::new();
     let variants = if quick { variants().into_iter().take(1).collect() } else { variants() };
-    for (k, (id, label, extra)) in variants.into_iter().enumerate() {
+    // End angle (circle fit, mean over the end window) per variant id, for the two-start rows.
+    let mut end_angle: Vec<(&str, f64)> = Vec::new();
+    for (k, Variant { id, label, sets: extra, start_deg }) in variants.into_iter().enumerate() {
         // The long runs take the convergence case's sets at this nx (relax-60's p_b rule, dt scaled
         // from the thesis's 7e-5 at nx = 65, a row every ~0.035), so Mode B no-slip is the
         // convergence run at the same nx and either case reuses the other's.
@@ -118,7 +166,13 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             Err(e) => return Err(e),
         };
         let dir = PathBuf::from(&rec.dir);
-        let rows = read_series(&dir);
+        let mut rows = read_series(&dir);
+        // The series' spread factor is x_tp over the initial shape's radius: rescaled to the
+        // half-disc's R0, so that every variant's D/D0 has the same D0.
+        let to_r0 = if start_deg == 90.0 { 1.0 } else { start_cap(start_deg).radius / R0 };
+        for r in &mut rows {
+            r.spread_factor = r.spread_factor.map(|d| d * to_r0);
+        }
         let dev = |f: fn(&SRow) -> Option<f64>| col(&rows, move |r| f(r).map(|v| v - 60.0));
         let circle = dev(|r| r.theta_circle_fit);
         if id == "b-noslip" {
@@ -178,6 +232,9 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                     r
                 });
             }
+        }
+        if let Some((m, _, _)) = window_stats(&circle, wa, wb) {
+            end_angle.push((id, m + 60.0));
         }
         if !quick {
             // The price of each form in motion that is not the relaxation: the largest fluid
@@ -262,7 +319,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                 h2.1,
                 0.7 * t_end,
                 if steady {
-                    "a plateau, not a slow relaxation: the contact line stays pinned off 60° (the offset is the method's at this resolution, not a time the run lacks)"
+                    "a plateau, not a slow relaxation: the contact line has stopped off 60° (the offset is the method's at this resolution, not a time the run lacks; the two-start rows say whether it is pinned or at the model's own equilibrium)"
                 } else {
                     "still moving"
                 }
@@ -290,6 +347,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         }
         rep.runs.push(rec);
     }
+    two_starts(&end_angle, &wtext, &mut rep);
     if !quick && nx != 65 {
         dt_comparison(ctx, nx, t_end, (wa, wb, &wtext), &b_circle, &mut rep, &mut angle);
     }
@@ -328,6 +386,49 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         );
     }
     Ok(rep)
+}
+
+/// Each mode's end angle approached from both sides: the no-slip runs from 90° (advancing) and
+/// from [`START_BELOW_DEG`] (receding). Both ends on the same side of 60° put the model's own
+/// equilibrium off 60°; ends on either side bracket 60° and their spread is pinning (hysteresis).
+/// Mode B's midpoint is checked against 60°; Mode A's is reported with the ratio
+/// σ_LG cos θ / (σ_GS − σ_LS) (1 for Young's relation, 0.5/0.5 here).
+fn two_starts(end_angle: &[(&str, f64)], wtext: &str, rep: &mut CaseReport) {
+    let get = |id: &str| end_angle.iter().find(|e| e.0 == id).map(|e| e.1);
+    for (mode, above, below) in [("Mode B", "b-noslip", "b-noslip-from45"), ("Mode A", "a-noslip", "a-noslip-from45")] {
+        let (Some(hi), Some(lo)) = (get(above), get(below)) else { continue };
+        let (mid, half) = (0.5 * (hi + lo), 0.5 * (hi - lo).abs());
+        let row = Row::new(
+            &format!(
+                "{mode}, no-slip: end angle approached from both sides, midpoint − 60° (circle fit, mean over {wtext}; deg)"
+            ),
+            mid - 60.0,
+            2,
+            None,
+            Some(0.0),
+        )
+        .sphlab_text(format!("{:.2} (from {START_BELOW_DEG}°: {lo:.2}°, from 90°: {hi:.2}°)", mid - 60.0));
+        rep.rows.push(if mode == "Mode B" {
+            row.check((mid - 60.0).abs() < 3.0, "|midpoint − 60°| < 3°: the model's equilibrium, from either side")
+        } else {
+            row
+        });
+        let young = 60f64.to_radians().cos();
+        let reading = if lo.min(hi) <= 60.0 && lo.max(hi) >= 60.0 {
+            format!(
+                "the two starts bracket 60°: the contact line stops within ±{half:.1}° of {mid:.1}°, pinning (contact-angle hysteresis) about the right equilibrium"
+            )
+        } else {
+            format!(
+                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3}, {:.2} of Young's {young:.1}), with ±{half:.1}° of hysteresis: not a pinned contact line",
+                mid.to_radians().cos(),
+                mid.to_radians().cos() / young
+            )
+        };
+        rep.notes.push(format!(
+            "{mode}, no-slip, from {START_BELOW_DEG}° (an equal-area cap) and from 90°: {lo:.2}° and {hi:.2}°: {reading}."
+        ));
+    }
 }
 
 /// `y` of the piecewise-linear series `pts` at `t` (None outside it).
@@ -400,6 +501,34 @@ fn dt_comparison(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_start_below_60_is_the_half_discs_area_meeting_the_wall_at_its_angle() {
+        use crate::scene::{build::build_layout, overrides::apply_overrides};
+        assert!(start_sets(90.0).is_empty());
+        let base = crate::scene::builtin::relax_60();
+        let liquid = |sets: &[String]| {
+            let layout = build_layout(&apply_overrides(&base, sets).unwrap()).unwrap();
+            let dx = layout.dx;
+            let pts: Vec<[f64; 2]> =
+                (0..layout.n_fluid).filter(|&i| layout.phase[i] == 0).map(|i| layout.pos[i]).collect();
+            // The outermost first-row particle + Δx/2, as the series' x_tp.
+            let x_row = pts.iter().filter(|p| p[1] < dx).map(|p| p[0]).fold(0.0, f64::max) + 0.5 * dx;
+            (pts.len() as f64, x_row, dx)
+        };
+        let (n90, _, _) = liquid(&[]);
+        for theta in [START_BELOW_DEG, 60.0, 120.0] {
+            let (n, x_row, dx) = liquid(&start_sets(theta));
+            // Same area to the lattice's resolution (825 particles at nx = 65).
+            assert!((n / n90 - 1.0).abs() < 0.01, "{theta}°: {n} liquid particles vs {n90}");
+            // The cap's width at the first row's height: R sin θ at the wall, less (Δx/2)·cot θ.
+            let cap = start_cap(theta);
+            let want = cap.x_tp - 0.5 * dx / theta.to_radians().tan();
+            assert!((x_row - want).abs() < dx, "{theta}°: x_tp {x_row} vs {want}");
+        }
+        // 45°: D/D0 = R sin 45° / R0 = 1.659, against the 60° cap's 1.385.
+        assert!((start_cap(45.0).x_tp / R0 - 1.659).abs() < 1e-3);
+    }
 
     #[test]
     fn the_cap_at_the_first_row_is_narrower_and_the_wall_estimate_recovers_the_wall_value() {
