@@ -426,7 +426,7 @@ fn two_starts(end_angle: &[(&str, f64)], wtext: &str, rep: &mut CaseReport) {
             )
         };
         rep.notes.push(format!(
-            "{mode}, no-slip, from {START_BELOW_DEG}° (an equal-area cap) and from 90°: {lo:.2}° and {hi:.2}°: {reading}."
+            "{mode}, no-slip, from {START_BELOW_DEG}° (an equal-area cap) and from 90°: {lo:.2}° and {hi:.2}°: {reading} (starts from 60° and other resolutions: start-angle/README.md)."
         ));
     }
 }
