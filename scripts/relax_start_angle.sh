@@ -2,25 +2,32 @@
 # relax-60 started from another angle (issue 10): is a mode's end angle an equilibrium or a
 # pinned contact line? The 90° half-disc of radius R0 = 0.25 is replaced by the cap of equal
 # area that meets the wall at THETA0 (circle of radius R centred at (0, −R cos θ0), with
-# R² (θ0 − sin θ0 cos θ0)/2 = π R0²/4); everything else is relax-60's (θ_d = 60°, no-slip,
-# p_b by the rule, dt scaled with the viscous limit). A contact line that ends at the same angle
-# from above and below 60° is at its model's equilibrium; one that stops where it starts is
-# pinned. Usage:
+# R² (θ0 − sin θ0 cos θ0)/2 = π R0²/4); everything else is relax-60's: θ_d = 60°, no-slip,
+# dt scaled with the viscous limit, and the scene's p_b = 45, which is relax-60's rule up to
+# nx ≈ 97 (pass --set phases.0.p_b=… --set phases.1.p_b=… above that). A contact line that
+# ends at the same angle from above and below 60° is at its model's equilibrium; one that stops
+# short from both sides is pinned. Usage:
 #   scripts/relax_start_angle.sh NX MODE THETA0 OUT [--set KEY=VALUE ...]
-# e.g. scripts/relax_start_angle.sh 65 a 45 out/a-from45. One thread, to t = 5, a snapshot every
-# 5000 steps, a series row every 500; `/usr/bin/time -v` in OUT/time-v.txt. Analysis:
-# scripts/relax_window.py NX 4.3 4.5 OUT…
+# e.g. scripts/relax_start_angle.sh 65 a 45 out/a-from45. One thread, to t = 5 (T_END=… for
+# another end), a snapshot every 5000 steps, a series row every 500; `/usr/bin/time -v` in
+# OUT/time-v.txt, the run's output in OUT/log.txt. Analysis: scripts/relax_window.py NX 4.3 4.5
+# OUT…
 set -euo pipefail
 nx=$1 mode=$2 theta0=$3 out=$4
 shift 4
 bin=${SPHLAB:-target/release/sphlab}
-read -r cy radius < <(python3 -c "
+t_end=${T_END:-5}
+# 90°: the scene's own half-disc (as validate's relax::start_sets), no shape override.
+shape=()
+if [ "$theta0" != 90 ]; then
+  read -r cy radius < <(python3 -c "
 import math, sys
 t = math.radians(float(sys.argv[1]))
 r = math.sqrt((math.pi * 0.25**2 / 4) / (0.5 * (t - math.sin(t) * math.cos(t))))
 print(repr(-r * math.cos(t)), repr(r))" "$theta0")
+  shape=(--set "shapes.0.centre=[0.0,$cy]" --set shapes.0.radius="$radius")
+fi
 mkdir -p "$out"
 /usr/bin/time -v -o "$out/time-v.txt" "$bin" run relax-60 --threads 1 --set domain.nx="$nx" \
   --set time.dt_policy=scale --set output.every=500 --set contact.mode="$mode" \
-  --set "shapes.0.centre=[0.0,$cy]" --set shapes.0.radius="$radius" "$@" \
-  --t-end 5 --every 5000 --out "$out" > "$out/log.txt" 2>&1
+  "${shape[@]}" "$@" --t-end "$t_end" --every 5000 --out "$out" > "$out/log.txt" 2>&1
