@@ -391,8 +391,9 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 /// Each mode's end angle approached from both sides: the no-slip runs from 90° (advancing) and
 /// from [`START_BELOW_DEG`] (receding). Both ends on the same side of 60° put the model's own
 /// equilibrium off 60°; ends on either side bracket 60° and their spread is pinning (hysteresis).
-/// Mode B's midpoint is checked against 60°; Mode A's is reported with the ratio
-/// σ_LG cos θ / (σ_GS − σ_LS) (1 for Young's relation, 0.5/0.5 here).
+/// Mode B's midpoint is checked against 60°; for an equilibrium off 60° the note gives
+/// cos θ − cos 60°, the line force (in units of σ_LG) by which the model departs from Young's
+/// relation (relax-60/mode-a-check/README.md).
 fn two_starts(end_angle: &[(&str, f64)], wtext: &str, rep: &mut CaseReport) {
     let get = |id: &str| end_angle.iter().find(|e| e.0 == id).map(|e| e.1);
     for (mode, above, below) in [("Mode B", "b-noslip", "b-noslip-from45"), ("Mode A", "a-noslip", "a-noslip-from45")] {
@@ -420,9 +421,9 @@ fn two_starts(end_angle: &[(&str, f64)], wtext: &str, rep: &mut CaseReport) {
             )
         } else {
             format!(
-                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3}, {:.2} of Young's {young:.1}), with ±{half:.1}° of hysteresis: not a pinned contact line",
+                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3} = Young's {young:.1} {:+.3}: a line force of that size in units of σ_LG), with ±{half:.1}° of hysteresis: not a pinned contact line",
                 mid.to_radians().cos(),
-                mid.to_radians().cos() / young
+                mid.to_radians().cos() - young
             )
         };
         rep.notes.push(format!(
