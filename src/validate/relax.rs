@@ -52,6 +52,9 @@ pub struct Variant {
     /// Initial contact angle (deg): 90 is the scene's half-disc, anything else the cap of the same
     /// area ([`start_sets`]).
     pub start_deg: f64,
+    /// For a start other than 90°: the id of the same variant started at 90°, whose end angle
+    /// this one approaches from the other side.
+    pub from_90: Option<&'static str>,
 }
 
 /// The angle the second start comes from: below 60°, so that the contact line recedes to its
@@ -80,7 +83,8 @@ pub fn start_sets(theta_deg: f64) -> Vec<String> {
 pub fn variants() -> Vec<Variant> {
     let ph = &crate::scene::builtin::relax_60().phases[0];
     let p_b = crate::scene::builtin::transport_background_pressure(ph.rho0, ph.c0);
-    let v = |id, label, sets: Vec<String>, start_deg| Variant { id, label, sets, start_deg };
+    let v = |id, label, sets: Vec<String>, start_deg| Variant { id, label, sets, start_deg, from_90: None };
+    let below = |id, label, sets, from_90| Variant { from_90: Some(from_90), ..v(id, label, sets, START_BELOW_DEG) };
     let mode_a = || vec!["contact.mode=a".to_string()];
     vec![
         v("b-noslip", "Mode B, no-slip", vec![], 90.0),
@@ -93,12 +97,12 @@ pub fn variants() -> Vec<Variant> {
         v("b-freeslip", "Mode B, free-slip", vec!["domain.bottom=free-slip".into()], 90.0),
         v("a-noslip", "Mode A, no-slip", mode_a(), 90.0),
         v("a-freeslip", "Mode A, free-slip", [mode_a(), vec!["domain.bottom=free-slip".into()]].concat(), 90.0),
-        v("b-noslip-from45", "Mode B, no-slip, from 45°", start_sets(START_BELOW_DEG), START_BELOW_DEG),
-        v(
+        below("b-noslip-from45", "Mode B, no-slip, from 45°", start_sets(START_BELOW_DEG), "b-noslip"),
+        below(
             "a-noslip-from45",
             "Mode A, no-slip, from 45°",
             [mode_a(), start_sets(START_BELOW_DEG)].concat(),
-            START_BELOW_DEG,
+            "a-noslip",
         ),
     ]
 }
@@ -144,9 +148,10 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let mut csv = Vec::new();
     let mut b_circle: Vec<(f64, f64)> = Vec::new();
     let variants = if quick { variants().into_iter().take(1).collect() } else { variants() };
-    // End angle (circle fit, mean over the end window) per variant id, for the two-start rows.
-    let mut end_angle: Vec<(&str, f64)> = Vec::new();
-    for (k, Variant { id, label, sets: extra, start_deg }) in variants.into_iter().enumerate() {
+    // Per variant: (id, label, start, its 90° counterpart, end angle: circle fit, mean over the
+    // end window), for the two-start rows.
+    let mut end_angle: Vec<(&str, &str, f64, Option<&str>, f64)> = Vec::new();
+    for (k, Variant { id, label, sets: extra, start_deg, from_90 }) in variants.into_iter().enumerate() {
         // The long runs take the convergence case's sets at this nx (relax-60's p_b rule, dt scaled
         // from the thesis's 7e-5 at nx = 65, a row every ~0.035), so Mode B no-slip is the
         // convergence run at the same nx and either case reuses the other's.
@@ -234,7 +239,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             }
         }
         if let Some((m, _, _)) = window_stats(&circle, wa, wb) {
-            end_angle.push((id, m + 60.0));
+            end_angle.push((id, label, start_deg, from_90, m + 60.0));
         }
         if !quick {
             // The price of each form in motion that is not the relaxation: the largest fluid
@@ -394,22 +399,22 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 /// Mode B's midpoint is checked against 60°; for an equilibrium off 60° the note gives
 /// cos θ − cos 60°, the line force (in units of σ_LG) by which the model departs from Young's
 /// relation (relax-60/mode-a-check/README.md).
-fn two_starts(end_angle: &[(&str, f64)], wtext: &str, rep: &mut CaseReport) {
-    let get = |id: &str| end_angle.iter().find(|e| e.0 == id).map(|e| e.1);
-    for (mode, above, below) in [("Mode B", "b-noslip", "b-noslip-from45"), ("Mode A", "a-noslip", "a-noslip-from45")] {
-        let (Some(hi), Some(lo)) = (get(above), get(below)) else { continue };
+fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, rep: &mut CaseReport) {
+    for &(_, _, start, from_90, lo) in end_angle {
+        let Some(above) = from_90 else { continue };
+        let Some(&(_, mode, _, _, hi)) = end_angle.iter().find(|e| e.0 == above) else { continue };
         let (mid, half) = (0.5 * (hi + lo), 0.5 * (hi - lo).abs());
         let row = Row::new(
             &format!(
-                "{mode}, no-slip: end angle approached from both sides, midpoint − 60° (circle fit, mean over {wtext}; deg)"
+                "{mode}: end angle approached from both sides, midpoint − 60° (circle fit, mean over {wtext}; deg)"
             ),
             mid - 60.0,
             2,
             None,
             Some(0.0),
         )
-        .sphlab_text(format!("{:.2} (from {START_BELOW_DEG}°: {lo:.2}°, from 90°: {hi:.2}°)", mid - 60.0));
-        rep.rows.push(if mode == "Mode B" {
+        .sphlab_text(format!("{:.2} (from {start}°: {lo:.2}°, from 90°: {hi:.2}°)", mid - 60.0));
+        rep.rows.push(if above == "b-noslip" {
             row.check((mid - 60.0).abs() < 3.0, "|midpoint − 60°| < 3°: the model's equilibrium, from either side")
         } else {
             row
@@ -427,7 +432,7 @@ fn two_starts(end_angle: &[(&str, f64)], wtext: &str, rep: &mut CaseReport) {
             )
         };
         rep.notes.push(format!(
-            "{mode}, no-slip, from {START_BELOW_DEG}° (an equal-area cap) and from 90°: {lo:.2}° and {hi:.2}°: {reading} (starts from 60° and other resolutions: start-angle/README.md)."
+            "{mode}, from {start}° (an equal-area cap) and from 90°: {lo:.2}° and {hi:.2}°: {reading} (starts from 60° and other resolutions: start-angle/README.md)."
         ));
     }
 }
