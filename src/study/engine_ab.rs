@@ -105,7 +105,8 @@ impl Runs<'_> {
             Precision::F32 => time_gpu::<f32>(self.ctx, s, spec, mode, opts, bw),
             Precision::F64 => time_gpu::<f64>(self.ctx, s, spec, mode, opts, bw),
         };
-        let mut r = self.common.record(&job(s, BackendId::Gpu(spec)), s, &res, self.reference.as_ref());
+        let reps = self.common.protocol.repeats;
+        let mut r = self.common.record(&job(s, BackendId::Gpu(spec)), reps, s, &res, self.reference.as_ref());
         r.engine = mode.name();
         if let Some(e) = engine {
             r.device_bytes = Some(e.traffic.device_bytes);
@@ -174,7 +175,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
             if id == REFERENCE {
                 reference = res.as_ref().ok().map(|t| t.snapshot.clone());
             }
-            let mut r = c.record(&j, &s, &res, reference.as_ref());
+            let mut r = c.record(&j, opts.protocol.repeats, &s, &res, reference.as_ref());
             r.engine = "cpu".into();
             log(&r);
             out.push(r);

@@ -10,7 +10,8 @@
 //!   variants, log-log.
 //!
 //! The sweep is a list of jobs ([`plan`]): printed first with its estimated time, cut to
-//! `--shard i/n` and to `--budget` (largest sizes dropped first). Each job runs the shared start
+//! `--shard i/n` and to `--budget` (largest sizes dropped first; while running, a job that would
+//! overrun gives back the budget's extra timed blocks before it is skipped). Each job runs the shared start
 //! through the protocol of [`timing`] (accuracy snapshot after K steps, warm-up for a fixed
 //! time, latency, throughput in blocks of K steps per sync); a run that overflowed, blew up or
 //! failed is a record with its `status` and `reason` and no timing. The snapshot is compared
@@ -251,8 +252,16 @@ struct Common<'a> {
 }
 
 impl Common<'_> {
-    /// The record of `job`: timed (`Ok`) or failed (status, reason, no timing).
-    fn record(&self, job: &Job, s: &Start, res: &Result<Timed, Failure>, reference: Option<&Frame>) -> Record {
+    /// The record of `job`, run with `repeats` timed blocks: timed (`Ok`) or failed (status,
+    /// reason, no timing).
+    fn record(
+        &self,
+        job: &Job,
+        repeats: usize,
+        s: &Start,
+        res: &Result<Timed, Failure>,
+        reference: Option<&Frame>,
+    ) -> Record {
         let (adapter, driver, device_type) = match (job.id, self.gpu) {
             (BackendId::Gpu(_), Some(g)) => {
                 let i = &g.adapter_info;
@@ -268,7 +277,7 @@ impl Common<'_> {
             n: s.layout.pos.len(),
             n_fluid: s.layout.n_fluid,
             steps: self.protocol.steps,
-            repeats: self.protocol.repeats + job.extra_blocks,
+            repeats,
             backend: job.id.kind().into(),
             adapter,
             driver,
@@ -378,13 +387,23 @@ fn run_sweep(
     let (mut est_done, mut spent_done) = (0.0f64, 0.0f64);
     let mut references: HashMap<u32, Option<Frame>> = HashMap::new();
     let mut start: Option<(String, u32, Start)> = None;
-    let mut skipped = Vec::new();
+    let (mut skipped, mut cut) = (Vec::new(), Vec::new());
     for job in &sel.jobs {
         let elapsed = t0.elapsed().as_secs_f64();
         let correction = if est_done > 0.0 { (spent_done / est_done).clamp(0.2, 10.0) } else { 1.0 };
-        if opts.budget_s.is_some_and(|b| elapsed + job.est_s * correction > b) {
-            skipped.push(format!("{} nx={} {}", job.experiment, job.nx, job.id));
-            continue;
+        let planned = protocol.repeats + job.extra_blocks;
+        let blocks = match opts.budget_s {
+            None => planned,
+            Some(b) => match plan::blocks_that_fit(job, planned, opts.protocol.repeats, b - elapsed, correction) {
+                Some(n) => n,
+                None => {
+                    skipped.push(format!("{} nx={} {}", job.experiment, job.nx, job.id));
+                    continue;
+                }
+            },
+        };
+        if blocks < planned {
+            cut.push(format!("{} nx={} {} ({planned} → {blocks})", job.experiment, job.nx, job.id));
         }
         let tj = Instant::now();
         if start.as_ref().is_none_or(|(e, nx, _)| *e != job.experiment || *nx != job.nx) {
@@ -394,7 +413,7 @@ fn run_sweep(
             start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
         }
         let s = &start.as_ref().expect("set above").2;
-        let res = run_job(job, s, gpu, &Protocol { repeats: protocol.repeats + job.extra_blocks, ..protocol });
+        let res = run_job(job, s, gpu, &Protocol { repeats: blocks, ..protocol });
         if job.id == REFERENCE {
             references.entry(job.nx).or_insert_with(|| res.as_ref().ok().map(|t| t.snapshot.clone()));
         }
@@ -407,7 +426,7 @@ fn run_sweep(
             });
             references.insert(job.nx, r.ok());
         }
-        let rec = common.record(job, s, &res, references.get(&job.nx).and_then(|r| r.as_ref()));
+        let rec = common.record(job, blocks, s, &res, references.get(&job.nx).and_then(|r| r.as_ref()));
         match &res {
             Ok(_) => eprintln!(
                 "{} nx={} {:<44} {:>10.3} ms/step (latency {:.3} ms)",
@@ -429,6 +448,12 @@ fn run_sweep(
         run_notes
             .outcome
             .push(format!("Budget {b:.0} s: the study took {total:.1} s ({:.0} % of the budget).", 100.0 * total / b));
+    }
+    if !cut.is_empty() {
+        run_notes.outcome.push(format!(
+            "Timed blocks given back because the running estimate would have overrun the budget: {}.",
+            cut.join("; ")
+        ));
     }
     if !skipped.is_empty() {
         run_notes.outcome.push(format!(

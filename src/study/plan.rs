@@ -296,7 +296,8 @@ pub struct Selected {
 /// blocks (a round of a 24-job scaling sweep on lavapipe costs 2.3 s, 12 % of a 20 s budget). The
 /// budget buys tighter medians instead of idling, and the study ends within ±20 % of it. Aimed near
 /// the budget: a slower run than estimated cannot overrun by much, since the running check in
-/// `study::run_sweep` skips a job whose corrected estimate would.
+/// `study::run_sweep` gives back a late job's extra blocks ([`blocks_that_fit`]) and skips a job
+/// whose corrected estimate would overrun even without them.
 pub const BUDGET_FILL: f64 = 0.95;
 /// The most `--repeats` is multiplied by to fill a budget.
 pub const MAX_REPEAT_FACTOR: usize = 4;
@@ -354,6 +355,17 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
     }
     let est_s = jobs.iter().map(|j| j.est_s).sum();
     Selected { jobs, dropped_sizes, est_s, est_all_s, by_size, repeats }
+}
+
+/// How many timed blocks `job` runs when it comes up with `left_s` of the budget left: its
+/// planned `planned` blocks, or fewer (one at a time, down to the `min` that `--repeats` asked
+/// for) when the running estimate (`est_s` scaled by `correction`, the spent/estimated ratio of
+/// the jobs so far) would overrun. The fill's extra blocks are given back before a job is dropped
+/// whole, so a study that runs late still ends near its budget. `None`: it does not fit even at
+/// `min` (the job is skipped).
+pub fn blocks_that_fit(job: &Job, planned: usize, min: usize, left_s: f64, correction: f64) -> Option<usize> {
+    let min = min.max(1).min(planned);
+    (min..=planned).rev().find(|&b| (job.est_s - (planned - b) as f64 * job.rep_s) * correction <= left_s)
 }
 
 /// The plan as text (printed first, and kept in `summary.md`).
@@ -470,6 +482,19 @@ mod tests {
         let free = select(&all, &StudyOptions { budget_s: Some(100.0), ..StudyOptions::default() }, 1.0);
         assert!(free.dropped_sizes.is_empty() && free.jobs.iter().all(|j| j.extra_blocks == 0));
         assert_eq!(free.repeats, opts.protocol.repeats);
+    }
+
+    #[test]
+    fn a_late_job_gives_back_its_fill_blocks_before_it_is_dropped() {
+        // 4 s planned with 8 blocks of 0.5 s; --repeats asked for 2.
+        let j = job(96, 4.0, 0.5);
+        assert_eq!(blocks_that_fit(&j, 8, 2, 5.0, 1.0), Some(8), "on time: as planned");
+        assert_eq!(blocks_that_fit(&j, 8, 2, 3.0, 1.0), Some(6), "2 blocks late: 2 given back");
+        // Running 20 % slow: 8 blocks are 4.8 s, 5 blocks (2.5 s) × 1.2 = 3.0 s fit in 3.1 s.
+        assert_eq!(blocks_that_fit(&j, 8, 2, 3.1, 1.2), Some(5));
+        assert_eq!(blocks_that_fit(&j, 8, 2, 1.0, 1.0), Some(2), "down to --repeats exactly: 1 s");
+        assert_eq!(blocks_that_fit(&j, 8, 2, 0.99, 1.0), None, "never below --repeats: dropped");
+        assert_eq!(blocks_that_fit(&j, 2, 2, 0.99, 1.0), None);
     }
 
     #[test]
