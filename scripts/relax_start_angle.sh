@@ -17,16 +17,11 @@ nx=$1 mode=$2 theta0=$3 out=$4
 shift 4
 bin=${SPHLAB:-target/release/sphlab}
 t_end=${T_END:-5}
-# 90°: the scene's own half-disc (as validate's relax::start_sets), no shape override.
+# The start's overrides come from the binary (`sphlab scene relax-start`, the same
+# relax::start_sets as validate's relax-60 variants); none at 90°: the scene's own half-disc.
+sets=$("$bin" scene relax-start "$theta0")
 shape=()
-if [ "$theta0" != 90 ]; then
-  read -r cy radius < <(python3 -c "
-import math, sys
-t = math.radians(float(sys.argv[1]))
-r = math.sqrt((math.pi * 0.25**2 / 4) / (0.5 * (t - math.sin(t) * math.cos(t))))
-print(repr(-r * math.cos(t)), repr(r))" "$theta0")
-  shape=(--set "shapes.0.centre=[0.0,$cy]" --set shapes.0.radius="$radius")
-fi
+while read -r kv; do if [ -n "$kv" ]; then shape+=(--set "$kv"); fi; done <<< "$sets"
 mkdir -p "$out"
 /usr/bin/time -v -o "$out/time-v.txt" "$bin" run relax-60 --threads 1 --set domain.nx="$nx" \
   --set time.dt_policy=scale --set output.every=500 --set contact.mode="$mode" \

@@ -400,6 +400,12 @@ enum SceneCmd {
         /// Scene name.
         name: String,
     },
+    /// Print the overrides (one `KEY=VALUE` a line, for `--set`) that start relax-60 at another
+    /// contact angle: the cap of the half-disc's area meeting the wall at THETA (none at 90°).
+    RelaxStart {
+        /// Starting contact angle in degrees, in (0, 180).
+        theta: f64,
+    },
 }
 
 #[derive(Subcommand)]
@@ -1110,6 +1116,15 @@ fn main() -> ExitCode {
             }
             None => fail(2, format!("unknown scene `{name}` (built-in: {})", builtin::BUILTIN.join(", "))),
         },
+        Cmd::Scene { cmd: SceneCmd::RelaxStart { theta } } => {
+            if !(theta > 0.0 && theta < 180.0) {
+                return fail(2, format!("THETA = {theta}: the starting contact angle must be in (0, 180) degrees"));
+            }
+            for s in sphlab::validate::relax_start_sets(theta) {
+                println!("{s}");
+            }
+            ExitCode::SUCCESS
+        }
         Cmd::Analytic { cmd } => cmd_analytic(cmd),
         Cmd::Variants { json, memory: Some(n), gpu_memory } => cmd_variants_memory(n, gpu_memory, json),
         Cmd::Variants { json, .. } => cmd_variants(json),

@@ -64,6 +64,7 @@ fn bad_inputs_exit_2_with_a_message() {
     assert_input_error(&["run", "oscillating-drop", "--backend", "tpu", "--out", out], "--backend");
     assert_input_error(&["run", "oscillating-drop", "--t-end=-1", "--out", out], "--t-end");
     assert_input_error(&["scene", "show", "nope"], "unknown scene");
+    assert_input_error(&["scene", "relax-start", "180"], "(0, 180) degrees");
     assert_input_error(&["analytic", "spread", "--re=-3", "--we", "6", "--theta-deg", "90"], "Re");
     // The single-field colour gradient is CPU only: the GPU backend refuses it (no adapter needed),
     // and it needs contact.mode = "none".
@@ -187,6 +188,18 @@ fn single_phase_scene_runs_no_surface_tension_stages() {
     use sphlab::stage::Stage;
     let always = [Stage::NeighbourSearch, Stage::NumberDensity, Stage::EquationOfState, Stage::Acceleration];
     assert_eq!(stages, always.map(Stage::name), "a single-phase scene never pays for surface tension");
+}
+
+#[test]
+fn scene_relax_start_prints_the_overrides_of_validates_below_60_variants() {
+    // scripts/relax_start_angle.sh takes its start from here: the same cap as relax-60's variants.
+    for theta in [45.0, 60.0, 120.0, 90.0] {
+        let o = sphlab(&["scene", "relax-start", &theta.to_string()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let lines: Vec<String> = String::from_utf8(o.stdout).expect("utf8").lines().map(String::from).collect();
+        assert_eq!(lines, sphlab::validate::relax_start_sets(theta), "θ0 = {theta}");
+        assert_eq!(lines.is_empty(), theta == 90.0, "only 90° keeps the scene's half-disc: {lines:?}");
+    }
 }
 
 #[test]

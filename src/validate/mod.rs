@@ -26,6 +26,7 @@ use crate::scene::{builtin, overrides::apply_overrides, Scene};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+pub use relax::start_sets as relax_start_sets;
 pub use report::{CaseReport, Row, RunRecord};
 
 /// The cases, in the order `all` runs them (speed-vs-error reuses oscillation and convergence).
