@@ -397,8 +397,8 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 /// from [`START_BELOW_DEG`] (receding). Both ends on the same side of 60° put the model's own
 /// equilibrium off 60°; ends on either side bracket 60° and their spread is pinning (hysteresis).
 /// Mode B's midpoint is checked against 60°; for an equilibrium off 60° the note gives
-/// cos θ − cos 60°, the line force (in units of σ_LG) by which the model departs from Young's
-/// relation (relax-60/mode-a-check/README.md).
+/// cos θ / cos 60°, the fraction of the wall's tension difference that the model's equilibrium
+/// shows (Mode A pulls towards 90° from either side: relax-60/mode-a-check/README.md).
 fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, rep: &mut CaseReport) {
     for &(_, _, start, from_90, lo) in end_angle {
         let Some(above) = from_90 else { continue };
@@ -426,9 +426,9 @@ fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, r
             )
         } else {
             format!(
-                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3} = Young's {young:.1} {:+.3}: a line force of that size in units of σ_LG), with ±{half:.1}° of hysteresis: not a pinned contact line",
+                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3} = {:.2} × Young's {young:.1}: the wall's tension difference reaches the contact line weakened, and a sweep of Young's angle finds the pull towards 90° on both sides of it, mode-a-check/README.md), with ±{half:.1}° of hysteresis: not a pinned contact line",
                 mid.to_radians().cos(),
-                mid.to_radians().cos() - young
+                mid.to_radians().cos() / young
             )
         };
         rep.notes.push(format!(
