@@ -25,4 +25,4 @@ for run in sys.argv[4:]:
     d = [float(r["spread_factor"]) * radius / r0 + 0.5 * dx / (r0 * math.tan(math.radians(float(r["theta_circle_fit"])))) for r in win]
     rho = max(float(r["max_density_error"]) for r in rows)
     start = float(rows[0]["theta_circle_fit"])
-    print(f"| {run.rstrip('/').split('/')[-1]} | {start:.1f} | {len(win)} | {sum(th) / len(th):.2f} | {sum(area) / max(len(area), 1):.2f} | {sum(d) / len(d):.3f} | {rho:.4f} |")
+    print(f"| {run.rstrip('/').split('/')[-1]} | {start:.1f} | {len(win)} | {sum(th) / len(th):.2f} | {f'{sum(area) / len(area):.2f}' if area else '—'} | {sum(d) / len(d):.3f} | {rho:.4f} |")
