@@ -67,6 +67,10 @@ enum Cmd {
         #[command(subcommand)]
         cmd: AnalyticCmd,
     },
+    /// Force balance of a run's saved state: each fluid particle's pair forces split by term
+    /// (pressure, viscous, surface) and partner (same phase, other phase, wall), summed in a
+    /// window around the right contact point, by row (CPU f64, one evaluation).
+    Forces(ForcesArgs),
     /// The machine: build commit, CPU and threads, memory, every GPU adapter with its features and limits.
     Info {
         /// JSON output.
@@ -385,6 +389,31 @@ struct ValidateArgs {
     /// No console lines.
     #[arg(long)]
     quiet: bool,
+}
+
+#[derive(Args)]
+struct ForcesArgs {
+    /// A `sphlab run` output folder (its summary.json gives the scene).
+    run_dir: PathBuf,
+    /// Step of the snapshot `particles_<step>.csv` (default: the last).
+    #[arg(long)]
+    step: Option<u64>,
+    /// x of the window's centre (default: the right contact point).
+    #[arg(long)]
+    at: Option<f64>,
+    /// Half-width of the window, in Δx.
+    #[arg(long, default_value_t = 6.0)]
+    half_width: f64,
+    /// Height of the window above the wall, in Δx.
+    #[arg(long, default_value_t = 6.0)]
+    height: f64,
+    /// x of the two cuts (under the liquid, under the gas) whose wall-band tensions are
+    /// measured, as X1,X2 (default: half-way to the contact point from either side).
+    #[arg(long, value_delimiter = ',', num_args = 2)]
+    cuts: Option<Vec<f64>>,
+    /// Also write every fluid particle's split (18 components) to this CSV.
+    #[arg(long)]
+    csv: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -1133,6 +1162,24 @@ fn main() -> ExitCode {
         Cmd::Verify(a) => cmd_verify(a),
         Cmd::Validate(a) => cmd_validate(a),
         Cmd::Info { json } => cmd_info(json),
+        Cmd::Forces(a) => {
+            let o = sphlab::cpu::force_report::ForceOptions {
+                step: a.step,
+                at: a.at,
+                half_width_dx: a.half_width,
+                height_dx: a.height,
+                cuts: a.cuts.map(|c| [c[0], c[1]]),
+                csv: a.csv,
+                exec: if cli.threads == Some(1) { sphlab::exec::Exec::Serial } else { sphlab::exec::Exec::Parallel },
+            };
+            match sphlab::cpu::force_report::force_report(&a.run_dir, &o) {
+                Ok(md) => {
+                    print!("{md}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(2, e),
+            }
+        }
         Cmd::Stability(a) => match load_scene(&a.scene, &a.sets) {
             Ok(s) => ExitCode::from(sphlab::stability::args::run(&a, &s)),
             Err(e) => fail(2, e),

@@ -203,6 +203,52 @@ fn scene_relax_start_prints_the_overrides_of_validates_below_60_variants() {
 }
 
 #[test]
+fn forces_reports_a_runs_force_balance_and_refuses_what_is_not_a_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("run");
+    let out_s = out.to_str().expect("utf8");
+    let o = sphlab(&[
+        "run",
+        "relax-60",
+        "--threads",
+        "1",
+        "--set",
+        "domain.nx=21",
+        "--set",
+        "contact.mode=a",
+        "--steps",
+        "40",
+        "--every",
+        "20",
+        "--out",
+        out_s,
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = dir.path().join("split.csv");
+    let o = sphlab(&["forces", out_s, "--step", "40", "--csv", csv.to_str().expect("utf8")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let md = String::from_utf8(o.stdout).expect("utf8");
+    for needle in [
+        "step 40",
+        "Mode A, σ_LG = 1, σ_LS = 0.5, σ_GS = 1",
+        "| both | **all** |",
+        "## x by row",
+        "| liquid side |",
+        "half of it +0.2500",
+    ] {
+        assert!(md.contains(needle), "no `{needle}` in:\n{md}");
+    }
+    let text = std::fs::read_to_string(&csv).expect("the per-particle CSV");
+    assert_eq!(text.lines().next().map(|h| h.split(',').count()), Some(4 + 18), "header: {:?}", text.lines().next());
+    assert_eq!(text.lines().count(), 1 + 21 * 21, "a header and one row per fluid particle (liquid and gas)");
+    // Inputs that are not a run, a missing step, a bad window: exit 2 naming what is wrong.
+    assert_input_error(&["forces", dir.path().to_str().expect("utf8")], "summary.json");
+    assert_input_error(&["forces", out_s, "--step", "7"], "--step 7: no such snapshot");
+    assert_input_error(&["forces", out_s, "--half-width", "0"], "--half-width 0");
+}
+
+#[test]
 fn scene_show_round_trips_through_toml_and_runs() {
     let dir = tempfile::tempdir().expect("tempdir");
     for name in sphlab::scene::builtin::BUILTIN {

@@ -1,0 +1,245 @@
+//! `sphlab forces RUN_DIR`: the force balance ([`super::force_balance`]) of one saved state of a
+//! run, in a window around its right contact point, as Markdown (and per particle as CSV).
+//! The scene comes from the run's `summary.json`, the state from a `particles_<step>.csv`.
+
+use super::force_balance::{
+    band_tension, cut_rows, evaluate_state, split_forces, total, Split, State, Window, PARTNER_NAMES, TERMS, TERM_NAMES,
+};
+use super::stages::PairTerm;
+use super::CpuSolver;
+use crate::diagnostics::contact_half_width;
+use crate::exec::Exec;
+use crate::scene::{ContactMode, Scene};
+use crate::validate::data::{read_series, read_snapshot, snapshot_files};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// What to evaluate and where to sum.
+#[derive(Clone, Debug)]
+pub struct ForceOptions {
+    /// Step of the snapshot (default: the last one).
+    pub step: Option<u64>,
+    /// x of the window's centre (default: the right contact point, [`contact_half_width`]).
+    pub at: Option<f64>,
+    /// Half-width of the window in Δx.
+    pub half_width_dx: f64,
+    /// Height of the window above the wall in Δx.
+    pub height_dx: f64,
+    /// x of the two vertical cuts whose wall-band tensions are measured, one under the liquid
+    /// and one under the gas (default: half-way from x = domain.x[0] to the window's centre,
+    /// and half-way from there to domain.x[1]).
+    pub cuts: Option<[f64; 2]>,
+    /// Per-particle CSV (every fluid particle, all 18 components).
+    pub csv: Option<PathBuf>,
+    /// Evaluation on all cores or one.
+    pub exec: Exec,
+}
+
+/// The scene a run ran (`summary.json`'s `parameters`), validated.
+pub fn run_scene(dir: &Path) -> Result<Scene, String> {
+    let path = dir.join("summary.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("{}: {e} (RUN_DIR must be a `sphlab run` output)", path.display()))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let p = v.get("parameters").ok_or_else(|| format!("{}: no `parameters` (the run's scene)", path.display()))?;
+    let scene: Scene = serde_json::from_value(p.clone()).map_err(|e| format!("{}: parameters: {e}", path.display()))?;
+    scene.validate().map_err(|e| format!("{}: parameters: {e}", path.display()))?;
+    Ok(scene)
+}
+
+/// The report of `dir`'s snapshot (Markdown); writes the CSV when asked.
+pub fn force_report(dir: &Path, o: &ForceOptions) -> Result<String, String> {
+    if !(o.half_width_dx > 0.0 && o.half_width_dx.is_finite()) || !(o.height_dx > 0.0 && o.height_dx.is_finite()) {
+        return Err(format!(
+            "--half-width {} / --height {}: both must be positive numbers of Δx",
+            o.half_width_dx, o.height_dx
+        ));
+    }
+    let scene = run_scene(dir)?;
+    let files = snapshot_files(dir);
+    let (step, path) = match o.step {
+        None => files.last().cloned().ok_or_else(|| format!("{}: no particles_*.csv snapshot", dir.display()))?,
+        Some(s) => files.iter().find(|f| f.0 == s).cloned().ok_or_else(|| {
+            let have: Vec<String> = files.iter().map(|f| f.0.to_string()).collect();
+            format!("--step {s}: no such snapshot in {} (have: {})", dir.display(), have.join(", "))
+        })?,
+    };
+    let t = read_series(dir).iter().find(|r| r.step == step).map_or(f64::NAN, |r| r.t);
+    let snap = read_snapshot(&path, step, t).ok_or_else(|| format!("{}: not a readable snapshot", path.display()))?;
+    let solver = evaluate_state(&scene, &State { pos: &snap.pos, vel: &snap.vel, phase: &snap.phase }, o.exec)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let split = split_forces(&solver);
+    let dx = scene.domain.dx();
+    let y_w = solver.model.y_wall;
+    let x_c = match o.at {
+        Some(x) => x,
+        None => contact_half_width(&snap.pos, &snap.phase, dx, y_w)
+            .ok_or_else(|| "no liquid particle in the first row: give the window's centre with --at X".to_string())?,
+    };
+    let win = Window::sum(&snap.pos, &snap.phase, &split, x_c, o.half_width_dx * dx, y_w, o.height_dx * dx, dx);
+    if let Some(csv) = &o.csv {
+        write_csv(csv, &snap.pos, &snap.phase, &split)?;
+    }
+    let [x0, x1] = scene.domain.x;
+    let cuts = o.cuts.unwrap_or([0.5 * (x0 + x_c), 0.5 * (x_c + x1)]);
+    let mut md = markdown(dir, &scene, step, t, x_c, o, &win);
+    md.push_str(&cut_section(&solver, &scene, cuts, dx, y_w));
+    Ok(md)
+}
+
+/// Rows of the wall band and of the uniform fluid above it, for [`band_tension`].
+const BAND_ROWS: std::ops::Range<u32> = 0..4;
+const BULK_ROWS: std::ops::Range<u32> = 5..9;
+
+/// The wall-band tensions across the two cuts, by term, against Young's line force.
+fn cut_section(s: &CpuSolver<f64>, scene: &Scene, cuts: [f64; 2], dx: f64, y_w: f64) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "\n## Wall-band tension across vertical cuts\n\nAt each cut, the x-force on the fluid right of it from every particle left of it (fluid and wall), row by row; the band's tension is the deficit of rows {}–{} below the mean of rows {}–{} (uniform fluid), as `cpu::force_balance::band_tension`. On a flat layer the fluid side of a Mode A wall band carries half of what a free liquid–gas band of the same σ carries (`tests/force_balance.rs`).\n",
+        BAND_ROWS.start,
+        BAND_ROWS.end - 1,
+        BULK_ROWS.start,
+        BULK_ROWS.end - 1
+    );
+    let _ = writeln!(out, "| cut | x | fluid above the wall there | tension | pressure part | viscous part | surface part |\n|---|---|---|---|---|---|---|");
+    let mut all = [f64::NAN; 2];
+    for (k, (name, x)) in [("liquid side", cuts[0]), ("gas side", cuts[1])].into_iter().enumerate() {
+        let above = (0..s.n_fluid)
+            .filter(|&i| (s.pos[i].x - x).abs() < dx && s.pos[i].y - y_w < 3.0 * dx)
+            .map(|i| s.phase[i])
+            .fold([0usize; 2], |mut c, p| {
+                if (p as usize) < 2 {
+                    c[p as usize] += 1;
+                }
+                c
+            });
+        let fluid = format!("{} liquid, {} gas", above[0], above[1]);
+        let tension = |terms: &[PairTerm]| band_tension(&cut_rows(s, x, dx, y_w, terms), BAND_ROWS, BULK_ROWS);
+        let fmt = |v: Option<f64>| v.map_or("— (rows missing)".to_string(), |v| format!("{v:+.4}"));
+        let t_all = tension(&TERMS);
+        all[k] = t_all.unwrap_or(f64::NAN);
+        let parts: Vec<String> = TERMS.iter().map(|t| fmt(tension(&[*t]))).collect();
+        let _ = writeln!(
+            out,
+            "| {name} | {x:.5} | {fluid} | {} | {} | {} | {} |",
+            fmt(t_all),
+            parts[0],
+            parts[1],
+            parts[2]
+        );
+    }
+    let c = &scene.contact;
+    if c.mode == ContactMode::A {
+        let _ = writeln!(
+            out,
+            "\nGas side − liquid side: {:+.4}. Young's σ_GS − σ_LS = {:+.4}; half of it {:+.4}.",
+            all[1] - all[0],
+            c.sigma_gs - c.sigma_ls,
+            0.5 * (c.sigma_gs - c.sigma_ls)
+        );
+    } else {
+        let _ = writeln!(out, "\nGas side − liquid side: {:+.4}.", all[1] - all[0]);
+    }
+    out
+}
+
+fn write_csv(path: &Path, pos: &[[f64; 2]], phase: &[u32], split: &[Split]) -> Result<(), String> {
+    let mut s = String::from("id,x,y,phase");
+    for t in TERM_NAMES {
+        for p in PARTNER_NAMES {
+            let p = p.replace(' ', "_");
+            let _ = write!(s, ",{t}_{p}_x,{t}_{p}_y");
+        }
+    }
+    s.push('\n');
+    for (i, sp) in split.iter().enumerate() {
+        let _ = write!(s, "{i},{:e},{:e},{}", pos[i][0], pos[i][1], phase[i]);
+        for row in sp {
+            for f in row {
+                let _ = write!(s, ",{:e},{:e}", f[0], f[1]);
+            }
+        }
+        s.push('\n');
+    }
+    std::fs::write(path, s).map_err(|e| format!("--csv {}: {e}", path.display()))
+}
+
+/// One table row per term (and their sum) of a split's component `k`.
+fn term_rows(out: &mut String, label: &str, s: &Split, k: usize) {
+    for (t, name) in TERM_NAMES.iter().enumerate() {
+        let row: f64 = s[t].iter().map(|f| f[k]).sum();
+        let _ = writeln!(
+            out,
+            "| {label} | {name} | {:+.4} | {:+.4} | {:+.4} | {:+.4} |",
+            s[t][0][k], s[t][1][k], s[t][2][k], row
+        );
+    }
+    let by_partner: Vec<f64> = (0..3).map(|p| (0..3).map(|t| s[t][p][k]).sum()).collect();
+    let _ = writeln!(
+        out,
+        "| {label} | **all** | {:+.4} | {:+.4} | {:+.4} | **{:+.4}** |",
+        by_partner[0],
+        by_partner[1],
+        by_partner[2],
+        total(s)[k]
+    );
+}
+
+fn markdown(dir: &Path, scene: &Scene, step: u64, t: f64, x_c: f64, o: &ForceOptions, w: &Window) -> String {
+    let mut out = String::new();
+    let sigma = scene.surface_tension.as_ref().map_or(0.0, |s| s.sigma);
+    let _ = writeln!(out, "# Force balance of `{}`, step {step} (t = {t:.4})\n", dir.display());
+    let c = &scene.contact;
+    let model = match c.mode {
+        ContactMode::A => format!(
+            "Mode A, σ_LG = {sigma}, σ_LS = {}, σ_GS = {} (Young: σ_GS − σ_LS = {:+.4})",
+            c.sigma_ls,
+            c.sigma_gs,
+            c.sigma_gs - c.sigma_ls
+        ),
+        ContactMode::B => format!(
+            "Mode B, σ_LG = {sigma}, θ_d = {}° (σ_LG cos θ_d = {:+.4})",
+            c.theta_deg,
+            sigma * c.theta_deg.to_radians().cos()
+        ),
+        ContactMode::None => format!("no contact model, σ = {sigma}"),
+    };
+    let _ = writeln!(out, "Scene `{}`, nx = {}, {model}.", scene.name, scene.domain.nx);
+    let _ = writeln!(
+        out,
+        "Window: fluid particles with |x − {x_c:.5}| ≤ {}Δx and 0 < y − y_w ≤ {}Δx. Forces are m_i·a per unit depth, split by the pair's partner; a pair's force on i alone (its partner's share is not in the window unless the partner is). Pairs inside the window cancel in its sums; what is left is what crosses its edges.\n",
+        o.half_width_dx, o.height_dx
+    );
+    for (k, axis) in
+        [(0, "x (along the wall; + = towards the gas side of the right contact line)"), (1, "y (normal to the wall)")]
+    {
+        let _ = writeln!(out, "## {axis}\n");
+        let _ =
+            writeln!(out, "| particles | term | same phase | other phase | wall | sum |\n|---|---|---|---|---|---|");
+        term_rows(&mut out, "liquid", &w.of_phases(&[0]), k);
+        term_rows(&mut out, "gas", &w.of_phases(&[1]), k);
+        term_rows(&mut out, "both", &w.of_phases(&[0, 1]), k);
+        out.push('\n');
+    }
+    let _ = writeln!(out, "## x by row above the wall\n");
+    let mut head = String::from("| row | phase | n |");
+    let mut rule = String::from("|---|---|---|");
+    for t in TERM_NAMES {
+        for p in ["same", "other", "wall"] {
+            let _ = write!(head, " {t} {p} |");
+            rule.push_str("---|");
+        }
+    }
+    let _ = writeln!(out, "{head} sum |\n{rule}---|");
+    for (row, ph, n, s) in &w.rows {
+        let _ = write!(out, "| {row} | {} | {n} |", if *ph == 0 { "liquid" } else { "gas" });
+        for term in s {
+            for f in term {
+                let _ = write!(out, " {:+.4} |", f[0]);
+            }
+        }
+        let _ = writeln!(out, " {:+.4} |", total(s)[0]);
+    }
+    out
+}

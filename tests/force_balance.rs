@@ -1,0 +1,104 @@
+//! The tension a flat band carries across a vertical cut (`cpu::force_balance::cut_rows`,
+//! `band_tension`), on a flat liquid layer under gas: periodic in x, walls at the bottom
+//! (under the liquid) and at the top (over the gas). What it shows (issue 10, Mode A):
+//!
+//! * with uncoloured walls (contact mode none) the rows next to a wall carry no tension: the
+//!   cut measure has no wall artefact;
+//! * the free liquid–gas band carries about σ (its pressure and stress parts are each about half);
+//! * with Mode A walls (the wall a third phase, σ_LS = σ_GS = σ) the fluid side of each wall
+//!   band carries **half** of what the free band of the same σ carries: the other half of the
+//!   band lies in the fixed wall particles. This is why Mode A's contact line feels only half
+//!   of Young's σ_GS − σ_LS (`reports/validation/relax-60/mode-a-check/README.md`).
+//!
+//! Cost: 2 runs of 1,600 fluid particles to t = 0.6 (≈ 4,100 steps), about 20 s each here.
+
+use sphlab::backend::Backend;
+use sphlab::cpu::force_balance::{band_tension, cut_rows};
+use sphlab::cpu::stages::PairTerm;
+use sphlab::cpu::CpuSolver;
+use sphlab::exec::Exec;
+use sphlab::neighbours::SearchKind;
+use sphlab::scene::build::build_layout;
+use sphlab::scene::{builtin, ContactMode, DtPolicy, Scene, Shape, ShapeKind, Side};
+
+const NX: u32 = 40;
+const ALL: [PairTerm; 3] = [PairTerm::Pressure, PairTerm::Viscous, PairTerm::Surface];
+
+/// relax-60's phases, σ = 1 and p_b, on a 0.5 × 0.5 periodic box: liquid below y = 0.25.
+fn layer(mode: ContactMode) -> Scene {
+    let mut sc = builtin::builtin("relax-60").unwrap();
+    sc.domain.nx = NX;
+    sc.domain.left = Side::Periodic;
+    sc.domain.right = Side::Periodic;
+    sc.shapes = vec![Shape {
+        kind: ShapeKind::Rect,
+        centre: None,
+        radius: None,
+        min: Some([0.0, 0.0]),
+        max: Some([0.5, 0.25]),
+        phase: "liquid".into(),
+        velocity: [0.0; 2],
+    }];
+    sc.contact.mode = mode;
+    sc.contact.sigma_ls = 1.0;
+    sc.contact.sigma_gs = 1.0;
+    sc.time.dt_policy = DtPolicy::Scale;
+    sc.validate().unwrap();
+    sc
+}
+
+/// Band tensions averaged over the states every 20 steps in t ∈ [0.3, 0.6] (the acoustic
+/// ringing of the start averages out), per term set: (free band, bottom wall band, top wall band).
+fn tensions(mode: ContactMode, terms: &[&[PairTerm]]) -> Vec<[f64; 3]> {
+    let sc = layer(mode);
+    let layout = build_layout(&sc).unwrap();
+    let mut s = CpuSolver::<f64>::new(&sc, &layout, Exec::Parallel, SearchKind::Cells);
+    let (dx, y_w, n) = (sc.domain.dx(), s.model.y_wall, NX);
+    let mut sum = vec![[0.0; 3]; terms.len()];
+    let mut k = 0.0;
+    while s.t < 0.6 {
+        for _ in 0..20 {
+            s.step().unwrap();
+        }
+        if s.t < 0.3 {
+            continue;
+        }
+        s.evaluate().unwrap();
+        for (ts, acc) in terms.iter().zip(sum.iter_mut()) {
+            let rows = cut_rows(&s, 0.25, dx, y_w, ts);
+            acc[0] += band_tension(&rows, n / 2 - 5..n / 2 + 5, n / 5..n / 2 - 8).unwrap();
+            acc[1] += band_tension(&rows, 0..4, n / 5..n / 2 - 8).unwrap();
+            acc[2] += band_tension(&rows, n - 4..n, n / 2 + 8..n - n / 5).unwrap();
+        }
+        k += 1.0;
+    }
+    sum.iter().map(|a| [a[0] / k, a[1] / k, a[2] / k]).collect()
+}
+
+#[test]
+fn the_fluid_carries_half_of_a_mode_a_wall_band() {
+    let none = tensions(ContactMode::None, &[&ALL])[0];
+    eprintln!("contact none: free band {:.4}, bottom wall {:.4}, top wall {:.4}", none[0], none[1], none[2]);
+    assert!(none[1].abs() < 0.01 && none[2].abs() < 0.01, "uncoloured walls read a tension: {none:?}");
+    assert!(none[0] > 0.8 && none[0] < 1.05, "the free band carries {:.4}, not about σ = 1", none[0]);
+
+    let parts = tensions(ContactMode::A, &[&ALL, &[PairTerm::Pressure], &[PairTerm::Surface]]);
+    let names = ["all terms", "pressure", "surface stress"];
+    for (name, t) in names.iter().zip(&parts) {
+        eprintln!("mode A, {name}: free band {:.4}, bottom wall {:.4}, top wall {:.4}", t[0], t[1], t[2]);
+        for (wall, v) in [("bottom", t[1]), ("top", t[2])] {
+            let ratio = v / t[0];
+            assert!(
+                (ratio - 0.5).abs() < 0.05,
+                "{name}: the {wall} wall band carries {ratio:.3} of the free band's tension, not half"
+            );
+        }
+    }
+    // The free band is the same with coloured walls (it is far from them).
+    assert!(
+        (parts[0][0] - none[0]).abs() < 0.03,
+        "free band {:.4} with Mode A walls, {:.4} without",
+        parts[0][0],
+        none[0]
+    );
+}
