@@ -57,6 +57,17 @@ pub struct Variant {
     pub from_90: Option<&'static str>,
 }
 
+/// The override that makes a variant Mode A (relax-60 itself is Mode B).
+const MODE_A_SET: &str = "contact.mode=a";
+
+impl Variant {
+    /// Mode B, the thesis's method, whose equilibrium is held to 60° (Mode A's is not: its
+    /// wall bands reach the contact line halved, relax-60/mode-a-check/README.md).
+    pub fn held_to_young(&self) -> bool {
+        !self.sets.iter().any(|s| s == MODE_A_SET)
+    }
+}
+
 /// The angle the second start comes from: below 60°, so that the contact line recedes to its
 /// equilibrium while the 90° start advances to it.
 pub const START_BELOW_DEG: f64 = 45.0;
@@ -85,7 +96,7 @@ pub fn variants() -> Vec<Variant> {
     let p_b = crate::scene::builtin::transport_background_pressure(ph.rho0, ph.c0);
     let v = |id, label, sets: Vec<String>, start_deg| Variant { id, label, sets, start_deg, from_90: None };
     let below = |id, label, sets, from_90| Variant { from_90: Some(from_90), ..v(id, label, sets, START_BELOW_DEG) };
-    let mode_a = || vec!["contact.mode=a".to_string()];
+    let mode_a = || vec![MODE_A_SET.to_string()];
     vec![
         v("b-noslip", "Mode B, no-slip", vec![], 90.0),
         v(
@@ -398,7 +409,8 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 /// equilibrium off 60°; ends on either side bracket 60° and their spread is pinning (hysteresis).
 /// Mode B's midpoint is checked against 60°; for an equilibrium off 60° the note gives
 /// cos θ / cos 60°, the fraction of the wall's tension difference that the model's equilibrium
-/// shows (Mode A pulls towards 90° from either side: relax-60/mode-a-check/README.md).
+/// shows (Mode A's wall bands reach the contact line halved: relax-60/mode-a-check/README.md).
+/// Which variants are held to 60° is [`Variant::held_to_young`].
 fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, rep: &mut CaseReport) {
     for &(_, _, start, from_90, lo) in end_angle {
         let Some(above) = from_90 else { continue };
@@ -414,7 +426,8 @@ fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, r
             Some(0.0),
         )
         .sphlab_text(format!("{:.2} (from {start}°: {lo:.2}°, from 90°: {hi:.2}°)", mid - 60.0));
-        rep.rows.push(if above == "b-noslip" {
+        let held = variants().iter().find(|v| v.id == above).is_some_and(Variant::held_to_young);
+        rep.rows.push(if held {
             row.check((mid - 60.0).abs() < 3.0, "|midpoint − 60°| < 3°: the model's equilibrium, from either side")
         } else {
             row
@@ -426,7 +439,7 @@ fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, r
             )
         } else {
             format!(
-                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3} = {:.2} × Young's {young:.1}: the wall's tension difference reaches the contact line weakened, and a sweep of Young's angle finds the pull towards 90° on both sides of it, mode-a-check/README.md), with ±{half:.1}° of hysteresis: not a pinned contact line",
+                "both starts end on the same side of 60°, so the model's own equilibrium is off 60°, near {mid:.1}° (cos θ = {:.3} = {:.2} × Young's {young:.1}: the fluid side of a Mode A wall band carries half of its tension, the other half acting on fixed wall particles, so the contact line feels about half of σ_GS − σ_LS plus the wall pairs' pull at the line; mode-a-check/README.md, tests/force_balance.rs), with ±{half:.1}° of hysteresis: not a pinned contact line",
                 mid.to_radians().cos(),
                 mid.to_radians().cos() / young
             )
@@ -557,5 +570,16 @@ mod tests {
         // At 90° nothing is added.
         let rows = vec![SRow { t: 0.0, spread_factor: Some(1.0), theta_circle_fit: Some(90.0), ..Default::default() }];
         assert!((wall_spread(&rows, dx)[0].1 - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn only_mode_b_variants_are_held_to_60_degrees() {
+        let held: Vec<&str> = variants().iter().filter(|v| v.held_to_young()).map(|v| v.id).collect();
+        assert_eq!(held, ["b-noslip", "b-noslip-tvf", "b-freeslip", "b-noslip-from45"]);
+        // A Mode A variant is Mode A by its scene: the override sets the contact mode.
+        for v in variants().iter().filter(|v| !v.held_to_young()) {
+            let scene = crate::scene::overrides::apply_overrides(&crate::scene::builtin::relax_60(), &v.sets).unwrap();
+            assert_eq!(scene.contact.mode, crate::scene::ContactMode::A, "{}", v.id);
+        }
     }
 }

@@ -1,0 +1,35 @@
+#!/usr/bin/env python3
+"""Mode A's contact-line balance against its end angle (issue 10,
+reports/validation/relax-60/mode-a-check/README.md). For each relax-60 Mode A run: the
+circle-fit angle averaged over t in [T0, T1] of its series, and X, the x-force of the wall
+pairs on the fluid in `sphlab forces`' window around the contact point at the run's last
+snapshot (sum over pressure, viscous and surface stress, liquid and gas). The fluid side of a
+Mode A wall band carries half of its tension (tests/force_balance.rs), so the balance
+predicts sigma_LG cos(theta) = (sigma_GS - sigma_LS)/2 + X; the table gives both sides. The
+snapshots are git-ignored: this needs the runs on the machine that made them. Usage:
+  scripts/mode_a_balance.py NX T0 T1 RUN [RUN ...]   (SPHLAB=binary, default target/release/sphlab)"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+nx, t0, t1 = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
+sphlab = os.environ.get("SPHLAB", "target/release/sphlab")
+print("| run | nx | σ_LS | σ_GS | p_b | θ circle fit | cos θ | X (wall pairs at the line) | ½(σ_GS − σ_LS) + X | cos θ − prediction |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+for run in sys.argv[4:]:
+    par = json.load(open(f"{run}/summary.json"))["parameters"]
+    sigma = par["surface_tension"]["sigma"]
+    sls, sgs, p_b = par["contact"]["sigma_ls"], par["contact"]["sigma_gs"], par["phases"][0]["p_b"]
+    rows = list(csv.DictReader(open(f"{run}/series.csv")))
+    th = [float(r["theta_circle_fit"]) for r in rows if t0 - 1e-9 <= float(r["t"]) <= t1 + 1e-9 and r["theta_circle_fit"]]
+    theta = sum(th) / len(th)
+    md = subprocess.run([sphlab, "--threads", "1", "forces", run], check=True, capture_output=True, text=True).stdout
+    along = md.split("## x (along")[1].split("## y")[0]
+    x_wall = sum(float(line.split("|")[5]) for line in along.splitlines() if line.startswith("| both |") and "**all**" not in line)
+    c = math.cos(math.radians(theta))
+    pred = (0.5 * (sgs - sls) + x_wall) / sigma
+    name = run.rstrip("/").split("/")[-1]
+    print(f"| `{name}` | {nx} | {sls:g} | {sgs:g} | {p_b:g} | {theta:.2f}° | {c:+.3f} | {x_wall:+.3f} | {pred:+.3f} | {c - pred:+.3f} |")
