@@ -3,11 +3,12 @@
 reports/validation/relax-60/mode-a-check/README.md). For each relax-60 Mode A run: the
 circle-fit angle averaged over t in [T0, T1] of its series, and X, the x-force of the wall
 pairs on the fluid in `sphlab forces`' window around the contact point at the run's last
-snapshot (sum over pressure, viscous and surface stress, liquid and gas). The fluid side of a
+snapshot, or the mean over its last K snapshots with LAST=K (sum over pressure, viscous and
+surface stress, liquid and gas). The fluid side of a
 Mode A wall band carries half of its tension (tests/force_balance.rs), so the balance
 predicts sigma_LG cos(theta) = (sigma_GS - sigma_LS)/2 + X; the table gives both sides. The
 snapshots are git-ignored: this needs the runs on the machine that made them. Usage:
-  scripts/mode_a_balance.py NX T0 T1 RUN [RUN ...]   (SPHLAB=binary, default target/release/sphlab)"""
+  [LAST=K] scripts/mode_a_balance.py NX T0 T1 RUN [RUN ...]   (SPHLAB=binary, default target/release/sphlab)"""
 import csv
 import json
 import math
@@ -17,6 +18,7 @@ import sys
 
 nx, t0, t1 = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
 sphlab = os.environ.get("SPHLAB", "target/release/sphlab")
+last = os.environ.get("LAST", "1")
 print("| run | nx | σ_LS | σ_GS | p_b | θ circle fit | cos θ | X (wall pairs at the line) | ½(σ_GS − σ_LS) + X | cos θ − prediction |")
 print("|---|---|---|---|---|---|---|---|---|---|")
 for run in sys.argv[4:]:
@@ -26,7 +28,7 @@ for run in sys.argv[4:]:
     rows = list(csv.DictReader(open(f"{run}/series.csv")))
     th = [float(r["theta_circle_fit"]) for r in rows if t0 - 1e-9 <= float(r["t"]) <= t1 + 1e-9 and r["theta_circle_fit"]]
     theta = sum(th) / len(th)
-    md = subprocess.run([sphlab, "--threads", "1", "forces", run], check=True, capture_output=True, text=True).stdout
+    md = subprocess.run([sphlab, "--threads", "1", "forces", run, "--last", last], check=True, capture_output=True, text=True).stdout
     along = md.split("## x (along")[1].split("## y")[0]
     x_wall = sum(float(line.split("|")[5]) for line in along.splitlines() if line.startswith("| both |") and "**all**" not in line)
     c = math.cos(math.radians(theta))

@@ -398,6 +398,9 @@ struct ForcesArgs {
     /// Step of the snapshot `particles_<step>.csv` (default: the last).
     #[arg(long)]
     step: Option<u64>,
+    /// Average the balances of the K snapshots ending at --step (or at the last).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    last: usize,
     /// x of the window's centre (default: the right contact point).
     #[arg(long)]
     at: Option<f64>,
@@ -1165,6 +1168,7 @@ fn main() -> ExitCode {
         Cmd::Forces(a) => {
             let o = sphlab::cpu::force_report::ForceOptions {
                 step: a.step,
+                last: a.last,
                 at: a.at,
                 half_width_dx: a.half_width,
                 height_dx: a.height,

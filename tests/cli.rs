@@ -242,10 +242,28 @@ fn forces_reports_a_runs_force_balance_and_refuses_what_is_not_a_run() {
     let text = std::fs::read_to_string(&csv).expect("the per-particle CSV");
     assert_eq!(text.lines().next().map(|h| h.split(',').count()), Some(4 + 18), "header: {:?}", text.lines().next());
     assert_eq!(text.lines().count(), 1 + 21 * 21, "a header and one row per fluid particle (liquid and gas)");
+    // The mean over the last two snapshots; its totals are the means of the two single ones.
+    let o = sphlab(&["forces", out_s, "--last", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mean = String::from_utf8(o.stdout).expect("utf8");
+    assert!(mean.contains("mean over the 2 snapshots from step 20 to step 40"), "{mean}");
+    let total = |md: &str| -> f64 {
+        let line = md.lines().find(|l| l.starts_with("| both | **all** |")).expect("the window's total row");
+        line.split('|').nth(6).expect("sum column").trim().trim_matches('*').parse().expect("a number")
+    };
+    let at20 = String::from_utf8(sphlab(&["forces", out_s, "--step", "20"]).stdout).expect("utf8");
+    assert!(
+        (total(&mean) - 0.5 * (total(&md) + total(&at20))).abs() < 2e-4,
+        "{} vs {} and {}",
+        total(&mean),
+        total(&md),
+        total(&at20)
+    );
     // Inputs that are not a run, a missing step, a bad window: exit 2 naming what is wrong.
     assert_input_error(&["forces", dir.path().to_str().expect("utf8")], "summary.json");
     assert_input_error(&["forces", out_s, "--step", "7"], "--step 7: no such snapshot");
     assert_input_error(&["forces", out_s, "--half-width", "0"], "--half-width 0");
+    assert_input_error(&["forces", out_s, "--last", "4"], "--last 4");
 }
 
 #[test]

@@ -184,8 +184,9 @@ pub fn evaluate_state(scene: &Scene, state: &State, exec: Exec) -> Result<CpuSol
 /// phase.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Window {
-    /// `(row, phase, particles, split)`, sorted by row then phase.
-    pub rows: Vec<(u32, u32, usize, Split)>,
+    /// `(row, phase, particles, split)`, sorted by row then phase (the particle count is a mean
+    /// after [`Window::mean`]).
+    pub rows: Vec<(u32, u32, f64, Split)>,
 }
 
 impl Window {
@@ -200,7 +201,7 @@ impl Window {
         height: f64,
         dx: f64,
     ) -> Self {
-        let mut rows: Vec<(u32, u32, usize, Split)> = Vec::new();
+        let mut rows: Vec<(u32, u32, f64, Split)> = Vec::new();
         for (i, s) in split.iter().enumerate() {
             let (x, d) = (pos[i][0], pos[i][1] - y_w);
             if (x - x_c).abs() > half_width || d <= 0.0 || d > height {
@@ -209,14 +210,44 @@ impl Window {
             let row = (d / dx).floor() as u32;
             match rows.iter_mut().find(|r| r.0 == row && r.1 == phase[i]) {
                 Some(r) => {
-                    r.2 += 1;
+                    r.2 += 1.0;
                     add_into(&mut r.3, s);
                 }
-                None => rows.push((row, phase[i], 1, *s)),
+                None => rows.push((row, phase[i], 1.0, *s)),
             }
         }
         rows.sort_by_key(|r| (r.0, r.1));
         Self { rows }
+    }
+
+    /// The mean of the same window at several states: each row's sum and count averaged over
+    /// all of them, a state without that row counting zero (so the window's totals are the
+    /// means of its totals).
+    pub fn mean(ws: &[Window]) -> Window {
+        let mut rows: Vec<(u32, u32, f64, Split)> = Vec::new();
+        for w in ws {
+            for r in &w.rows {
+                match rows.iter_mut().find(|x| x.0 == r.0 && x.1 == r.1) {
+                    Some(x) => {
+                        x.2 += r.2;
+                        add_into(&mut x.3, &r.3);
+                    }
+                    None => rows.push(*r),
+                }
+            }
+        }
+        let k = ws.len().max(1) as f64;
+        for r in &mut rows {
+            r.2 /= k;
+            for t in r.3.iter_mut() {
+                for f in t.iter_mut() {
+                    f[0] /= k;
+                    f[1] /= k;
+                }
+            }
+        }
+        rows.sort_by_key(|r| (r.0, r.1));
+        Window { rows }
     }
 
     /// The sum over the rows of the phases in `phases`.
@@ -326,9 +357,16 @@ mod tests {
         let pos = [[0.0, 0.15], [0.05, 0.25], [0.5, 0.15], [0.0, 0.05], [0.0, -0.05]];
         let phase = [0, 1, 0, 0, 0];
         let w = Window::sum(&pos, &phase, &[a; 5], 0.0, 0.1, 0.0, 0.3, 0.1);
-        let got: Vec<(u32, u32, usize)> = w.rows.iter().map(|r| (r.0, r.1, r.2)).collect();
-        assert_eq!(got, vec![(0, 0, 1), (1, 0, 1), (2, 1, 1)]);
+        let got: Vec<(u32, u32, f64)> = w.rows.iter().map(|r| (r.0, r.1, r.2)).collect();
+        assert_eq!(got, vec![(0, 0, 1.0), (1, 0, 1.0), (2, 1, 1.0)]);
         assert_eq!(w.of_phases(&[0])[2][1], [2.0, 4.0]);
         assert_eq!(w.of_phases(&[0, 1])[2][1], [3.0, 6.0]);
+        // The mean with a state holding only the gas row: rows absent there count zero.
+        let v = Window::sum(&pos[1..2], &phase[1..2], &[a], 0.0, 0.1, 0.0, 0.3, 0.1);
+        let m = Window::mean(&[w.clone(), v]);
+        let got: Vec<(u32, u32, f64)> = m.rows.iter().map(|r| (r.0, r.1, r.2)).collect();
+        assert_eq!(got, vec![(0, 0, 0.5), (1, 0, 0.5), (2, 1, 1.0)]);
+        assert_eq!(m.of_phases(&[0])[2][1], [1.0, 2.0]);
+        assert_eq!(m.of_phases(&[1])[2][1], [1.0, 2.0]);
     }
 }

@@ -6,7 +6,6 @@ use super::force_balance::{
     band_tension, cut_rows, evaluate_state, split_forces, total, Split, State, Window, PARTNER_NAMES, TERMS, TERM_NAMES,
 };
 use super::stages::PairTerm;
-use super::CpuSolver;
 use crate::diagnostics::contact_half_width;
 use crate::exec::Exec;
 use crate::scene::{ContactMode, Scene};
@@ -29,6 +28,8 @@ pub struct ForceOptions {
     /// and one under the gas (default: half-way from x = domain.x[0] to the window's centre,
     /// and half-way from there to domain.x[1]).
     pub cuts: Option<[f64; 2]>,
+    /// Number of snapshots, ending at `step` (or the last), whose balances are averaged.
+    pub last: usize,
     /// Per-particle CSV (every fluid particle, all 18 components).
     pub csv: Option<PathBuf>,
     /// Evaluation on all cores or one.
@@ -47,7 +48,21 @@ pub fn run_scene(dir: &Path) -> Result<Scene, String> {
     Ok(scene)
 }
 
-/// The report of `dir`'s snapshot (Markdown); writes the CSV when asked.
+/// What one saved state gives: its window sums and its wall-band tensions.
+struct StateBalance {
+    step: u64,
+    t: f64,
+    x_c: f64,
+    window: Window,
+    cuts: [f64; 2],
+    /// Per cut: the tension of every term, then of each of [`TERMS`].
+    tension: [[Option<f64>; 4]; 2],
+    /// Per cut: liquid and gas particles in the first three rows within Δx of it.
+    above: [[usize; 2]; 2],
+}
+
+/// The report of `dir`'s snapshot, or the mean over its last `o.last` snapshots (Markdown);
+/// writes the CSV of the last state when asked.
 pub fn force_report(dir: &Path, o: &ForceOptions) -> Result<String, String> {
     if !(o.half_width_dx > 0.0 && o.half_width_dx.is_finite()) || !(o.height_dx > 0.0 && o.height_dx.is_finite()) {
         return Err(format!(
@@ -57,76 +72,116 @@ pub fn force_report(dir: &Path, o: &ForceOptions) -> Result<String, String> {
     }
     let scene = run_scene(dir)?;
     let files = snapshot_files(dir);
-    let (step, path) = match o.step {
-        None => files.last().cloned().ok_or_else(|| format!("{}: no particles_*.csv snapshot", dir.display()))?,
-        Some(s) => files.iter().find(|f| f.0 == s).cloned().ok_or_else(|| {
+    let end = match o.step {
+        None => files.len().checked_sub(1).ok_or_else(|| format!("{}: no particles_*.csv snapshot", dir.display()))?,
+        Some(s) => files.iter().position(|f| f.0 == s).ok_or_else(|| {
             let have: Vec<String> = files.iter().map(|f| f.0.to_string()).collect();
             format!("--step {s}: no such snapshot in {} (have: {})", dir.display(), have.join(", "))
         })?,
     };
-    let t = read_series(dir).iter().find(|r| r.step == step).map_or(f64::NAN, |r| r.t);
-    let snap = read_snapshot(&path, step, t).ok_or_else(|| format!("{}: not a readable snapshot", path.display()))?;
-    let solver = evaluate_state(&scene, &State { pos: &snap.pos, vel: &snap.vel, phase: &snap.phase }, o.exec)
+    if o.last == 0 || o.last > end + 1 {
+        return Err(format!(
+            "--last {}: must be from 1 to the {} snapshots up to step {} in {}",
+            o.last,
+            end + 1,
+            files[end].0,
+            dir.display()
+        ));
+    }
+    let series = read_series(dir);
+    let mut states = Vec::new();
+    for (k, (step, path)) in files[end + 1 - o.last..=end].iter().enumerate() {
+        let csv = if k + 1 == o.last { o.csv.as_deref() } else { None };
+        let t = series.iter().find(|r| r.step == *step).map_or(f64::NAN, |r| r.t);
+        states.push(state_balance(&scene, *step, t, path, o, csv)?);
+    }
+    let k = states.len() as f64;
+    let x_c = states.iter().map(|s| s.x_c).sum::<f64>() / k;
+    let windows: Vec<Window> = states.iter().map(|s| s.window.clone()).collect();
+    let mut md = markdown(dir, &scene, &states, x_c, o, &Window::mean(&windows));
+    md.push_str(&cut_section(&scene, &states));
+    Ok(md)
+}
+
+/// One state's balance.
+fn state_balance(
+    scene: &Scene,
+    step: u64,
+    t: f64,
+    path: &Path,
+    o: &ForceOptions,
+    csv: Option<&Path>,
+) -> Result<StateBalance, String> {
+    let snap = read_snapshot(path, step, t).ok_or_else(|| format!("{}: not a readable snapshot", path.display()))?;
+    let solver = evaluate_state(scene, &State { pos: &snap.pos, vel: &snap.vel, phase: &snap.phase }, o.exec)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     let split = split_forces(&solver);
     let dx = scene.domain.dx();
     let y_w = solver.model.y_wall;
     let x_c = match o.at {
         Some(x) => x,
-        None => contact_half_width(&snap.pos, &snap.phase, dx, y_w)
-            .ok_or_else(|| "no liquid particle in the first row: give the window's centre with --at X".to_string())?,
+        None => contact_half_width(&snap.pos, &snap.phase, dx, y_w).ok_or_else(|| {
+            format!("{}: no liquid particle in the first row: give the window's centre with --at X", path.display())
+        })?,
     };
-    let win = Window::sum(&snap.pos, &snap.phase, &split, x_c, o.half_width_dx * dx, y_w, o.height_dx * dx, dx);
-    if let Some(csv) = &o.csv {
+    let window = Window::sum(&snap.pos, &snap.phase, &split, x_c, o.half_width_dx * dx, y_w, o.height_dx * dx, dx);
+    if let Some(csv) = csv {
         write_csv(csv, &snap.pos, &snap.phase, &split)?;
     }
     let [x0, x1] = scene.domain.x;
     let cuts = o.cuts.unwrap_or([0.5 * (x0 + x_c), 0.5 * (x_c + x1)]);
-    let mut md = markdown(dir, &scene, step, t, x_c, o, &win);
-    md.push_str(&cut_section(&solver, &scene, cuts, dx, y_w));
-    Ok(md)
+    let mut tension = [[None; 4]; 2];
+    let mut above = [[0usize; 2]; 2];
+    for (k, &x) in cuts.iter().enumerate() {
+        let of = |terms: &[PairTerm]| band_tension(&cut_rows(&solver, x, dx, y_w, terms), BAND_ROWS, BULK_ROWS);
+        tension[k] = [of(&TERMS), of(&TERMS[0..1]), of(&TERMS[1..2]), of(&TERMS[2..3])];
+        for i in 0..solver.n_fluid {
+            let p = solver.pos[i];
+            if (p.x - x).abs() < dx && p.y - y_w < 3.0 * dx && solver.phase[i] < 2 {
+                above[k][solver.phase[i] as usize] += 1;
+            }
+        }
+    }
+    Ok(StateBalance { step, t, x_c, window, cuts, tension, above })
 }
 
 /// Rows of the wall band and of the uniform fluid above it, for [`band_tension`].
 const BAND_ROWS: std::ops::Range<u32> = 0..4;
 const BULK_ROWS: std::ops::Range<u32> = 5..9;
 
-/// The wall-band tensions across the two cuts, by term, against Young's line force.
-fn cut_section(s: &CpuSolver<f64>, scene: &Scene, cuts: [f64; 2], dx: f64, y_w: f64) -> String {
+/// The wall-band tensions across the two cuts (means over the states), by term, against
+/// Young's line force.
+fn cut_section(scene: &Scene, states: &[StateBalance]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "\n## Wall-band tension across vertical cuts\n\nAt each cut, the x-force on the fluid right of it from every particle left of it (fluid and wall), row by row; the band's tension is the deficit of rows {}–{} below the mean of rows {}–{} (uniform fluid), as `cpu::force_balance::band_tension`. On a flat layer the fluid side of a Mode A wall band carries half of what a free liquid–gas band of the same σ carries, in its pressure part and its stress part alike (`tests/force_balance.rs`). On a disordered state the pressure part also holds the background pressure acting on the particles' disorder row by row (p_b times a few per cent of Δx a row), so one snapshot's pressure part is noisy; the stress part is the steadier one.\n",
+        "\n## Wall-band tension across vertical cuts\n\nAt each cut, the x-force on the fluid right of it from every particle left of it (fluid and wall), row by row; the band's tension is the deficit of rows {}–{} below the mean of rows {}–{} (uniform fluid), as `cpu::force_balance::band_tension`. On a flat layer the fluid side of a Mode A wall band carries half of what a free liquid–gas band of the same σ carries, in its pressure part and its stress part alike (`tests/force_balance.rs`). On a disordered state the pressure part also holds the background pressure acting on the particles' disorder row by row (p_b times a few per cent of Δx a row), so one snapshot's pressure part is noisy (`--last K` averages K snapshots); the stress part is the steadier one.\n",
         BAND_ROWS.start,
         BAND_ROWS.end - 1,
         BULK_ROWS.start,
         BULK_ROWS.end - 1
     );
-    let _ = writeln!(out, "| cut | x | fluid above the wall there | tension | pressure part | viscous part | surface part |\n|---|---|---|---|---|---|---|");
+    let _ = writeln!(out, "| cut | x | fluid above the wall there (last state) | tension | pressure part | viscous part | surface part |\n|---|---|---|---|---|---|---|");
+    let k = states.len() as f64;
     let mut all = [f64::NAN; 2];
-    for (k, (name, x)) in [("liquid side", cuts[0]), ("gas side", cuts[1])].into_iter().enumerate() {
-        let above = (0..s.n_fluid)
-            .filter(|&i| (s.pos[i].x - x).abs() < dx && s.pos[i].y - y_w < 3.0 * dx)
-            .map(|i| s.phase[i])
-            .fold([0usize; 2], |mut c, p| {
-                if (p as usize) < 2 {
-                    c[p as usize] += 1;
-                }
-                c
-            });
-        let fluid = format!("{} liquid, {} gas", above[0], above[1]);
-        let tension = |terms: &[PairTerm]| band_tension(&cut_rows(s, x, dx, y_w, terms), BAND_ROWS, BULK_ROWS);
+    for (c, name) in ["liquid side", "gas side"].into_iter().enumerate() {
+        let x = states.iter().map(|s| s.cuts[c]).sum::<f64>() / k;
+        let mean = |j: usize| -> Option<f64> {
+            let v: Option<Vec<f64>> = states.iter().map(|s| s.tension[c][j]).collect();
+            v.map(|v| v.iter().sum::<f64>() / k)
+        };
         let fmt = |v: Option<f64>| v.map_or("— (rows missing)".to_string(), |v| format!("{v:+.4}"));
-        let t_all = tension(&TERMS);
-        all[k] = t_all.unwrap_or(f64::NAN);
-        let parts: Vec<String> = TERMS.iter().map(|t| fmt(tension(&[*t]))).collect();
+        all[c] = mean(0).unwrap_or(f64::NAN);
+        let last = states.last().map_or([0; 2], |s| s.above[c]);
         let _ = writeln!(
             out,
-            "| {name} | {x:.5} | {fluid} | {} | {} | {} | {} |",
-            fmt(t_all),
-            parts[0],
-            parts[1],
-            parts[2]
+            "| {name} | {x:.5} | {} liquid, {} gas | {} | {} | {} | {} |",
+            last[0],
+            last[1],
+            fmt(mean(0)),
+            fmt(mean(1)),
+            fmt(mean(2)),
+            fmt(mean(3))
         );
     }
     let c = &scene.contact;
@@ -186,10 +241,24 @@ fn term_rows(out: &mut String, label: &str, s: &Split, k: usize) {
     );
 }
 
-fn markdown(dir: &Path, scene: &Scene, step: u64, t: f64, x_c: f64, o: &ForceOptions, w: &Window) -> String {
+fn markdown(dir: &Path, scene: &Scene, states: &[StateBalance], x_c: f64, o: &ForceOptions, w: &Window) -> String {
     let mut out = String::new();
     let sigma = scene.surface_tension.as_ref().map_or(0.0, |s| s.sigma);
-    let _ = writeln!(out, "# Force balance of `{}`, step {step} (t = {t:.4})\n", dir.display());
+    let (first, last) = (&states[0], &states[states.len() - 1]);
+    if states.len() == 1 {
+        let _ = writeln!(out, "# Force balance of `{}`, step {} (t = {:.4})\n", dir.display(), last.step, last.t);
+    } else {
+        let _ = writeln!(
+            out,
+            "# Force balance of `{}`, mean over the {} snapshots from step {} to step {} (t = {:.4} to {:.4})\n",
+            dir.display(),
+            states.len(),
+            first.step,
+            last.step,
+            first.t,
+            last.t
+        );
+    }
     let c = &scene.contact;
     let model = match c.mode {
         ContactMode::A => format!(
@@ -208,8 +277,10 @@ fn markdown(dir: &Path, scene: &Scene, step: u64, t: f64, x_c: f64, o: &ForceOpt
     let _ = writeln!(out, "Scene `{}`, nx = {}, {model}.", scene.name, scene.domain.nx);
     let _ = writeln!(
         out,
-        "Window: fluid particles with |x − {x_c:.5}| ≤ {}Δx and 0 < y − y_w ≤ {}Δx. Forces are m_i·a per unit depth, split by the pair's partner; a pair's force on i alone (its partner's share is not in the window unless the partner is). Pairs inside the window cancel in its sums; what is left is what crosses its edges.\n",
-        o.half_width_dx, o.height_dx
+        "Window: fluid particles with |x − {x_c:.5}| ≤ {}Δx{} and 0 < y − y_w ≤ {}Δx. Forces are m_i·a per unit depth, split by the pair's partner; a pair's force on i alone (its partner's share is not in the window unless the partner is). Pairs inside the window cancel in its sums; what is left is what crosses its edges.\n",
+        o.half_width_dx,
+        if states.len() > 1 && o.at.is_none() { " (the mean centre: each state's window is centred on its own contact point; sums are means over the states)" } else if states.len() > 1 { " (sums are means over the states)" } else { "" },
+        o.height_dx
     );
     for (k, axis) in
         [(0, "x (along the wall; + = towards the gas side of the right contact line)"), (1, "y (normal to the wall)")]
@@ -233,7 +304,7 @@ fn markdown(dir: &Path, scene: &Scene, step: u64, t: f64, x_c: f64, o: &ForceOpt
     }
     let _ = writeln!(out, "{head} sum |\n{rule}---|");
     for (row, ph, n, s) in &w.rows {
-        let _ = write!(out, "| {row} | {} | {n} |", if *ph == 0 { "liquid" } else { "gas" });
+        let _ = write!(out, "| {row} | {} | {n:.1} |", if *ph == 0 { "liquid" } else { "gas" });
         for term in s {
             for f in term {
                 let _ = write!(out, " {:+.4} |", f[0]);
