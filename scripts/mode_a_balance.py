@@ -19,7 +19,7 @@ import sys
 nx, t0, t1 = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
 sphlab = os.environ.get("SPHLAB", "target/release/sphlab")
 last = os.environ.get("LAST", "1")
-print("| run | nx | σ_LS | σ_GS | p_b | θ circle fit | cos θ | X (wall pairs at the line) | ½(σ_GS − σ_LS) + X | cos θ − prediction |")
+print("| run | nx | σ_LS | σ_GS | p_b | θ circle fit | cos θ | X (wall pairs at the line) | ½(σ_GS − σ_LS) + X | residual |")
 print("|---|---|---|---|---|---|---|---|---|---|")
 for run in sys.argv[4:]:
     par = json.load(open(f"{run}/summary.json"))["parameters"]
