@@ -1,6 +1,7 @@
 //! `sphlab forces RUN_DIR`: the force balance ([`super::force_balance`]) of one saved state of a
-//! run, in a window around its right contact point, as Markdown (and per particle as CSV).
-//! The scene comes from the run's `summary.json`, the state from a `particles_<step>.csv`.
+//! run, or its mean over the run's last K states, in a window around the right contact point, as
+//! Markdown (and per particle as CSV). The scene comes from the run's `summary.json`, the states
+//! from its `particles_<step>.csv` files.
 
 use super::force_balance::{
     band_tension, cut_rows, evaluate_state, split_forces, total, Split, State, Window, PARTNER_NAMES, TERMS, TERM_NAMES,
