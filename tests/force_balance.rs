@@ -64,11 +64,11 @@ fn tensions(mode: ContactMode, terms: &[&[PairTerm]]) -> Vec<[f64; 3]> {
             continue;
         }
         s.evaluate().unwrap();
+        let rows = cut_rows(&s, 0.25, dx, y_w);
         for (ts, acc) in terms.iter().zip(sum.iter_mut()) {
-            let rows = cut_rows(&s, 0.25, dx, y_w, ts);
-            acc[0] += band_tension(&rows, n / 2 - 5..n / 2 + 5, n / 5..n / 2 - 8).unwrap();
-            acc[1] += band_tension(&rows, 0..4, n / 5..n / 2 - 8).unwrap();
-            acc[2] += band_tension(&rows, n - 4..n, n / 2 + 8..n - n / 5).unwrap();
+            acc[0] += band_tension(&rows, ts, n / 2 - 5..n / 2 + 5, n / 5..n / 2 - 8).unwrap();
+            acc[1] += band_tension(&rows, ts, 0..4, n / 5..n / 2 - 8).unwrap();
+            acc[2] += band_tension(&rows, ts, n - 4..n, n / 2 + 8..n - n / 5).unwrap();
         }
         k += 1.0;
     }

@@ -87,46 +87,54 @@ pub fn split_forces<T: Real>(s: &CpuSolver<T>) -> Vec<Split> {
 }
 
 /// The force across the vertical line `x = x_cut`, by row above the wall
-/// (`⌊(y − y_w)/Δx⌋`): for the fluid particles right of the line, the pair forces of `terms` on
-/// them from every particle left of it (fluid, images at their image positions, and wall), as
-/// `(row, [fx, fy])` sorted by row. In a row of uniform fluid at pressure p this is about pΔx; a
-/// tension band crossing the line lowers it by its tension ([`band_tension`]). The wall partners
-/// count: without them, rows next to a wall miss the wall's share of the pressure pairs and read
-/// a tension where there is none.
-pub fn cut_rows<T: Real>(s: &CpuSolver<T>, x_cut: f64, dx: f64, y_w: f64, terms: &[PairTerm]) -> Vec<(u32, [f64; 2])> {
+/// (`⌊(y − y_w)/Δx⌋`): for the fluid particles right of the line, the pair forces on them from
+/// every particle left of it (fluid, images at their image positions, and wall), as
+/// `(row, [fx, fy] per term of TERMS)` sorted by row; one walk gives every term. In a row of
+/// uniform fluid at pressure p this is about pΔx; a tension band crossing the line lowers it by
+/// its tension ([`band_tension`]). The wall partners count: without them, rows next to a wall
+/// miss the wall's share of the pressure pairs and read a tension where there is none.
+pub fn cut_rows<T: Real>(s: &CpuSolver<T>, x_cut: f64, dx: f64, y_w: f64) -> Vec<(u32, [[f64; 2]; 3])> {
     let c = s.ctx();
-    let mut rows: Vec<(u32, [f64; 2])> = Vec::new();
+    let mut rows: Vec<(u32, [[f64; 2]; 3])> = Vec::new();
     for i in 0..s.n_fluid {
         let (x, d) = (s.pos[i].x.f64(), s.pos[i].y.f64() - y_w);
         if x <= x_cut || d <= 0.0 {
             continue;
         }
-        let mut f = [0.0; 2];
+        let row = (d / dx).floor() as u32;
+        let k = match rows.iter().position(|r| r.0 == row) {
+            Some(k) => k,
+            None => {
+                rows.push((row, [[0.0; 2]; 3]));
+                rows.len() - 1
+            }
+        };
+        let f = &mut rows[k].1;
         acceleration_pairs(&c, &s.f, i, |_, xj, term, v| {
-            if terms.contains(&term) && xj.x.f64() <= x_cut {
-                f[0] += v.x.f64();
-                f[1] += v.y.f64();
+            if let Some(t) = TERMS.iter().position(|&x| x == term) {
+                if xj.x.f64() <= x_cut {
+                    f[t][0] += v.x.f64();
+                    f[t][1] += v.y.f64();
+                }
             }
         });
-        let row = (d / dx).floor() as u32;
-        match rows.iter_mut().find(|r| r.0 == row) {
-            Some(r) => {
-                r.1[0] += f[0];
-                r.1[1] += f[1];
-            }
-            None => rows.push((row, f)),
-        }
     }
     rows.sort_by_key(|r| r.0);
     rows
 }
 
-/// The tension a band of rows carries across a cut: `−Σ_band (F_row − F̄_bulk)`, with `F_row`
-/// the x-force of [`cut_rows`] and `F̄_bulk` its mean over the `bulk` rows (uniform fluid).
-/// A band at lower pressure than the bulk, or pulling, gives a positive tension. None when a
-/// row of either range is missing.
-pub fn band_tension(rows: &[(u32, [f64; 2])], band: std::ops::Range<u32>, bulk: std::ops::Range<u32>) -> Option<f64> {
-    let get = |r: u32| rows.iter().find(|x| x.0 == r).map(|x| x.1[0]);
+/// The tension a band of rows carries across a cut in the `terms` chosen: `−Σ_band (F_row −
+/// F̄_bulk)`, with `F_row` the x-force of [`cut_rows`] summed over `terms` and `F̄_bulk` its mean
+/// over the `bulk` rows (uniform fluid). A band at lower pressure than the bulk, or pulling,
+/// gives a positive tension. None when a row of either range is missing.
+pub fn band_tension(
+    rows: &[(u32, [[f64; 2]; 3])],
+    terms: &[PairTerm],
+    band: std::ops::Range<u32>,
+    bulk: std::ops::Range<u32>,
+) -> Option<f64> {
+    let pick: Vec<usize> = terms.iter().filter_map(|t| TERMS.iter().position(|x| x == t)).collect();
+    let get = |r: u32| rows.iter().find(|x| x.0 == r).map(|x| pick.iter().map(|&t| x.1[t][0]).sum::<f64>());
     let bulk_f: Option<Vec<f64>> = bulk.clone().map(get).collect();
     let bulk_f = bulk_f.filter(|v| !v.is_empty())?;
     let mean = bulk_f.iter().sum::<f64>() / bulk_f.len() as f64;

@@ -134,7 +134,8 @@ fn state_balance(
     let mut tension = [[None; 4]; 2];
     let mut above = [[0usize; 2]; 2];
     for (k, &x) in cuts.iter().enumerate() {
-        let of = |terms: &[PairTerm]| band_tension(&cut_rows(&solver, x, dx, y_w, terms), BAND_ROWS, BULK_ROWS);
+        let rows = cut_rows(&solver, x, dx, y_w);
+        let of = |terms: &[PairTerm]| band_tension(&rows, terms, BAND_ROWS, BULK_ROWS);
         tension[k] = [of(&TERMS), of(&TERMS[0..1]), of(&TERMS[1..2]), of(&TERMS[2..3])];
         for i in 0..solver.n_fluid {
             let p = solver.pos[i];

@@ -57,14 +57,13 @@ pub struct Variant {
     pub from_90: Option<&'static str>,
 }
 
-/// The override that makes a variant Mode A (relax-60 itself is Mode B).
-const MODE_A_SET: &str = "contact.mode=a";
-
 impl Variant {
     /// Mode B, the thesis's method, whose equilibrium is held to 60° (Mode A's is not: its
-    /// wall bands reach the contact line halved, relax-60/mode-a-check/README.md).
+    /// wall bands reach the contact line halved, relax-60/mode-a-check/README.md). Read from the
+    /// variant's scene (relax-60 with its overrides), as the run itself sees it.
     pub fn held_to_young(&self) -> bool {
-        !self.sets.iter().any(|s| s == MODE_A_SET)
+        crate::scene::overrides::apply_overrides(&crate::scene::builtin::relax_60(), &self.sets)
+            .is_ok_and(|s| s.contact.mode == crate::scene::ContactMode::B)
     }
 }
 
@@ -96,7 +95,7 @@ pub fn variants() -> Vec<Variant> {
     let p_b = crate::scene::builtin::transport_background_pressure(ph.rho0, ph.c0);
     let v = |id, label, sets: Vec<String>, start_deg| Variant { id, label, sets, start_deg, from_90: None };
     let below = |id, label, sets, from_90| Variant { from_90: Some(from_90), ..v(id, label, sets, START_BELOW_DEG) };
-    let mode_a = || vec![MODE_A_SET.to_string()];
+    let mode_a = || vec!["contact.mode=a".to_string()];
     vec![
         v("b-noslip", "Mode B, no-slip", vec![], 90.0),
         v(
@@ -412,6 +411,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 /// shows (Mode A's wall bands reach the contact line halved: relax-60/mode-a-check/README.md).
 /// Which variants are held to 60° is [`Variant::held_to_young`].
 fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, rep: &mut CaseReport) {
+    let variants = variants();
     for &(_, _, start, from_90, lo) in end_angle {
         let Some(above) = from_90 else { continue };
         let Some(&(_, mode, _, _, hi)) = end_angle.iter().find(|e| e.0 == above) else { continue };
@@ -426,7 +426,7 @@ fn two_starts(end_angle: &[(&str, &str, f64, Option<&str>, f64)], wtext: &str, r
             Some(0.0),
         )
         .sphlab_text(format!("{:.2} (from {start}°: {lo:.2}°, from 90°: {hi:.2}°)", mid - 60.0));
-        let held = variants().iter().find(|v| v.id == above).is_some_and(Variant::held_to_young);
+        let held = variants.iter().find(|v| v.id == above).is_some_and(Variant::held_to_young);
         rep.rows.push(if held {
             row.check((mid - 60.0).abs() < 3.0, "|midpoint − 60°| < 3°: the model's equilibrium, from either side")
         } else {
