@@ -1,10 +1,51 @@
 #!/usr/bin/env bash
-# One command for a GPU loan: builds sphlab and runs `sphlab study --preset gpu`, which refuses a
-# CPU adapter (lavapipe) with exit 2, prints adapter, driver, limits and its plan, and within the
-# budget (default 8 min) writes variants, verify (two scenes), E1–E4, scaling to the largest N that
-# fits and the full-resolution impact validation under reports/gpu/<adapter>/.
-# Extra arguments go to sphlab, e.g.: scripts/gpu-report.sh --dry-run | --budget 5m | --allow-cpu-adapter
+# One command for a GPU loan, run on the lent machine: never builds. It takes the sphlab binary
+# from $SPHLAB_BIN, else .gpu-bin/sphlab (made by scripts/gpu-bundle.sh), else
+# target/release/sphlab; unpacks the Vulkan/EGL loader packages in .gl/ when no libvulkan is
+# installed; points Vulkan at the NVIDIA ICD where it exists; forces wgpu onto Vulkan; gives the
+# process a private XDG_RUNTIME_DIR; prints the GPUs nvidia-smi sees; then runs
+# `sphlab study --preset gpu` (which prints the adapter wgpu opened and its plan first).
+#
+# Options (passed on): --budget T (default 8m), --archive DIR (DIR/gpu-report.tar.gz and
+# DIR/summary.md, rewritten after every part), --allow-cpu-adapter, --dry-run, --out ROOT.
+#   e.g. scripts/gpu-report.sh --budget 8m --archive "$OUT"
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --bin sphlab
-exec target/release/sphlab study --preset gpu "$@"
+
+bin="${SPHLAB_BIN:-}"
+if [ -z "$bin" ]; then
+    for b in .gpu-bin/sphlab target/release/sphlab; do
+        if [ -x "$b" ]; then bin="$b"; break; fi
+    done
+fi
+if [ -z "$bin" ] || [ ! -x "$bin" ]; then
+    echo "gpu-report: no sphlab binary: set SPHLAB_BIN, or run scripts/gpu-bundle.sh on a machine with cargo" >&2
+    exit 2
+fi
+
+if ! ldconfig -p 2>/dev/null | grep -q libvulkan; then
+    if ls .gl/*.deb >/dev/null 2>&1; then
+        echo "gpu-report: no libvulkan installed; unpacking the loader packages in .gl/" >&2
+        for f in .gl/*.deb; do dpkg -x "$f" /; done
+        ldconfig
+    else
+        echo "gpu-report: warning: no libvulkan and no .gl/*.deb (scripts/gpu-bundle.sh downloads them)" >&2
+    fi
+fi
+
+for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json /usr/share/vulkan/icd.d/nvidia_icd.json \
+           /etc/vulkan/icd.d/nvidia_icd.json; do
+    if [ -f "$icd" ]; then
+        export VK_DRIVER_FILES="$icd" VK_ICD_FILENAMES="$icd"
+        break
+    fi
+done
+export WGPU_BACKEND=vulkan
+XDG_RUNTIME_DIR="$(mktemp -d)"
+export XDG_RUNTIME_DIR
+
+if command -v nvidia-smi >/dev/null 2>&1; then
+    nvidia-smi -L || true
+fi
+echo "gpu-report: $bin ($("$bin" --version 2>/dev/null || echo '?')); VK_DRIVER_FILES=${VK_DRIVER_FILES:-unset}" >&2
+exec "$bin" study --preset gpu "$@"

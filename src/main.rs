@@ -247,9 +247,13 @@ struct VerifyArgs {
     /// Also run every stage alone on the CPU's inputs (pinpoints a disagreeing stage).
     #[arg(long)]
     per_stage: bool,
-    /// Write verify.csv and verify.json here.
+    /// Write verify.csv and verify.json here (rewritten after every variant).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Wall-time budget (e.g. 90s, 2m): variants not started when it is spent are listed as
+    /// `skipped`.
+    #[arg(long, value_parser = sphlab::sweep::parse_duration)]
+    budget: Option<f64>,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -323,6 +327,17 @@ struct StudyArgs {
     /// Resolution of the `engine` experiment (100 = the E4 size, 11,236 particles).
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(10..=400))]
     engine_nx: u32,
+    /// E4 resolutions (45 = the thesis's 2,025 fluid particles, 100 = 10,000).
+    #[arg(long, value_delimiter = ',', default_value = "45,100", value_parser = clap::value_parser!(u32).range(10..=4000))]
+    e4_sizes: Vec<u32>,
+    /// The two resolutions the cost probe times (near the sweep's sizes: the largest sizes are
+    /// then not extrapolated from small ones).
+    #[arg(long, value_delimiter = ',', default_value = "16,32", num_args = 1, value_parser = clap::value_parser!(u32).range(10..=10_000))]
+    probe_sizes: Vec<u32>,
+    /// With --preset gpu: write DIR/gpu-report.tar.gz and DIR/summary.md, refreshed after every
+    /// part (a kill loses at most the part in flight).
+    #[arg(long, value_name = "DIR")]
+    archive: Option<PathBuf>,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -853,24 +868,34 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
     }
     let mut reports = Vec::new();
     let verifier = sphlab::verify::Verifier::new(&scene, a.steps, a.per_stage);
+    let started = std::time::Instant::now();
+    let prov = Provenance::new("verify", Some(GpuInfo::from_adapter(&ctx.adapter_info)), provenance::VERIFY_UNITS);
+    // One document for --json and verify.json.
+    let doc = |reports: &[sphlab::verify::VariantReport]| {
+        with_provenance(serde_json::json!({"scene": scene.name, "steps": a.steps, "variants": reports}), &prov)
+    };
     for spec in specs {
-        let r = verifier.variant(&ctx, spec);
+        let r = match a.budget {
+            Some(b) if started.elapsed().as_secs_f64() > b => {
+                sphlab::verify::VariantReport::skipped(spec, format!("not run: the --budget of {b:.0} s was spent"))
+            }
+            _ => verifier.variant(&ctx, spec),
+        };
         if !a.json {
             eprintln!("{} {}", r.variant, r.status);
         }
         reports.push(r);
-    }
-    let failed = reports.iter().any(|r| r.status == "FAIL" || r.status == "error");
-    // One document for --json and verify.json.
-    let prov = Provenance::new("verify", Some(GpuInfo::from_adapter(&ctx.adapter_info)), provenance::VERIFY_UNITS);
-    let doc = with_provenance(serde_json::json!({"scene": scene.name, "steps": a.steps, "variants": reports}), &prov);
-    if let Some(dir) = &a.out {
-        let written = sphlab::verify::write_outputs(dir, &ctx.describe(), &scene, &reports)
-            .and_then(|()| sphlab::output::write_json(dir.join("verify.json"), &doc).map_err(|e| e.to_string()));
-        if let Err(e) = written {
-            return fail(1, e);
+        if let Some(dir) = &a.out {
+            let written = sphlab::verify::write_outputs(dir, &ctx.describe(), &scene, &reports).and_then(|()| {
+                sphlab::output::write_json(dir.join("verify.json"), &doc(&reports)).map_err(|e| e.to_string())
+            });
+            if let Err(e) = written {
+                return fail(1, e);
+            }
         }
     }
+    let failed = reports.iter().any(|r| r.status == "FAIL" || r.status == "error");
+    let doc = doc(&reports);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&doc).expect("json"));
     } else {
@@ -889,8 +914,20 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
         if let Err(e) = check_out("--out", &root) {
             return fail(2, e);
         }
-        return match sphlab::study::preset::run(&root, a.budget.unwrap_or(480.0), a.allow_cpu_adapter, a.dry_run) {
-            Ok(_) => ExitCode::SUCCESS,
+        if let Some(dir) = &a.archive {
+            if let Err(e) = check_out("--archive", dir) {
+                return fail(2, e);
+            }
+        }
+        let opts = sphlab::study::preset::PresetOptions {
+            out_root: root,
+            budget_s: a.budget.unwrap_or(sphlab::study::preset::DEFAULT_BUDGET_S),
+            allow_cpu_adapter: a.allow_cpu_adapter,
+            dry_run: a.dry_run,
+            archive: a.archive.clone(),
+        };
+        return match sphlab::study::preset::run(&opts) {
+            Ok(code) => ExitCode::from(code),
             Err(sphlab::study::preset::PresetError::Refused(e)) => fail(2, e),
             Err(sphlab::study::preset::PresetError::Failed(e)) => fail(1, e),
         };
@@ -898,6 +935,13 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     if a.allow_cpu_adapter {
         return fail(2, "--allow-cpu-adapter: applies only to --preset gpu");
     }
+    if a.archive.is_some() {
+        return fail(2, "--archive: applies only to --preset gpu");
+    }
+    let probe_sizes = match a.probe_sizes.as_slice() {
+        &[p, q] if p < q => [p, q],
+        other => return fail(2, format!("--probe-sizes: two increasing resolutions, got {other:?}")),
+    };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("reports/study"));
     if let Err(e) = check_out("--out", &out) {
         return fail(2, e);
@@ -932,9 +976,14 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
         }
         sizes.push(n);
     }
-    for nx in [45, 100] {
-        if let Err(e) = sphlab::study::study_scene_with(nx, &a.sets) {
-            return fail(2, e);
+    for &nx in a.e4_sizes.iter().chain(&probe_sizes) {
+        match sphlab::study::study_scene_with(nx, &a.sets) {
+            Ok(scene) => {
+                if let Err(e) = sphlab::plan::Plan::new(&scene, 8, false).check(&limits) {
+                    return fail(2, format!("--e4-sizes/--probe-sizes {nx}: {e}"));
+                }
+            }
+            Err(e) => return fail(2, e),
         }
     }
     let variants = match a.variants.as_str() {
@@ -976,6 +1025,8 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
         budget_s: a.budget,
         dry_run: a.dry_run,
         out,
+        e4_sizes: a.e4_sizes,
+        probe_sizes,
     };
     match sphlab::study::run_study(&opts) {
         Ok(_) if opts.dry_run => ExitCode::SUCCESS,

@@ -106,12 +106,19 @@ pub struct Check {
 pub struct VariantReport {
     /// Variant id.
     pub variant: String,
-    /// pass, FAIL, unsupported or error.
+    /// pass, FAIL, unsupported, error or skipped (not run: `verify --budget` spent).
     pub status: String,
     /// Why unsupported / what failed.
     pub reason: String,
     /// Every check.
     pub checks: Vec<Check>,
+}
+
+impl VariantReport {
+    /// A variant that was not run, and why.
+    pub fn skipped(variant: VariantSpec, reason: String) -> Self {
+        VariantReport { variant: variant.to_string(), status: "skipped".into(), reason, checks: Vec::new() }
+    }
 }
 
 /// The one error measure: (max |gpu − cpu| / scale, ‖gpu − cpu‖₂ / ‖cpu‖₂) with scale =

@@ -5,7 +5,8 @@
 //! * **E1** (Fig. 6.3): neighbour search {direct, cells, tracking} × {CPU one thread, GPU} at
 //!   2,025 fluid particles (the oscillating-drop box at nx = 45).
 //! * **E4** (§6.5 headline): every GPU variant against the single-thread CPU NNPS (cells) at
-//!   10,000 fluid particles (nx = 100): the speedup (thesis: 120× on a 2012 GPU).
+//!   2,025 and 10,000 fluid particles (nx = 45, 100): the speedup (thesis: 120× on a 2012 GPU
+//!   at 2,025).
 //! * **scaling**: time per step against N for the CPU (one thread, all threads) and the GPU
 //!   variants, log-log.
 //!
@@ -196,6 +197,11 @@ pub struct StudyOptions {
     pub e23: e23::E23Options,
     /// Resolution of the `engine` experiment ([`engine_ab`]).
     pub engine_nx: u32,
+    /// E4 resolutions (45: the thesis's 2,025 fluid particles, Figs. 6.3/6.8; 100: 10,000).
+    pub e4_sizes: Vec<u32>,
+    /// The two resolutions the cost probe times ([`plan::Probe`]); near the sweep's own sizes so
+    /// the largest are not extrapolated from N ≈ 10³.
+    pub probe_sizes: [u32; 2],
 }
 
 impl Default for StudyOptions {
@@ -214,6 +220,8 @@ impl Default for StudyOptions {
             out: "reports/study".into(),
             e23: Default::default(),
             engine_nx: engine_ab::DEFAULT_NX,
+            e4_sizes: vec![45, 100],
+            probe_sizes: plan::PROBE_SIZES,
         }
     }
 }

@@ -51,7 +51,7 @@ pub const SWEEP_EXPERIMENTS: [&str; 3] = ["e1", "e4", "scaling"];
 pub fn sizes_of(experiment: &str, opts: &StudyOptions) -> Vec<u32> {
     match experiment {
         "e1" => vec![45],
-        "e4" => vec![100],
+        "e4" => opts.e4_sizes.clone(),
         _ => opts.sizes.clone(),
     }
 }
@@ -166,7 +166,8 @@ pub struct Probe {
     pub seconds: f64,
 }
 
-const PROBE_SIZES: [u32; 2] = [16, 32];
+/// Default probe resolutions ([`StudyOptions::probe_sizes`]).
+pub const PROBE_SIZES: [u32; 2] = [16, 32];
 const PROBE_STEPS: u64 = 2;
 
 impl Probe {
@@ -193,7 +194,7 @@ impl Probe {
         let t0 = Instant::now();
         let (mut ns, mut c1, mut c, mut g) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
         let mut p = Probe::default();
-        for (k, &nx) in PROBE_SIZES.iter().enumerate() {
+        for (k, &nx) in opts.probe_sizes.iter().enumerate() {
             let scene = study_scene_with(nx, &opts.sets)?;
             let tl = Instant::now();
             let layout = build_layout(&scene).map_err(|e| e.to_string())?;
@@ -278,6 +279,9 @@ pub struct Selected {
     pub jobs: Vec<Job>,
     /// Sizes (nx) dropped whole for the budget, largest first.
     pub dropped_sizes: Vec<u32>,
+    /// Jobs of the one size left that were dropped because that size alone overran the budget
+    /// (in run order, each job that no longer fitted).
+    pub dropped_jobs: usize,
     /// Estimated seconds of the kept jobs.
     pub est_s: f64,
     /// Estimated seconds of every job of the shard.
@@ -317,9 +321,22 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
     }
     by_size.sort_by_key(|b| b.0);
     let mut dropped_sizes = Vec::new();
+    let mut dropped_jobs = 0;
     if let Some(budget) = opts.budget_s {
         while spent_s + jobs.iter().map(|j| j.est_s).sum::<f64>() > budget {
-            let Some(largest) = jobs.iter().map(|j| j.nx).max() else { break };
+            let (Some(largest), Some(smallest)) = (jobs.iter().map(|j| j.nx).max(), jobs.iter().map(|j| j.nx).min())
+            else {
+                break;
+            };
+            if largest == smallest {
+                // One size left and it alone overruns: each of its jobs in run order (the
+                // reference first) that still fits, rather than nothing.
+                let mut t = spent_s;
+                let before = jobs.len();
+                jobs.retain(|j| (t + j.est_s <= budget).then(|| t += j.est_s).is_some());
+                dropped_jobs = before - jobs.len();
+                break;
+            }
             jobs.retain(|j| j.nx != largest);
             dropped_sizes.push(largest);
         }
@@ -354,7 +371,7 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
         }
     }
     let est_s = jobs.iter().map(|j| j.est_s).sum();
-    Selected { jobs, dropped_sizes, est_s, est_all_s, by_size, repeats }
+    Selected { jobs, dropped_sizes, dropped_jobs, est_s, est_all_s, by_size, repeats }
 }
 
 /// How many timed blocks `job` runs when it comes up with `left_s` of the budget left: its
@@ -418,6 +435,13 @@ pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: 
             "* budget: {b:.0} s; dropped for it (largest first): {}",
             if d.is_empty() { "nothing".into() } else { d.join(", ") }
         );
+        if sel.dropped_jobs > 0 {
+            let _ = writeln!(
+                s,
+                "* budget: the smallest size alone overruns it: {} of its jobs dropped (in run order, each that no longer fitted)",
+                sel.dropped_jobs
+            );
+        }
     }
     let e = &opts.e23;
     if exps.contains(&"e2") {
@@ -545,6 +569,26 @@ mod tests {
         assert_eq!(blocks_that_fit(&j, 8, 2, 1.0, 1.0), Some(2), "down to --repeats exactly: 1 s");
         assert_eq!(blocks_that_fit(&j, 8, 2, 0.99, 1.0), None, "never below --repeats: dropped");
         assert_eq!(blocks_that_fit(&j, 2, 2, 0.99, 1.0), None);
+    }
+
+    #[test]
+    fn a_budget_below_the_smallest_size_keeps_the_jobs_that_fit() {
+        // One size of four 3 s jobs, 1 s spent, 8 s budget: the first two fit (1 + 3 + 3 = 7).
+        let all = vec![job(45, 3.0, 0.1), job(45, 3.0, 0.1), job(45, 3.0, 0.1), job(45, 3.0, 0.1)];
+        let opts = StudyOptions { budget_s: Some(8.0), ..StudyOptions::default() };
+        let sel = select(&all, &opts, 1.0);
+        assert!(sel.dropped_sizes.is_empty());
+        assert_eq!((sel.jobs.len(), sel.dropped_jobs), (2, 2));
+        // Two sizes: the larger goes whole first, then the smaller is trimmed.
+        let all = vec![job(45, 3.0, 0.1), job(45, 3.0, 0.1), job(45, 3.0, 0.1), job(100, 1.0, 0.1)];
+        let sel = select(&all, &opts, 1.0);
+        assert_eq!(sel.dropped_sizes, vec![100]);
+        assert_eq!((sel.jobs.len(), sel.dropped_jobs), (2, 1));
+        // A costly job early does not shut out cheaper ones after it.
+        let all = vec![job(45, 2.0, 0.1), job(45, 30.0, 0.1), job(45, 3.0, 0.1), job(45, 3.0, 0.1)];
+        let sel = select(&all, &opts, 1.0);
+        let kept: Vec<f64> = sel.jobs.iter().map(|j| j.est_s).collect();
+        assert_eq!((kept, sel.dropped_jobs), (vec![2.0, 3.0], 2));
     }
 
     #[test]
