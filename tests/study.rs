@@ -1,7 +1,6 @@
 //! `sphlab study` made honest (issue 9): a run that overflows or blows up inside the study is a
 //! record with its status and no timing; `--budget` keeps the study within its budget (±20 %);
-//! `--preset gpu` refuses a CPU adapter (exit 2) and prints its plan with
-//! `--allow-cpu-adapter --dry-run`; `sphlab report` merges two runs into one summary; pipelines
+//! `sphlab report` merges two runs into one summary; pipelines
 //! are compiled once per variant and reused at every size. Runs on lavapipe (software Vulkan):
 //! every study here is a few tiny jobs with `--warmup 0`.
 
@@ -170,40 +169,6 @@ fn budget_is_kept() {
 /// Seconds a study process may take outside its budget's clock: start-up, the adapter, and
 /// writing the report and plots.
 const STARTUP_ALLOWANCE_S: f64 = 10.0;
-
-#[test]
-fn preset_gpu_refuses_a_cpu_adapter_and_prints_its_plan() {
-    let _g = serial();
-    let Some(ctx) = gpu_or_skip() else { return };
-    if ctx.adapter_info.device_type != wgpu::DeviceType::Cpu {
-        eprintln!("SKIP: the adapter is a real GPU; the refusal is tested on lavapipe");
-        return;
-    }
-    drop(ctx);
-    let dir = tempfile::tempdir().expect("tempdir");
-    let root = dir.path().join("gpu");
-    let root = root.to_str().expect("utf8");
-    let o = sphlab(&["study", "--preset", "gpu", "--out", root]);
-    let e = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(e.contains("CPU adapter") && e.contains("--allow-cpu-adapter"), "{e}");
-    let o = sphlab(&["study", "--preset", "gpu", "--allow-cpu-adapter", "--dry-run", "--out", root]);
-    let e = stderr(&o);
-    assert!(o.status.success(), "{e}");
-    for needle in [
-        "adapter: ",
-        "limits: ",
-        "variants.csv",
-        "verify every variant",
-        "study e1,e2,e3,e4,scaling",
-        "validate impact",
-        "study plan:",
-        "estimated time",
-    ] {
-        assert!(e.contains(needle), "plan lacks `{needle}`: {e}");
-    }
-    assert!(!Path::new(root).exists(), "a dry run writes nothing");
-}
 
 #[test]
 fn report_merges_two_runs() {

@@ -26,7 +26,7 @@ pub struct Outcome {
     /// Wall time it took (s).
     pub used_s: f64,
     /// `done`, `failed`, `cut` (stopped at the end of its share), `skipped`, `interrupted`
-    /// (SIGINT/SIGTERM) or `pending`.
+    /// (SIGINT/SIGTERM), `running` (in flight when the archive was written) or `pending`.
     pub status: String,
     /// Why it was skipped, failed or cut, or what it found.
     pub note: String,
@@ -70,7 +70,12 @@ pub fn result_line(dir: &Path) -> String {
             return format!("verify: {}", parts.join(", "));
         }
     }
-    last_lines(&dir.join("log.txt"), 2)
+    let log = last_lines(&dir.join("log.txt"), 2);
+    if log.is_empty() {
+        "no output yet".into()
+    } else {
+        log
+    }
 }
 
 /// The last `n` non-empty lines of a log, joined by " / ".

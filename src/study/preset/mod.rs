@@ -323,6 +323,9 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
             continue;
         }
         eprintln!("preset: {} ({share:.0} s): {}", part.name, out.command);
+        out.status = "running".into();
+        refresh(&outcomes, "running");
+        let out = &mut outcomes[k];
         let started = Instant::now();
         let deadline = (started + Duration::from_secs_f64(share * (1.0 + OVERRUN) + GRACE_S)).min(hard_end);
         let args = parts::command(part, child_budget(share), &pdir);
