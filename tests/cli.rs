@@ -192,7 +192,7 @@ fn single_phase_scene_runs_no_surface_tension_stages() {
 
 #[test]
 fn scene_relax_start_prints_the_overrides_of_validates_below_60_variants() {
-    // scripts/relax_start_angle.sh takes its start from here: the same cap as relax-60's variants.
+    // examples/analysis/relax_start_angle.sh takes its start from here: the same cap as relax-60's variants.
     for theta in [45.0, 60.0, 120.0, 90.0] {
         let o = sphlab(&["scene", "relax-start", &theta.to_string()]);
         assert!(o.status.success(), "{}", stderr(&o));

@@ -78,7 +78,7 @@ fn start_cap(theta_deg: f64) -> crate::diagnostics::Cap {
 }
 
 /// Overrides that start the drop at `theta_deg` instead of 90°: the circle of the equal-area cap
-/// (none at 90°). `scripts/relax_start_angle.sh` writes the same scene for any nx and mode.
+/// (none at 90°). `examples/analysis/relax_start_angle.sh` writes the same scene for any nx and mode.
 pub fn start_sets(theta_deg: f64) -> Vec<String> {
     if theta_deg == 90.0 {
         return Vec::new();

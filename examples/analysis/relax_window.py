@@ -4,9 +4,9 @@ circle-fit angle, the area-inversion angle (the cap of the liquid's area and wid
 the wall (first-row D/D0 + (dx/2)·cot(theta)/R0, as validate's relax::wall_spread); also the
 angle at t = 0 and the largest density error. D0 is the diameter of the scene's 90° half-disc
 (R0 = 0.25); a run started from another shape (an equal-area cap,
-`scripts/relax_start_angle.sh`) has its series' spread factor x_tp/R rescaled by R/R0, with R
+`examples/analysis/relax_start_angle.sh`) has its series' spread factor x_tp/R rescaled by R/R0, with R
 read from the run's summary.json. Usage:
-  scripts/relax_window.py NX T0 T1 RUN [RUN ...]   (`sphlab run relax-60` outputs)"""
+  examples/analysis/relax_window.py NX T0 T1 RUN [RUN ...]   (`sphlab run relax-60` outputs)"""
 import csv
 import json
 import math

@@ -3,8 +3,8 @@
 liquid kinetic energy, the mean-flow wall shear (signed u/(y - y_w) of first-row fluid particles,
 averaged per bin of 1/20 of the wall, then its magnitude: the validate case's
 `peak mean-flow wall shear rate`), the same with |u/(y - y_w)|, and the max normal deviation of
-scripts/normal_deviation_check.py. Usage:
-  scripts/sessile_flow_check.py NX DT T0 T1 RUN [RUN ...]   (`sphlab run sessile-90` outputs with snapshots)"""
+examples/analysis/normal_deviation_check.py. Usage:
+  examples/analysis/sessile_flow_check.py NX DT T0 T1 RUN [RUN ...]   (`sphlab run sessile-90` outputs with snapshots)"""
 import csv
 import glob
 import os

@@ -7,10 +7,10 @@
 # nx ≈ 97 (pass --set phases.0.p_b=… --set phases.1.p_b=… above that). A contact line that
 # ends at the same angle from above and below 60° is at its model's equilibrium; one that stops
 # short from both sides is pinned. Usage:
-#   scripts/relax_start_angle.sh NX MODE THETA0 OUT [--set KEY=VALUE ...]
-# e.g. scripts/relax_start_angle.sh 65 a 45 out/a-from45. One thread, to t = 5 (T_END=… for
+#   examples/analysis/relax_start_angle.sh NX MODE THETA0 OUT [--set KEY=VALUE ...]
+# e.g. examples/analysis/relax_start_angle.sh 65 a 45 out/a-from45. One thread, to t = 5 (T_END=… for
 # another end), a snapshot every 5000 steps, a series row every 500; `/usr/bin/time -v` in
-# OUT/time-v.txt, the run's output in OUT/log.txt. Analysis: scripts/relax_window.py NX 4.3 4.5
+# OUT/time-v.txt, the run's output in OUT/log.txt. Analysis: examples/analysis/relax_window.py NX 4.3 4.5
 # OUT…
 set -euo pipefail
 nx=$1 mode=$2 theta0=$3 out=$4

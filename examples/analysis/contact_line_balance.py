@@ -12,7 +12,7 @@ snapshots are git-ignored: this needs the runs on the machine that made them. Mo
 (`contact.mode = "a"`) give that table; Mode B runs, which have no wall tensions, give cos(theta),
 X and X/(sigma_LG cos(theta)), the part of the liquid-gas pull the wall pairs at the line hold.
 Usage:
-  [LAST=K] scripts/contact_line_balance.py NX T0 T1 RUN [RUN ...]   (SPHLAB=binary, default target/release/sphlab)"""
+  [LAST=K] examples/analysis/contact_line_balance.py NX T0 T1 RUN [RUN ...]   (SPHLAB=binary, default target/release/sphlab)"""
 import csv
 import json
 import math

@@ -4,7 +4,7 @@ over the snapshots at t >= T0 of each run, the lowest fluid pressure within 3Δx
 point (the outermost first-row liquid particle + Δx/2, on the wall), also relative to p_b, and
 the mean first-row gas pressure's deficit against the gas interior (y > 0.35, x < 0.3).
 Snapshots are git-ignored: the runs must have been made on this machine. Usage:
-  scripts/contact_line_pressure.py NX T0 RUN [RUN ...]   (`sphlab run relax-60` outputs)"""
+  examples/analysis/contact_line_pressure.py NX T0 RUN [RUN ...]   (`sphlab run relax-60` outputs)"""
 import csv, glob, json, math, sys
 nx, t0 = int(sys.argv[1]), float(sys.argv[2]); dx = 0.5 / nx
 for run in sys.argv[3:]:

@@ -4,7 +4,7 @@
 θ (circle fit, area inversion) and D/D0 (series.csv spread_factor); per variant the mean and the
 values of its runs. Run directories are named VARIANT_dtDT[-NOTE] and grouped by the part before
 "_dt". Usage:
-  scripts/relax_variant_table.py T0 T1 DIR...   (each a `sphlab run relax-60` output)"""
+  examples/analysis/relax_variant_table.py T0 T1 DIR...   (each a `sphlab run relax-60` output)"""
 import csv
 import statistics as st
 import sys

@@ -3,7 +3,7 @@
 precision. For each run against a reference run: the largest |Δθ| (circle fit) at the reference's
 row times for t <= 0.5 and for t >= 1 (rows both runs have), and the means ± std of θ (circle
 fit, area inversion) and D/D0 over unit windows. Usage:
-  scripts/relax_dt_check.py REF_DIR DIR... (each a `sphlab run` output with series.csv)"""
+  examples/analysis/relax_dt_check.py REF_DIR DIR... (each a `sphlab run` output with series.csv)"""
 import csv
 import statistics as st
 import sys

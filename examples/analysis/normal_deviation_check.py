@@ -4,7 +4,7 @@ diagnostics::flow::normal_deviations with the validate case's band (fluid partic
 |r − 0.25| ≤ 3Δx, y > 3Δx, |∇C| ≥ 0.3·max; angle between ±∇C and the radial direction from the
 origin). Per snapshot in [T0, T1]: the largest angle, and over the snapshots the median of the
 maxima and the means of the per-snapshot 90th percentile and median. Usage:
-  scripts/normal_deviation_check.py RUN_DIR NX DT T0 T1   (a `sphlab run sessile-90` output with snapshots)"""
+  examples/analysis/normal_deviation_check.py RUN_DIR NX DT T0 T1   (a `sphlab run sessile-90` output with snapshots)"""
 import csv
 import glob
 import math
