@@ -34,6 +34,7 @@ pub mod cpu;
 pub mod diagnostics;
 pub mod exec;
 pub mod fields;
+pub mod forces;
 pub mod gpu;
 pub mod model;
 pub mod neighbours;

@@ -1217,7 +1217,7 @@ fn main() -> ExitCode {
         Cmd::Validate(a) => cmd_validate(a),
         Cmd::Info { json } => cmd_info(json),
         Cmd::Forces(a) => {
-            let o = sphlab::cpu::force_report::ForceOptions {
+            let o = sphlab::forces::report::ForceOptions {
                 step: a.step,
                 last: a.last,
                 at: a.at,
@@ -1227,7 +1227,7 @@ fn main() -> ExitCode {
                 csv: a.csv,
                 exec: if cli.threads == Some(1) { sphlab::exec::Exec::Serial } else { sphlab::exec::Exec::Parallel },
             };
-            match sphlab::cpu::force_report::force_report(&a.run_dir, &o) {
+            match sphlab::forces::report::force_report(&a.run_dir, &o) {
                 Ok(md) => {
                     print!("{md}");
                     ExitCode::SUCCESS

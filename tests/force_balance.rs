@@ -1,4 +1,4 @@
-//! The tension a flat band carries across a vertical cut (`cpu::force_balance::cut_rows`,
+//! The tension a flat band carries across a vertical cut (`forces::balance::cut_rows`,
 //! `band_tension`), on a flat liquid layer under gas: periodic in x, walls at the bottom
 //! (under the liquid) and at the top (over the gas). What it shows (issue 10, Mode A):
 //!
@@ -13,10 +13,10 @@
 //! Cost: 2 runs of 1,600 fluid particles to t = 0.6 (≈ 4,100 steps), about 20 s each here.
 
 use sphlab::backend::Backend;
-use sphlab::cpu::force_balance::{band_tension, cut_rows};
 use sphlab::cpu::stages::PairTerm;
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
+use sphlab::forces::balance::{band_tension, cut_rows};
 use sphlab::neighbours::SearchKind;
 use sphlab::scene::build::build_layout;
 use sphlab::scene::{builtin, ContactMode, DtPolicy, Scene, Shape, ShapeKind, Side};

@@ -2,8 +2,6 @@
 //! stages of the stage table ([`crate::stage`]; functions in [`stages`]) in the order of PHYSICS.md §12, in `f64` or `f32`, on all cores or one
 //! thread, with any of the three neighbour searches (identical results).
 
-pub mod force_balance;
-pub mod force_report;
 pub mod stages;
 
 use crate::backend::{Backend, Frame, SolverError};
@@ -118,7 +116,8 @@ impl<T: Real> CpuSolver<T> {
         s
     }
 
-    fn ctx(&self) -> Ctx<'_, T> {
+    /// The read-only view the stage functions take (also for tools that re-walk the pairs).
+    pub fn ctx(&self) -> Ctx<'_, T> {
         Ctx {
             m: &self.model,
             pos: &self.pos,

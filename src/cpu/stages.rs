@@ -390,7 +390,7 @@ pub enum PairTerm {
 /// order [`acceleration`] sums them. A value is a force on `i` (`m_i a`, per unit depth); the
 /// acceleration is their sum over Pressure, Viscous and Surface divided by `m_i`, plus gravity
 /// and the Lennard-Jones walls. The one walk over the neighbours, so the force balance
-/// (`crate::cpu::force_balance`) splits the very sums the solver adds.
+/// (`sphlab::forces::balance`) splits the very sums the solver adds.
 #[inline(always)]
 pub fn acceleration_pairs<T: Real>(
     c: &Ctx<T>,

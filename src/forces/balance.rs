@@ -4,9 +4,9 @@
 //! around a contact point, row by row above the wall. It answers "which pairs pull the contact
 //! line, and how hard" (`sphlab forces`; issue 10's Mode A study).
 
-use super::stages::{acceleration_pairs, PairTerm};
-use super::CpuSolver;
 use crate::backend::SolverError;
+use crate::cpu::stages::{acceleration_pairs, PairTerm};
+use crate::cpu::CpuSolver;
 use crate::exec::Exec;
 use crate::neighbours::SearchKind;
 use crate::real::{Real, V2};
