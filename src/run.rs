@@ -13,7 +13,8 @@ use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
 use crate::plan::{Limits, Plan};
 use crate::provenance::{GpuInfo, Provenance, RUN_UNITS};
 use crate::scene::build::{build_layout, Layout};
-use crate::scene::{ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side};
+use crate::scene::initial::initial_velocities;
+use crate::scene::{ContactMode, Scene, SceneError, ShapeKind, Side};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -209,37 +210,6 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
 pub fn initial_radius(scene: &Scene) -> Option<f64> {
     let liquid = &scene.phases[0].name;
     scene.shapes.iter().find(|s| s.kind == ShapeKind::Circle && &s.phase == liquid).and_then(|s| s.radius)
-}
-
-/// The fluid velocities at t = 0: shape velocities, with the analytic field (T84) on its phase.
-pub fn initial_velocities(scene: &Scene, layout: &Layout, fr: Option<&Frame>) -> Vec<[f64; 2]> {
-    let pos: Vec<[f64; 2]> = match fr {
-        Some(f) => f.pos[..f.n_fluid].to_vec(),
-        None => layout.pos[..layout.n_fluid].to_vec(),
-    };
-    let mut vel: Vec<[f64; 2]> = match fr {
-        Some(_) => vec![[0.0, 0.0]; pos.len()],
-        None => layout.vel[..layout.n_fluid].to_vec(),
-    };
-    if let Some(InitialVelocity::RodOscillation { v0, r0, centre, phase }) = &scene.initial_velocity {
-        // `phase = "*"` applies the field to every fluid particle (as PySPH's oscillating_rod).
-        let ph = if phase == "*" { None } else { Some(scene.phase_index(phase).expect("validated") as u32) };
-        let h = scene.h();
-        for (i, p) in pos.iter().enumerate() {
-            if ph.is_some_and(|ph| layout.phase[i] != ph) {
-                continue;
-            }
-            vel[i] = rod_velocity(*v0, *r0, p[0] - centre[0], p[1] - centre[1], h);
-        }
-    }
-    vel
-}
-
-/// The oscillating-rod field (T84) at `(x, y)` from the drop centre (`h` regularises r = 0).
-pub fn rod_velocity(v0: f64, r0: f64, x: f64, y: f64, h: f64) -> [f64; 2] {
-    let r = (x * x + y * y + 1e-4 * h * h).sqrt();
-    let e = (-r / r0).exp();
-    [v0 * (x / r0) * (1.0 - y * y / (r0 * r)) * e, -v0 * (y / r0) * (1.0 - x * x / (r0 * r)) * e]
 }
 
 /// What `summary.json` holds.

@@ -16,8 +16,8 @@
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::neighbours::SearchKind;
-use sphlab::run::initial_velocities;
 use sphlab::scene::build::build_layout;
+use sphlab::scene::initial::initial_velocities;
 use sphlab::scene::{ColourGradient, Integrator, Scene};
 
 /// Last step compared (the reference row at t = 0.08).

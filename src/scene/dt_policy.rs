@@ -103,7 +103,7 @@ fn initial_speed(scene: &Scene) -> (f64, String) {
             let r = 20.0 * r0 * a as f64 / nr as f64;
             for b in 0..nt {
                 let th = std::f64::consts::TAU * b as f64 / nt as f64;
-                let v = crate::run::rod_velocity(*v0, *r0, r * th.cos(), r * th.sin(), 0.0);
+                let v = super::initial::rod_velocity(*v0, *r0, r * th.cos(), r * th.sin(), 0.0);
                 vmax = vmax.max(v[0].hypot(v[1]));
             }
         }

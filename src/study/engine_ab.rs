@@ -30,8 +30,8 @@ use crate::gpu::variant::{Precision, SearchVariant, VariantSpec};
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::real::Real;
-use crate::run::initial_velocities;
 use crate::scene::build::build_layout;
+use crate::scene::initial::initial_velocities;
 use std::fmt::Write;
 use std::sync::Arc;
 

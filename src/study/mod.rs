@@ -36,8 +36,9 @@ pub mod timing;
 
 use crate::backend::{BackendId, Frame};
 use crate::gpu::GpuContext;
-use crate::run::{initial_velocities, measure};
+use crate::run::measure;
 use crate::scene::build::{build_layout, Layout};
+use crate::scene::initial::initial_velocities;
 use crate::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use crate::sweep::Shard;
 use plan::Job;
