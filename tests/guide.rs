@@ -152,7 +152,7 @@ fn scene(name: &str, sets: &[&str]) -> (Scene, Layout) {
     let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
     let s = apply_overrides(&s, &sets).expect("overrides");
     let mut l = build_layout(&s).expect("layout");
-    let v = sphlab::run::initial_velocities(&s, &l, None);
+    let v = sphlab::scene::initial::initial_velocities(&s, &l, None);
     l.vel[..l.n_fluid].copy_from_slice(&v);
     (s, l)
 }
