@@ -166,8 +166,8 @@ struct LimitArgs {
     /// Refuse scenes of more particles (fluid + wall) than this (default and most: 2^28 − 1).
     #[arg(long)]
     max_particles: Option<u64>,
-    /// Refuse scenes whose planned host memory exceeds this (e.g. 4G, 512M; default: 80% of the
-    /// available memory).
+    /// Refuse scenes whose planned host memory exceeds this (e.g. 4G, 512M); the machine's
+    /// limits apply too (80% of MemAvailable, ulimit -v, the cgroup's memory.max): the smallest binds.
     #[arg(long, value_parser = parse_bytes)]
     max_memory: Option<u64>,
     /// Device memory of the GPU for its memory plan (e.g. 80G; default: host memory on a CPU

@@ -1,9 +1,10 @@
 //! The resource plan of a run, computed from the scene alone before anything big is allocated:
 //! fluid and wall particle counts from the domain, spacing and wall depth, the cell-grid size
 //! from the kernel support, and the bytes of particle state, neighbour lists, cell grid and
-//! outputs. [`Plan::check`] compares it with [`Limits`] (`--max-particles`, `--max-memory`,
-//! defaults from the machine) and refuses with every number when it does not fit, so a huge
-//! resolution or a tiny `h_ratio` is an input error (exit 2), never an allocation failure.
+//! outputs. [`Plan::check`] compares it with [`Limits`] (`--max-particles`, and the smallest
+//! memory limit of [`memory_limits`] and `--max-memory`) and refuses with every number when it
+//! does not fit, so a huge resolution or a tiny `h_ratio` is an input error (exit 2), never an
+//! allocation failure.
 //!
 //! Counts are computed in `f64`, so an absurd scene (`domain.y = [0, 1e300]`) gives an absurd
 //! but finite plan instead of an overflow. The byte counts are deliberately generous upper
@@ -13,63 +14,77 @@
 //! adapter before any buffer is created.
 
 pub mod gpu;
+pub mod memory_limits;
 
 use crate::neighbours::INDEX_MASK;
 use crate::scene::Scene;
+pub use memory_limits::{available_memory, MemoryLimit};
 use serde::Serialize;
 
 /// Fraction of the available memory a run may plan to use by default.
-pub const DEFAULT_MEMORY_FRACTION: f64 = 0.8;
+pub const DEFAULT_MEMORY_FRACTION: f64 = memory_limits::AVAILABLE_FRACTION;
 /// Default memory limit when the machine's memory cannot be read (8 GiB).
 pub const FALLBACK_MEMORY: u64 = 8 << 30;
 /// Hard particle limit: a neighbour entry packs the particle index in 28 bits.
 pub const HARD_MAX_PARTICLES: u64 = INDEX_MASK as u64;
-/// Bytes of a run besides its particles: the program, thread stacks, allocator arenas.
+/// Bytes of a run besides its particles: the program, thread stacks, fixed-size writer buffers.
 pub const BASE_BYTES: f64 = 64.0 * 1048576.0;
 
 /// What a run may use.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Limits {
     /// Most particles (fluid + wall).
     pub max_particles: u64,
-    /// Most bytes of host memory.
+    /// Most bytes of host memory: the smallest of `memory_limits`.
     pub max_memory: u64,
-    /// Where `max_memory` came from ("--max-memory", or the machine's available memory).
+    /// Which limit `max_memory` is ([`MemoryLimit::source`] of the smallest).
     pub memory_source: &'static str,
+    /// Every memory limit found (the machine's and `--max-memory`), with how each was read.
+    pub memory_limits: Vec<MemoryLimit>,
     /// Device memory of the GPU (`--gpu-memory`; `None`: [`gpu::DeviceLimits::of`]'s heuristic).
     pub gpu_memory: Option<u64>,
 }
 
 impl Default for Limits {
-    /// [`HARD_MAX_PARTICLES`] and [`DEFAULT_MEMORY_FRACTION`] of the available memory.
+    /// [`HARD_MAX_PARTICLES`] and the smallest memory limit of the machine
+    /// ([`memory_limits::machine_limits`]).
     fn default() -> Self {
-        let (max_memory, memory_source) = match available_memory() {
-            Some(b) => ((b as f64 * DEFAULT_MEMORY_FRACTION) as u64, "80% of MemAvailable"),
-            None => (FALLBACK_MEMORY, "fallback 8 GiB (no /proc/meminfo)"),
-        };
-        Limits { max_particles: HARD_MAX_PARTICLES, max_memory, memory_source, gpu_memory: None }
+        Limits::of(HARD_MAX_PARTICLES, memory_limits::machine_limits())
     }
 }
 
 impl Limits {
+    /// `max_particles` and the smallest of `memory_limits` ([`FALLBACK_MEMORY`] if none).
+    pub fn of(max_particles: u64, memory_limits: Vec<MemoryLimit>) -> Self {
+        let least = memory_limits.iter().min_by_key(|l| l.bytes);
+        let (max_memory, memory_source) =
+            least.map_or((FALLBACK_MEMORY, memory_limits::FALLBACK), |l| (l.bytes, l.source));
+        Limits { max_particles, max_memory, memory_source, memory_limits, gpu_memory: None }
+    }
+
     /// The defaults with `--max-particles` / `--max-memory` applied (each must be positive;
-    /// `max_particles` may not exceed [`HARD_MAX_PARTICLES`]).
+    /// `max_particles` may not exceed [`HARD_MAX_PARTICLES`]; `--max-memory` counts only where
+    /// it is below the machine's limits).
     pub fn with(max_particles: Option<u64>, max_memory: Option<u64>) -> Result<Self, String> {
-        let mut l = Limits::default();
+        let mut particles = HARD_MAX_PARTICLES;
         if let Some(p) = max_particles {
             if p == 0 || p > HARD_MAX_PARTICLES {
                 return Err(format!("--max-particles: must lie in [1, {HARD_MAX_PARTICLES}], got {p}"));
             }
-            l.max_particles = p;
+            particles = p;
         }
+        let mut memory = memory_limits::machine_limits();
         if let Some(m) = max_memory {
             if m < (1 << 20) {
                 return Err(format!("--max-memory: must be at least 1M (1048576 bytes), got {m}"));
             }
-            l.max_memory = m;
-            l.memory_source = "--max-memory";
+            memory.push(MemoryLimit {
+                source: memory_limits::MAX_MEMORY_FLAG,
+                bytes: m,
+                detail: "set on the command line".into(),
+            });
         }
-        Ok(l)
+        Ok(Limits::of(particles, memory))
     }
 
     /// These limits with `--gpu-memory` (at least 1 MiB) as the GPU's device memory.
@@ -82,14 +97,11 @@ impl Limits {
         self.gpu_memory = gpu_memory;
         Ok(self)
     }
-}
 
-/// `MemAvailable` of `/proc/meminfo` in bytes.
-pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
+    /// The binding memory limit (the smallest of [`Limits::memory_limits`]).
+    pub fn binding(&self) -> Option<&MemoryLimit> {
+        self.memory_limits.iter().find(|l| l.source == self.memory_source && l.bytes == self.max_memory)
+    }
 }
 
 /// Parses a byte size: `123`, `512K`, `64M`, `16G`, `1T` (powers of 1024; a trailing `B` or
@@ -254,7 +266,8 @@ impl Plan {
         s
     }
 
-    /// Ok when the plan fits `limits`; else the message (every number, what to change).
+    /// Ok when the plan fits `limits`; else the message (every number, the binding limit and
+    /// how it was found, what to change).
     pub fn check(&self, limits: &Limits) -> Result<(), String> {
         let hint = "lower domain.nx, shrink the domain or lower kernel.h_ratio";
         if !(self.n_total <= limits.max_particles as f64) {
@@ -266,12 +279,15 @@ impl Plan {
             ));
         }
         if !(self.total_bytes <= limits.max_memory as f64) {
+            let how = limits.binding().map_or(String::new(), |l| format!(": {}", l.detail));
             return Err(format!(
-                "resource plan: {} of host memory exceed the limit of {} ({}; raise it with --max-memory); \
-                 {hint}. Plan: {}",
+                "resource plan: {:.0} bytes ({}) of host memory exceed the {} of {} bytes ({}{how}); {hint}. \
+                 Plan: {}",
+                self.total_bytes,
                 fmt_bytes(self.total_bytes),
-                fmt_bytes(limits.max_memory as f64),
                 limits.memory_source,
+                limits.max_memory,
+                fmt_bytes(limits.max_memory as f64),
                 self.describe()
             ));
         }
@@ -304,17 +320,44 @@ mod tests {
         }
     }
 
+    fn limit(source: &'static str, bytes: u64) -> MemoryLimit {
+        MemoryLimit { source, bytes, detail: format!("test {source}") }
+    }
+
     #[test]
     fn huge_scenes_are_refused_with_numbers() {
         let s = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=5000".into()]).unwrap();
-        let l =
-            Limits { max_particles: HARD_MAX_PARTICLES, max_memory: 16 << 30, memory_source: "test", gpu_memory: None };
+        let l = Limits::of(HARD_MAX_PARTICLES, vec![limit("test", 16 << 30)]);
         let e = Plan::new(&s, 8, false).check(&l).unwrap_err();
         assert!(e.contains("25000000 fluid") && e.contains("GiB"), "{e}");
         let small = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=30".into()]).unwrap();
         assert!(Plan::new(&small, 8, false).check(&l).is_ok());
         let l = Limits { max_particles: 100, ..l };
         assert!(Plan::new(&small, 8, false).check(&l).unwrap_err().contains("--max-particles"));
+    }
+
+    #[test]
+    fn the_smallest_memory_limit_binds_and_is_named() {
+        let l = Limits::of(
+            HARD_MAX_PARTICLES,
+            vec![
+                limit(memory_limits::MEM_AVAILABLE, 20 << 30),
+                limit(memory_limits::ADDRESS_SPACE, 3 << 30),
+                limit(memory_limits::CGROUP, 4 << 30),
+            ],
+        );
+        assert_eq!((l.max_memory, l.memory_source), (3 << 30, memory_limits::ADDRESS_SPACE));
+        let s = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=1500".into()]).unwrap();
+        let e = Plan::new(&s, 8, false).check(&l).unwrap_err();
+        assert!(e.contains("address-space limit (RLIMIT_AS) of 3221225472 bytes") && e.contains("test address"), "{e}");
+        let small = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=30".into()]).unwrap();
+        assert!(Plan::new(&small, 8, false).check(&l).is_ok());
+        // --max-memory only lowers the machine's limit.
+        let l = Limits::with(None, Some(1 << 20)).unwrap();
+        assert_eq!((l.max_memory, l.memory_source), (1 << 20, memory_limits::MAX_MEMORY_FLAG));
+        let big = Limits::with(None, Some(1 << 60)).unwrap();
+        assert_ne!(big.memory_source, memory_limits::MAX_MEMORY_FLAG);
+        assert!(big.max_memory < 1 << 60 && big.memory_limits.len() >= 2);
     }
 
     #[test]
