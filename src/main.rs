@@ -916,7 +916,7 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     } else {
         a.experiments.iter().filter_map(|e| e.to_possible_value()).map(|v| v.get_name().to_string()).collect()
     };
-    let mut sizes = Vec::new();
+    let (mut sizes, mut earlier) = (Vec::new(), 0.0);
     for s in a.sizes.split(',') {
         let n = match s.trim().parse::<u32>() {
             Ok(n) if n >= 10 => n,
@@ -927,9 +927,11 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
             Ok(sc) => sc,
             Err(e) => return fail(2, format!("--sizes {n}: {e}")),
         };
-        if let Err(e) = sphlab::plan::Plan::new(&scene, 8, false).check(&limits) {
+        let plan = sphlab::study::plan::resource_plan(&scene, earlier);
+        if let Err(e) = plan.check(&limits) {
             return fail(2, format!("--sizes {n}: {e}"));
         }
+        earlier += plan.n_total;
         sizes.push(n);
     }
     for nx in [45, 100] {

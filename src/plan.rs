@@ -1,23 +1,27 @@
 //! The resource plan of a run, computed from the scene alone before anything big is allocated:
 //! fluid and wall particle counts from the domain, spacing and wall depth, the cell-grid size
-//! from the kernel support, and the bytes of particle state, neighbour lists, cell grid and
-//! outputs. [`Plan::check`] compares it with [`Limits`] (`--max-particles`, and the smallest
+//! from the kernel support, and every host buffer a run sizes by its particles, by part:
+//! solver (particle state, fields, layout), neighbours (lists, cell grid), outputs (the
+//! read-back frame a snapshot is written from, the VTK text) and diagnostics (the contact-angle
+//! grid and interface points); the study adds the reference frames it keeps
+//! ([`Plan::with_buffer`]; validation reads its runs back one snapshot at a time after they
+//! end). Each byte count comes from the module that allocates the buffer.
+//! [`Plan::check`] compares the total with [`Limits`] (`--max-particles`, and the smallest
 //! memory limit of [`memory_limits`] and `--max-memory`) and refuses with every number when it
 //! does not fit, so a huge resolution or a tiny `h_ratio` is an input error (exit 2), never an
 //! allocation failure.
 //!
 //! Counts are computed in `f64`, so an absurd scene (`domain.y = [0, 1e300]`) gives an absurd
 //! but finite plan instead of an overflow. The byte counts are deliberately generous upper
-//! estimates of what `build_layout`, `CpuSolver` and the run driver hold at once; the GPU
-//! estimates (device buffers of a variant) live here too, so a GPU-engine change refines them
-//! in one place: [`gpu`] plans every device buffer of a variant and checks it against the
-//! adapter before any buffer is created.
+//! estimates of what the run holds at once; the GPU estimates (device buffers of a variant)
+//! live here too, so a GPU-engine change refines them in one place: [`gpu`] plans every device
+//! buffer of a variant and checks it against the adapter before any buffer is created.
 
 pub mod gpu;
 pub mod memory_limits;
 
 use crate::neighbours::INDEX_MASK;
-use crate::scene::Scene;
+use crate::scene::{ContactMode, Scene};
 pub use memory_limits::{available_memory, MemoryLimit};
 use serde::Serialize;
 
@@ -142,15 +146,29 @@ pub fn fmt_bytes(b: f64) -> String {
     }
 }
 
-/// Bytes per particle of the CPU backend besides the neighbour lists, by the size of the
-/// working real (4 or 8): solver state (position, velocity, their midpoint copies: 8 reals),
-/// evaluation fields (σ, χ, m, ρ, p, 4 gradient, 3 stress, 2 acceleration, 2 transport
-/// velocity: 16 reals, colour, phase), the f64 layout (36 B), a f64 read-back frame (15 f64 +
-/// 8 B), a snapshot copy (9 f64 + 4 B) and the snapshot text with its buffers (ASCII VTK
-/// ~250 B, CSV ~130 B: 400 B). Measured: 93,636 particles (oscillating-drop nx = 300, f64,
-/// tracking, `--vtk`) peak at 135 MB resident against 217 MB planned.
-pub fn cpu_bytes_per_particle(real: usize) -> f64 {
-    (24 * real + 8) as f64 + 36.0 + (15 * 8 + 8) as f64 + (9 * 8 + 4) as f64 + 400.0
+/// Bytes per particle of the solver's state and fields, by the size of the working real (4 or
+/// 8): position, velocity, their midpoint copies (8 reals), evaluation fields (σ, χ, m, ρ, p,
+/// 4 gradient, 3 stress, 2 acceleration, 2 transport velocity: 16 reals), colour and phase.
+pub fn solver_bytes_per_particle(real: usize) -> f64 {
+    (24 * real + 8) as f64
+}
+
+/// Bytes per particle of the f64 layout the solver is built from (position, velocity, phase).
+pub const LAYOUT_BYTES_PER_PARTICLE: f64 = 36.0;
+/// Bytes per particle of the start-up copies of the fluid's positions and velocities
+/// ([`crate::run::initial_velocities`]).
+pub const START_BYTES_PER_PARTICLE: f64 = 32.0;
+
+/// One host buffer (or group of buffers) of the plan.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct HostBuffer {
+    /// What it holds.
+    pub name: &'static str,
+    /// The part of the run that holds it: `solver`, `neighbours`, `outputs`, `diagnostics` or
+    /// `copies` (what the study keeps besides the run).
+    pub part: &'static str,
+    /// Bytes (an upper estimate).
+    pub bytes: f64,
 }
 
 /// The plan of one scene.
@@ -172,13 +190,21 @@ pub struct Plan {
     pub neighbours_per_particle: f64,
     /// Cells of the search grid (cell edge 1.01 κh over the particle box).
     pub cells: f64,
-    /// Bytes of particle state, fields, read-backs and snapshot text.
+    /// Every host buffer, by part.
+    pub host: Vec<HostBuffer>,
+    /// Bytes of the `solver` part: particle state, fields, layout, start-up copies.
     pub particle_bytes: f64,
     /// Bytes of the neighbour lists (entries held four times: chunk buffers, the final list,
     /// tracking candidates within the skin).
     pub neighbour_bytes: f64,
     /// Bytes of the cell grid (start, fill and sorted arrays).
     pub cell_bytes: f64,
+    /// Bytes of the `outputs` part: the read-back frame, the VTK text.
+    pub output_bytes: f64,
+    /// Bytes of the `diagnostics` part: the contact-angle grid and interface points.
+    pub diagnostic_bytes: f64,
+    /// Bytes of the `copies` part (study, validation).
+    pub copy_bytes: f64,
     /// Sum of the above and [`BASE_BYTES`].
     pub total_bytes: f64,
     /// GPU: every device buffer of the variant ([`gpu::GpuPlan`]; the default variant until
@@ -188,7 +214,8 @@ pub struct Plan {
 
 impl Plan {
     /// The plan of `scene` on the CPU (`real` = 4 or 8 bytes) or, with `gpu`, the default GPU
-    /// variant (the host keeps the f64 layout and read-backs; [`Plan::for_variant`] plans another). Needs only that the
+    /// variant (the host keeps the f64 layout and read-backs; [`Plan::for_variant`] plans
+    /// another), with CSV snapshots ([`Plan::with_vtk`] adds the VTK writer). Needs only that the
     /// domain extents and `kernel.h_ratio` are finite and positive (as [`Scene::validate`]
     /// checks); any other value still gives a finite plan.
     pub fn new(scene: &Scene, real: usize, gpu: bool) -> Plan {
@@ -208,11 +235,37 @@ impl Plan {
         let cell = 1.01 * support;
         let cells = ((wx * dx / cell).floor() + 3.0) * ((wy * dx / cell).floor() + 3.0);
         let host_real = if gpu { 8 } else { real };
-        let particle_bytes = n_total * cpu_bytes_per_particle(host_real);
-        let neighbour_bytes = if gpu { 0.0 } else { 4.0 * n_total * (k * 4.0 + 4.0) };
-        let cell_bytes = if gpu { 0.0 } else { cells * 8.0 + n_total * 12.0 };
+        let mut host = vec![
+            HostBuffer {
+                name: "particle state and fields",
+                part: "solver",
+                bytes: n_total * solver_bytes_per_particle(host_real),
+            },
+            HostBuffer { name: "particle layout (f64)", part: "solver", bytes: n_total * LAYOUT_BYTES_PER_PARTICLE },
+            HostBuffer { name: "start-up velocity field", part: "solver", bytes: n_fluid * START_BYTES_PER_PARTICLE },
+        ];
+        if !gpu {
+            host.push(HostBuffer {
+                name: "neighbour lists",
+                part: "neighbours",
+                bytes: 4.0 * n_total * (k * 4.0 + 4.0),
+            });
+            host.push(HostBuffer { name: "cell grid", part: "neighbours", bytes: cells * 8.0 + n_total * 12.0 });
+        }
+        host.push(HostBuffer {
+            name: "read-back frame and snapshot (f64)",
+            part: "outputs",
+            bytes: n_total * crate::backend::Frame::BYTES_PER_PARTICLE,
+        });
+        if scene.contact.mode != ContactMode::None {
+            host.push(HostBuffer {
+                name: "contact-angle gas grid and interface points",
+                part: "diagnostics",
+                bytes: crate::diagnostics::contact_angle::max_bytes(n_fluid),
+            });
+        }
         let gpu = gpu.then(|| gpu::GpuPlan::new(&Default::default(), n_total as u64, cells as u64));
-        Plan {
+        let mut plan = Plan {
             nx,
             ny,
             wall_layers,
@@ -221,12 +274,47 @@ impl Plan {
             n_total,
             neighbours_per_particle: k,
             cells,
-            particle_bytes,
-            neighbour_bytes,
-            cell_bytes,
-            total_bytes: BASE_BYTES + particle_bytes + neighbour_bytes + cell_bytes,
+            host,
+            particle_bytes: 0.0,
+            neighbour_bytes: 0.0,
+            cell_bytes: 0.0,
+            output_bytes: 0.0,
+            diagnostic_bytes: 0.0,
+            copy_bytes: 0.0,
+            total_bytes: 0.0,
             gpu,
+        };
+        plan.sum();
+        plan
+    }
+
+    /// The sums of [`Plan::host`] by part, and the total.
+    fn sum(&mut self) {
+        let part = |p: &str| self.host.iter().filter(|b| b.part == p).map(|b| b.bytes).sum::<f64>();
+        let named = |n: &str| self.host.iter().filter(|b| b.name == n).map(|b| b.bytes).sum::<f64>();
+        self.particle_bytes = part("solver");
+        self.neighbour_bytes = named("neighbour lists");
+        self.cell_bytes = named("cell grid");
+        self.output_bytes = part("outputs");
+        self.diagnostic_bytes = part("diagnostics");
+        self.copy_bytes = part("copies");
+        self.total_bytes = BASE_BYTES + self.host.iter().map(|b| b.bytes).sum::<f64>();
+    }
+
+    /// The plan with the VTK writer (`--vtk`): the text of one data array at a time.
+    pub fn with_vtk(self, vtk: bool) -> Plan {
+        if !vtk {
+            return self;
         }
+        let bytes = crate::output::snapshot::vtk_buffer_bytes(self.n_total);
+        self.with_buffer("VTK text of one data array", "outputs", bytes)
+    }
+
+    /// The plan with one more host buffer of `bytes` (`part` as in [`HostBuffer::part`]).
+    pub fn with_buffer(mut self, name: &'static str, part: &'static str, bytes: f64) -> Plan {
+        self.host.push(HostBuffer { name, part, bytes });
+        self.sum();
+        self
     }
 
     /// The plan with the device buffers of `spec` (same particles and cells).
@@ -239,8 +327,7 @@ impl Plan {
     pub fn describe(&self) -> String {
         let mut s = format!(
             "{:.0} fluid + {:.0} wall = {:.0} particles ({:.0} × {:.0} lattice, {:.0} wall layers), \
-             {:.3e} cells, ~{:.0} neighbour candidates each; host memory {} (particles {}, neighbour \
-             lists {}, cell grid {})",
+             {:.3e} cells, ~{:.0} neighbour candidates each; host memory {} ({})",
             self.n_fluid,
             self.n_wall,
             self.n_total,
@@ -250,9 +337,7 @@ impl Plan {
             self.cells,
             self.neighbours_per_particle,
             fmt_bytes(self.total_bytes),
-            fmt_bytes(self.particle_bytes),
-            fmt_bytes(self.neighbour_bytes),
-            fmt_bytes(self.cell_bytes)
+            self.host.iter().map(|b| format!("{} {}", b.name, fmt_bytes(b.bytes))).collect::<Vec<_>>().join(", ")
         );
         if let Some(g) = &self.gpu {
             s += &format!(
@@ -358,6 +443,22 @@ mod tests {
         let big = Limits::with(None, Some(1 << 60)).unwrap();
         assert_ne!(big.memory_source, memory_limits::MAX_MEMORY_FLAG);
         assert!(big.max_memory < 1 << 60 && big.memory_limits.len() >= 2);
+    }
+
+    #[test]
+    fn outputs_and_diagnostics_are_planned() {
+        let s = apply_overrides(&builtin("sessile-90").unwrap(), &["domain.nx=40".into()]).unwrap();
+        let p = Plan::new(&s, 8, false);
+        let names: Vec<&str> = p.host.iter().map(|b| b.name).collect();
+        assert!(p.diagnostic_bytes > 0.0 && p.output_bytes > 0.0, "{names:?}");
+        assert!(names.iter().any(|n| n.contains("contact-angle")) && !names.iter().any(|n| n.contains("VTK")));
+        let v = p.clone().with_vtk(true);
+        assert!(v.output_bytes > p.output_bytes && v.total_bytes > p.total_bytes);
+        let sum: f64 = v.host.iter().map(|b| b.bytes).sum();
+        assert_eq!(v.total_bytes, BASE_BYTES + sum);
+        // No contact model: no contact-angle diagnostic.
+        let drop = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=40".into()]).unwrap();
+        assert_eq!(Plan::new(&drop, 8, false).diagnostic_bytes, 0.0);
     }
 
     #[test]

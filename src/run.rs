@@ -382,7 +382,7 @@ pub fn make_gpu_backend(
 /// `opts.limits`: an input error with every number when it does not fit.
 pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
     let real = if opts.backend.precision() == crate::gpu::variant::Precision::F32 { 4 } else { 8 };
-    let mut plan = Plan::new(scene, real, opts.backend.kind() == "gpu");
+    let mut plan = Plan::new(scene, real, opts.backend.kind() == "gpu").with_vtk(opts.vtk);
     if let BackendId::Gpu(spec) = opts.backend {
         plan = plan.for_variant(&spec);
     }
@@ -390,17 +390,18 @@ pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
     Ok(plan)
 }
 
-fn snapshot(fr: &Frame, h: f64) -> Snapshot {
+/// The snapshot of a frame, its arrays moved (no copy).
+fn snapshot(fr: Frame, h: f64) -> Snapshot {
     Snapshot {
         step: fr.step,
         t: fr.t,
-        pos: fr.pos.clone(),
-        vel: fr.vel.clone(),
-        rho: fr.rho.clone(),
-        p: fr.p.clone(),
-        phase: fr.phase.clone(),
-        grad_c: fr.grad_c.clone(),
-        mass: fr.mass.clone(),
+        pos: fr.pos,
+        vel: fr.vel,
+        rho: fr.rho,
+        p: fr.p,
+        phase: fr.phase,
+        grad_c: fr.grad_c,
+        mass: fr.mass,
         h,
     }
 }
@@ -511,7 +512,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
                 pvd: Option<&mut PvdWriter>|
      -> Result<(), RunError> {
         let fr = backend.frame();
-        let snap = snapshot(&fr, h);
+        summary.dt_last = fr.dt;
+        let snap = snapshot(fr, h);
         output::write_particles_csv(&opts.out, &snap)?;
         if let Some(p) = pvd {
             p.add_snapshot(&snap)?;
@@ -519,7 +521,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         summary.status = status;
         summary.steps = backend.steps();
         summary.t_final = backend.time();
-        summary.dt_last = fr.dt;
         summary.ms_per_step = 1e3 * summary.wall_time_s / summary.steps.max(1) as f64;
         output::write_json(&summary_path, &*summary)?;
         Ok(())
@@ -596,7 +597,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new(total, &scene.name) };
     let mut series = SeriesWriter::create(opts.out.join("series.csv"))?;
     let mut pvd = if opts.vtk { Some(PvdWriter::new(&opts.out)) } else { None };
-    let write_frame = |fr: &Frame, pvd: &mut Option<PvdWriter>| -> Result<(), RunError> {
+    let write_frame = |fr: Frame, pvd: &mut Option<PvdWriter>| -> Result<(), RunError> {
         let snap = snapshot(fr, h);
         output::write_particles_csv(&opts.out, &snap)?;
         if let Some(p) = pvd.as_mut() {
@@ -606,7 +607,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     };
     let fr = backend.frame();
     series.write(&note(&mut numbers, &fr))?;
-    write_frame(&fr, &mut pvd)?;
+    write_frame(fr, &mut pvd)?;
     let start = Instant::now();
     let engine0 = backend.engine_counters();
     let mut stepping = EngineCounters::default();
@@ -646,7 +647,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
                 series.write(&note(&mut numbers, &fr))?;
             }
             if snap_due {
-                write_frame(&fr, &mut pvd)?;
+                write_frame(fr, &mut pvd)?;
             }
         }
         if interrupt_requested() && !last {
