@@ -219,6 +219,10 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// Bytes per particle of a frame: pos, vel, grad_c, pi, acc (16 B each), rho, p, mass,
+    /// sigma (8 B each), phase and colour (4 B each).
+    pub const BYTES_PER_PARTICLE: f64 = (5 * 16 + 4 * 8 + 2 * 4) as f64;
+
     /// A frame from a solver's state and the fields of its last evaluation (CPU and GPU alike).
     #[allow(clippy::too_many_arguments)]
     pub fn from_fields<T: Real>(

@@ -14,7 +14,8 @@
 //! * [`stage`]: the stage table, the one source of each stage's name, activity, inputs, outputs
 //!   and clears; [`fields`]: the per-evaluation fields both backends share;
 //! * [`neighbours`]: direct, cell-grid and tracking-list neighbour searches with boundary images;
-//! * [`exec`]: one thread or all cores for the CPU loops;
+//! * [`exec`]: one thread or all cores for the CPU loops; [`fallible`]: allocation that
+//!   reports failure instead of aborting;
 //! * [`cpu`]: the CPU reference solver, stage by stage;
 //! * [`gpu`]: the wgpu solver and its variants (WGSL composition, buffers, kernels per stage,
 //!   timestamps);
@@ -33,6 +34,7 @@ pub mod backend;
 pub mod cpu;
 pub mod diagnostics;
 pub mod exec;
+pub mod fallible;
 pub mod fields;
 pub mod forces;
 pub mod gpu;

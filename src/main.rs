@@ -166,8 +166,8 @@ struct LimitArgs {
     /// Refuse scenes of more particles (fluid + wall) than this (default and most: 2^28 − 1).
     #[arg(long)]
     max_particles: Option<u64>,
-    /// Refuse scenes whose planned host memory exceeds this (e.g. 4G, 512M; default: 80% of the
-    /// available memory).
+    /// Refuse scenes whose planned host memory exceeds this (e.g. 4G, 512M); the machine's
+    /// limits apply too (80% of MemAvailable, ulimit -v, the cgroup's memory.max): the smallest binds.
     #[arg(long, value_parser = parse_bytes)]
     max_memory: Option<u64>,
     /// Device memory of the GPU for its memory plan (e.g. 80G; default: host memory on a CPU
@@ -960,7 +960,7 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     } else {
         a.experiments.iter().filter_map(|e| e.to_possible_value()).map(|v| v.get_name().to_string()).collect()
     };
-    let mut sizes = Vec::new();
+    let (mut sizes, mut earlier) = (Vec::new(), 0.0);
     for s in a.sizes.split(',') {
         let n = match s.trim().parse::<u32>() {
             Ok(n) if n >= 10 => n,
@@ -971,9 +971,11 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
             Ok(sc) => sc,
             Err(e) => return fail(2, format!("--sizes {n}: {e}")),
         };
-        if let Err(e) = sphlab::plan::Plan::new(&scene, 8, false).check(&limits) {
+        let plan = sphlab::study::plan::resource_plan(&scene, earlier);
+        if let Err(e) = plan.check(&limits) {
             return fail(2, format!("--sizes {n}: {e}"));
         }
+        earlier += plan.n_total;
         sizes.push(n);
     }
     for &nx in a.e4_sizes.iter().chain(&probe_sizes) {

@@ -1,75 +1,94 @@
 //! The resource plan of a run, computed from the scene alone before anything big is allocated:
 //! fluid and wall particle counts from the domain, spacing and wall depth, the cell-grid size
-//! from the kernel support, and the bytes of particle state, neighbour lists, cell grid and
-//! outputs. [`Plan::check`] compares it with [`Limits`] (`--max-particles`, `--max-memory`,
-//! defaults from the machine) and refuses with every number when it does not fit, so a huge
-//! resolution or a tiny `h_ratio` is an input error (exit 2), never an allocation failure.
+//! from the kernel support, and every host buffer a run sizes by its particles, by part:
+//! solver (particle state, fields, layout), neighbours (lists, cell grid), outputs (the
+//! read-back frame a snapshot is written from, the VTK text) and diagnostics (the contact-angle
+//! grid and interface points); the study adds the reference frames it keeps
+//! ([`Plan::with_buffer`]; validation reads its runs back one snapshot at a time after they
+//! end). Each byte count comes from the module that allocates the buffer.
+//! [`Plan::check`] compares the total with [`Limits`] (`--max-particles`, and the smallest
+//! memory limit of [`memory_limits`] and `--max-memory`) and refuses with every number when it
+//! does not fit, so a huge resolution or a tiny `h_ratio` is an input error (exit 2), never an
+//! allocation failure.
 //!
 //! Counts are computed in `f64`, so an absurd scene (`domain.y = [0, 1e300]`) gives an absurd
 //! but finite plan instead of an overflow. The byte counts are deliberately generous upper
-//! estimates of what `build_layout`, `CpuSolver` and the run driver hold at once; the GPU
-//! estimates (device buffers of a variant) live here too, so a GPU-engine change refines them
-//! in one place: [`gpu`] plans every device buffer of a variant and checks it against the
-//! adapter before any buffer is created.
+//! estimates of what the run holds at once; the GPU estimates (device buffers of a variant)
+//! live here too, so a GPU-engine change refines them in one place: [`gpu`] plans every device
+//! buffer of a variant and checks it against the adapter before any buffer is created.
 
 pub mod gpu;
+pub mod memory_limits;
 
 use crate::neighbours::INDEX_MASK;
-use crate::scene::Scene;
+use crate::scene::{ContactMode, Scene};
+pub use memory_limits::{available_memory, MemoryLimit};
 use serde::Serialize;
 
 /// Fraction of the available memory a run may plan to use by default.
-pub const DEFAULT_MEMORY_FRACTION: f64 = 0.8;
+pub const DEFAULT_MEMORY_FRACTION: f64 = memory_limits::AVAILABLE_FRACTION;
 /// Default memory limit when the machine's memory cannot be read (8 GiB).
 pub const FALLBACK_MEMORY: u64 = 8 << 30;
 /// Hard particle limit: a neighbour entry packs the particle index in 28 bits.
 pub const HARD_MAX_PARTICLES: u64 = INDEX_MASK as u64;
-/// Bytes of a run besides its particles: the program, thread stacks, allocator arenas.
+/// Bytes of a run besides its particles: the program, thread stacks, fixed-size writer buffers.
 pub const BASE_BYTES: f64 = 64.0 * 1048576.0;
 
 /// What a run may use.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Limits {
     /// Most particles (fluid + wall).
     pub max_particles: u64,
-    /// Most bytes of host memory.
+    /// Most bytes of host memory: the smallest of `memory_limits`.
     pub max_memory: u64,
-    /// Where `max_memory` came from ("--max-memory", or the machine's available memory).
+    /// Which limit `max_memory` is ([`MemoryLimit::source`] of the smallest).
     pub memory_source: &'static str,
+    /// Every memory limit found (the machine's and `--max-memory`), with how each was read.
+    pub memory_limits: Vec<MemoryLimit>,
     /// Device memory of the GPU (`--gpu-memory`; `None`: [`gpu::DeviceLimits::of`]'s heuristic).
     pub gpu_memory: Option<u64>,
 }
 
 impl Default for Limits {
-    /// [`HARD_MAX_PARTICLES`] and [`DEFAULT_MEMORY_FRACTION`] of the available memory.
+    /// [`HARD_MAX_PARTICLES`] and the smallest memory limit of the machine
+    /// ([`memory_limits::machine_limits`]).
     fn default() -> Self {
-        let (max_memory, memory_source) = match available_memory() {
-            Some(b) => ((b as f64 * DEFAULT_MEMORY_FRACTION) as u64, "80% of MemAvailable"),
-            None => (FALLBACK_MEMORY, "fallback 8 GiB (no /proc/meminfo)"),
-        };
-        Limits { max_particles: HARD_MAX_PARTICLES, max_memory, memory_source, gpu_memory: None }
+        Limits::of(HARD_MAX_PARTICLES, memory_limits::machine_limits())
     }
 }
 
 impl Limits {
+    /// `max_particles` and the smallest of `memory_limits` ([`FALLBACK_MEMORY`] if none).
+    pub fn of(max_particles: u64, memory_limits: Vec<MemoryLimit>) -> Self {
+        let least = memory_limits.iter().min_by_key(|l| l.bytes);
+        let (max_memory, memory_source) =
+            least.map_or((FALLBACK_MEMORY, memory_limits::FALLBACK), |l| (l.bytes, l.source));
+        Limits { max_particles, max_memory, memory_source, memory_limits, gpu_memory: None }
+    }
+
     /// The defaults with `--max-particles` / `--max-memory` applied (each must be positive;
-    /// `max_particles` may not exceed [`HARD_MAX_PARTICLES`]).
+    /// `max_particles` may not exceed [`HARD_MAX_PARTICLES`]; `--max-memory` counts only where
+    /// it is below the machine's limits).
     pub fn with(max_particles: Option<u64>, max_memory: Option<u64>) -> Result<Self, String> {
-        let mut l = Limits::default();
+        let mut particles = HARD_MAX_PARTICLES;
         if let Some(p) = max_particles {
             if p == 0 || p > HARD_MAX_PARTICLES {
                 return Err(format!("--max-particles: must lie in [1, {HARD_MAX_PARTICLES}], got {p}"));
             }
-            l.max_particles = p;
+            particles = p;
         }
+        let mut memory = memory_limits::machine_limits();
         if let Some(m) = max_memory {
             if m < (1 << 20) {
                 return Err(format!("--max-memory: must be at least 1M (1048576 bytes), got {m}"));
             }
-            l.max_memory = m;
-            l.memory_source = "--max-memory";
+            memory.push(MemoryLimit {
+                source: memory_limits::MAX_MEMORY_FLAG,
+                bytes: m,
+                detail: "set on the command line".into(),
+            });
         }
-        Ok(l)
+        Ok(Limits::of(particles, memory))
     }
 
     /// These limits with `--gpu-memory` (at least 1 MiB) as the GPU's device memory.
@@ -82,14 +101,11 @@ impl Limits {
         self.gpu_memory = gpu_memory;
         Ok(self)
     }
-}
 
-/// `MemAvailable` of `/proc/meminfo` in bytes.
-pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
+    /// The binding memory limit (the smallest of [`Limits::memory_limits`]).
+    pub fn binding(&self) -> Option<&MemoryLimit> {
+        self.memory_limits.iter().find(|l| l.source == self.memory_source && l.bytes == self.max_memory)
+    }
 }
 
 /// Parses a byte size: `123`, `512K`, `64M`, `16G`, `1T` (powers of 1024; a trailing `B` or
@@ -130,15 +146,29 @@ pub fn fmt_bytes(b: f64) -> String {
     }
 }
 
-/// Bytes per particle of the CPU backend besides the neighbour lists, by the size of the
-/// working real (4 or 8): solver state (position, velocity, their midpoint copies: 8 reals),
-/// evaluation fields (σ, χ, m, ρ, p, 4 gradient, 3 stress, 2 acceleration, 2 transport
-/// velocity: 16 reals, colour, phase), the f64 layout (36 B), a f64 read-back frame (15 f64 +
-/// 8 B), a snapshot copy (9 f64 + 4 B) and the snapshot text with its buffers (ASCII VTK
-/// ~250 B, CSV ~130 B: 400 B). Measured: 93,636 particles (oscillating-drop nx = 300, f64,
-/// tracking, `--vtk`) peak at 135 MB resident against 217 MB planned.
-pub fn cpu_bytes_per_particle(real: usize) -> f64 {
-    (24 * real + 8) as f64 + 36.0 + (15 * 8 + 8) as f64 + (9 * 8 + 4) as f64 + 400.0
+/// Bytes per particle of the solver's state and fields, by the size of the working real (4 or
+/// 8): position, velocity, their midpoint copies (8 reals), evaluation fields (σ, χ, m, ρ, p,
+/// 4 gradient, 3 stress, 2 acceleration, 2 transport velocity: 16 reals), colour and phase.
+pub fn solver_bytes_per_particle(real: usize) -> f64 {
+    (24 * real + 8) as f64
+}
+
+/// Bytes per particle of the f64 layout the solver is built from (position, velocity, phase).
+pub const LAYOUT_BYTES_PER_PARTICLE: f64 = 36.0;
+/// Bytes per particle of the start-up copies of the fluid's positions and velocities
+/// ([`crate::run::initial_velocities`]).
+pub const START_BYTES_PER_PARTICLE: f64 = 32.0;
+
+/// One host buffer (or group of buffers) of the plan.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct HostBuffer {
+    /// What it holds.
+    pub name: &'static str,
+    /// The part of the run that holds it: `solver`, `neighbours`, `outputs`, `diagnostics` or
+    /// `copies` (what the study keeps besides the run).
+    pub part: &'static str,
+    /// Bytes (an upper estimate).
+    pub bytes: f64,
 }
 
 /// The plan of one scene.
@@ -160,13 +190,21 @@ pub struct Plan {
     pub neighbours_per_particle: f64,
     /// Cells of the search grid (cell edge 1.01 κh over the particle box).
     pub cells: f64,
-    /// Bytes of particle state, fields, read-backs and snapshot text.
+    /// Every host buffer, by part.
+    pub host: Vec<HostBuffer>,
+    /// Bytes of the `solver` part: particle state, fields, layout, start-up copies.
     pub particle_bytes: f64,
     /// Bytes of the neighbour lists (entries held four times: chunk buffers, the final list,
     /// tracking candidates within the skin).
     pub neighbour_bytes: f64,
     /// Bytes of the cell grid (start, fill and sorted arrays).
     pub cell_bytes: f64,
+    /// Bytes of the `outputs` part: the read-back frame, the VTK text.
+    pub output_bytes: f64,
+    /// Bytes of the `diagnostics` part: the contact-angle grid and interface points.
+    pub diagnostic_bytes: f64,
+    /// Bytes of the `copies` part (study, validation).
+    pub copy_bytes: f64,
     /// Sum of the above and [`BASE_BYTES`].
     pub total_bytes: f64,
     /// GPU: every device buffer of the variant ([`gpu::GpuPlan`]; the default variant until
@@ -176,7 +214,8 @@ pub struct Plan {
 
 impl Plan {
     /// The plan of `scene` on the CPU (`real` = 4 or 8 bytes) or, with `gpu`, the default GPU
-    /// variant (the host keeps the f64 layout and read-backs; [`Plan::for_variant`] plans another). Needs only that the
+    /// variant (the host keeps the f64 layout and read-backs; [`Plan::for_variant`] plans
+    /// another), with CSV snapshots ([`Plan::with_vtk`] adds the VTK writer). Needs only that the
     /// domain extents and `kernel.h_ratio` are finite and positive (as [`Scene::validate`]
     /// checks); any other value still gives a finite plan.
     pub fn new(scene: &Scene, real: usize, gpu: bool) -> Plan {
@@ -196,11 +235,37 @@ impl Plan {
         let cell = 1.01 * support;
         let cells = ((wx * dx / cell).floor() + 3.0) * ((wy * dx / cell).floor() + 3.0);
         let host_real = if gpu { 8 } else { real };
-        let particle_bytes = n_total * cpu_bytes_per_particle(host_real);
-        let neighbour_bytes = if gpu { 0.0 } else { 4.0 * n_total * (k * 4.0 + 4.0) };
-        let cell_bytes = if gpu { 0.0 } else { cells * 8.0 + n_total * 12.0 };
+        let mut host = vec![
+            HostBuffer {
+                name: "particle state and fields",
+                part: "solver",
+                bytes: n_total * solver_bytes_per_particle(host_real),
+            },
+            HostBuffer { name: "particle layout (f64)", part: "solver", bytes: n_total * LAYOUT_BYTES_PER_PARTICLE },
+            HostBuffer { name: "start-up velocity field", part: "solver", bytes: n_fluid * START_BYTES_PER_PARTICLE },
+        ];
+        if !gpu {
+            host.push(HostBuffer {
+                name: "neighbour lists",
+                part: "neighbours",
+                bytes: 4.0 * n_total * (k * 4.0 + 4.0),
+            });
+            host.push(HostBuffer { name: "cell grid", part: "neighbours", bytes: cells * 8.0 + n_total * 12.0 });
+        }
+        host.push(HostBuffer {
+            name: "read-back frame and snapshot (f64)",
+            part: "outputs",
+            bytes: n_total * crate::backend::Frame::BYTES_PER_PARTICLE,
+        });
+        if scene.contact.mode != ContactMode::None {
+            host.push(HostBuffer {
+                name: "contact-angle gas grid and interface points",
+                part: "diagnostics",
+                bytes: crate::diagnostics::contact_angle::max_bytes(n_fluid),
+            });
+        }
         let gpu = gpu.then(|| gpu::GpuPlan::new(&Default::default(), n_total as u64, cells as u64));
-        Plan {
+        let mut plan = Plan {
             nx,
             ny,
             wall_layers,
@@ -209,12 +274,47 @@ impl Plan {
             n_total,
             neighbours_per_particle: k,
             cells,
-            particle_bytes,
-            neighbour_bytes,
-            cell_bytes,
-            total_bytes: BASE_BYTES + particle_bytes + neighbour_bytes + cell_bytes,
+            host,
+            particle_bytes: 0.0,
+            neighbour_bytes: 0.0,
+            cell_bytes: 0.0,
+            output_bytes: 0.0,
+            diagnostic_bytes: 0.0,
+            copy_bytes: 0.0,
+            total_bytes: 0.0,
             gpu,
+        };
+        plan.sum();
+        plan
+    }
+
+    /// The sums of [`Plan::host`] by part, and the total.
+    fn sum(&mut self) {
+        let part = |p: &str| self.host.iter().filter(|b| b.part == p).map(|b| b.bytes).sum::<f64>();
+        let named = |n: &str| self.host.iter().filter(|b| b.name == n).map(|b| b.bytes).sum::<f64>();
+        self.particle_bytes = part("solver");
+        self.neighbour_bytes = named("neighbour lists");
+        self.cell_bytes = named("cell grid");
+        self.output_bytes = part("outputs");
+        self.diagnostic_bytes = part("diagnostics");
+        self.copy_bytes = part("copies");
+        self.total_bytes = BASE_BYTES + self.host.iter().map(|b| b.bytes).sum::<f64>();
+    }
+
+    /// The plan with the VTK writer (`--vtk`): the text of one data array at a time.
+    pub fn with_vtk(self, vtk: bool) -> Plan {
+        if !vtk {
+            return self;
         }
+        let bytes = crate::output::snapshot::vtk_buffer_bytes(self.n_total);
+        self.with_buffer("VTK text of one data array", "outputs", bytes)
+    }
+
+    /// The plan with one more host buffer of `bytes` (`part` as in [`HostBuffer::part`]).
+    pub fn with_buffer(mut self, name: &'static str, part: &'static str, bytes: f64) -> Plan {
+        self.host.push(HostBuffer { name, part, bytes });
+        self.sum();
+        self
     }
 
     /// The plan with the device buffers of `spec` (same particles and cells).
@@ -227,8 +327,7 @@ impl Plan {
     pub fn describe(&self) -> String {
         let mut s = format!(
             "{:.0} fluid + {:.0} wall = {:.0} particles ({:.0} × {:.0} lattice, {:.0} wall layers), \
-             {:.3e} cells, ~{:.0} neighbour candidates each; host memory {} (particles {}, neighbour \
-             lists {}, cell grid {})",
+             {:.3e} cells, ~{:.0} neighbour candidates each; host memory {} ({})",
             self.n_fluid,
             self.n_wall,
             self.n_total,
@@ -238,9 +337,7 @@ impl Plan {
             self.cells,
             self.neighbours_per_particle,
             fmt_bytes(self.total_bytes),
-            fmt_bytes(self.particle_bytes),
-            fmt_bytes(self.neighbour_bytes),
-            fmt_bytes(self.cell_bytes)
+            self.host.iter().map(|b| format!("{} {}", b.name, fmt_bytes(b.bytes))).collect::<Vec<_>>().join(", ")
         );
         if let Some(g) = &self.gpu {
             s += &format!(
@@ -254,7 +351,8 @@ impl Plan {
         s
     }
 
-    /// Ok when the plan fits `limits`; else the message (every number, what to change).
+    /// Ok when the plan fits `limits`; else the message (every number, the binding limit and
+    /// how it was found, what to change).
     pub fn check(&self, limits: &Limits) -> Result<(), String> {
         let hint = "lower domain.nx, shrink the domain or lower kernel.h_ratio";
         if !(self.n_total <= limits.max_particles as f64) {
@@ -266,12 +364,15 @@ impl Plan {
             ));
         }
         if !(self.total_bytes <= limits.max_memory as f64) {
+            let how = limits.binding().map_or(String::new(), |l| format!(": {}", l.detail));
             return Err(format!(
-                "resource plan: {} of host memory exceed the limit of {} ({}; raise it with --max-memory); \
-                 {hint}. Plan: {}",
+                "resource plan: {:.0} bytes ({}) of host memory exceed the {} of {} bytes ({}{how}); {hint}. \
+                 Plan: {}",
+                self.total_bytes,
                 fmt_bytes(self.total_bytes),
-                fmt_bytes(limits.max_memory as f64),
                 limits.memory_source,
+                limits.max_memory,
+                fmt_bytes(limits.max_memory as f64),
                 self.describe()
             ));
         }
@@ -304,17 +405,60 @@ mod tests {
         }
     }
 
+    fn limit(source: &'static str, bytes: u64) -> MemoryLimit {
+        MemoryLimit { source, bytes, detail: format!("test {source}") }
+    }
+
     #[test]
     fn huge_scenes_are_refused_with_numbers() {
         let s = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=5000".into()]).unwrap();
-        let l =
-            Limits { max_particles: HARD_MAX_PARTICLES, max_memory: 16 << 30, memory_source: "test", gpu_memory: None };
+        let l = Limits::of(HARD_MAX_PARTICLES, vec![limit("test", 16 << 30)]);
         let e = Plan::new(&s, 8, false).check(&l).unwrap_err();
         assert!(e.contains("25000000 fluid") && e.contains("GiB"), "{e}");
         let small = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=30".into()]).unwrap();
         assert!(Plan::new(&small, 8, false).check(&l).is_ok());
         let l = Limits { max_particles: 100, ..l };
         assert!(Plan::new(&small, 8, false).check(&l).unwrap_err().contains("--max-particles"));
+    }
+
+    #[test]
+    fn the_smallest_memory_limit_binds_and_is_named() {
+        let l = Limits::of(
+            HARD_MAX_PARTICLES,
+            vec![
+                limit(memory_limits::MEM_AVAILABLE, 20 << 30),
+                limit(memory_limits::ADDRESS_SPACE, 3 << 30),
+                limit(memory_limits::CGROUP, 4 << 30),
+            ],
+        );
+        assert_eq!((l.max_memory, l.memory_source), (3 << 30, memory_limits::ADDRESS_SPACE));
+        let s = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=1500".into()]).unwrap();
+        let e = Plan::new(&s, 8, false).check(&l).unwrap_err();
+        assert!(e.contains("address-space limit (RLIMIT_AS) of 3221225472 bytes") && e.contains("test address"), "{e}");
+        let small = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=30".into()]).unwrap();
+        assert!(Plan::new(&small, 8, false).check(&l).is_ok());
+        // --max-memory only lowers the machine's limit.
+        let l = Limits::with(None, Some(1 << 20)).unwrap();
+        assert_eq!((l.max_memory, l.memory_source), (1 << 20, memory_limits::MAX_MEMORY_FLAG));
+        let big = Limits::with(None, Some(1 << 60)).unwrap();
+        assert_ne!(big.memory_source, memory_limits::MAX_MEMORY_FLAG);
+        assert!(big.max_memory < 1 << 60 && big.memory_limits.len() >= 2);
+    }
+
+    #[test]
+    fn outputs_and_diagnostics_are_planned() {
+        let s = apply_overrides(&builtin("sessile-90").unwrap(), &["domain.nx=40".into()]).unwrap();
+        let p = Plan::new(&s, 8, false);
+        let names: Vec<&str> = p.host.iter().map(|b| b.name).collect();
+        assert!(p.diagnostic_bytes > 0.0 && p.output_bytes > 0.0, "{names:?}");
+        assert!(names.iter().any(|n| n.contains("contact-angle")) && !names.iter().any(|n| n.contains("VTK")));
+        let v = p.clone().with_vtk(true);
+        assert!(v.output_bytes > p.output_bytes && v.total_bytes > p.total_bytes);
+        let sum: f64 = v.host.iter().map(|b| b.bytes).sum();
+        assert_eq!(v.total_bytes, BASE_BYTES + sum);
+        // No contact model: no contact-angle diagnostic.
+        let drop = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=40".into()]).unwrap();
+        assert_eq!(Plan::new(&drop, 8, false).diagnostic_bytes, 0.0);
     }
 
     #[test]

@@ -4,10 +4,14 @@
 //! plan ([`crate::plan`]) is checked against the limits (exit 2). A blow-up keeps every file
 //! written so far, writes a final snapshot and a summary naming the step and particle, and maps
 //! to exit code 3; an interrupt ([`request_interrupt`], Ctrl-C) stops at the next step with a
-//! final snapshot and `status: "interrupted"` (exit 130).
+//! final snapshot and `status: "interrupted"` (exit 130). A buffer that cannot be allocated
+//! after all (diagnostic grid, VTK text) or an output that cannot be written stops the run with
+//! the files so far closed and `status: "failed"` plus the reason in `summary.json` (exit 3 for
+//! the allocation, naming the buffer and its bytes; exit 1 for the output).
 
 use crate::backend::{Backend, BackendId, EngineCounters, EnginePerStep, Frame, SolverError};
 use crate::diagnostics::{contact_angle, flow};
+use crate::fallible::AllocError;
 use crate::gpu::bandwidth::EngineTraffic;
 use crate::output::{self, PvdWriter, SeriesWriter, Snapshot};
 use crate::plan::{Limits, Plan};
@@ -16,7 +20,7 @@ use crate::scene::build::{build_layout, Layout};
 use crate::scene::initial::initial_velocities;
 use crate::scene::{ContactMode, Scene, SceneError, ShapeKind, Side};
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -44,7 +48,18 @@ pub enum RunError {
     BlowUp(SolverError),
     /// Writing an output failed (exit 1).
     #[error("{0}")]
-    Output(#[from] output::OutputError),
+    Output(output::OutputError),
+    /// A buffer could not be allocated mid-run (exit 3); outputs so far are kept.
+    #[error(
+        "{source}{}; the outputs written before it are kept and summary.json says status \"failed\"",
+        .file.as_ref().map_or(String::new(), |f| format!(", writing {}", f.display()))
+    )]
+    Alloc {
+        /// What was being allocated, and how many bytes.
+        source: AllocError,
+        /// The output file it was for, if any.
+        file: Option<PathBuf>,
+    },
     /// Stopped by an interrupt (exit 130) after `step` steps; outputs so far are kept.
     #[error("interrupted at step {step} (t = {t:.6e}); a final snapshot and summary.json were written")]
     Interrupted {
@@ -53,6 +68,21 @@ pub enum RunError {
         /// Time reached.
         t: f64,
     },
+}
+
+impl From<output::OutputError> for RunError {
+    fn from(e: output::OutputError) -> Self {
+        match e {
+            output::OutputError::Alloc { path, source } => RunError::Alloc { source, file: Some(path) },
+            e => RunError::Output(e),
+        }
+    }
+}
+
+impl From<AllocError> for RunError {
+    fn from(source: AllocError) -> Self {
+        RunError::Alloc { source, file: None }
+    }
 }
 
 impl From<SceneError> for RunError {
@@ -66,7 +96,7 @@ impl RunError {
     pub fn exit_code(&self) -> i32 {
         match self {
             RunError::Input(_) => 2,
-            RunError::BlowUp(_) => 3,
+            RunError::BlowUp(_) | RunError::Alloc { .. } => 3,
             RunError::Output(_) => 1,
             RunError::Interrupted { .. } => 130,
         }
@@ -162,8 +192,30 @@ pub struct SeriesRow {
     pub spread_factor: Option<f64>,
 }
 
-/// Measures one series row from a frame.
+/// Measures one series row from a frame (the circle fit empty where its buffers cannot be
+/// allocated; [`try_measure`] says so).
 pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
+    let angles = |pos: &[[f64; 2]], phase: &[u32], dx, y_w, mirrored| {
+        Ok::<_, std::convert::Infallible>(contact_angle::measure_all(pos, phase, dx, y_w, mirrored))
+    };
+    match measure_with(scene, fr, angles) {
+        Ok(row) => row,
+        Err(never) => match never {},
+    }
+}
+
+/// [`measure`], or the allocation of the contact-angle diagnostic that failed (its buffers are
+/// at most [`contact_angle::max_bytes`] of the fluid particles).
+pub fn try_measure(scene: &Scene, fr: &Frame) -> Result<SeriesRow, AllocError> {
+    measure_with(scene, fr, contact_angle::try_measure_all)
+}
+
+/// One series row, the contact angles from `angles`.
+fn measure_with<E>(
+    scene: &Scene,
+    fr: &Frame,
+    angles: impl Fn(&[[f64; 2]], &[u32], f64, f64, bool) -> Result<contact_angle::ContactAngles, E>,
+) -> Result<SeriesRow, E> {
     let nf = fr.n_fluid;
     let (mass, pos, vel, phase) = (&fr.mass[..nf], &fr.pos[..nf], &fr.vel[..nf], &fr.phase[..nf]);
     let c = flow::centroid(mass, pos, phase, 0);
@@ -194,7 +246,7 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
         let dx = scene.domain.dx();
         let y_w = scene.domain.y[0];
         let mirrored = scene.domain.left == Side::Mirror;
-        let a = contact_angle::measure_all(pos, phase, dx, y_w, mirrored);
+        let a = angles(pos, phase, dx, y_w, mirrored)?;
         row.theta_two_point = a.two_point;
         row.theta_circle_fit = a.circle_fit;
         row.theta_area = a.area;
@@ -203,7 +255,7 @@ pub fn measure(scene: &Scene, fr: &Frame) -> SeriesRow {
             row.spread_factor = Some(if mirrored { x / r0 } else { x / (2.0 * r0) });
         }
     }
-    row
+    Ok(row)
 }
 
 /// Radius of the first circle of phase 0 (the drop), for D/D0.
@@ -243,8 +295,11 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Wall time per step (ms).
     pub ms_per_step: f64,
-    /// "running", "ok", "interrupted" or "blow-up: …".
+    /// "running", "ok", "interrupted", "blow-up: …" or "failed" (an allocation or an output
+    /// failed mid-run: [`Summary::error`] says which).
     pub status: String,
+    /// Why a `failed` run stopped (the buffer and its bytes, or the output file).
+    pub error: Option<String>,
     /// The resource plan the run was admitted with.
     pub plan: Plan,
     /// GPU runs: device bytes, modelled bytes per evaluation, measured bandwidth and the
@@ -352,7 +407,7 @@ pub fn make_gpu_backend(
 /// `opts.limits`: an input error with every number when it does not fit.
 pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
     let real = if opts.backend.precision() == crate::gpu::variant::Precision::F32 { 4 } else { 8 };
-    let mut plan = Plan::new(scene, real, opts.backend.kind() == "gpu");
+    let mut plan = Plan::new(scene, real, opts.backend.kind() == "gpu").with_vtk(opts.vtk);
     if let BackendId::Gpu(spec) = opts.backend {
         plan = plan.for_variant(&spec);
     }
@@ -360,17 +415,18 @@ pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
     Ok(plan)
 }
 
-fn snapshot(fr: &Frame, h: f64) -> Snapshot {
+/// The snapshot of a frame, its arrays moved (no copy).
+fn snapshot(fr: Frame, h: f64) -> Snapshot {
     Snapshot {
         step: fr.step,
         t: fr.t,
-        pos: fr.pos.clone(),
-        vel: fr.vel.clone(),
-        rho: fr.rho.clone(),
-        p: fr.p.clone(),
-        phase: fr.phase.clone(),
-        grad_c: fr.grad_c.clone(),
-        mass: fr.mass.clone(),
+        pos: fr.pos,
+        vel: fr.vel,
+        rho: fr.rho,
+        p: fr.p,
+        phase: fr.phase,
+        grad_c: fr.grad_c,
+        mass: fr.mass,
         h,
     }
 }
@@ -452,6 +508,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         wall_time_s: 0.0,
         ms_per_step: 0.0,
         status: "running".into(),
+        error: None,
         plan,
         gpu_engine,
         provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
@@ -461,17 +518,47 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     };
     let summary_path = opts.out.join("summary.json");
     output::write_json(&summary_path, &summary)?;
+    match step_and_write(scene, opts, &layout, &mut backend, &mut summary, &summary_path) {
+        Ok(()) => Ok(summary),
+        Err(e) => Err(failed(e, &mut summary, backend.as_ref(), &summary_path)),
+    }
+}
+
+/// A run stopped by an allocation or output error: `summary.json` says `failed` and why (the
+/// series and snapshot files are complete up to the last row and snapshot written). Other
+/// errors wrote their own summary.
+fn failed(e: RunError, summary: &mut Summary, backend: &dyn Backend, path: &Path) -> RunError {
+    if matches!(e, RunError::Alloc { .. } | RunError::Output(_)) {
+        summary.status = "failed".into();
+        summary.error = Some(e.to_string());
+        summary.steps = backend.steps();
+        summary.t_final = backend.time();
+        let _ = output::write_json(path, &*summary);
+    }
+    e
+}
+
+/// The stepping after the summary of a started run is written: relaxation, the initial
+/// velocity field, the steps with their series rows and snapshots, the final summary.
+fn step_and_write(
+    scene: &Scene,
+    opts: &RunOptions,
+    layout: &Layout,
+    backend: &mut Box<dyn Backend>,
+    summary: &mut Summary,
+    summary_path: &Path,
+) -> Result<(), RunError> {
     let h = scene.h();
 
     // CFL / viscous numbers at the output rows: the GPU's blow-up messages quote them (the CPU
     // solver records them at every step itself).
     let mut numbers = crate::physics::timestep::StabilityNumbers::default();
-    let note = |numbers: &mut crate::physics::timestep::StabilityNumbers, fr: &Frame| {
-        let row = measure(scene, fr);
+    let note = |numbers: &mut crate::physics::timestep::StabilityNumbers, fr: &Frame| -> Result<SeriesRow, RunError> {
+        let row = try_measure(scene, fr)?;
         let a = fr.acc.get(..fr.n_fluid).map_or(0.0, |a| a.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max));
         let l = crate::scene::dt_policy::state_limits(scene, row.max_speed, a);
         numbers.record(fr.step, if fr.dt > 0.0 { fr.dt } else { l.min() }, scene.time.cfl, &l);
-        row
+        Ok(row)
     };
     let started = Instant::now();
     // A failed or interrupted run keeps a final snapshot and a summary saying why it stopped.
@@ -481,7 +568,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
                 pvd: Option<&mut PvdWriter>|
      -> Result<(), RunError> {
         let fr = backend.frame();
-        let snap = snapshot(&fr, h);
+        summary.dt_last = fr.dt;
+        let snap = snapshot(fr, h);
         output::write_particles_csv(&opts.out, &snap)?;
         if let Some(p) = pvd {
             p.add_snapshot(&snap)?;
@@ -489,9 +577,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         summary.status = status;
         summary.steps = backend.steps();
         summary.t_final = backend.time();
-        summary.dt_last = fr.dt;
         summary.ms_per_step = 1e3 * summary.wall_time_s / summary.steps.max(1) as f64;
-        output::write_json(&summary_path, &*summary)?;
+        output::write_json(summary_path, &*summary)?;
         Ok(())
     };
     // A blow-up's message also quotes the largest CFL and viscous numbers reached before it; the
@@ -535,11 +622,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             let (step0, t0) = (backend.steps(), backend.time());
             if let Err(e) = backend.advance(batch_len(k_max, step0, 0, 0, None, t0, r.t, dt_est)) {
                 let wall = started.elapsed().as_secs_f64();
-                return Err(fail(&mut summary, &mut backend, e, None, &numbers, wall));
+                return Err(fail(summary, backend, e, None, &numbers, wall));
             }
             if interrupt_requested() {
                 summary.relax_steps = backend.steps();
-                return Err(interrupted(&mut summary, &mut backend, None));
+                return Err(interrupted(summary, backend, None));
             }
             let step = backend.steps();
             if scene.time.dt <= 0.0 && step > step0 {
@@ -550,9 +637,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         bar.finish();
         summary.relax_steps = backend.steps();
         let fr = backend.frame();
-        backend.restart_with_velocities(&initial_velocities(scene, &layout, Some(&fr)));
+        backend.restart_with_velocities(&initial_velocities(scene, layout, Some(&fr)));
     } else if scene.initial_velocity.is_some() {
-        backend.restart_with_velocities(&initial_velocities(scene, &layout, None));
+        backend.restart_with_velocities(&initial_velocities(scene, layout, None));
     }
 
     let t_end = opts.t_end.unwrap_or(scene.time.t_end);
@@ -566,7 +653,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     let bar = if opts.quiet { output::Progress::hidden() } else { output::Progress::new(total, &scene.name) };
     let mut series = SeriesWriter::create(opts.out.join("series.csv"))?;
     let mut pvd = if opts.vtk { Some(PvdWriter::new(&opts.out)) } else { None };
-    let write_frame = |fr: &Frame, pvd: &mut Option<PvdWriter>| -> Result<(), RunError> {
+    let write_frame = |fr: Frame, pvd: &mut Option<PvdWriter>| -> Result<(), RunError> {
         let snap = snapshot(fr, h);
         output::write_particles_csv(&opts.out, &snap)?;
         if let Some(p) = pvd.as_mut() {
@@ -575,8 +662,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         Ok(())
     };
     let fr = backend.frame();
-    series.write(&note(&mut numbers, &fr))?;
-    write_frame(&fr, &mut pvd)?;
+    series.write(&note(&mut numbers, &fr)?)?;
+    write_frame(fr, &mut pvd)?;
     let start = Instant::now();
     let engine0 = backend.engine_counters();
     let mut stepping = EngineCounters::default();
@@ -587,13 +674,13 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
     // dt of the next steps, for the batch length of a time-driven run: the fixed dt, or the mean
     // of the last batch.
     let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
-    while !done(&backend) {
+    while !done(backend) {
         let (step0, t0) = (backend.steps(), backend.time());
         let k = batch_len(k_max, step0, scene.output.every, opts.every, opts.steps, t0, t_end, dt_est);
         let before = backend.engine_counters();
         if let Err(e) = backend.advance(k) {
             let wall = start.elapsed().as_secs_f64();
-            return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
+            return Err(fail(summary, backend, e, pvd.as_mut(), &numbers, wall));
         }
         if let (Some(b), Some(a)) = (before, backend.engine_counters()) {
             stepping = stepping.plus(&a.since(&b));
@@ -603,36 +690,36 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         if scene.time.dt <= 0.0 && step > step0 {
             dt_est = Some(((backend.time() - t0) / (step - step0) as f64, false));
         }
-        let last = done(&backend);
+        let last = done(backend);
         let row_due = step % scene.output.every == 0 || last;
         let snap_due = last || (opts.every > 0 && step % opts.every == 0);
         if row_due || snap_due {
             let fr = backend.frame();
             if let Some(e) = backend.take_error() {
                 let wall = start.elapsed().as_secs_f64();
-                return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
+                return Err(fail(summary, backend, e, pvd.as_mut(), &numbers, wall));
             }
             if row_due {
-                series.write(&note(&mut numbers, &fr))?;
+                series.write(&note(&mut numbers, &fr)?)?;
             }
             if snap_due {
-                write_frame(&fr, &mut pvd)?;
+                write_frame(fr, &mut pvd)?;
             }
         }
         if interrupt_requested() && !last {
             summary.wall_time_s = start.elapsed().as_secs_f64();
             let fr = backend.frame();
             if !row_due {
-                series.write(&measure(scene, &fr))?;
+                series.write(&try_measure(scene, &fr)?)?;
             }
             series.finish()?;
-            return Err(interrupted(&mut summary, &mut backend, pvd.as_mut()));
+            return Err(interrupted(summary, backend, pvd.as_mut()));
         }
     }
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
     if let Some(e) = backend.take_error() {
-        return Err(fail(&mut summary, &mut backend, e, pvd.as_mut(), &numbers, wall));
+        return Err(fail(summary, backend, e, pvd.as_mut(), &numbers, wall));
     }
     let fr = backend.frame();
     summary.dt_last = fr.dt;
@@ -665,7 +752,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
         summary.dt_warnings.push(w);
     }
     series.finish()?;
-    output::write_json(&summary_path, &summary)?;
+    output::write_json(summary_path, &*summary)?;
     if !opts.quiet {
         eprintln!(
             "done: {} steps to t = {:.6e} in {:.2} s ({:.3} ms/step); outputs in {}",
@@ -694,12 +781,32 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary, RunError> {
             );
         }
     }
-    Ok(summary)
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
-    use super::batch_len;
+    use super::{batch_len, RunError};
+    use crate::fallible::AllocError;
+    use crate::output::OutputError;
+
+    #[test]
+    fn an_allocation_failure_mid_run_exits_3_naming_the_buffer_and_bytes() {
+        let source = AllocError { what: "the VTK text of one data array", bytes: 240_000_256 };
+        let e = RunError::from(OutputError::Alloc { path: "out/particles_00000010.vtu".into(), source });
+        assert_eq!(e.exit_code(), 3);
+        let m = e.to_string();
+        assert!(
+            m.contains("could not allocate 240000256 bytes (228.88 MiB) for the VTK text of one data array")
+                && m.contains("particles_00000010.vtu")
+                && m.contains("status \"failed\""),
+            "{m}"
+        );
+        let grid = RunError::from(AllocError { what: "the contact-angle gas grid", bytes: 1 << 30 });
+        assert!(grid.exit_code() == 3 && grid.to_string().contains("gas grid"), "{grid}");
+        let io = RunError::from(OutputError::Data { path: "x".into(), message: "m".into() });
+        assert_eq!(io.exit_code(), 1);
+    }
 
     #[test]
     fn batches_end_at_outputs_and_never_pass_the_end() {

@@ -3,8 +3,10 @@
 //! Conventions (§6.1, §10): the bottom wall surface is at `y_w`; particle rows sit at
 //! `y_w + (k+½)Δx`; the drop sits against the symmetry plane x = 0 with x positive away from
 //! the drop axis. Phase 0 = liquid, any other fluid phase = gas, [`WALL`](crate::scene::build::WALL) = wall particle
-//! (ignored). All functions are pure, cost O(n) (a coarse cell grid of the gas particles
-//! answers the nearest-gas queries) and return `None` instead of panicking on degenerate data.
+//! (ignored). All functions are pure, cost O(n) (a coarse cell grid of the gas particles near
+//! the liquid answers the nearest-gas queries) and return `None` instead of panicking on
+//! degenerate data; the `try_` forms also report an allocation of the grid or the interface
+//! points that failed ([`max_bytes`] bounds them).
 //!
 //! * [`two_point`] — §10.1, the thesis' two-point method with the [P] interface-point
 //!   refinement. On a perfect lattice the result is quantised (for one snapshot the
@@ -16,6 +18,17 @@
 //!   bisection is written for a monotone function of either sense.)
 
 use super::gas_grid::{is_gas, GasGrid, LIQUID};
+use crate::fallible::{self, AllocError};
+
+/// What the interface points are called in an allocation failure.
+const POINTS: &str = "the contact-angle interface points";
+
+/// Upper bound of the bytes [`try_measure_all`] allocates for `n` fluid particles: the gas grid
+/// and the interface points (16 B each, at most one per liquid particle, held with amortised
+/// growth and then mirrored: 64 B per particle).
+pub fn max_bytes(n: f64) -> f64 {
+    GasGrid::max_bytes(n) + 64.0 * n
+}
 
 /// Result of [`circle_fit`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,16 +112,25 @@ pub fn two_point(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<f
 }
 
 /// Interface points of §10.2 step 1: for each liquid particle with a gas particle within
-/// 1.5Δx, the midpoint towards the nearest one.
+/// 1.5Δx, the midpoint towards the nearest one (empty where they cannot be allocated;
+/// [`try_interface_points`] says so).
 pub fn interface_points(pos: &[[f64; 2]], phase: &[u32], dx: f64) -> Vec<[f64; 2]> {
+    try_interface_points(pos, phase, dx).unwrap_or_default()
+}
+
+/// [`interface_points`], or the allocation that failed.
+pub fn try_interface_points(pos: &[[f64; 2]], phase: &[u32], dx: f64) -> Result<Vec<[f64; 2]>, AllocError> {
     let r = 1.5 * dx;
-    let Some(grid) = GasGrid::new(pos, phase, r) else {
-        return Vec::new();
+    let Some(grid) = GasGrid::new(pos, phase, r)? else {
+        return Ok(Vec::new());
     };
-    (0..pos.len().min(phase.len()))
-        .filter(|&i| phase[i] == LIQUID)
-        .filter_map(|i| grid.nearest(pos, pos[i], r).map(|j| midpoint(pos[i], pos[j])))
-        .collect()
+    let mut pts = Vec::new();
+    for i in (0..pos.len().min(phase.len())).filter(|&i| phase[i] == LIQUID) {
+        if let Some(j) = grid.nearest(pos, pos[i], r) {
+            fallible::push(&mut pts, midpoint(pos[i], pos[j]), POINTS)?;
+        }
+    }
+    Ok(pts)
 }
 
 /// Solves the 3×3 system `a x = b` by Cramer's rule; `None` if singular.
@@ -182,25 +204,36 @@ pub fn fit_circle(pts: &[[f64; 2]]) -> Option<(f64, f64, f64)> {
     (rad > 0.0 && rad.is_finite() && xc.is_finite() && yc.is_finite()).then_some((xc + mx, yc + my, rad))
 }
 
-/// §10.2 circle fit of the interface points above `y_w + 3Δx`, mirrored to (−x, y).
+/// §10.2 circle fit of the interface points above `y_w + 3Δx`, mirrored to (−x, y) (`None`
+/// also where the points cannot be allocated; [`try_circle_fit`] says so).
 pub fn circle_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Option<CircleFit> {
+    try_circle_fit(pos, phase, dx, y_w).ok().flatten()
+}
+
+/// [`circle_fit`], or the allocation that failed.
+pub fn try_circle_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) -> Result<Option<CircleFit>, AllocError> {
     if !(dx > 0.0) {
-        return None;
+        return Ok(None);
     }
-    let mut pts: Vec<[f64; 2]> =
-        interface_points(pos, phase, dx).into_iter().filter(|p| p[1] - y_w >= 3.0 * dx).collect();
+    let mut pts = try_interface_points(pos, phase, dx)?;
+    pts.retain(|p| p[1] - y_w >= 3.0 * dx);
     if pts.len() < 3 {
-        return None;
+        return Ok(None);
     }
     let m = pts.len();
+    if pts.capacity() < 2 * m {
+        let mut all = fallible::with_capacity(2 * m, POINTS)?;
+        all.extend_from_slice(&pts);
+        pts = all;
+    }
     for k in 0..m {
         let p = pts[k];
         pts.push([-p[0], p[1]]);
     }
-    let (xc, yc, radius) = fit_circle(&pts)?;
+    let Some((xc, yc, radius)) = fit_circle(&pts) else { return Ok(None) };
     let c = ((y_w - yc) / radius).clamp(-1.0, 1.0);
     let half_width = xc + (radius * radius - (y_w - yc).powi(2)).max(0.0).sqrt();
-    Some(CircleFit { theta_deg: c.acos().to_degrees(), xc, yc, radius, half_width, n_points: pts.len() })
+    Ok(Some(CircleFit { theta_deg: c.acos().to_degrees(), xc, yc, radius, half_width, n_points: pts.len() }))
 }
 
 /// `(θ − sinθcosθ)/sin²θ`: full-drop cap area divided by the squared contact half-width.
@@ -242,11 +275,30 @@ pub fn contact_half_width(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64) ->
 /// All three §10 estimates. Liquid area = n_liquid·Δx², doubled when the simulated domain is
 /// mirrored at x = 0 (`mirrored`), so that it is the full-drop area §10.3 expects.
 pub fn measure_all(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, mirrored: bool) -> ContactAngles {
+    let circle = circle_fit(pos, phase, dx, y_w).map(|c| c.theta_deg);
+    ContactAngles { circle_fit: circle, ..estimates_besides_the_fit(pos, phase, dx, y_w, mirrored) }
+}
+
+/// [`measure_all`], or the allocation that failed (the circle fit's gas grid and points, at
+/// most [`max_bytes`]).
+pub fn try_measure_all(
+    pos: &[[f64; 2]],
+    phase: &[u32],
+    dx: f64,
+    y_w: f64,
+    mirrored: bool,
+) -> Result<ContactAngles, AllocError> {
+    let circle = try_circle_fit(pos, phase, dx, y_w)?.map(|c| c.theta_deg);
+    Ok(ContactAngles { circle_fit: circle, ..estimates_besides_the_fit(pos, phase, dx, y_w, mirrored) })
+}
+
+/// The two-point and area estimates (they allocate nothing).
+fn estimates_besides_the_fit(pos: &[[f64; 2]], phase: &[u32], dx: f64, y_w: f64, mirrored: bool) -> ContactAngles {
     let n_liquid = phase.iter().take(pos.len()).filter(|&&p| p == LIQUID).count();
     let area = n_liquid as f64 * dx * dx * if mirrored { 2.0 } else { 1.0 };
     ContactAngles {
         two_point: two_point(pos, phase, dx, y_w),
-        circle_fit: circle_fit(pos, phase, dx, y_w).map(|c| c.theta_deg),
+        circle_fit: None,
         area: contact_half_width(pos, phase, dx, y_w).and_then(|x| area_inversion(area, x)),
     }
 }

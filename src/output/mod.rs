@@ -1,7 +1,7 @@
 //! The files a run leaves behind, written from plain data (no solver types):
 //!
 //! * [`snapshot`]: particle snapshots as CSV and as VTK (`.vtu` files plus a ParaView `.pvd`
-//!   time series);
+//!   time series), streamed: a writer holds one row or one data array at a time;
 //! * [`series`]: a CSV time series of any `serde::Serialize` row, flushed after every row;
 //! * [`summary`]: pretty JSON summaries, the git commit and a UTC timestamp;
 //! * [`progress`]: a terminal progress bar that is silent when stderr is not a terminal.
@@ -54,6 +54,13 @@ pub enum OutputError {
     /// The data handed over is inconsistent (e.g. snapshot arrays of different lengths).
     #[error("invalid data for {}: {message}", path.display())]
     Data { path: PathBuf, message: String },
+    /// A buffer for the file could not be allocated.
+    #[error("{source}, writing {}", path.display())]
+    Alloc {
+        path: PathBuf,
+        #[source]
+        source: crate::fallible::AllocError,
+    },
 }
 
 /// Result type of the output module.
@@ -76,7 +83,8 @@ impl OutputError {
             | OutputError::Csv { path, .. }
             | OutputError::Json { path, .. }
             | OutputError::Plot { path, .. }
-            | OutputError::Data { path, .. } => path,
+            | OutputError::Data { path, .. }
+            | OutputError::Alloc { path, .. } => path,
         }
     }
 }

@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::{ensure_dir, write_atomic, OutputError, Result};
+use crate::fallible::AllocError;
 
 /// Phase index marking a wall particle.
 pub const WALL_PHASE: u32 = u32::MAX;
@@ -166,72 +167,150 @@ fn vtk_f64(out: &mut String, v: f64) {
 
 /// Standard base64 (RFC 4648, with padding) of `bytes`, appended to `out`.
 pub fn base64_into(out: &mut String, bytes: &[u8]) {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    for c in bytes.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let v = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+    let mut b = Base64::new(out);
+    b.push(bytes);
+    b.finish();
+}
+
+/// Streaming base64: bytes in, text appended to a string, padding at [`Base64::finish`].
+struct Base64<'a> {
+    out: &'a mut String,
+    carry: [u8; 3],
+    held: usize,
+}
+
+impl<'a> Base64<'a> {
+    const ALPHABET: &'static [u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+    fn new(out: &'a mut String) -> Self {
+        Base64 { out, carry: [0; 3], held: 0 }
+    }
+
+    /// Encodes the held bytes (1–3), padding a short group with `=`.
+    fn flush(&mut self) {
+        let c = &self.carry;
+        let v = (c[0] as u32) << 16 | (c[1] as u32) << 8 | c[2] as u32;
         for k in 0..4 {
-            if k <= c.len() {
-                out.push(A[(v >> (18 - 6 * k) & 63) as usize] as char);
+            if k <= self.held {
+                self.out.push(Self::ALPHABET[(v >> (18 - 6 * k) & 63) as usize] as char);
             } else {
-                out.push('=');
+                self.out.push('=');
+            }
+        }
+        (self.carry, self.held) = ([0; 3], 0);
+    }
+
+    fn push(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.carry[self.held] = b;
+            self.held += 1;
+            if self.held == 3 {
+                self.flush();
             }
         }
     }
+
+    fn finish(mut self) {
+        if self.held > 0 {
+            self.flush();
+        }
+    }
 }
 
-/// The values of one point-data array, flattened (tuple-major).
-enum Values {
-    /// `Float64`.
-    F64(Vec<f64>),
-    /// An integer type (`Int32`, `Int64`, `UInt8`) given by name, stored as i64.
-    Int(&'static str, Vec<i64>),
+/// One value of a point-data array.
+#[derive(Clone, Copy)]
+enum Value {
+    F64(f64),
+    Int(i64),
 }
 
-/// Appends one `DataArray` with `comps` components per tuple, ASCII or binary.
-fn data_array(out: &mut String, name: &str, comps: usize, values: Values, binary: bool) {
-    let ty = match &values {
-        Values::F64(_) => "Float64",
-        Values::Int(t, _) => t,
-    };
-    let _ = write!(out, "        <DataArray type=\"{ty}\" Name=\"{name}\"");
-    if comps > 1 {
-        let _ = write!(out, " NumberOfComponents=\"{comps}\"");
+/// One `DataArray`: its VTK type (`Float64`, `Int64`, `Int32`, `UInt8`), components per tuple,
+/// number of values (tuples × components) and the value at each flat index.
+struct Array<'a> {
+    name: &'a str,
+    ty: &'static str,
+    comps: usize,
+    len: usize,
+    value: &'a dyn Fn(usize) -> Value,
+}
+
+impl Array<'_> {
+    /// Bytes of one value in binary form.
+    fn width(&self) -> usize {
+        match self.ty {
+            "Int32" => 4,
+            "UInt8" => 1,
+            _ => 8,
+        }
+    }
+}
+
+/// Values per line of an ASCII array: one tuple per line for floats, ten values for integers.
+fn per_line(ty: &str, comps: usize) -> usize {
+    if ty == "Float64" {
+        comps.max(1)
+    } else {
+        10
+    }
+}
+
+/// Upper bound of the text of an array of `len` values (`comps` per tuple, `width` bytes each
+/// in binary) besides its tags: base64 of the byte count and the values, or at most 25
+/// characters per ASCII value plus indentation and line ends.
+fn text_bytes(len: usize, comps: usize, width: usize, ty: &str, binary: bool) -> usize {
+    if binary {
+        (8 + len * width).div_ceil(3) * 4 + 12
+    } else {
+        let per = per_line(ty, comps);
+        len.div_ceil(per) * (11 + 25 * per)
+    }
+}
+
+/// Bytes the VTK writer holds for a snapshot of `n` particles: the text of its largest data
+/// array (3 f64 components per particle), with tags.
+pub fn vtk_buffer_bytes(n: f64) -> f64 {
+    let n = n.clamp(0.0, 1e15) as usize;
+    (text_bytes(3 * n, 3, 8, "Float64", n >= VTK_BINARY_MIN) + 256) as f64
+}
+
+/// Appends one `DataArray`, ASCII or binary, after reserving its text fallibly.
+fn data_array(out: &mut String, a: &Array, binary: bool) -> std::result::Result<(), AllocError> {
+    crate::fallible::reserve_str(
+        out,
+        text_bytes(a.len, a.comps, a.width(), a.ty, binary) + 256,
+        "the VTK text of one data array",
+    )?;
+    let _ = write!(out, "        <DataArray type=\"{}\" Name=\"{}\"", a.ty, a.name);
+    if a.comps > 1 {
+        let _ = write!(out, " NumberOfComponents=\"{}\"", a.comps);
     }
     let _ = writeln!(out, " format=\"{}\">", if binary { "binary" } else { "ascii" });
     if binary {
-        let mut bytes: Vec<u8> = Vec::new();
-        match &values {
-            Values::F64(v) => v.iter().for_each(|x| bytes.extend_from_slice(&x.to_le_bytes())),
-            Values::Int("Int32", v) => v.iter().for_each(|x| bytes.extend_from_slice(&(*x as i32).to_le_bytes())),
-            Values::Int("UInt8", v) => v.iter().for_each(|x| bytes.push(*x as u8)),
-            Values::Int(_, v) => v.iter().for_each(|x| bytes.extend_from_slice(&x.to_le_bytes())),
-        }
-        let mut all = (bytes.len() as u64).to_le_bytes().to_vec();
-        all.extend_from_slice(&bytes);
         out.push_str("          ");
-        base64_into(out, &all);
+        let mut b = Base64::new(out);
+        b.push(&((a.len * a.width()) as u64).to_le_bytes());
+        for i in 0..a.len {
+            match ((a.value)(i), a.ty) {
+                (Value::F64(x), _) => b.push(&x.to_le_bytes()),
+                (Value::Int(x), "Int32") => b.push(&(x as i32).to_le_bytes()),
+                (Value::Int(x), "UInt8") => b.push(&[x as u8]),
+                (Value::Int(x), _) => b.push(&x.to_le_bytes()),
+            }
+        }
+        b.finish();
         out.push('\n');
     } else {
-        // One tuple per line for floats, ten values per line for integers.
-        let per_line = match &values {
-            Values::F64(_) => comps,
-            Values::Int(..) => 10,
-        };
-        let n = match &values {
-            Values::F64(v) => v.len(),
-            Values::Int(_, v) => v.len(),
-        };
-        for start in (0..n).step_by(per_line.max(1)) {
+        let per = per_line(a.ty, a.comps);
+        for start in (0..a.len).step_by(per) {
             out.push_str("          ");
-            for i in start..(start + per_line).min(n) {
+            for i in start..(start + per).min(a.len) {
                 if i > start {
                     out.push(' ');
                 }
-                match &values {
-                    Values::F64(v) => vtk_f64(out, v[i]),
-                    Values::Int(_, v) => {
-                        let _ = write!(out, "{}", v[i]);
+                match (a.value)(i) {
+                    Value::F64(x) => vtk_f64(out, x),
+                    Value::Int(x) => {
+                        let _ = write!(out, "{x}");
                     }
                 }
             }
@@ -239,12 +318,25 @@ fn data_array(out: &mut String, name: &str, comps: usize, values: Values, binary
         }
     }
     out.push_str("        </DataArray>\n");
+    Ok(())
 }
 
-/// The VTK XML UnstructuredGrid text of a snapshot (binary data arrays when `binary`).
-pub fn vtu_text(snap: &Snapshot, binary: bool) -> String {
+/// An error of [`vtu_pieces`]: an allocation, or what `emit` returned.
+enum PieceError<E> {
+    Alloc(AllocError),
+    Emit(E),
+}
+
+/// The VTK XML UnstructuredGrid text of a snapshot (binary data arrays when `binary`), handed
+/// to `emit` in pieces of at most one data array each, so a writer holds one array's text at
+/// a time ([`vtk_buffer_bytes`]).
+fn vtu_pieces<E>(
+    snap: &Snapshot,
+    binary: bool,
+    emit: &mut dyn FnMut(&str) -> std::result::Result<(), E>,
+) -> std::result::Result<(), PieceError<E>> {
     let n = snap.len();
-    let mut s = String::with_capacity(256 + n * if binary { 150 } else { 250 });
+    let mut s = String::with_capacity(1024);
     s.push_str("<?xml version=\"1.0\"?>\n");
     s.push_str(
         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" \
@@ -266,60 +358,83 @@ pub fn vtu_text(snap: &Snapshot, binary: bool) -> String {
     s.push_str("    </FieldData>\n");
     let _ = writeln!(s, "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">");
     s.push_str("      <PointData Scalars=\"rho\" Vectors=\"velocity\">\n");
-    let v3 = |f: &dyn Fn(usize) -> [f64; 2]| {
-        Values::F64(
-            (0..n)
-                .flat_map(|i| {
-                    let v = f(i);
-                    [v[0], v[1], 0.0]
-                })
-                .collect(),
-        )
+    let v3 = |f: fn(&Snapshot, usize) -> [f64; 2]| {
+        move |k: usize| Value::F64(if k % 3 == 2 { 0.0 } else { f(snap, k / 3)[k % 3] })
     };
-    data_array(&mut s, "id", 1, Values::Int("Int64", (0..n as i64).collect()), binary);
-    data_array(&mut s, "velocity", 3, v3(&|i| snap.vel[i]), binary);
-    data_array(&mut s, "rho", 1, Values::F64(snap.rho.clone()), binary);
-    data_array(&mut s, "p", 1, Values::F64(snap.p.clone()), binary);
-    data_array(
-        &mut s,
-        "mass",
-        1,
-        Values::F64((0..n).map(|i| snap.mass.get(i).copied().unwrap_or(0.0)).collect()),
-        binary,
-    );
-    data_array(&mut s, "h", 1, Values::F64(vec![snap.h; n]), binary);
-    data_array(&mut s, "phase", 1, Values::Int("Int32", (0..n).map(|i| snap.phase_i64(i)).collect()), binary);
-    data_array(&mut s, "grad_c", 3, v3(&|i| snap.grad_c_at(i)), binary);
+    let (vel, grad, pts) = (v3(|s, i| s.vel[i]), v3(|s, i| s.grad_c_at(i)), v3(|s, i| s.pos[i]));
+    let (rho, p) = (|i: usize| Value::F64(snap.rho[i]), |i: usize| Value::F64(snap.p[i]));
+    let mass = |i: usize| Value::F64(snap.mass.get(i).copied().unwrap_or(0.0));
+    let (h, phase) = (|_| Value::F64(snap.h), |i: usize| Value::Int(snap.phase_i64(i)));
+    let (id, offset, vertex) =
+        (|i: usize| Value::Int(i as i64), |i: usize| Value::Int(i as i64 + 1), |_| Value::Int(1));
+    let arr = |name, ty, comps, value| Array { name, ty, comps, len: comps * n, value };
+    let point_data = [
+        arr("id", "Int64", 1, &id as &dyn Fn(usize) -> Value),
+        arr("velocity", "Float64", 3, &vel),
+        arr("rho", "Float64", 1, &rho),
+        arr("p", "Float64", 1, &p),
+        arr("mass", "Float64", 1, &mass),
+        arr("h", "Float64", 1, &h),
+        arr("phase", "Int32", 1, &phase),
+        arr("grad_c", "Float64", 3, &grad),
+    ];
+    // VTK_VERTEX = 1
+    let cells =
+        [arr("connectivity", "Int64", 1, &id), arr("offsets", "Int64", 1, &offset), arr("types", "UInt8", 1, &vertex)];
+    let mut put = |s: &mut String, a: &Array| -> std::result::Result<(), PieceError<E>> {
+        emit(s).map_err(PieceError::Emit)?;
+        s.clear();
+        data_array(s, a, binary).map_err(PieceError::Alloc)
+    };
+    for a in &point_data {
+        put(&mut s, a)?;
+    }
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
-    data_array(&mut s, "Points", 3, v3(&|i| snap.pos[i]), binary);
+    put(&mut s, &arr("Points", "Float64", 3, &pts))?;
     s.push_str("      </Points>\n");
     s.push_str("      <Cells>\n");
-    data_array(&mut s, "connectivity", 1, Values::Int("Int64", (0..n as i64).collect()), binary);
-    data_array(&mut s, "offsets", 1, Values::Int("Int64", (1..=n as i64).collect()), binary);
-    // VTK_VERTEX = 1
-    data_array(&mut s, "types", 1, Values::Int("UInt8", vec![1; n]), binary);
+    for a in &cells {
+        put(&mut s, a)?;
+    }
     s.push_str("      </Cells>\n");
     s.push_str("    </Piece>\n");
     s.push_str("  </UnstructuredGrid>\n");
     s.push_str("</VTKFile>\n");
-    s
+    emit(&s).map_err(PieceError::Emit)
+}
+
+/// The VTK XML UnstructuredGrid text of a snapshot (binary data arrays when `binary`), whole.
+pub fn vtu_text(snap: &Snapshot, binary: bool) -> String {
+    let mut text = String::new();
+    let _ = vtu_pieces::<()>(snap, binary, &mut |piece| {
+        text.push_str(piece);
+        Ok(())
+    });
+    text
 }
 
 /// Writes `DIR/particles_<step>.vtu` (VTK XML UnstructuredGrid; binary from
 /// [`VTK_BINARY_MIN`] particles, else ASCII): points with z = 0, one VTK_VERTEX cell per
 /// particle, point data `id` (Int64), `velocity` (3 components), `rho`, `p`, `mass`, `h`,
 /// `phase` (Int32, walls -1) and `grad_c` (3 components); the time is stored as field data
-/// `TimeValue`. Creates `dir` if missing; returns the file's path.
+/// `TimeValue`. The text is written one data array at a time ([`vtk_buffer_bytes`]); a buffer
+/// that cannot be allocated is [`OutputError::Alloc`]. Creates `dir` if missing; returns the
+/// file's path.
 pub fn write_vtu(dir: impl AsRef<Path>, snap: &Snapshot) -> Result<PathBuf> {
     let dir = dir.as_ref();
     let path = dir.join(vtu_name(snap.step));
     snap.check(&path)?;
     ensure_dir(dir)?;
-    let text = vtu_text(snap, snap.len() >= VTK_BINARY_MIN);
     let file = File::create(&path).map_err(|e| OutputError::io(&path, e))?;
     let mut w = BufWriter::new(file);
-    w.write_all(text.as_bytes()).and_then(|_| w.flush()).map_err(|e| OutputError::io(&path, e))?;
+    vtu_pieces(snap, snap.len() >= VTK_BINARY_MIN, &mut |piece| w.write_all(piece.as_bytes())).map_err(
+        |e| match e {
+            PieceError::Alloc(source) => OutputError::Alloc { path: path.clone(), source },
+            PieceError::Emit(e) => OutputError::io(&path, e),
+        },
+    )?;
+    w.flush().map_err(|e| OutputError::io(&path, e))?;
     Ok(path)
 }
 

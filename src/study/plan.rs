@@ -1,6 +1,7 @@
 //! The study's plan: every job (experiment × size × backend) in one fixed order, the part a
 //! `--shard i/n` runs, its estimated time from a short probe, and the `--budget` cut (the
-//! largest sizes are dropped first, then any job the running estimate says would overrun).
+//! largest sizes are dropped first, then any job the running estimate says would overrun), and
+//! the resource plan of each size ([`resource_plan`]: a run's, with the reference frames kept).
 //!
 //! The estimate of a job is `build + warm-up + steps × ms/step(N)`, with ms/step(N) = a + b·N
 //! fitted per backend kind on the cell search at two probe sizes (× N/50 for direct search:
@@ -22,6 +23,15 @@ use std::collections::BTreeSet;
 use std::fmt::Write;
 use std::sync::Arc;
 use std::time::Instant;
+
+/// The resource plan of the study scene `scene` (CPU f64) with the reference frames the study
+/// keeps, one per size for the whole study: this size's and those of `earlier` particles (the
+/// sizes checked before it).
+pub fn resource_plan(scene: &crate::scene::Scene, earlier: f64) -> ResourcePlan {
+    let p = ResourcePlan::new(scene, 8, false);
+    let kept = (earlier + p.n_total) * crate::backend::Frame::BYTES_PER_PARTICLE;
+    p.with_buffer("reference frames kept per size (study)", "copies", kept)
+}
 
 /// One timed backend at one size of one experiment.
 #[derive(Clone, Debug)]

@@ -1,5 +1,6 @@
 //! Reading a run back for validation: `series.csv` as columns, particle snapshots
-//! (`particles_<step>.csv`, walls phase −1 → [`WALL`]) and small statistics helpers.
+//! (`particles_<step>.csv`, walls phase −1 → [`WALL`], read one at a time so an analysis never
+//! holds a whole run) and small statistics helpers.
 
 use crate::scene::build::WALL;
 use serde::Deserialize;
@@ -100,32 +101,78 @@ pub fn read_snapshot(path: &Path, step: u64, t: f64) -> Option<Snap> {
     Some(s)
 }
 
-/// The snapshots of a run with time in `[a, b]` (time from the series rows).
-pub fn snapshots_in(dir: &Path, rows: &[Row], a: f64, b: f64) -> Vec<Snap> {
-    snapshot_files(dir)
-        .into_iter()
-        .filter_map(|(step, p)| {
-            let t = rows.iter().find(|r| r.step == step).map(|r| r.t)?;
-            (t >= a && t <= b).then_some((step, p, t))
-        })
-        .filter_map(|(step, p, t)| read_snapshot(&p, step, t))
-        .collect()
-}
-
-/// Wall shear-rate profile averaged over snapshots (count-weighted per bin):
-/// `(fraction of the wall, mean |γ̇|)` for the non-empty bins, via
-/// [`crate::diagnostics::wall_shear_profile`].
-pub fn mean_shear_profile(snaps: &[Snap], dx: f64, y_w: f64, x_max: f64, bins: usize, signed: bool) -> Vec<(f64, f64)> {
-    let mut sum = vec![0.0; bins];
-    let mut cnt = vec![0usize; bins];
-    for s in snaps {
-        let prof = crate::diagnostics::wall_shear_profile(&s.pos, &s.vel, &s.phase, dx, y_w, x_max, bins, signed);
-        for (b, (_, m, c)) in prof.into_iter().enumerate() {
-            sum[b] += m * c as f64;
-            cnt[b] += c;
+/// Calls `f` with every snapshot of a run whose time (from the series rows) lies in `[a, b]`, in
+/// step order, read back one at a time: an analysis holds one snapshot, never the whole run.
+pub fn for_each_snapshot_in(dir: &Path, rows: &[Row], a: f64, b: f64, mut f: impl FnMut(Snap)) {
+    for (step, p) in snapshot_files(dir) {
+        let Some(t) = rows.iter().find(|r| r.step == step).map(|r| r.t) else { continue };
+        if t >= a && t <= b {
+            if let Some(s) = read_snapshot(&p, step, t) {
+                f(s);
+            }
         }
     }
-    (0..bins).filter(|&b| cnt[b] > 0).map(|b| ((b as f64 + 0.5) / bins as f64, sum[b] / cnt[b] as f64)).collect()
+}
+
+/// Wall shear-rate profile averaged over snapshots (count-weighted per bin), added one snapshot
+/// at a time: `(fraction of the wall, mean |γ̇|)` for the non-empty bins, via
+/// [`crate::diagnostics::wall_shear_profile`].
+pub struct ShearMean {
+    dx: f64,
+    y_w: f64,
+    x_max: f64,
+    signed: bool,
+    sum: Vec<f64>,
+    cnt: Vec<usize>,
+}
+
+impl ShearMean {
+    /// No snapshot yet; `bins` bins over `[0, x_max]`, the signed shear rate with `signed`.
+    pub fn new(dx: f64, y_w: f64, x_max: f64, bins: usize, signed: bool) -> Self {
+        ShearMean { dx, y_w, x_max, signed, sum: vec![0.0; bins], cnt: vec![0; bins] }
+    }
+
+    /// Adds one snapshot.
+    pub fn add(&mut self, s: &Snap) {
+        let bins = self.sum.len();
+        let prof = crate::diagnostics::wall_shear_profile(
+            &s.pos,
+            &s.vel,
+            &s.phase,
+            self.dx,
+            self.y_w,
+            self.x_max,
+            bins,
+            self.signed,
+        );
+        for (b, (_, m, c)) in prof.into_iter().enumerate() {
+            self.sum[b] += m * c as f64;
+            self.cnt[b] += c;
+        }
+    }
+
+    /// The mean profile of the snapshots added.
+    pub fn profile(&self) -> Vec<(f64, f64)> {
+        let (sum, cnt, bins) = (&self.sum, &self.cnt, self.sum.len());
+        (0..bins).filter(|&b| cnt[b] > 0).map(|b| ((b as f64 + 0.5) / bins as f64, sum[b] / cnt[b] as f64)).collect()
+    }
+}
+
+/// [`ShearMean`] of the snapshots of a run with time in `[a, b]`.
+#[allow(clippy::too_many_arguments)]
+pub fn mean_shear_profile_in(
+    dir: &Path,
+    rows: &[Row],
+    (a, b): (f64, f64),
+    dx: f64,
+    y_w: f64,
+    x_max: f64,
+    bins: usize,
+    signed: bool,
+) -> Vec<(f64, f64)> {
+    let mut m = ShearMean::new(dx, y_w, x_max, bins, signed);
+    for_each_snapshot_in(dir, rows, a, b, |s| m.add(&s));
+    m.profile()
 }
 
 /// Max normal deviation (Fig. 4.9) of every snapshot: `(t, degrees)`, radial directions from
@@ -158,9 +205,9 @@ pub fn normal_deviation_quantiles(
     radius: f64,
     band: f64,
 ) -> Vec<(f64, Option<[f64; 3]>)> {
-    snapshots_in(dir, rows, f64::NEG_INFINITY, f64::INFINITY)
-        .iter()
-        .map(|s| {
+    let mut out = Vec::new();
+    for_each_snapshot_in(dir, rows, f64::NEG_INFINITY, f64::INFINITY, |s| {
+        out.push({
             let keep: Vec<usize> = (0..s.pos.len())
                 .filter(|&i| {
                     let r = (s.pos[i][0] - centre[0]).hypot(s.pos[i][1] - centre[1]);
@@ -175,5 +222,6 @@ pub fn normal_deviation_quantiles(
             let q = |f: f64| d[((f * d.len() as f64) as usize).min(d.len() - 1)];
             (s.t, (!d.is_empty()).then(|| [q(0.5), q(0.9), d[d.len() - 1]]))
         })
-        .collect()
+    });
+    out
 }

@@ -4,7 +4,7 @@
 //! pinning). Contact angle vs time (three methods), D/D0 vs time against the analytic
 //! equilibrium cap (1.385), shear profiles near t = 0.25 and at the end.
 
-use super::data::{col, mean_shear_profile, read_series, snapshots_in, window_stats, Row as SRow};
+use super::data::{col, mean_shear_profile_in, read_series, window_stats, Row as SRow};
 use super::report::{plot, write_csv, CaseReport, Row};
 use super::sessile::{geometry, quick_sets, shear_window};
 use super::{Ctx, RunSpec, ValidateError};
@@ -202,8 +202,8 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             angle.series.push(Series::line(format!("{label}: area inversion"), area.clone()));
         }
         spread.series.push(Series::line(label.to_string(), d.clone()));
-        let early = mean_shear_profile(&snapshots_in(&dir, &rows, ea, eb), dx, y_w, x_max, 20, false);
-        let late = mean_shear_profile(&snapshots_in(&dir, &rows, wa, wb), dx, y_w, x_max, 20, false);
+        let early = mean_shear_profile_in(&dir, &rows, (ea, eb), dx, y_w, x_max, 20, false);
+        let late = mean_shear_profile_in(&dir, &rows, (wa, wb), dx, y_w, x_max, 20, false);
         shear.series.push(Series::line_points(format!("{label}, t ∈ [{ea:.2}, {eb:.2}]"), early.clone()));
         shear.series.push(Series::line_points(format!("{label}, {wtext}"), late.clone()));
         for (x, g) in &early {

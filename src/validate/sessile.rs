@@ -5,8 +5,8 @@
 //! deviation (Fig. 4.9). Thesis: Mode B < 3°, Mode A ±10°, Mode A's peak shear ≈ 160× Mode B's.
 
 use super::data::{
-    col, mean_shear_profile, normal_deviation_quantiles, normal_deviation_series, read_series, snapshots_in,
-    window_stats, Row as SRow,
+    col, for_each_snapshot_in, normal_deviation_quantiles, normal_deviation_series, read_series, window_stats,
+    Row as SRow, ShearMean,
 };
 use super::report::{plot, write_csv, CaseReport, Row};
 use super::{Ctx, RunSpec, ValidateError};
@@ -82,17 +82,20 @@ pub fn mean_flow_window(t_end: f64) -> (f64, f64) {
 pub fn measure(dir: &std::path::Path, nx: u32, a: f64, b: f64, t_end: f64) -> Measured {
     let (dx, y_w, x_max) = geometry(nx);
     let rows = read_series(dir);
-    // Every snapshot read once, in step (so time) order; each window is a slice of them.
-    let snaps = snapshots_in(dir, &rows, f64::NEG_INFINITY, f64::INFINITY);
-    let within =
-        |(lo, hi): (f64, f64)| &snaps[snaps.partition_point(|s| s.t < lo)..snaps.partition_point(|s| s.t <= hi)];
-    let shear = mean_shear_profile(within((a, b)), dx, y_w, x_max, 20, false);
-    let mean_flow = mean_shear_profile(within(mean_flow_window(t_end)), dx, y_w, x_max, 20, true)
-        .into_iter()
-        .map(|(x, g)| (x, g.abs()))
-        .collect();
+    // Every snapshot read once, in step (so time) order, into each window it lies in.
+    let windows = [(a, b), mean_flow_window(t_end), startup_window(t_end)];
+    let mut means = [false, true, false].map(|signed| ShearMean::new(dx, y_w, x_max, 20, signed));
+    for_each_snapshot_in(dir, &rows, f64::NEG_INFINITY, f64::INFINITY, |s| {
+        for ((lo, hi), m) in windows.iter().zip(&mut means) {
+            if s.t >= *lo && s.t <= *hi {
+                m.add(&s);
+            }
+        }
+    });
+    let shear = means[0].profile();
+    let mean_flow = means[1].profile().into_iter().map(|(x, g)| (x, g.abs())).collect();
     let normal = normal_deviation_series(dir, &rows, dx, y_w, [0.0, 0.0], 0.25, 3.0 * dx);
-    let startup = mean_shear_profile(within(startup_window(t_end)), dx, y_w, x_max, 20, false);
+    let startup = means[2].profile();
     Measured { rows, shear, mean_flow, normal, startup }
 }
 
