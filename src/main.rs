@@ -650,7 +650,7 @@ fn cmd_analytic(cmd: AnalyticCmd) -> ExitCode {
                 Err(e) => return fail(2, e),
             };
             if json {
-                let v = serde_json::to_value(&r).expect("serialisable");
+                let v = serde_json::to_value(r).expect("serialisable");
                 let v = match model {
                     Model::Axisym => serde_json::json!({"model": "axisym", "xi": r.axisym}),
                     Model::A => serde_json::json!({"model": "a", "xi": r.model_a}),

@@ -122,7 +122,7 @@ pub fn parse_bytes(text: &str) -> Result<u64, String> {
     };
     let v: f64 = num.trim().parse().map_err(|_| format!("`{text}` is not a size (e.g. 512M, 16G)"))?;
     let b = v * mult as f64;
-    if !(b.is_finite() && b >= 1.0 && b < 1.8e19) {
+    if !(b.is_finite() && (1.0..1.8e19).contains(&b)) {
         return Err(format!("`{text}` is not a size between 1 byte and 16 EiB"));
     }
     Ok(b as u64)

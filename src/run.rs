@@ -346,12 +346,12 @@ pub fn batch_len(
     t_end: f64,
     dt_est: Option<(f64, bool)>,
 ) -> u64 {
-    let next = |every: u64| if every > 0 { (step / every + 1) * every - step } else { u64::MAX };
+    let next = |every: u64| step.checked_div(every).map_or(u64::MAX, |q| (q + 1) * every - step);
     let mut k = k_max.min(next(rows)).min(next(snaps));
     match (steps, dt_est) {
         (Some(n), _) => k = k.min(n.saturating_sub(step)),
         (None, Some((dt, fixed))) if dt > 0.0 => {
-            let left = ((t_end - t) / dt).floor().max(0.0).min(1e12) as u64;
+            let left = ((t_end - t) / dt).floor().clamp(0.0, 1e12) as u64;
             k = k.min(if fixed { left.saturating_sub(1) } else { left / 2 });
         }
         (None, _) => k = 1,
@@ -377,13 +377,16 @@ pub fn make_backend_with_gpu_info(
     make_gpu_backend(scene, layout, opts, plan).map(|(b, info, _)| (b, info))
 }
 
+/// A built backend with the GPU's description and the engine's traffic figures.
+pub type GpuBackend = (Box<dyn Backend>, Option<GpuInfo>, Option<EngineTraffic>);
+
 /// [`make_backend_with_gpu_info`] with the engine's traffic figures (GPU runs with a `plan`).
 pub fn make_gpu_backend(
     scene: &Scene,
     layout: &Layout,
     opts: &RunOptions,
     plan: Option<&Plan>,
-) -> Result<(Box<dyn Backend>, Option<GpuInfo>, Option<EngineTraffic>), RunError> {
+) -> Result<GpuBackend, RunError> {
     let input = |e: String| RunError::Input(format!("--backend {}: {e}", opts.backend));
     let BackendId::Gpu(spec) = opts.backend else {
         return Ok((opts.backend.build(scene, layout, None).map_err(input)?, None, None));
@@ -667,14 +670,14 @@ fn step_and_write(
     let start = Instant::now();
     let engine0 = backend.engine_counters();
     let mut stepping = EngineCounters::default();
-    let done = |b: &Box<dyn Backend>| match opts.steps {
+    let done = |b: &dyn Backend| match opts.steps {
         Some(n) => b.steps() >= n,
         None => b.time() >= t_end * (1.0 - 1e-12),
     };
     // dt of the next steps, for the batch length of a time-driven run: the fixed dt, or the mean
     // of the last batch.
     let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
-    while !done(backend) {
+    while !done(backend.as_ref()) {
         let (step0, t0) = (backend.steps(), backend.time());
         let k = batch_len(k_max, step0, scene.output.every, opts.every, opts.steps, t0, t_end, dt_est);
         let before = backend.engine_counters();
@@ -690,9 +693,9 @@ fn step_and_write(
         if scene.time.dt <= 0.0 && step > step0 {
             dt_est = Some(((backend.time() - t0) / (step - step0) as f64, false));
         }
-        let last = done(backend);
-        let row_due = step % scene.output.every == 0 || last;
-        let snap_due = last || (opts.every > 0 && step % opts.every == 0);
+        let last = done(backend.as_ref());
+        let row_due = step.is_multiple_of(scene.output.every) || last;
+        let snap_due = last || (opts.every > 0 && step.is_multiple_of(opts.every));
         if row_due || snap_due {
             let fr = backend.frame();
             if let Some(e) = backend.take_error() {

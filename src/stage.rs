@@ -66,12 +66,12 @@ impl Write {
     /// The field written.
     pub fn field(self) -> Field {
         match self {
-            Write::All(f) | Write::Fluid(f) | Write::Part(f) => f,
+            All(f) | Fluid(f) | Part(f) => f,
         }
     }
     /// True when no element the comparison reads survives from the input (poison before a run).
     pub fn is_pure(self) -> bool {
-        !matches!(self, Write::Part(_))
+        !matches!(self, Part(_))
     }
 }
 

@@ -29,6 +29,9 @@ use serde::Serialize;
 use std::cell::OnceCell;
 use std::sync::Arc;
 
+/// A field with its (max-rel, rel-L2) bounds for f64 and for f32.
+pub type Tolerance = (Field, (f64, f64), (f64, f64));
+
 /// Per-field tolerances of one evaluation, `(field, f32 (max-rel, rel-L2), f64 (max-rel, rel-L2))`,
 /// the one table `sphlab verify` and the GPU tests use. Errors are measured by [`field_error`]
 /// against the field's largest CPU magnitude (the pressure against at least the EOS scale B:
@@ -43,7 +46,7 @@ use std::sync::Arc;
 /// f32 variant (direct and cells alike, whose f64 twins agree to 1e-12) measures 1.2–1.6e-4 there
 /// from summation order alone (measured at commit c76924d). Colours and masses are copied
 /// or typed, never summed: exact.
-pub const TOLERANCES: &[(Field, (f64, f64), (f64, f64))] = &[
+pub const TOLERANCES: &[Tolerance] = &[
     (Field::Colour, (0.0, 0.0), (0.0, 0.0)),
     (Field::Mass, (0.0, 0.0), (0.0, 0.0)),
     (Field::Sigma, TOL_SUM, TOL_F64),

@@ -321,10 +321,10 @@ fn flow_basics_and_normal_deviation() {
     // just above the threshold it does.
     let j = 22; // liquid, angle 11·π/36
     let b = (11.0 * PI / 36.0) + 40f64.to_radians();
-    let weak = 0.99 * sphlab::diagnostics::flow::NORMAL_GRAD_FRACTION;
+    let weak = 0.99 * flow::NORMAL_GRAD_FRACTION;
     g[j] = [weak * b.cos(), weak * b.sin()];
     let dw = max_normal_deviation(&p, &ph, &g, dx, 0.0, [0.0, 0.0]).unwrap();
-    let strong = 1.01 * sphlab::diagnostics::flow::NORMAL_GRAD_FRACTION;
+    let strong = 1.01 * flow::NORMAL_GRAD_FRACTION;
     g[j] = [strong * b.cos(), strong * b.sin()];
     let ds = max_normal_deviation(&p, &ph, &g, dx, 0.0, [0.0, 0.0]).unwrap();
     assert!((dw - 7.0).abs() < 1e-9 && (ds - 40.0).abs() < 1e-9, "threshold: {dw}°, {ds}°");

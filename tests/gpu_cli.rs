@@ -104,7 +104,10 @@ fn verify_every_variant_on_a_mode_b_contact_angle_scene() {
     for axis in axes {
         let mut want: Vec<&str> = VariantSpec::all().iter().map(axis).collect();
         let mut got: Vec<&str> = ids.iter().map(axis).collect();
-        (want.sort(), want.dedup(), got.sort(), got.dedup());
+        want.sort();
+        want.dedup();
+        got.sort();
+        got.dedup();
         assert_eq!(got, want, "the cross-section covers every value of each axis");
     }
     verify_variants(&["sessile-90", "--set", "domain.nx=33"], &ids);
@@ -119,7 +122,7 @@ fn variants_lists_every_id_and_bad_ids_exit_2() {
     let o = sphlab(&["variants"]);
     assert!(o.status.success());
     let text = String::from_utf8_lossy(&o.stdout);
-    for v in sphlab::gpu::variant::VariantSpec::all() {
+    for v in VariantSpec::all() {
         assert!(text.contains(&v.to_string()), "{v} listed");
     }
     let o = sphlab(&["verify", "--variants", "cells.warp.recomputed.f32"]);

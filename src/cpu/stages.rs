@@ -39,6 +39,9 @@ pub fn evaluation_fn<T: Real>(stage: Stage) -> Option<StageFn<T>> {
     })
 }
 
+/// The nearest particle found so far on one side: (distance key, index).
+type Nearest<T> = Option<(T, u32)>;
+
 /// Read-only inputs shared by the stages.
 pub struct Ctx<'a, T> {
     /// Constants.
@@ -136,7 +139,7 @@ pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             return Vec::new();
         }
         let xi = c.pos[i].x;
-        let (mut pred, mut succ): (Option<(T, u32)>, Option<(T, u32)>) = (None, None);
+        let (mut pred, mut succ): (Nearest<T>, Nearest<T>) = (None, None);
         for &e in c.nbrs.of(i) {
             let (j, code) = unpack(e);
             if j >= c.n_fluid {

@@ -199,6 +199,7 @@ pub struct Window {
 
 impl Window {
     /// Sums `split` (one per fluid particle, as [`split_forces`]) over the window.
+    #[allow(clippy::too_many_arguments, reason = "the window's geometry is named at every call site")]
     pub fn sum(
         pos: &[[f64; 2]],
         phase: &[u32],

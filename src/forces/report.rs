@@ -65,7 +65,7 @@ struct StateBalance {
 /// The report of `dir`'s snapshot, or the mean over its last `o.last` snapshots (Markdown);
 /// writes the CSV of the last state when asked.
 pub fn force_report(dir: &Path, o: &ForceOptions) -> Result<String, String> {
-    if !(o.half_width_dx > 0.0 && o.half_width_dx.is_finite()) || !(o.height_dx > 0.0 && o.height_dx.is_finite()) {
+    if !(o.half_width_dx > 0.0 && o.half_width_dx.is_finite() && o.height_dx > 0.0 && o.height_dx.is_finite()) {
         return Err(format!(
             "--half-width {} / --height {}: both must be positive numbers of Δx",
             o.half_width_dx, o.height_dx

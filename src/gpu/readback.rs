@@ -16,6 +16,9 @@ use crate::neighbours::INDEX_MASK as PACK_MASK;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
 
+/// Positions and velocities in particle order.
+pub type PosVel<T> = (Vec<V2<T>>, Vec<V2<T>>);
+
 /// The GPU neighbour structures after an evaluation.
 #[derive(Clone, Debug)]
 pub struct NeighbourView {
@@ -175,7 +178,7 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Positions and velocities.
-    pub fn read_state(&self) -> Result<(Vec<V2<T>>, Vec<V2<T>>), GpuError> {
+    pub fn read_state(&self) -> Result<PosVel<T>, GpuError> {
         let o = self.device_order()?;
         let (pos, vel) = (self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?);
         Ok((to_original(pos, 1, &o), to_original(vel, 1, &o)))

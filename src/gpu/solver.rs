@@ -148,7 +148,7 @@ impl<T: Real> GpuSolver<T> {
                     .into(),
             ));
         }
-        if scene.time.integrator == crate::scene::Integrator::VerletPec {
+        if scene.time.integrator == Integrator::VerletPec {
             return Err(GpuError::Unsupported(
                 "time.integrator = \"verlet-pec\" is CPU only (the WGSL Verlet evaluates at the predicted \
                  velocity); use --backend cpu or integrator = \"verlet\""
@@ -559,7 +559,7 @@ impl<T: Real> Backend for GpuSolver<T> {
     }
     fn step(&mut self) -> Result<(), SolverError> {
         let adaptive = self.model.dt_fixed <= 0.0;
-        let read = adaptive || (self.check_every > 0 && (self.step + 1) % self.check_every == 0);
+        let read = adaptive || (self.check_every > 0 && (self.step + 1).is_multiple_of(self.check_every));
         self.run_steps(1, read)
     }
     fn advance(&mut self, k: u64) -> Result<(), SolverError> {

@@ -69,7 +69,7 @@ impl DeviceLimits {
         };
         DeviceLimits {
             max_buffer_size: ctx.limits.max_buffer_size,
-            max_binding_size: ctx.limits.max_storage_buffer_binding_size as u64,
+            max_binding_size: ctx.limits.max_storage_buffer_binding_size,
             max_groups_per_dim: ctx.limits.max_compute_workgroups_per_dimension,
             memory,
             memory_source,

@@ -70,7 +70,7 @@ pub fn write(
             let fu = first_unstable(&cr);
             let stable_max = cr
                 .iter()
-                .filter(|r| r.stable && fu.map_or(true, |u| r.dt_factor < u))
+                .filter(|r| r.stable && fu.is_none_or(|u| r.dt_factor < u))
                 .map(|r| r.dt_factor)
                 .fold(f64::NAN, f64::max);
             let why = fu.and_then(|u| cr.iter().find(|r| r.dt_factor == u)).map_or(String::new(), |r| {

@@ -11,6 +11,9 @@ use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+/// Plot lines by label: (x, y) points.
+type Lines = BTreeMap<String, Vec<(f64, f64)>>;
+
 fn e<T: std::fmt::Display>(p: &Path, x: T) -> String {
     format!("{}: {x}", p.display())
 }
@@ -226,7 +229,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
         let mut it = variant.split('.');
         (it.next().unwrap_or("").to_string(), it.next().unwrap_or("").to_string())
     };
-    let mut facets: BTreeMap<(String, String), BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    let mut facets: BTreeMap<(String, String), Lines> = BTreeMap::new();
     for r in ok.iter().filter(|r| r.backend == "gpu") {
         facets.entry(facet_of(&r.variant)).or_default();
     }

@@ -318,7 +318,7 @@ fn fig_6_9(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
             r.ms(),
             r.ms() * steps as f64 * 1e-3,
             o(r.device_bytes.map(|b| b as f64), 1.0 / 1048576.0, 2),
-            o(r.gpu_busy, 100.0, 0).replace('-', "-") + if r.gpu_busy.is_some() { " %" } else { "" },
+            o(r.gpu_busy, 100.0, 0) + if r.gpu_busy.is_some() { " %" } else { "" },
             o(r.bytes_h2d_per_step, 1.0 / 1024.0, 0),
             o(r.bytes_d2h_per_step, 1.0 / 1024.0, 0),
             r.verified

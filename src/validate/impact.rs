@@ -196,7 +196,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let check_nx = (!quick && !full).then_some(CHECK_NX);
     let reached = t_end >= T_END;
     let mut spread = PlotSpec::new(
-        &format!("Drop impact: D/D0 vs τ (Fig. 5.3){}", nx.map_or(String::new(), |n| format!(", nx = {n}"))),
+        format!("Drop impact: D/D0 vs τ (Fig. 5.3){}", nx.map_or(String::new(), |n| format!(", nx = {n}"))),
         "τ = 4μt/(ρD0²)",
         "D/D0",
     );
@@ -301,7 +301,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let name = nx.map_or("sphlab".to_string(), |n| format!("sphlab nx = {n}"));
     dmax.series = vec![Series::line_points(&name, sph)];
     if let Some(n) = check_nx {
-        dmax.series.push(Series::line_points(&format!("sphlab nx = {n}"), sph_check));
+        dmax.series.push(Series::line_points(format!("sphlab nx = {n}"), sph_check));
     }
     dmax.series.push(Series::line("axisymmetric (Pasandideh-Fard)", axi));
     dmax.series.push(Series::line("2D model (c), eq. (93)", mc));

@@ -168,7 +168,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             ),
             _ => row,
         });
-        if !quick && !(period >= band.0 && period <= band.1) {
+        if !quick && !(band.0..=band.1).contains(&period) {
             let best = |f: fn(f64, f64) -> bool| {
                 rows.iter().fold(None::<(f64, f64)>, |m, r| match m {
                     Some(b) if !f(r.centroid_x, b.1) => Some(b),

@@ -485,7 +485,7 @@ fn dt_comparison(
     let rows = read_series(&dir);
     let circle = col(&rows, |r| r.theta_circle_fit.map(|v| v - 60.0));
     let area = col(&rows, |r| r.theta_area.map(|v| v - 60.0));
-    let d = wall_spread(&rows, super::sessile::geometry(nx).0);
+    let d = wall_spread(&rows, geometry(nx).0);
     let label = "Mode B, no-slip at dt = 7e-5";
     angle.series.push(Series::line(format!("{label}: circle fit"), circle.clone()));
     if let Some((m, sd, n)) = window_stats(&d, wa, wb) {

@@ -118,7 +118,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     );
     ke.log_y = true;
     let mut shear = PlotSpec::new(
-        &format!("Sessile 90°: wall shear rate |∂u/∂y| along the wall, {wtext}"),
+        format!("Sessile 90°: wall shear rate |∂u/∂y| along the wall, {wtext}"),
         "fraction of the wall (0 = drop centre, 1 = right wall)",
         "average shear rate (1/time)",
     );
@@ -131,7 +131,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let (fa, fb) = mean_flow_window(t_end);
     let ftext = format!("t ∈ [{fa:.2}, {fb:.2}]");
     let mut mean_flow = PlotSpec::new(
-        &format!("Sessile 90°: mean-flow wall shear rate |⟨u/(y − y_w)⟩| along the wall, {ftext}"),
+        format!("Sessile 90°: mean-flow wall shear rate |⟨u/(y − y_w)⟩| along the wall, {ftext}"),
         "fraction of the wall (0 = drop centre, 1 = right wall)",
         "|time mean of the signed shear rate| (1/time)",
     );
