@@ -330,7 +330,7 @@ fn guide_mapping_matches_the_cpu_reference_on_the_gpu() {
 /// repository, or a file at its root; placeholders (`<…>`, `{…}`, `*`) are left out.
 fn named_paths(md: &str) -> Vec<String> {
     const TOP: [&str; 11] = [
-        "core/",
+        "examples/",
         "src/",
         "shaders/",
         "kernels-variants/",
@@ -353,18 +353,9 @@ fn named_paths(md: &str) -> Vec<String> {
         .collect()
 }
 
-/// A path as the docs write it (workspace layout) on this checkout: `core/src/X` is `src/X`
-/// and `core/build.rs` is `build.rs` until the solver crate exists.
+/// A path as the docs write it, on this checkout.
 fn on_disk(p: &str) -> PathBuf {
-    let root = repo();
-    if root.join("core").is_dir() {
-        return root.join(p);
-    }
-    match (p.strip_prefix("core/src/"), p) {
-        (Some(rest), _) => root.join("src").join(rest),
-        (None, "core/build.rs") => root.join("build.rs"),
-        _ => root.join(p),
-    }
+    repo().join(p)
 }
 
 /// Paths the docs name that a command creates, not the repository: the GPU loan's report.
@@ -513,5 +504,5 @@ fn the_checks_catch_what_they_are_for() {
     assert_eq!(missing_paths(md, &[]), ["src/nope.rs"]);
     assert_eq!(anchor(" Running on a borrowed GPU"), "running-on-a-borrowed-gpu");
     assert_eq!(anchor("(a) Add a thread mapping"), "a-add-a-thread-mapping");
-    assert!(on_disk("core/src/stage.rs").exists());
+    assert!(on_disk("src/stage.rs").exists());
 }
