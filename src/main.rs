@@ -129,7 +129,7 @@ enum Experiment {
     E4,
     /// Time per step against N.
     Scaling,
-    /// The GPU engine before and after issue 8 at the E4 size (`--engine-nx`); only when named.
+    /// The GPU engine the legacy engine against the current one at the E4 size (`--engine-nx`); only when named.
     Engine,
     /// e1, e2, e3, e4 and scaling (sphlab::study::EXPERIMENTS; not `engine`, which is unbudgeted).
     All,

@@ -44,7 +44,7 @@ pub type Tolerance = (Field, (f64, f64), (f64, f64));
 /// the result's scale in f32. The acceleration's rel-L2 bound is 3e-4: at the impact scene's
 /// density ratio of 833 the gas particles' pressure and viscous terms cancel further, and every
 /// f32 variant (direct and cells alike, whose f64 twins agree to 1e-12) measures 1.2–1.6e-4 there
-/// from summation order alone (measured at commit c76924d). Colours and masses are copied
+/// from summation order alone. Colours and masses are copied
 /// or typed, never summed: exact.
 pub const TOLERANCES: &[Tolerance] = &[
     (Field::Colour, (0.0, 0.0), (0.0, 0.0)),

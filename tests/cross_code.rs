@@ -1,4 +1,4 @@
-//! Cross-code and time-accuracy checks of the CPU reference (issue 10, item 6).
+//! Cross-code and time-accuracy checks of the CPU reference.
 //!
 //! * `pysph_rod_*`: `scenes/pysph-rod.toml` (PySPH's `oscillating_rod.py --scheme adami_stress`
 //!   set-up) against PySPH's own curve `data/reference/pysph-oscillating-rod.csv`: the liquid's
@@ -94,8 +94,8 @@ fn rod_errors(gradient: ColourGradient) -> [f64; 6] {
     std::array::from_fn(|k| (sq[k] / rows.len() as f64).sqrt() / (0.5 * (hi[k] - lo[k])))
 }
 
-/// PySPH's single-field colour gradient: every curve within 0.5 % of its amplitude (measured at
-/// 7fe2a4c + this test's commit: a_x 0.02 %, b_y 0.03 %, mean |x|, |y| 0.03 %, quarter
+/// PySPH's single-field colour gradient: every curve within 0.5 % of its amplitude (measured:
+/// a_x 0.02 %, b_y 0.03 %, mean |x|, |y| 0.03 %, quarter
 /// centroids 0.26 % and 0.21 %; with γ = 7 instead of 1.4 a_x is off by 0.6 % and cx_quarter 9 %).
 #[test]
 fn pysph_rod_single_field_matches_pysph() {

@@ -1,6 +1,6 @@
 //! The tension a flat band carries across a vertical cut (`forces::balance::cut_rows`,
 //! `band_tension`), on a flat liquid layer under gas: periodic in x, walls at the bottom
-//! (under the liquid) and at the top (over the gas). What it shows (issue 10, Mode A):
+//! (under the liquid) and at the top (over the gas). What it shows (Mode A):
 //!
 //! * with uncoloured walls (contact mode none) the rows next to a wall carry no tension: the
 //!   cut measure has no wall artefact;

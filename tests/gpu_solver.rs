@@ -189,7 +189,7 @@ fn gpu_verlet_state(ctx: &Arc<GpuContext>, dt: f64) -> [Vec<[f64; 2]>; 2] {
     [fr.pos[..fr.n_fluid].to_vec(), fr.vel[..fr.n_fluid].to_vec()]
 }
 
-/// The WGSL twin of the CPU's second-order Verlet (issue 10): successive differences of the
+/// The WGSL twin of the CPU's second-order Verlet: successive differences of the
 /// positions and velocities at dt = 2e-4, 1e-4, 5e-5 shrink ≈ 4× (observed order ≥ 1.7; the
 /// evaluation at v_{n+½} gave 1.0). f64 only: the f32 differences are at rounding level.
 #[test]
@@ -417,7 +417,7 @@ fn study_engine_experiment_writes_before_and_after_rows() {
         assert_eq!(after, (1.0 / k as f64, 1.0 / k as f64), "{v}: after = one of each per K = {k} steps");
     }
     let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary.md");
-    assert!(md.contains("## Engine — before and after issue 8"), "{md}");
+    assert!(md.contains("## Engine — legacy against current"), "{md}");
     assert!(md.contains(&format!("| `{THREAD_RECOMPUTED}` |")), "{md}");
     let csv = std::fs::read_to_string(dir.path().join("records.csv")).expect("records.csv");
     assert!(csv.lines().next().is_some_and(|h| h.contains("engine") && h.contains("roofline_fraction")), "{csv}");

@@ -1,4 +1,4 @@
-//! Numerical stability (issue 12): a fixed dt above each stability limit is refused at load
+//! Numerical stability: a fixed dt above each stability limit is refused at load
 //! naming the limit, `time.dt_policy = "scale"` reproduces the study's and the convergence
 //! cases' dt, and the stability map of the oscillating drop finds where it becomes unstable.
 

@@ -1,4 +1,4 @@
-//! `sphlab study` made honest (issue 9): a run that overflows or blows up inside the study is a
+//! `sphlab study` made honest: a run that overflows or blows up inside the study is a
 //! record with its status and no timing; `--budget` keeps the study within its budget (±20 %);
 //! `sphlab report` merges two runs into one summary; pipelines
 //! are compiled once per variant and reused at every size. Runs on lavapipe (software Vulkan):

@@ -297,7 +297,7 @@ impl<T: Real> CpuSolver<T> {
     /// the drift with v_{n+½} plus the evaluation's XSPH correction ṽ − v, and the predicted
     /// velocity v_n + dt·a_n in `vel` for the evaluation at the new positions. With the
     /// evaluation at v_{n+½} instead (kept as [`Integrator::VerletPec`]), the viscous force of
-    /// the closing kick lags by O(dt): first order with viscosity (1.007 measured at 25041d7).
+    /// the closing kick lags by O(dt): first order with viscosity (1.007 measured).
     pub fn verlet_drift(&mut self, dt: T) {
         self.vhalf.resize(self.n_fluid, V2::from_f64(0.0, 0.0));
         let predicted = self.integrator == Integrator::Verlet;

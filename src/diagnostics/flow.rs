@@ -94,7 +94,7 @@ pub fn wall_shear_profile(
 /// Particles count in [`max_normal_deviation`] when `|∇C| ≥ NORMAL_GRAD_FRACTION · max|∇C|`.
 /// Fig. 4.9 measures "near the interface": at the edge of the kernel support |∇C| is ~1 % of
 /// its interface value and its direction is lattice noise (24° on the initial lattice when every
-/// particle with ∇C ≠ 0 counted; 6–12° above this threshold, issue 10).
+/// particle with ∇C ≠ 0 counted; 6–12° above this threshold).
 pub const NORMAL_GRAD_FRACTION: f64 = 0.3;
 
 /// Maximum normal deviation (degrees), §9(b) last bullet / Fig. 4.9: over fluid particles with

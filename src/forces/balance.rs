@@ -2,7 +2,7 @@
 //! viscous, surface) and by partner (same fluid phase, other fluid phase, wall), taken from the
 //! very walk the solver sums ([`stages::acceleration_pairs`]); and their sums over a window
 //! around a contact point, row by row above the wall. It answers "which pairs pull the contact
-//! line, and how hard" (`sphlab forces`; issue 10's Mode A study).
+//! line, and how hard" (`sphlab forces`).
 
 use crate::backend::SolverError;
 use crate::cpu::stages::{acceleration_pairs, PairTerm};

@@ -89,7 +89,7 @@ pub struct EngineMode {
 }
 
 impl EngineMode {
-    /// The engine before issue 8's `advance(k)` and renumbering: lattice order, one step per
+    /// The legacy engine, without `advance(k)` and renumbering: lattice order, one step per
     /// submission with a blocking control readback after every step.
     pub const BEFORE: EngineMode = EngineMode { reorder_every: 0, max_steps_per_submit: 1 };
     /// The current engine (the solver's default): renumbering every [`DEFAULT_REORDER_EVERY`]

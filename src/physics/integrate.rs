@@ -5,7 +5,7 @@
 //! The velocity Verlet sphlab runs (`time.integrator = "verlet"`, CPU `CpuSolver::verlet_drift`
 //! / `verlet_kick`, WGSL `integrate.wgsl`) is not §7.2's form: the evaluation after the drift
 //! sees the predicted velocity, so the viscous force does not lag and the scheme is second
-//! order in dt with viscosity (measured 2.007 in x, 2.018 in v at b85f740):
+//! order in dt with viscosity (measured 2.007 in x, 2.018 in v):
 //! ```text
 //! v_{n+½} = v_n + (dt/2) a_n
 //! r_{n+1} = r_n + dt (v_{n+½} + ṽ_n − v_n)            (ṽ − v: the XSPH correction, 0 without XSPH)

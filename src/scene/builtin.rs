@@ -23,7 +23,7 @@ fn fluid(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
     Phase { name: name.into(), rho0, mu, c0, gamma, p_b: 0.0 }
 }
 
-/// The background pressure of a two-phase built-in at lattice spacing `dx` (issue 10, item 1):
+/// The background pressure of a two-phase built-in at lattice spacing `dx`:
 /// `p_b = σ/(2Δx)`. The Hu–Adams stress puts a tensile normal stress `σ|∇C|/2 ≈ 0.23σ/Δx`
 /// on the interface band (first-row |∇C| = 0.4628/Δx on a flat interface, `tests/surface_tension.rs`)
 /// which the pressure must carry without going negative, or voids open along the interface;
@@ -44,7 +44,7 @@ pub const FLAT_FIRST_ROW_GRAD: f64 = 0.4628;
 pub const MOVING_CONTACT_PB_PER_CAPILLARY: f64 = 11.25;
 
 /// The background pressure of a drop whose contact line has to move (`relax-60`, convergence;
-/// issue 10): fixed in units of the capillary pressure, `p_b = 11.25·σ/R` (45 for R = 0.25),
+/// ): fixed in units of the capillary pressure, `p_b = 11.25·σ/R` (45 for R = 0.25),
 /// floored at the interface band's tensile stress `0.2314σ/Δx` (binds from nx ≈ 98 across 0.5).
 /// A rule that grows with 1/Δx pins the contact line more at every refinement: under
 /// σ/(2Δx) θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105; under this rule
@@ -55,7 +55,7 @@ pub fn moving_contact_background_pressure(sigma: f64, radius: f64, dx: f64) -> f
     (MOVING_CONTACT_PB_PER_CAPILLARY * sigma / radius).max(0.5 * FLAT_FIRST_ROW_GRAD * sigma / dx)
 }
 
-/// The background pressure of a drop at rest on a wall (`sessile-90`, issue 10): `p_b = σ/Δx`,
+/// The background pressure of a drop at rest on a wall (`sessile-90`): `p_b = σ/Δx`,
 /// twice [`capillary_background_pressure`]. Nothing has to move there, so the spring p_b puts
 /// on the arrangement costs nothing and buys order: at nx = 45, Mode B over t ∈ [1, 2], p_b = 45
 /// (σ/(2Δx)) left the liquid's kinetic energy at 2.6e-6 and the Fig. 4.9 normal deviation at
@@ -101,7 +101,7 @@ pub fn oscillating_drop() -> Scene {
         },
         // Quintic with h = 1.2Δx (support 3.6Δx; the thesis gives no h): at nx = 30, p_b = 30 the
         // wider support smooths ∇C and the pressure sum on the disordered arrangement. Measured
-        // (reports/validation/oscillation, spurious; b12fadd's tree): h = Δx gave a first-cycle
+        // (reports/validation/oscillation, spurious): h = Δx gave a first-cycle
         // amplitude of 0.0093 (22 % under the thesis's 0.012) and spurious bursts to 0.19; h = 1.2Δx
         // gives 0.0100 (−17 %), T = 0.366, and at rest max speed 0.076, Laplace jump −1.5 % (t = 1).
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.2 },

@@ -409,7 +409,7 @@ pub struct Time {
 pub enum Background {
     /// Added to the EOS pressure (T66 + p_b), so it enters the momentum equation (T68): the
     /// thesis's form. Its pair sum does not vanish on a disordered particle set and acts on the
-    /// particle arrangement like a spring (issue 10).
+    /// particle arrangement like a spring.
     #[default]
     Momentum,
     /// Transport-velocity formulation (Adami, Hu & Adams 2013, JCP 241, eqs. 9–13): the EOS and

@@ -1,5 +1,5 @@
-//! The study's `engine` experiment (issue 8, "must be shown"): the GPU engine before and after
-//! issue 8, side by side in ONE run at the E4 size (nx = 100: 11,236 particles; `--engine-nx`).
+//! The study's `engine` experiment the legacy GPU engine and the current one,
+//! side by side in ONE run at the E4 size (nx = 100: 11,236 particles; `--engine-nx`).
 //!
 //! * **before** ([`EngineMode::BEFORE`]): particles stay in lattice order (no renumbering) and
 //!   every step is its own submission followed by a blocking control readback, as the engine
@@ -192,7 +192,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
     if !specs.contains(&thread) {
         specs.push(thread);
     }
-    // (a) Every variant after issue 8.
+    // (a) Every variant on the current engine.
     let mut after: Vec<Record> = Vec::new();
     for spec in specs {
         if let Err(e) = spec.support(ctx) {
@@ -210,7 +210,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
         .min_by(|a, b| a.ms().total_cmp(&b.ms()))
         .map(|r| r.variant.clone());
     out.append(&mut after);
-    // (b) The fastest and the thread/recomputed f32 variant before issue 8.
+    // (b) The fastest and the thread/recomputed f32 variant on the legacy engine.
     let mut before: Vec<String> = best.into_iter().collect();
     if !before.iter().any(|v| v == THREAD_RECOMPUTED) {
         before.push(THREAD_RECOMPUTED.into());
@@ -225,7 +225,7 @@ fn fmt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map_or("-".into(), f)
 }
 
-/// The sentence on what limits a variant's time after issue 8, from its record: the roofline
+/// The sentence on what limits a variant's time on the current engine, from its record: the roofline
 /// fraction, the largest stage (GPU timestamps) and the engine's per-step work.
 fn limit_sentence(r: &Record) -> String {
     let mut s = match r.roofline_fraction {
@@ -255,7 +255,7 @@ pub fn summary(md: &mut String, recs: &[Record]) {
     let find = |v: &str, e: &str| rows.iter().find(|r| r.variant == v && r.engine == e).copied();
     let _ = writeln!(
         md,
-        "## Engine — before and after issue 8 ({} particles, commit `{}`)\n\n**before**: lattice order, one step per \
+        "## Engine — legacy against current ({} particles, commit `{}`)\n\n**before**: lattice order, one step per \
          submission with a blocking control readback every step; **after**: cell-order renumbering every 16 steps, K = \
          {} steps per submission, one readback. Throughput timing as above; submissions, readbacks and dispatches per \
          step counted by the engine over one more block of K steps; % of roofline = modelled bytes per step ÷ (time \
@@ -273,10 +273,11 @@ pub fn summary(md: &mut String, recs: &[Record]) {
     let best = after.iter().filter(|r| r.ms_per_step_median.is_some()).min_by(|a, b| a.ms().total_cmp(&b.ms()));
     match best {
         Some(b) => {
-            let _ = writeln!(md, "\nFastest GPU variant after issue 8 ({} run): `{}`.\n", after.len(), b.variant);
+            let _ =
+                writeln!(md, "\nFastest GPU variant on the current engine ({} run): `{}`.\n", after.len(), b.variant);
         }
         None => {
-            let _ = writeln!(md, "\nNo GPU variant ran successfully after issue 8 ({} tried).\n", after.len());
+            let _ = writeln!(md, "\nNo GPU variant ran successfully on the current engine ({} tried).\n", after.len());
         }
     }
     let _ = writeln!(
@@ -311,7 +312,7 @@ pub fn summary(md: &mut String, recs: &[Record]) {
     let _ = writeln!(md);
     for v in &shown {
         if let Some(a) = find(v, "after").filter(|r| r.status == "ok") {
-            let _ = writeln!(md, "What limits `{v}` after issue 8: {}.\n", limit_sentence(a));
+            let _ = writeln!(md, "What limits `{v}` on the current engine: {}.\n", limit_sentence(a));
         }
     }
     for r in rows.iter().filter(|r| r.backend == "gpu" && r.status != "ok") {

@@ -148,7 +148,7 @@ pub struct Record {
     pub config: String,
     /// E2/E3: verification verdict (against the CPU reference / the unsplit run).
     pub verified: String,
-    /// engine: `before` or `after` issue 8 (GPU), `cpu` ([`engine_ab`]).
+    /// engine: `before` (legacy engine) or `after` (current engine) (GPU), `cpu` ([`engine_ab`]).
     pub engine: String,
     /// engine: modelled bytes one force evaluation moves (`gpu::bandwidth`, a lower bound).
     pub modelled_bytes_per_eval: Option<f64>,

@@ -20,15 +20,15 @@ pub const VISCOUS_BAND: (f64, f64) = (0.31, 0.35);
 pub const LATE_T: f64 = 0.4;
 /// See [`LATE_T`].
 pub const LATE_TOL: f64 = 0.002;
-/// The other kernels' periods must lie within this fraction of the quintic's (issue 10).
+/// The other kernels' periods must lie within this fraction of the quintic's.
 pub const KERNEL_PERIOD_TOL: f64 = 0.15;
-/// The default scene's period must lie within this fraction of the thesis's 0.37 (issue 10).
+/// The default scene's period must lie within this fraction of the thesis's 0.37.
 pub const THESIS_PERIOD_TOL: f64 = 0.05;
 /// The default scene's first-cycle amplitude must lie within this fraction of the thesis's 0.012.
 pub const THESIS_AMPLITUDE_TOL: f64 = 0.2;
 
 /// The smoothing length of each kernel on this case (`kernel.h_ratio` overrides), chosen by the
-/// period against the quintic's at nx = 30, p_b = σ/(2Δx) = 30 (25041d7 and b12fadd's trees):
+/// period against the quintic's at nx = 30, p_b = σ/(2Δx) = 30:
 /// * quintic h = 1.2Δx (support 3.6Δx): the scene's default (amplitude and spurious speed, see
 ///   `scene::builtin::oscillating_drop`); h = Δx kept as an info run;
 /// * cubic spline h = 1.2Δx (support 2.4Δx): the thesis's choice for §4.2.2–4.2.4 (PHYSICS.md §7.4);

@@ -228,7 +228,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             let dw = window_stats(&dw, wa, wb).map_or(f64::NAN, |s| s.0);
             let row = Row::new(&format!("{label}: D/D0 at the wall, mean over {wtext}"), dw, 3, None, Some(d_an));
             rep.rows.push(if b_noslip {
-                row.check((dw / d_an - 1.0).abs() < 0.03, "within 3 % of 1.385 (issue 10)")
+                row.check((dw / d_an - 1.0).abs() < 0.03, "within 3 % of 1.385")
             } else {
                 row
             });
@@ -239,7 +239,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
                     Row::new(&format!("{label}: θ − 60°, {name}, mean over {wtext} (deg)"), mean, 2, None, Some(0.0))
                         .sphlab_text(format!("{mean:.2} ± {std:.2} (n = {n})"));
                 rep.rows.push(if b_noslip && name == "circle fit" && !quick {
-                    r.check(mean.abs() < 3.0, "|θ − 60°| < 3° (issue 10)")
+                    r.check(mean.abs() < 3.0, "|θ − 60°| < 3°")
                 } else if quick && name == "circle fit" {
                     let th0 = circle.first().map_or(f64::NAN, |p| p.1);
                     r.check(mean < th0, &format!("θ decreases from {:.1}° (direction)", th0 + 60.0))
