@@ -183,8 +183,16 @@ fn study_records_device_time_and_stage_table() {
     assert!(d > 0.0 && d <= slowest * 1.05 + 0.5, "device {d} ms, slowest block {slowest} ms");
     let csv = std::fs::read_to_string(stages).expect("stage_times.csv");
     assert!(csv.starts_with("experiment,variant,n,stage,device_ms_per_step,share"), "{csv}");
-    let share: f64 = csv.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap()).sum();
-    assert!((share - 1.0).abs() < 1e-2, "shares sum to {share}");
+    // Each GPU record's stage shares (one record per E4 size) sum to 1.
+    let mut shares: std::collections::BTreeMap<(String, String), f64> = Default::default();
+    for l in csv.lines().skip(1) {
+        let c: Vec<&str> = l.split(',').collect();
+        *shares.entry((c[1].to_string(), c[2].to_string())).or_default() += c[5].parse::<f64>().unwrap();
+    }
+    assert_eq!(shares.len(), recs.iter().filter(|r| r.backend == "gpu" && r.status == "ok").count(), "{csv}");
+    for (rec, share) in &shares {
+        assert!((share - 1.0).abs() < 1e-2, "{rec:?}: shares sum to {share}");
+    }
     let column = format!(",{},", Stage::ColourGradient);
     assert!(csv.contains(&column) && md.contains("device time per stage"), "{md}");
 }
