@@ -296,12 +296,12 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
         let pdir = dir.join("parts").join(&part.name);
         let left = o.budget_s - RESERVE_S - t0.elapsed().as_secs_f64();
         let share = if k == 0 { smoke_share(o.budget_s, left) } else { parts::share(&parts, k, left) };
-        let out = &mut outcomes[k];
-        out.share_s = share;
-        out.command = format!("sphlab {}", parts::command(part, child_budget(share), &pdir).join(" "));
         if signal.load(Ordering::SeqCst) != 0 {
             break;
         }
+        let out = &mut outcomes[k];
+        out.share_s = share;
+        out.command = format!("sphlab {}", parts::command(part, child_budget(share), &pdir).join(" "));
         if let Some(why) = &blocked {
             (out.status, out.note) = ("skipped".into(), why.clone());
             continue;
