@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_fields_match, assert_neighbours_match, gpu_or_skip, serial};
+use common::{assert_fields_match, assert_neighbours_match, gpu_or_skip, scene, serial};
 use sphlab::backend::{Backend, SolverError};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
@@ -16,8 +16,8 @@ use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Real;
-use sphlab::scene::build::{build_layout, Layout};
-use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use sphlab::scene::build::Layout;
+use sphlab::scene::Scene;
 use std::sync::Arc;
 
 #[test]
@@ -47,17 +47,6 @@ fn variant_files_validate_with_every_define_set() {
         }
     }
     let _ = compose_mapped;
-}
-
-fn scene(name: &str, sets: &[&str]) -> (Scene, Layout) {
-    let mut s = builtin(name).expect("builtin");
-    s.relax = None;
-    let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
-    let s = apply_overrides(&s, &sets).expect("overrides");
-    let mut l = build_layout(&s).expect("layout");
-    let v = sphlab::scene::initial::initial_velocities(&s, &l, None);
-    l.vel[..l.n_fluid].copy_from_slice(&v);
-    (s, l)
 }
 
 const SCENES: &[(&str, &[&str])] = &[

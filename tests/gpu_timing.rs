@@ -5,27 +5,15 @@
 
 mod common;
 
-use common::{gpu_or_skip, serial};
+use common::{gpu_or_skip, scene, serial};
 use sphlab::backend::Backend;
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
-use sphlab::scene::build::{build_layout, Layout};
-use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use sphlab::scene::Scene;
 use sphlab::stage::Stage;
 use std::sync::Arc;
 use std::time::Instant;
-
-fn scene(name: &str, sets: &[&str]) -> (Scene, Layout) {
-    let mut s = builtin(name).expect("builtin");
-    s.relax = None;
-    let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
-    let s = apply_overrides(&s, &sets).expect("overrides");
-    let mut l = build_layout(&s).expect("layout");
-    let v = sphlab::scene::initial::initial_velocities(&s, &l, None);
-    l.vel[..l.n_fluid].copy_from_slice(&v);
-    (s, l)
-}
 
 fn has_timestamps(ctx: &GpuContext) -> bool {
     let ok = ctx.has(wgpu::Features::TIMESTAMP_QUERY);

@@ -9,7 +9,7 @@
 
 mod common;
 
-use common::{assert_fields_match, assert_neighbours_match, gpu_or_skip, serial};
+use common::{assert_fields_match, assert_neighbours_match, gpu_or_skip, scene, serial};
 use sphlab::backend::{Backend, SolverError};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
@@ -22,8 +22,8 @@ use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
 use sphlab::plan::gpu::{GpuPlan, SCAN_BLOCK};
 use sphlab::real::Real;
-use sphlab::scene::build::{build_layout, Layout};
-use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
+use sphlab::scene::build::Layout;
+use sphlab::scene::Scene;
 use sphlab::verify::field_error;
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -37,17 +37,6 @@ use std::time::Instant;
 const ACC_VS_F64: (f64, f64) = (1.25, 1e-6);
 
 const SCENES: &[(&str, &[&str])] = &[("oscillating-drop", &[]), ("sessile-90", &["contact.mode=b", "domain.nx=33"])];
-
-fn scene(name: &str, sets: &[&str]) -> (Scene, Layout) {
-    let mut s = builtin(name).expect("builtin");
-    s.relax = None;
-    let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
-    let s = apply_overrides(&s, &sets).expect("overrides");
-    let mut l = build_layout(&s).expect("layout");
-    let v = sphlab::scene::initial::initial_velocities(&s, &l, None);
-    l.vel[..l.n_fluid].copy_from_slice(&v);
-    (s, l)
-}
 
 #[test]
 fn every_variant_composes_and_validates() {

@@ -9,7 +9,7 @@
 
 mod common;
 
-use common::{assert_fields_match, gpu_or_skip, serial};
+use common::{assert_fields_match, gpu_or_skip, scene, serial};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::fields::{Field, Fields};
@@ -22,8 +22,6 @@ use sphlab::gpu::variant_buffers::{self, VBufs};
 use sphlab::gpu::GpuContext;
 use sphlab::neighbours::SearchKind;
 use sphlab::real::{Real, V2};
-use sphlab::scene::build::{build_layout, Layout};
-use sphlab::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use sphlab::stage::Stage;
 use sphlab::verify::compare_fields;
 use std::path::{Path, PathBuf};
@@ -144,17 +142,6 @@ fn precision<T: Real>() -> Precision {
     } else {
         Precision::F32
     }
-}
-
-fn scene(name: &str, sets: &[&str]) -> (Scene, Layout) {
-    let mut s = builtin(name).expect("builtin");
-    s.relax = None;
-    let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
-    let s = apply_overrides(&s, &sets).expect("overrides");
-    let mut l = build_layout(&s).expect("layout");
-    let v = sphlab::scene::initial::initial_velocities(&s, &l, None);
-    l.vel[..l.n_fluid].copy_from_slice(&v);
-    (s, l)
 }
 
 /// The solver's group-0 state and group-1 strategy buffers for the CPU solver's particles.

@@ -265,3 +265,16 @@ pub fn assert_neighbours_match<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &Gpu
         }
     }
 }
+
+/// A built-in scene without its relaxation, with `--set` style overrides, and its layout with
+/// the scene's initial velocities.
+pub fn scene(name: &str, sets: &[&str]) -> (sphlab::scene::Scene, sphlab::scene::build::Layout) {
+    let mut s = sphlab::scene::builtin::builtin(name).expect("builtin");
+    s.relax = None;
+    let sets: Vec<String> = sets.iter().map(|x| x.to_string()).collect();
+    let s = sphlab::scene::overrides::apply_overrides(&s, &sets).expect("overrides");
+    let mut l = sphlab::scene::build::build_layout(&s).expect("layout");
+    let v = sphlab::scene::initial::initial_velocities(&s, &l, None);
+    l.vel[..l.n_fluid].copy_from_slice(&v);
+    (s, l)
+}
