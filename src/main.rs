@@ -129,7 +129,7 @@ enum Experiment {
     E4,
     /// Time per step against N.
     Scaling,
-    /// The GPU engine the legacy engine against the current one at the E4 size (`--engine-nx`); only when named.
+    /// The legacy GPU engine against the current one at the E4 size (`--engine-nx`); only when named.
     Engine,
     /// e1, e2, e3, e4 and scaling (sphlab::study::EXPERIMENTS; not `engine`, which is unbudgeted).
     All,
@@ -981,7 +981,7 @@ fn cmd_study(a: StudyArgs) -> ExitCode {
     for &nx in a.e4_sizes.iter().chain(&probe_sizes) {
         match sphlab::study::study_scene_with(nx, &a.sets) {
             Ok(scene) => {
-                if let Err(e) = sphlab::plan::Plan::new(&scene, 8, false).check(&limits) {
+                if let Err(e) = sphlab::study::plan::resource_plan(&scene, 0.0).check(&limits) {
                     return fail(2, format!("--e4-sizes/--probe-sizes {nx}: {e}"));
                 }
             }

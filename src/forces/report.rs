@@ -157,7 +157,7 @@ fn cut_section(scene: &Scene, states: &[StateBalance]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "\n## Wall-band tension across vertical cuts\n\nAt each cut, the x-force on the fluid right of it from every particle left of it (fluid and wall), row by row; the band's tension is the deficit of rows {}–{} below the mean of rows {}–{} (uniform fluid), as `forces::balance::band_tension`. On a flat layer the fluid side of a Mode A wall band carries half of what a free liquid–gas band of the same σ carries, in its pressure part and its stress part alike (`tests/force_balance.rs`). On a disordered state the pressure part also holds the background pressure acting on the particles' disorder row by row (p_b times a few per cent of Δx a row), so one snapshot's pressure part is noisy (`--last K` averages K snapshots); the stress part is the steadier one.\n",
+        "\n## Wall-band tension across vertical cuts\n\nAt each cut, the x-force on the fluid right of it from every particle left of it (fluid and wall), row by row; the band's tension is the deficit of rows {}–{} below the mean of rows {}–{} (uniform fluid), as `forces::balance::band_tension`. `--last K` averages K snapshots.\n",
         BAND_ROWS.start,
         BAND_ROWS.end - 1,
         BULK_ROWS.start,

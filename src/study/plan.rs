@@ -343,7 +343,13 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
                 // reference first) that still fits, rather than nothing.
                 let mut t = spent_s;
                 let before = jobs.len();
-                jobs.retain(|j| (t + j.est_s <= budget).then(|| t += j.est_s).is_some());
+                jobs.retain(|j| {
+                    let fits = t + j.est_s <= budget;
+                    if fits {
+                        t += j.est_s;
+                    }
+                    fits
+                });
                 dropped_jobs = before - jobs.len();
                 break;
             }

@@ -220,7 +220,7 @@ fn plan_text(adapter: &str, dir: &Path, o: &PresetOptions, scale: &Scale, parts:
         writeln!(s, "budget: {:.0} s; scale: {}; parts (shares if every part uses its own):", o.budget_s, scale.name);
     let mut left = o.budget_s - RESERVE_S;
     for (k, p) in parts.iter().enumerate() {
-        let share = if k == 0 { smoke_share(o.budget_s, left) } else { parts::share(parts, k, left) };
+        let share = part_share(parts, k, o.budget_s, left);
         left -= share;
         let cmd = parts::command(p, child_budget(share), &PathBuf::from("parts").join(&p.name));
         let _ = writeln!(s, "  {} share {share:.0} s: {}\n      sphlab {}", p.name, p.what, cmd.join(" "));
@@ -228,8 +228,14 @@ fn plan_text(adapter: &str, dir: &Path, o: &PresetOptions, scale: &Scale, parts:
     s
 }
 
-fn smoke_share(budget_s: f64, left_s: f64) -> f64 {
-    parts::SMOKE_MAX_S.min(0.2 * budget_s).min(left_s.max(0.0))
+/// The share (s) of `parts[k]` with `left_s` of the budget left: the smoke test at most
+/// [`parts::SMOKE_MAX_S`] and a fifth of the budget, every later part by its weight.
+fn part_share(parts: &[Part], k: usize, budget_s: f64, left_s: f64) -> f64 {
+    if k == 0 {
+        parts::SMOKE_MAX_S.min(0.2 * budget_s).min(left_s.max(0.0))
+    } else {
+        parts::share(parts, k, left_s)
+    }
 }
 
 /// Runs the preset (or prints its plan with `dry_run`); the exit code: 0, 1 when the smoke
@@ -238,11 +244,10 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
     let t0 = Instant::now();
     let ctx = GpuContext::new().map_err(|e| PresetError::Refused(format!("--preset gpu: no GPU adapter ({e})")))?;
     check_adapter(&ctx.adapter_info, o.allow_cpu_adapter).map_err(PresetError::Refused)?;
-    let fitting = fitting_sizes(&ctx);
     let scale = if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu {
-        Scale::rehearsal(&fitting)
+        Scale::rehearsal()
     } else {
-        Scale::gpu(&fitting)
+        Scale::gpu(&fitting_sizes(&ctx))
     };
     let parts = parts::parts(&scale);
     let dir = o.out_root.join(adapter_slug(&ctx.adapter_info.name));
@@ -295,7 +300,7 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
     for (k, part) in parts.iter().enumerate() {
         let pdir = dir.join("parts").join(&part.name);
         let left = o.budget_s - RESERVE_S - t0.elapsed().as_secs_f64();
-        let share = if k == 0 { smoke_share(o.budget_s, left) } else { parts::share(&parts, k, left) };
+        let share = part_share(&parts, k, o.budget_s, left);
         if signal.load(Ordering::SeqCst) != 0 {
             break;
         }

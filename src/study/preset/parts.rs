@@ -88,8 +88,7 @@ impl Scale {
     }
 
     /// Seconds-long sizes for a CPU adapter: the pipeline is exercised, nothing is measured.
-    pub fn rehearsal(fitting: &[u32]) -> Scale {
-        let _ = fitting;
+    pub fn rehearsal() -> Scale {
         Scale {
             name: "rehearsal",
             protocol: ["--steps", "2", "--repeats", "2", "--warmup", "0.1"],
@@ -265,7 +264,7 @@ mod tests {
 
     #[test]
     fn shares_follow_the_weights_of_the_parts_left() {
-        let p = parts(&Scale::rehearsal(&[]));
+        let p = parts(&Scale::rehearsal());
         let total: f64 = p[1..].iter().map(|p| p.weight).sum();
         let s = share(&p, 1, 100.0);
         assert!((s - 100.0 * p[1].weight / total).abs() < 1e-9);
