@@ -20,11 +20,13 @@
 //! skips the GPU). `cargo bench --bench step -- --test` runs each case once (smoke test).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use sphlab::backend::{Backend, BackendId};
+use sphlab::backend::Backend;
+use sphlab::backend_id::BackendId;
 use sphlab::exec::Exec;
-use sphlab::gpu::variant::{Precision, SearchVariant, VariantSpec};
+use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
 use sphlab::neighbours::SearchKind;
+use sphlab::real::Precision;
 use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::Scene;
 use sphlab::study::study_scene;
@@ -165,7 +167,7 @@ fn bench_e4(c: &mut Criterion) {
     let mut g = configure(c, "e4");
     register(&mut g, cpu(Exec::Serial, SearchKind::Cells, Precision::F64), 100, false);
     register(&mut g, cpu(Exec::Parallel, SearchKind::Cells, Precision::F64), 100, false);
-    for spec in variants().into_iter().filter(|s| s.search != SearchVariant::Direct) {
+    for spec in variants().into_iter().filter(|s| s.search != SearchKind::Direct) {
         register(&mut g, BackendId::Gpu(spec), 100, false);
     }
     g.finish();
@@ -180,7 +182,7 @@ fn bench_scaling(c: &mut Criterion) {
             }
         }
         for spec in variants() {
-            if spec.search == SearchVariant::Direct && particles(nx) > sphlab::study::DIRECT_MAX_N as u64 {
+            if spec.search == SearchKind::Direct && particles(nx) > sphlab::study::DIRECT_MAX_N as u64 {
                 continue;
             }
             register(&mut g, BackendId::Gpu(spec), nx, false);
@@ -196,7 +198,7 @@ fn bench_e4_device(c: &mut Criterion) {
         return;
     }
     let mut g = configure(c, "e4_device");
-    for spec in variants().into_iter().filter(|s| s.search != SearchVariant::Direct) {
+    for spec in variants().into_iter().filter(|s| s.search != SearchKind::Direct) {
         register(&mut g, BackendId::Gpu(spec), 100, true);
     }
     g.finish();
@@ -248,7 +250,7 @@ fn bench_reorder(c: &mut Criterion) {
     }
     let mut g = configure(c, "reorder");
     let nx = 100;
-    for spec in variants().into_iter().filter(|s| s.search != SearchVariant::Direct) {
+    for spec in variants().into_iter().filter(|s| s.search != SearchKind::Direct) {
         for order in ["lattice", "shuffled"] {
             for every in [0, 16] {
                 let label = format!("{spec}.{order}.reorder{every}");

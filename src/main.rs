@@ -6,7 +6,7 @@
 //! (an output that cannot be written, a failed verification).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use sphlab::backend::BackendId;
+use sphlab::backend_id::BackendId;
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::plan::{parse_bytes, Limits};
 use sphlab::provenance::{self, GpuInfo, Provenance};
@@ -730,14 +730,14 @@ fn cmd_variants(json: bool) -> ExitCode {
 /// `sphlab variants --memory N`: the GPU memory plan of every variant (`plan::gpu`), cells per
 /// particle as in `oscillating-drop` at nx = 300.
 fn cmd_variants_memory(n: u64, gpu_memory: Option<u64>, json: bool) -> ExitCode {
-    use sphlab::plan::gpu::{bytes_per_particle, max_particles, DeviceLimits, GpuPlan};
+    use sphlab::gpu::plan::{bytes_per_particle, max_particles, DeviceLimits, GpuPlan};
     use sphlab::plan::{fmt_bytes, HARD_MAX_PARTICLES};
     if n == 0 || n > HARD_MAX_PARTICLES {
         return fail(2, format!("--memory: N must lie in [1, {HARD_MAX_PARTICLES}], got {n}"));
     }
     let scene = apply_overrides(&builtin::builtin("oscillating-drop").expect("built-in"), &["domain.nx=300".into()])
         .expect("valid override");
-    let p = sphlab::plan::Plan::new(&scene, 4, true);
+    let p = sphlab::resources::run_plan(&scene, 4, true);
     let cpp = p.cells / p.n_total;
     let ctx = gpu_context();
     let here = ctx.as_ref().ok().map(|c| DeviceLimits::of(c, gpu_memory));
@@ -845,7 +845,7 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
         Err(e) => return fail(2, e),
     };
     // The CPU f64 reference and a GPU variant run side by side: plan both.
-    let plan = sphlab::plan::Plan::new(&scene, 8, false);
+    let plan = sphlab::resources::run_plan(&scene, 8, false);
     if let Err(e) = plan.check(&limits) {
         return fail(2, e);
     }
@@ -857,9 +857,9 @@ fn cmd_verify(a: VerifyArgs) -> ExitCode {
         Ok(c) => c,
         Err(e) => return fail(2, format!("no GPU adapter: {e}")),
     };
-    let lim = sphlab::plan::gpu::DeviceLimits::of(&ctx, limits.gpu_memory);
+    let lim = sphlab::gpu::plan::DeviceLimits::of(&ctx, limits.gpu_memory);
     for spec in &specs {
-        if let Err(e) = sphlab::plan::Plan::new(&scene, 4, true).for_variant(spec).check_gpu(&lim) {
+        if let Err(e) = sphlab::resources::run_plan(&scene, 4, true).for_variant(spec).check_gpu(&lim) {
             return fail(2, e);
         }
     }
@@ -1108,7 +1108,7 @@ fn cmd_info(json: bool) -> ExitCode {
     let adapters = adapters_json();
     // What the solver's device was granted (the adapter's own limits, requested in full) and
     // the device memory its memory plan assumes.
-    let device = gpu_context().ok().map(|c| (c.describe(), sphlab::plan::gpu::DeviceLimits::of(&c, None)));
+    let device = gpu_context().ok().map(|c| (c.describe(), sphlab::gpu::plan::DeviceLimits::of(&c, None)));
     let doc = with_provenance(
         serde_json::json!({
             "memory_available_bytes": sphlab::plan::available_memory(),

@@ -9,7 +9,8 @@
 //! the files so far closed and `status: "failed"` plus the reason in `summary.json` (exit 3 for
 //! the allocation, naming the buffer and its bytes; exit 1 for the output).
 
-use crate::backend::{Backend, BackendId, EngineCounters, EnginePerStep, Frame, SolverError};
+use crate::backend::{Backend, EngineCounters, EnginePerStep, Frame, SolverError};
+use crate::backend_id::BackendId;
 use crate::diagnostics::{contact_angle, flow};
 use crate::fallible::AllocError;
 use crate::gpu::bandwidth::EngineTraffic;
@@ -395,7 +396,7 @@ pub fn make_gpu_backend(
     spec.support(&ctx).map_err(|e| input(format!("unsupported on this adapter: {e}")))?;
     let mut traffic = None;
     if let Some(p) = plan {
-        let lim = crate::plan::gpu::DeviceLimits::of(&ctx, opts.limits.gpu_memory);
+        let lim = crate::gpu::plan::DeviceLimits::of(&ctx, opts.limits.gpu_memory);
         p.check_gpu(&lim).map_err(RunError::Input)?;
         let bw = crate::gpu::bandwidth::measure_bandwidth(&ctx).map_err(|e| input(e.to_string()))?;
         let bytes = p.gpu.as_ref().map_or(0, |g| g.total_bytes);
@@ -409,8 +410,9 @@ pub fn make_gpu_backend(
 /// The resource plan of `scene` under `opts` (backend and precision), checked against
 /// `opts.limits`: an input error with every number when it does not fit.
 pub fn plan_for(scene: &Scene, opts: &RunOptions) -> Result<Plan, RunError> {
-    let real = if opts.backend.precision() == crate::gpu::variant::Precision::F32 { 4 } else { 8 };
-    let mut plan = Plan::new(scene, real, opts.backend.kind() == "gpu").with_vtk(opts.vtk);
+    let real = if opts.backend.precision() == crate::real::Precision::F32 { 4 } else { 8 };
+    let mut plan =
+        crate::resources::with_vtk(crate::resources::run_plan(scene, real, opts.backend.kind() == "gpu"), opts.vtk);
     if let BackendId::Gpu(spec) = opts.backend {
         plan = plan.for_variant(&spec);
     }

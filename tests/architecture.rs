@@ -1,45 +1,10 @@
-//! The import rules of the two wings, checked on the source: the solver wing (physics, real,
-//! scene, model, stage, fields, neighbours, cpu, gpu, backend, plan, exec) uses nothing of the
-//! lab but the byte counts of the lab's buffers that the resource plan adds up (listed below),
-//! and inside the solver the CPU and GPU executors do not import each other.
+//! The import rules of the two wings, checked on the sources and manifests: the solver core
+//! (`core/`, crate `sphlab-core`) depends on no lab crate, so the compiler keeps it from the lab;
+//! inside the core the CPU and GPU executors import neither each other nor the factory that
+//! builds both (`backend_id`); they share only the backend API, the search vocabulary and the
+//! physics.
 
 use std::path::{Path, PathBuf};
-
-const SOLVER: [&str; 13] = [
-    "physics",
-    "real.rs",
-    "scene",
-    "model.rs",
-    "stage.rs",
-    "fields.rs",
-    "neighbours",
-    "cpu",
-    "gpu",
-    "backend.rs",
-    "plan.rs",
-    "plan",
-    "exec.rs",
-];
-const LAB: [&str; 13] = [
-    "analytic",
-    "diagnostics",
-    "fallible",
-    "forces",
-    "output",
-    "plot",
-    "provenance",
-    "run",
-    "stability",
-    "study",
-    "sweep",
-    "validate",
-    "verify",
-];
-/// What the solver may name of the lab: (file, path) — the plan counts these buffers' bytes.
-const ALLOWED: [(&str, &str); 2] = [
-    ("src/plan.rs", "crate::diagnostics::contact_angle::max_bytes"),
-    ("src/plan.rs", "crate::output::snapshot::vtk_buffer_bytes"),
-];
 
 fn rust_files(p: &Path, out: &mut Vec<PathBuf>) {
     if p.is_dir() {
@@ -80,13 +45,10 @@ fn crate_paths(files: &[PathBuf]) -> Vec<(String, String)> {
     out
 }
 
-fn solver_files(only: Option<&str>) -> Vec<PathBuf> {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+fn core_files(module: &str) -> Vec<PathBuf> {
     let mut files = Vec::new();
-    for m in SOLVER.iter().filter(|m| only.is_none_or(|o| o == **m)) {
-        rust_files(&src.join(m), &mut files);
-    }
-    assert!(!files.is_empty());
+    rust_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("core/src").join(module), &mut files);
+    assert!(!files.is_empty(), "core/src/{module}");
     files
 }
 
@@ -94,24 +56,63 @@ fn module(path: &str) -> &str {
     path.trim_start_matches("crate::").split("::").next().unwrap_or("")
 }
 
-#[test]
-fn the_solver_wing_uses_nothing_of_the_lab_but_the_plans_byte_counts() {
-    let bad: Vec<(String, String)> = crate_paths(&solver_files(None))
-        .into_iter()
-        .filter(|(_, p)| LAB.contains(&module(p)))
-        .filter(|(f, p)| !ALLOWED.contains(&(f.as_str(), p.as_str())))
-        .collect();
-    assert!(bad.is_empty(), "the solver wing imports the lab: {bad:?}");
+/// The `[dependencies]` table's keys of a manifest.
+fn dependencies(manifest: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(manifest)).unwrap();
+    let mut out = Vec::new();
+    let mut inside = false;
+    for line in text.lines().map(str::trim) {
+        if line.starts_with('[') {
+            inside = line == "[dependencies]";
+        } else if inside && !line.is_empty() && !line.starts_with('#') {
+            out.push(line.split('=').next().unwrap().trim().to_string());
+        }
+    }
+    out
 }
 
 #[test]
-fn the_cpu_and_gpu_executors_do_not_import_each_other() {
-    let cpu_to_gpu: Vec<_> =
-        crate_paths(&solver_files(Some("cpu"))).into_iter().filter(|(_, p)| module(p) == "gpu").collect();
-    let gpu_to_cpu: Vec<_> =
-        crate_paths(&solver_files(Some("gpu"))).into_iter().filter(|(_, p)| module(p) == "cpu").collect();
-    assert!(cpu_to_gpu.is_empty(), "{cpu_to_gpu:?}");
-    assert!(gpu_to_cpu.is_empty(), "{gpu_to_cpu:?}");
+fn the_core_depends_on_no_lab_crate_and_the_lab_on_the_core() {
+    let core = dependencies("core/Cargo.toml");
+    assert!(core.contains(&"wgpu".to_string()), "{core:?}");
+    let lab_only = [
+        "sphlab",
+        "clap",
+        "csv",
+        "plotters",
+        "serde_json",
+        "indicatif",
+        "ctrlc",
+        "signal-hook",
+        "sha2",
+        "tar",
+        "flate2",
+    ];
+    let bad: Vec<&String> = core.iter().filter(|d| lab_only.contains(&d.as_str())).collect();
+    assert!(bad.is_empty(), "the core depends on the lab or its tools: {bad:?}");
+    assert!(dependencies("Cargo.toml").contains(&"sphlab-core".to_string()));
+    // No source folder of the lab's modules is left inside the core, nor the reverse.
+    for lab in ["run.rs", "verify.rs", "study", "validate", "stability", "output", "diagnostics", "plot.rs"] {
+        assert!(!Path::new(env!("CARGO_MANIFEST_DIR")).join("core/src").join(lab).exists(), "{lab} in the core");
+    }
+    for solver in ["cpu", "gpu", "physics", "neighbours", "scene", "stage.rs", "backend.rs"] {
+        assert!(!Path::new(env!("CARGO_MANIFEST_DIR")).join("src").join(solver).exists(), "{solver} in the lab");
+    }
+}
+
+#[test]
+fn the_cpu_and_gpu_executors_import_neither_each_other_nor_the_factory() {
+    for (from, banned) in [("cpu", ["gpu", "backend_id"]), ("gpu", ["cpu", "backend_id"])] {
+        let bad: Vec<_> =
+            crate_paths(&core_files(from)).into_iter().filter(|(_, p)| banned.contains(&module(p))).collect();
+        assert!(bad.is_empty(), "{from} imports {bad:?}");
+    }
+    // The backend API is what both implement; it names neither.
+    let api: Vec<_> = crate_paths(&core_files("backend.rs"))
+        .into_iter()
+        .filter(|(_, p)| ["cpu", "gpu", "backend_id"].contains(&module(p)))
+        .collect();
+    assert!(api.is_empty(), "{api:?}");
 }
 
 #[test]

@@ -27,8 +27,7 @@ fn cross_section() -> Vec<VariantSpec> {
         }
     }
     // Offset by the search's ordinal so that each search sees other rotations of the same mapping.
-    let search =
-        |s: &VariantSpec| sphlab::gpu::variant::SearchVariant::ALL.iter().position(|x| *x == s.search).unwrap_or(0);
+    let search = |s: &VariantSpec| sphlab::neighbours::SearchKind::ALL.iter().position(|x| *x == s.search).unwrap_or(0);
     groups.iter().enumerate().map(|(k, g)| g[(k + search(&g[0])) % g.len()]).collect()
 }
 

@@ -231,8 +231,7 @@ fn unimplemented_and_bad_variants_are_errors() {
     // Every id of `VariantSpec::all()` is implemented (tests/gpu_variants.rs); f64 float
     // atomics are refused with a reason, and so is a precision the solver was not built for.
     for id in ["cells.block-atomic.cas.recomputed.f32", "tracking.block-tree.native.cached.f32"] {
-        let spec =
-            VariantSpec { precision: sphlab::gpu::variant::Precision::F64, ..id.parse::<VariantSpec>().unwrap() };
+        let spec = VariantSpec { precision: sphlab::real::Precision::F64, ..id.parse::<VariantSpec>().unwrap() };
         assert!(spec.to_string().parse::<VariantSpec>().unwrap_err().contains("not meaningful"), "{spec}");
         let e = GpuSolver::<f64>::new(ctx.clone(), &s, &l, spec).err().expect("error");
         assert!(e.to_string().contains("not meaningful"), "{id}: {e}");

@@ -17,10 +17,11 @@ use sphlab::gpu::compose::{compose_mapped, validate};
 use sphlab::gpu::params::{GridSpec, Params};
 use sphlab::gpu::solver_buffers::{self, Bufs};
 use sphlab::gpu::stages::{defines, PAIR_STAGES};
-use sphlab::gpu::variant::{Accumulation, KernelValues, Mapping, Precision, SearchVariant, SumLayout, VariantSpec};
+use sphlab::gpu::variant::{Accumulation, KernelValues, Mapping, SumLayout, VariantSpec};
 use sphlab::gpu::variant_buffers::{self, VBufs};
 use sphlab::gpu::GpuContext;
 use sphlab::neighbours::SearchKind;
+use sphlab::real::Precision;
 use sphlab::real::{Real, V2};
 use sphlab::stage::Stage;
 use sphlab::verify::compare_fields;
@@ -250,7 +251,7 @@ fn check_scene<T: Real>(ctx: &GpuContext, t: &Toy, name: &str, sets: &[&str]) ->
     // The direct search needs no search structures on the device: the example's kernels walk
     // every particle under every image code, the neighbour set of the CPU's cell search.
     let spec = VariantSpec {
-        search: SearchVariant::Direct,
+        search: SearchKind::Direct,
         mapping: Mapping::Thread,
         accumulation: Accumulation::None,
         kernel_values: KernelValues::Recomputed,
@@ -491,5 +492,5 @@ fn the_checks_catch_what_they_are_for() {
     assert_eq!(missing_paths(md, &[]), ["src/nope.rs"]);
     assert_eq!(anchor(" Running on a borrowed GPU"), "running-on-a-borrowed-gpu");
     assert_eq!(anchor("(a) Add a thread mapping"), "a-add-a-thread-mapping");
-    assert!(on_disk("src/stage.rs").exists());
+    assert!(on_disk("core/src/stage.rs").exists());
 }

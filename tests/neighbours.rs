@@ -1,4 +1,4 @@
-//! Neighbour searches (`src/neighbours/`): `direct`, `cells` and `tracking` must give identical
+//! Neighbour searches (`core/src/neighbours/`): `direct`, `cells` and `tracking` must give identical
 //! `NeighbourList`s (offsets and packed `(j, image)` entries, same order), equal to a brute-force
 //! oracle written here (double loop over j and every existing image code with its own image
 //! transform), on random clouds of awkward sizes, on particles placed exactly on cell edges and

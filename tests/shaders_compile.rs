@@ -212,7 +212,7 @@ fn wgsl_constants_equal_rust_values() {
     let nb = wgsl_constants("#import common/neighbours\n");
     assert_eq!(
         nb.get("DIRECT_CHUNK"),
-        Some(&(sphlab::plan::gpu::DIRECT_CHUNK as i64)),
+        Some(&(sphlab::gpu::plan::DIRECT_CHUNK as i64)),
         "WGSL DIRECT_CHUNK differs from Rust"
     );
 }

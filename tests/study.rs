@@ -201,7 +201,7 @@ fn pipelines_are_compiled_once_per_variant() {
     for nx in [16, 24] {
         let scene = sphlab::study::study_scene(nx);
         let layout = sphlab::scene::build::build_layout(&scene).expect("layout");
-        let mut b = sphlab::backend::BackendId::Gpu(spec).build(&scene, &layout, Some(&ctx)).expect("builds");
+        let mut b = sphlab::backend_id::BackendId::Gpu(spec).build(&scene, &layout, Some(&ctx)).expect("builds");
         b.step().expect("steps");
     }
     assert_eq!(ctx.pipelines.compiles(), 1, "one variant at two sizes compiles once");

@@ -1,5 +1,5 @@
 //! Ladder step 2 (GPU): every WGSL function of `shaders/` against its Rust twin in
-//! `src/physics/` (wgebra pattern: compose the module plus an appended `@compute` test kernel,
+//! `core/src/physics/` (wgebra pattern: compose the module plus an appended `@compute` test kernel,
 //! run thousands of seeded random inputs plus the edge cases, outputs poisoned with NaN first).
 //!
 //! Error measure (see `common::compare`): `|gpu − cpu| / max(magnitude, floor)`, where

@@ -2,8 +2,9 @@
 //! value exits 2 naming the option and what it accepts), then the sweep and the report.
 
 use super::{StabilityOptions, Target};
-use crate::gpu::variant::{Precision, VariantSpec, DEFAULT_VARIANT};
+use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
 use crate::gpu::GpuContext;
+use crate::real::Precision;
 use crate::scene::Scene;
 use std::path::PathBuf;
 use std::sync::Arc;

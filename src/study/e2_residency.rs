@@ -20,7 +20,7 @@ use crate::exec::Exec;
 use crate::fields::{Field, Fields};
 use crate::gpu::residency::Part;
 use crate::gpu::solver::GpuSolver;
-use crate::gpu::variant::{KernelValues, SearchVariant, SumLayout, VariantSpec};
+use crate::gpu::variant::{KernelValues, SumLayout, VariantSpec};
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::real::V2;
@@ -144,7 +144,7 @@ impl HybridSolver {
         }
         let cpu_search_for_gpu = !hybrid.on_gpu(Stage::NeighbourSearch) && eval.iter().any(|s| hybrid.on_gpu(*s));
         if cpu_search_for_gpu
-            && (spec.search != SearchVariant::Cells
+            && (spec.search != SearchKind::Cells
                 || spec.mapping.layout() != SumLayout::Thread
                 || spec.kernel_values != KernelValues::Recomputed)
         {

@@ -22,13 +22,15 @@
 use super::plan::Job;
 use super::timing::{self, Failure, Timed};
 use super::{run_job, study_scene_with, Common, Record, Start, StudyOptions, DIRECT_MAX_N, REFERENCE};
-use crate::backend::{Backend, BackendId};
+use crate::backend::Backend;
+use crate::backend_id::BackendId;
 use crate::exec::Exec;
 use crate::gpu::bandwidth::{measure_bandwidth, Bandwidth, EngineTraffic};
 use crate::gpu::solver::{EngineMode, GpuSolver};
-use crate::gpu::variant::{Precision, SearchVariant, VariantSpec};
+use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
+use crate::real::Precision;
 use crate::real::Real;
 use crate::scene::build::build_layout;
 use crate::scene::initial::initial_velocities;
@@ -199,7 +201,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
             eprintln!("engine: {spec}: unsupported on this adapter: {e}");
             continue;
         }
-        if spec.search == SearchVariant::Direct && n > DIRECT_MAX_N && opts.variants.is_empty() {
+        if spec.search == SearchKind::Direct && n > DIRECT_MAX_N && opts.variants.is_empty() {
             continue;
         }
         after.push(runs.record(spec, EngineMode::AFTER));

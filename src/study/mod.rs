@@ -34,7 +34,8 @@ pub mod report;
 pub mod thesis_figs;
 pub mod timing;
 
-use crate::backend::{BackendId, Frame};
+use crate::backend::Frame;
+use crate::backend_id::BackendId;
 use crate::gpu::GpuContext;
 use crate::run::measure;
 use crate::scene::build::{build_layout, Layout};
@@ -332,7 +333,7 @@ impl Common<'_> {
 const REFERENCE: BackendId = BackendId::Cpu {
     exec: crate::exec::Exec::Serial,
     search: crate::neighbours::SearchKind::Cells,
-    precision: crate::gpu::variant::Precision::F64,
+    precision: crate::real::Precision::F64,
 };
 
 /// Builds and times one job from the shared start.
@@ -370,7 +371,7 @@ fn run_sweep(
     let first_gpu = planned
         .iter()
         .find(|s| **s == crate::gpu::variant::VariantSpec::default())
-        .or_else(|| planned.iter().find(|s| s.search != crate::gpu::variant::SearchVariant::Direct))
+        .or_else(|| planned.iter().find(|s| s.search != crate::neighbours::SearchKind::Direct))
         .or(planned.first())
         .copied();
     let probe = if all.is_empty() { plan::Probe::default() } else { plan::Probe::run(opts, gpu, first_gpu)? };

@@ -11,12 +11,13 @@
 
 use super::timing::{advance, Protocol};
 use super::{study_scene_with, StudyOptions, DIRECT_MAX_N};
-use crate::backend::BackendId;
+use crate::backend_id::BackendId;
 use crate::exec::Exec;
-use crate::gpu::variant::{Precision, SearchVariant, VariantSpec};
+use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::plan::Plan as ResourcePlan;
+use crate::real::Precision;
 use crate::scene::build::build_layout;
 use crate::scene::initial::initial_velocities;
 use std::collections::BTreeSet;
@@ -28,7 +29,7 @@ use std::time::Instant;
 /// keeps, one per size for the whole study: this size's and those of `earlier` particles (the
 /// sizes checked before it).
 pub fn resource_plan(scene: &crate::scene::Scene, earlier: f64) -> ResourcePlan {
-    let p = ResourcePlan::new(scene, 8, false);
+    let p = crate::resources::run_plan(scene, 8, false);
     let kept = (earlier + p.n_total) * crate::backend::Frame::BYTES_PER_PARTICLE;
     p.with_buffer("reference frames kept per size (study)", "copies", kept)
 }
@@ -87,7 +88,7 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
     for e in opts.experiments.iter().filter(|e| SWEEP_EXPERIMENTS.contains(&e.as_str())) {
         for nx in sizes_of(e, opts) {
             let scene = study_scene_with(nx, &opts.sets)?;
-            let plan = ResourcePlan::new(&scene, 8, false);
+            let plan = crate::resources::run_plan(&scene, 8, false);
             let n = plan.n_total as usize;
             let mut push = |id: BackendId, threads: usize| {
                 out.push(Job { experiment: e.clone(), nx, n, id, threads, est_s: 0.0, rep_s: 0.0, extra_blocks: 0 })
@@ -113,14 +114,14 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
                 ));
             }
             let Some(g) = gpu else { continue };
-            let gplan = ResourcePlan::new(&scene, 4, true);
-            let device = crate::plan::gpu::DeviceLimits::of(g, None);
+            let gplan = crate::resources::run_plan(&scene, 4, true);
+            let device = crate::gpu::plan::DeviceLimits::of(g, None);
             for &spec in &supported {
                 // E1 compares the searches: the default variant of each.
                 if e == "e1" && spec != (VariantSpec { search: spec.search, ..VariantSpec::default() }) {
                     continue;
                 }
-                if spec.search == SearchVariant::Direct && n > DIRECT_MAX_N && opts.variants.is_empty() {
+                if spec.search == SearchKind::Direct && n > DIRECT_MAX_N && opts.variants.is_empty() {
                     notes.insert(format!(
                         "direct GPU variants only up to {DIRECT_MAX_N} particles (O(N²)) unless named in --variants"
                     ));
@@ -256,7 +257,7 @@ impl Probe {
             let n = j.n as f64;
             let direct = match j.id {
                 BackendId::Cpu { search, .. } => search == SearchKind::Direct,
-                BackendId::Gpu(s) => s.search == SearchVariant::Direct,
+                BackendId::Gpu(s) => s.search == SearchKind::Direct,
             };
             let (ms, build) = match j.id {
                 BackendId::Cpu { exec: Exec::Serial, .. } => (self.cpu1.ms(n, direct), 0.0),

@@ -39,7 +39,7 @@ pub struct ValidateOptions {
     /// Coarse, short runs (test-suite size).
     pub quick: bool,
     /// The backend of every run.
-    pub backend: crate::backend::BackendId,
+    pub backend: crate::backend_id::BackendId,
     /// Report root (`reports/validation`).
     pub out: PathBuf,
     /// Reuse matching finished runs.
@@ -63,7 +63,7 @@ impl Default for ValidateOptions {
     fn default() -> Self {
         Self {
             quick: false,
-            backend: crate::backend::BackendId::default(),
+            backend: crate::backend_id::BackendId::default(),
             out: PathBuf::from("reports/validation"),
             reuse: false,
             t_end_long: None,

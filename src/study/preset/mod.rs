@@ -80,15 +80,15 @@ pub fn adapter_slug(name: &str) -> String {
 
 /// The scaling resolutions whose host plan and GPU buffers fit this adapter.
 pub fn fitting_sizes(ctx: &GpuContext) -> Vec<u32> {
-    let device = crate::plan::gpu::DeviceLimits::of(ctx, None);
+    let device = crate::gpu::plan::DeviceLimits::of(ctx, None);
     let limits = crate::plan::Limits::default();
     parts::SCALING_NX
         .iter()
         .copied()
         .filter(|&nx| {
             let Ok(scene) = super::study_scene_with(nx, &[]) else { return false };
-            crate::plan::Plan::new(&scene, 8, false).check(&limits).is_ok()
-                && crate::plan::Plan::new(&scene, 4, true).check_gpu(&device).is_ok()
+            crate::resources::run_plan(&scene, 8, false).check(&limits).is_ok()
+                && crate::resources::run_plan(&scene, 4, true).check_gpu(&device).is_ok()
         })
         .collect()
 }

@@ -107,9 +107,7 @@ impl Scale {
 pub fn leading_variants() -> Vec<VariantSpec> {
     VariantSpec::all()
         .into_iter()
-        .filter(|s| {
-            s.to_string().contains(".thread.recomputed.") && s.search != crate::gpu::variant::SearchVariant::Direct
-        })
+        .filter(|s| s.to_string().contains(".thread.recomputed.") && s.search != crate::neighbours::SearchKind::Direct)
         .collect()
 }
 

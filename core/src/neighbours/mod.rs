@@ -124,6 +124,8 @@ pub enum SearchKind {
 }
 
 impl SearchKind {
+    /// Every search, in a stable order.
+    pub const ALL: &'static [SearchKind] = &[SearchKind::Direct, SearchKind::Cells, SearchKind::Tracking];
     /// Stable id.
     pub fn name(self) -> &'static str {
         match self {
@@ -140,6 +142,19 @@ impl SearchKind {
             "tracking" => SearchKind::Tracking,
             _ => return None,
         })
+    }
+}
+
+impl std::fmt::Display for SearchKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for SearchKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::parse(s).ok_or_else(|| format!("unknown search `{s}` (direct, cells, tracking)"))
     }
 }
 

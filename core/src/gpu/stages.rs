@@ -9,8 +9,10 @@
 //! a kernel whose entry point is not the stage name.
 
 use super::compose::{compose_variant, F64};
-use super::variant::{Accumulation, KernelValues, Precision, SearchVariant, SumLayout, VariantSpec};
+use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec};
 use super::{GpuContext, GpuError};
+use crate::neighbours::SearchKind;
+use crate::real::Precision;
 use crate::stage::Stage;
 use std::collections::HashMap;
 
@@ -162,9 +164,9 @@ pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
 /// The kernels of every stage of a variant: `neighbour_search` first, then the table's order.
 pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     let mut search = match spec.search {
-        SearchVariant::Direct => Vec::new(),
-        SearchVariant::Cells => [CELLS_SEARCH, REORDER].concat(),
-        SearchVariant::Tracking => [TRACKING_PRE, CELLS_SEARCH, REORDER, TRACKING_POST].concat(),
+        SearchKind::Direct => Vec::new(),
+        SearchKind::Cells => [CELLS_SEARCH, REORDER].concat(),
+        SearchKind::Tracking => [TRACKING_PRE, CELLS_SEARCH, REORDER, TRACKING_POST].concat(),
     };
     if spec.has_lists() {
         search.extend_from_slice(NBR_BUILD);
@@ -181,9 +183,9 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
         d.push(F64);
     }
     match spec.search {
-        SearchVariant::Direct => d.push("DIRECT"),
-        SearchVariant::Tracking => d.push("TRACKING"),
-        SearchVariant::Cells => {}
+        SearchKind::Direct => d.push("DIRECT"),
+        SearchKind::Tracking => d.push("TRACKING"),
+        SearchKind::Cells => {}
     }
     if spec.kernel_values == KernelValues::Cached {
         d.push("CACHED");

@@ -26,8 +26,8 @@ use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
 use crate::backend::{Backend, DeviceTimes, EngineCounters, Frame, SolverError};
 use crate::fields::Fields;
+use crate::gpu::plan::{DeviceLimits, GpuPlan};
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
-use crate::plan::gpu::{DeviceLimits, GpuPlan};
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{ContactMode, Integrator, Scene};
@@ -166,12 +166,12 @@ impl<T: Real> GpuSolver<T> {
         plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
         let codes = model.images.codes().len() as u64;
         let driver = format!("{} {}", ctx.adapter_info.name, ctx.adapter_info.driver);
-        crate::plan::gpu::direct_loop_check(&spec, n as u64, codes, &driver).map_err(GpuError::Unsupported)?;
+        crate::gpu::plan::direct_loop_check(&spec, n as u64, codes, &driver).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
         let vb = VBufs::new(&ctx, spec, &model, n)?;
         let evals = Self::evaluations_per_step(scene.time.integrator);
-        let renumbers = spec.search != super::variant::SearchVariant::Direct;
+        let renumbers = spec.search != crate::neighbours::SearchKind::Direct;
         let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
         let compiled = ctx.pipelines.get(&ctx, &spec)?;
         let pipes = compiled.pipes.clone();
@@ -302,7 +302,7 @@ impl<T: Real> GpuSolver<T> {
             Domain::One | Domain::Group => return [1, 1, 1],
             Domain::Cells => self.grid.cells(),
             Domain::ScanBlocks => {
-                let (gx, gy) = spread(crate::plan::gpu::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
+                let (gx, gy) = spread(crate::gpu::plan::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
                 return [gx, gy, 1];
             }
             Domain::Subgroups => {
@@ -654,7 +654,7 @@ pub fn new_backend(
     spec: VariantSpec,
 ) -> Result<Box<dyn Backend>, GpuError> {
     Ok(match spec.precision {
-        super::variant::Precision::F32 => Box::new(GpuSolver::<f32>::new(ctx, scene, layout, spec)?),
-        super::variant::Precision::F64 => Box::new(GpuSolver::<f64>::new(ctx, scene, layout, spec)?),
+        crate::real::Precision::F32 => Box::new(GpuSolver::<f32>::new(ctx, scene, layout, spec)?),
+        crate::real::Precision::F64 => Box::new(GpuSolver::<f64>::new(ctx, scene, layout, spec)?),
     })
 }

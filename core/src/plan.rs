@@ -1,11 +1,10 @@
 //! The resource plan of a run, computed from the scene alone before anything big is allocated:
 //! fluid and wall particle counts from the domain, spacing and wall depth, the cell-grid size
-//! from the kernel support, and every host buffer a run sizes by its particles, by part:
-//! solver (particle state, fields, layout), neighbours (lists, cell grid), outputs (the
-//! read-back frame a snapshot is written from, the VTK text) and diagnostics (the contact-angle
-//! grid and interface points); the study adds the reference frames it keeps
-//! ([`Plan::with_buffer`]; validation reads its runs back one snapshot at a time after they
-//! end). Each byte count comes from the module that allocates the buffer.
+//! from the kernel support, and every host buffer the solver sizes by its particles, by part:
+//! solver (particle state, fields, layout), neighbours (lists, cell grid) and outputs (the
+//! read-back frame); whoever adds buffers of its own (the lab's outputs and diagnostics, the
+//! study's reference frames) adds them with [`Plan::with_buffer`], each byte count from the
+//! module that allocates the buffer.
 //! [`Plan::check`] compares the total with [`Limits`] (`--max-particles`, and the smallest
 //! memory limit of [`memory_limits`] and `--max-memory`) and refuses with every number when it
 //! does not fit, so a huge resolution or a tiny `h_ratio` is an input error (exit 2), never an
@@ -14,15 +13,15 @@
 //! Counts are computed in `f64`, so an absurd scene (`domain.y = [0, 1e300]`) gives an absurd
 //! but finite plan instead of an overflow. The byte counts are deliberately generous upper
 //! estimates of what the run holds at once; the GPU estimates (device buffers of a variant)
-//! live here too, so a GPU-engine change refines them in one place: [`gpu`] plans every device
-//! buffer of a variant and checks it against the adapter before any buffer is created.
+//! live in the GPU executor (`gpu::plan`), which plans every device buffer of a variant and checks
+//! it against the adapter before any buffer is created.
 
-pub mod gpu;
 pub mod memory_limits;
 
+use crate::gpu::plan as gpu;
 use crate::neighbours::INDEX_MASK;
-use crate::scene::{ContactMode, Scene};
-pub use memory_limits::{available_memory, MemoryLimit};
+use crate::scene::Scene;
+pub use memory_limits::{available_memory, fmt_bytes, MemoryLimit};
 use serde::Serialize;
 
 /// Fraction of the available memory a run may plan to use by default.
@@ -128,24 +127,6 @@ pub fn parse_bytes(text: &str) -> Result<u64, String> {
     Ok(b as u64)
 }
 
-/// Formats bytes for people: `1.50 GiB`.
-pub fn fmt_bytes(b: f64) -> String {
-    const U: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
-    let mut v = b;
-    let mut i = 0;
-    while v >= 1024.0 && i + 1 < U.len() {
-        v /= 1024.0;
-        i += 1;
-    }
-    if i == 0 {
-        format!("{v:.0} B")
-    } else if v < 1e6 {
-        format!("{v:.2} {}", U[i])
-    } else {
-        format!("{b:.3e} B")
-    }
-}
-
 /// Bytes per particle of the solver's state and fields, by the size of the working real (4 or
 /// 8): position, velocity, their midpoint copies (8 reals), evaluation fields (σ, χ, m, ρ, p,
 /// 4 gradient, 3 stress, 2 acceleration, 2 transport velocity: 16 reals), colour and phase.
@@ -156,7 +137,7 @@ pub fn solver_bytes_per_particle(real: usize) -> f64 {
 /// Bytes per particle of the f64 layout the solver is built from (position, velocity, phase).
 pub const LAYOUT_BYTES_PER_PARTICLE: f64 = 36.0;
 /// Bytes per particle of the start-up copies of the fluid's positions and velocities
-/// ([`crate::run::initial_velocities`]).
+/// ([`crate::scene::initial::initial_velocities`]).
 pub const START_BYTES_PER_PARTICLE: f64 = 32.0;
 
 /// One host buffer (or group of buffers) of the plan.
@@ -257,13 +238,6 @@ impl Plan {
             part: "outputs",
             bytes: n_total * crate::backend::Frame::BYTES_PER_PARTICLE,
         });
-        if scene.contact.mode != ContactMode::None {
-            host.push(HostBuffer {
-                name: "contact-angle gas grid and interface points",
-                part: "diagnostics",
-                bytes: crate::diagnostics::contact_angle::max_bytes(n_fluid),
-            });
-        }
         let gpu = gpu.then(|| gpu::GpuPlan::new(&Default::default(), n_total as u64, cells as u64));
         let mut plan = Plan {
             nx,
@@ -299,15 +273,6 @@ impl Plan {
         self.diagnostic_bytes = part("diagnostics");
         self.copy_bytes = part("copies");
         self.total_bytes = BASE_BYTES + self.host.iter().map(|b| b.bytes).sum::<f64>();
-    }
-
-    /// The plan with the VTK writer (`--vtk`): the text of one data array at a time.
-    pub fn with_vtk(self, vtk: bool) -> Plan {
-        if !vtk {
-            return self;
-        }
-        let bytes = crate::output::snapshot::vtk_buffer_bytes(self.n_total);
-        self.with_buffer("VTK text of one data array", "outputs", bytes)
     }
 
     /// The plan with one more host buffer of `bytes` (`part` as in [`HostBuffer::part`]).
@@ -446,19 +411,16 @@ mod tests {
     }
 
     #[test]
-    fn outputs_and_diagnostics_are_planned() {
+    fn the_core_plans_the_solver_the_neighbours_and_the_frame() {
         let s = apply_overrides(&builtin("sessile-90").unwrap(), &["domain.nx=40".into()]).unwrap();
         let p = Plan::new(&s, 8, false);
-        let names: Vec<&str> = p.host.iter().map(|b| b.name).collect();
-        assert!(p.diagnostic_bytes > 0.0 && p.output_bytes > 0.0, "{names:?}");
-        assert!(names.iter().any(|n| n.contains("contact-angle")) && !names.iter().any(|n| n.contains("VTK")));
-        let v = p.clone().with_vtk(true);
-        assert!(v.output_bytes > p.output_bytes && v.total_bytes > p.total_bytes);
-        let sum: f64 = v.host.iter().map(|b| b.bytes).sum();
-        assert_eq!(v.total_bytes, BASE_BYTES + sum);
-        // No contact model: no contact-angle diagnostic.
-        let drop = apply_overrides(&builtin("oscillating-drop").unwrap(), &["domain.nx=40".into()]).unwrap();
-        assert_eq!(Plan::new(&drop, 8, false).diagnostic_bytes, 0.0);
+        let parts: Vec<&str> = p.host.iter().map(|b| b.part).collect();
+        assert_eq!(parts, ["solver", "solver", "solver", "neighbours", "neighbours", "outputs"]);
+        assert!(p.output_bytes > 0.0 && p.diagnostic_bytes == 0.0);
+        let with = p.clone().with_buffer("probe", "diagnostics", 1e6);
+        assert_eq!((with.diagnostic_bytes, with.total_bytes), (1e6, p.total_bytes + 1e6));
+        let sum: f64 = p.host.iter().map(|b| b.bytes).sum();
+        assert_eq!(p.total_bytes, BASE_BYTES + sum);
     }
 
     #[test]

@@ -22,8 +22,10 @@
 //! bound of the bandwidth a variant really uses.
 
 use super::solver::spread;
-use super::variant::{Accumulation, KernelValues, Mapping, Precision, SearchVariant, SumLayout, VariantSpec};
+use super::variant::{Accumulation, KernelValues, Mapping, SumLayout, VariantSpec};
 use super::{GpuContext, GpuError};
+use crate::neighbours::SearchKind;
+use crate::real::Precision;
 use crate::stage::Stage;
 use serde::Serialize;
 
@@ -137,9 +139,9 @@ pub fn stage_bytes(spec: &VariantSpec, stage: Stage, r: f64) -> (f64, u8) {
         // cell_count (pos → cell_of, count RMW), scatter (cell_of, cursor RMW → sorted), sort
         // (sorted read + write); tracking adds the displacement check (pos, ref_pos).
         Stage::NeighbourSearch => match spec.search {
-            SearchVariant::Direct => (0.0, 0),
-            SearchVariant::Cells => (v + 36.0, 0),
-            SearchVariant::Tracking => (3.0 * v + 36.0, 0),
+            SearchKind::Direct => (0.0, 0),
+            SearchKind::Cells => (v + 36.0, 0),
+            SearchKind::Tracking => (3.0 * v + 36.0, 0),
         },
         Stage::NumberDensity => (v + 2.0 * r, 0),
         Stage::ContactLine => (0.0, 1),

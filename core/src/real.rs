@@ -2,8 +2,55 @@
 //! and in `f32` (what the GPU computes). Constants are written in `f64` and converted with
 //! [`Real::c`], the way DualSPHysics computes kernel constants in double and stores them as float.
 
-use std::fmt::{Debug, Display};
+use std::fmt::{self, Debug, Display};
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+use std::str::FromStr;
+
+/// The working precision of a backend, as a value: the CPU reference's `T` ([`Real::NAME`]) and
+/// a GPU variant's storage and arithmetic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Precision {
+    /// f32.
+    F32,
+    /// f64 (on the GPU: SHADER_F64).
+    F64,
+}
+
+impl Precision {
+    /// Every value.
+    pub const ALL: &'static [Precision] = &[Precision::F32, Precision::F64];
+    /// The id component: `f32` or `f64`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+    /// Parses an id component.
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.iter().copied().find(|p| p.name() == s)
+    }
+    /// Bytes of one real.
+    pub fn bytes(self) -> usize {
+        match self {
+            Precision::F32 => 4,
+            Precision::F64 => 8,
+        }
+    }
+}
+
+impl Display for Precision {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Precision {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::parse(s).ok_or_else(|| format!("unknown precision `{s}` (f64, f32)"))
+    }
+}
 
 /// A floating-point type the solver can run in (`f32` or `f64`).
 pub trait Real:

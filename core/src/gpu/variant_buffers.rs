@@ -15,10 +15,11 @@
 //! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
-use super::variant::{SearchVariant, SumLayout, VariantSpec};
+use super::variant::{SumLayout, VariantSpec};
 use super::{GpuContext, GpuError, GpuVec};
 use crate::backend::SolverError;
 use crate::model::Model;
+use crate::neighbours::SearchKind;
 use crate::neighbours::TrackingCfg;
 use crate::real::{Real, V2};
 
@@ -111,7 +112,7 @@ impl<T: Real> VBufs<T> {
     /// Allocates what `spec` uses for `n` particles and writes the constants.
     pub fn new(ctx: &GpuContext, spec: VariantSpec, m: &Model<T>, n: usize) -> Result<Self, GpuError> {
         let lists = spec.has_lists();
-        let tracking = spec.search == SearchVariant::Tracking;
+        let tracking = spec.search == SearchKind::Tracking;
         let if_ = |on: bool, len: usize| if on { len } else { 1 };
         let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
         let v2 = |name: &str, len| GpuVec::<V2<T>>::new(ctx, &format!("sphlab.{name}"), len);

@@ -7,11 +7,12 @@
 use super::reorder::{to_device, to_original};
 use super::solver::GpuSolver;
 use super::solver_buffers::ctl;
-use super::variant::{SearchVariant, SumLayout};
+use super::variant::SumLayout;
 use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
 use crate::model::MAX_CONTACTS;
+use crate::neighbours::SearchKind;
 use crate::neighbours::INDEX_MASK as PACK_MASK;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
@@ -147,7 +148,7 @@ impl<T: Real> GpuSolver<T> {
         let ctx = &*self.ctx;
         let o = self.device_order()?;
         let orig = |e: u32| o[(e & PACK_MASK) as usize] | (e & !PACK_MASK);
-        let (cell_start, sorted) = if self.spec.search == SearchVariant::Direct {
+        let (cell_start, sorted) = if self.spec.search == SearchKind::Direct {
             (Vec::new(), Vec::new())
         } else {
             let start = self.b.cell_start.read_back(ctx)?;

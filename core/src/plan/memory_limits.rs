@@ -9,7 +9,6 @@
 //! A source that is missing or unlimited (no `/proc`, `ulimit -v unlimited`, `memory.max` =
 //! `max`, no memory cgroup) gives no limit. The parsers take text, so tests feed them.
 
-use super::fmt_bytes;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -185,6 +184,24 @@ pub fn cgroup_limit(proc_cgroup: &str, mountinfo: &str) -> Option<MemoryLimit> {
         }
     }
     best
+}
+
+/// Formats bytes for people: `1.50 GiB`.
+pub fn fmt_bytes(b: f64) -> String {
+    const U: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
+    let mut v = b;
+    let mut i = 0;
+    while v >= 1024.0 && i + 1 < U.len() {
+        v /= 1024.0;
+        i += 1;
+    }
+    if i == 0 {
+        format!("{v:.0} B")
+    } else if v < 1e6 {
+        format!("{v:.2} {}", U[i])
+    } else {
+        format!("{b:.3e} B")
+    }
 }
 
 #[cfg(test)]

@@ -19,11 +19,13 @@
 //! solver) naming the buffer, the bytes needed and the bytes available. Timestamp query
 //! buffers (only while stage timing is on) and the bandwidth probe's buffers are not counted.
 
-use super::fmt_bytes;
-use crate::gpu::variant::{KernelValues, Precision, SearchVariant, SumLayout, VariantSpec};
+use crate::gpu::variant::{KernelValues, SumLayout, VariantSpec};
 use crate::gpu::variant_buffers::{vctl, CAND_SLOTS, NBR_SLOTS};
 use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
+use crate::neighbours::SearchKind;
+use crate::plan::fmt_bytes;
+use crate::real::Precision;
 use serde::Serialize;
 
 /// Cells per workgroup of the parallel cell scan (`search/cell_scan.wgsl`); the per-block sums
@@ -61,7 +63,7 @@ impl DeviceLimits {
     pub fn of(ctx: &GpuContext, gpu_memory: Option<u64>) -> Self {
         let (memory, memory_source) = match gpu_memory {
             Some(m) => (Some(m), "--gpu-memory".to_string()),
-            None if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu => match super::available_memory() {
+            None if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu => match crate::plan::available_memory() {
                 Some(m) => (Some(m), "host MemAvailable (CPU adapter: device memory is host memory)".into()),
                 None => (None, "unknown (CPU adapter without /proc/meminfo; pass --gpu-memory)".into()),
             },
@@ -130,7 +132,7 @@ impl GpuPlan {
         let r = if spec.precision == Precision::F64 { 8 } else { 4 };
         let v2 = 2 * r;
         let lists = spec.has_lists();
-        let tracking = spec.search == SearchVariant::Tracking;
+        let tracking = spec.search == SearchKind::Tracking;
         let cached = lists && spec.kernel_values == KernelValues::Cached;
         let block = spec.mapping.layout() == SumLayout::Block;
         let on = |b: bool, len: u64| if b { len } else { 1 };
@@ -144,7 +146,7 @@ impl GpuPlan {
             .max(16)
             .next_multiple_of(16);
         let reorder =
-            crate::gpu::reorder::len(tracking || spec.search == SearchVariant::Cells, n as usize, cells as usize);
+            crate::gpu::reorder::len(tracking || spec.search == SearchKind::Cells, n as usize, cells as usize);
         let list: [(&'static str, u64, u64); 33] = [
             ("pos", n, v2),
             ("vel", n, v2),
@@ -261,7 +263,7 @@ const LAVAPIPE_LANES: u64 = 8;
 /// worst case, every lane apart. Measured: a one-candidate loop lost neighbours from
 /// 2,304 particles (4 codes) on; the chunked loop is exact at 11,664 (this bound: 16,126).
 pub fn direct_loop_check(spec: &VariantSpec, n: u64, codes: u64, driver: &str) -> Result<(), String> {
-    if spec.search != SearchVariant::Direct || !driver.to_ascii_lowercase().contains("llvmpipe") {
+    if spec.search != SearchKind::Direct || !driver.to_ascii_lowercase().contains("llvmpipe") {
         return Ok(());
     }
     let per_lane = (codes * n).div_ceil(DIRECT_CHUNK) + 2 * 64;

@@ -95,7 +95,7 @@ impl<T: Real> Bufs<T> {
             contacts: s("contacts", 4 * MAX_CONTACTS)?,
             ctl: u("ctl", ctl::LEN)?,
             // The counts, then the block sums of the parallel scan (search/cell_scan.wgsl).
-            cell_count: u("cell_count", cells + crate::plan::gpu::scan_blocks(cells))?,
+            cell_count: u("cell_count", cells + crate::gpu::plan::scan_blocks(cells))?,
             cell_start: u("cell_start", cells + 1)?,
             sorted: u("sorted", n)?,
             cell_of: u("cell_of", n)?,

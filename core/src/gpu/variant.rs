@@ -7,19 +7,10 @@
 //! is implemented; [`VariantSpec::support`] says why an adapter cannot run one.
 
 use super::GpuContext;
+use crate::neighbours::SearchKind;
+use crate::real::Precision;
 use std::fmt;
 use std::str::FromStr;
-
-/// Neighbour search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SearchVariant {
-    /// Every particle under every image code.
-    Direct,
-    /// Cell grid by counting sort, rebuilt every evaluation.
-    Cells,
-    /// Tracking lists (candidates kept between evaluations).
-    Tracking,
-}
 
 /// How a mapping lays out the neighbour sums.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -56,20 +47,11 @@ pub enum KernelValues {
     Cached,
 }
 
-/// Storage and arithmetic precision.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Precision {
-    /// f32.
-    F32,
-    /// f64 (SHADER_F64).
-    F64,
-}
-
 /// One GPU variant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct VariantSpec {
     /// Neighbour search.
-    pub search: SearchVariant,
+    pub search: SearchKind,
     /// Work mapping.
     pub mapping: Mapping,
     /// Accumulation (`None` exactly for the thread mapping).
@@ -95,7 +77,6 @@ macro_rules! names {
         }
     };
 }
-names!(SearchVariant { Direct = "direct", Cells = "cells", Tracking = "tracking" });
 
 /// The mapping registry: one line per mapping, `Variant = "id": file, layout;`. The file holds
 /// the mapping's pair-sum kernels, one entry point per pair-sum stage named as the stage
@@ -135,7 +116,6 @@ mappings! {
 }
 names!(Accumulation { None = "none", Cas = "cas", Native = "native", Fixed = "fixed" });
 names!(KernelValues { Recomputed = "recomputed", Cached = "cached" });
-names!(Precision { F32 = "f32", F64 = "f64" });
 
 impl Default for VariantSpec {
     fn default() -> Self {
@@ -158,7 +138,7 @@ impl VariantSpec {
     /// Every variant that makes sense, in a stable order.
     pub fn all() -> Vec<VariantSpec> {
         let mut v = Vec::new();
-        for &search in SearchVariant::ALL {
+        for &search in SearchKind::ALL {
             for &mapping in Mapping::ALL {
                 for &accumulation in Accumulation::ALL {
                     for &kernel_values in KernelValues::ALL {
@@ -278,7 +258,7 @@ impl FromStr for VariantSpec {
             _ => return Err(bad()),
         };
         let spec = VariantSpec {
-            search: SearchVariant::parse(s).ok_or_else(bad)?,
+            search: SearchKind::parse(s).ok_or_else(bad)?,
             mapping: Mapping::parse(m).ok_or_else(bad)?,
             accumulation: Accumulation::parse(a).ok_or_else(bad)?,
             kernel_values: KernelValues::parse(k).ok_or_else(bad)?,

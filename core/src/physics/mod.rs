@@ -3,7 +3,7 @@
 //! Each Rust function has a WGSL twin of the same name in `shaders/` (tested together in
 //! `tests/wgsl_twins.rs`):
 //!
-//! | Rust (`src/physics/`) | WGSL (`shaders/`) | equations |
+//! | Rust (`core/src/physics/`) | WGSL (`shaders/`) | equations |
 //! |---|---|---|
 //! | `kernel::kernel_f`, `kernel_df`, `kernel_w`, `kernel_dwdr` | `kernel.wgsl` | T40–T43 |
 //! | `eos::eos_pressure` | `eos.wgsl` | T34–T36 |

@@ -11,6 +11,7 @@ pub mod context;
 pub mod counters;
 pub mod params;
 pub mod pipeline_cache;
+pub mod plan;
 mod readback;
 pub mod reorder;
 pub mod residency;
