@@ -14,12 +14,13 @@ use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::fields::{Field, Fields};
 use sphlab::gpu::compose::{compose_mapped, validate};
-use sphlab::gpu::params::{GridSpec, Params};
+use sphlab::gpu::params::Params;
 use sphlab::gpu::solver_buffers::{self, Bufs};
 use sphlab::gpu::stages::{defines, PAIR_STAGES};
 use sphlab::gpu::variant::{Accumulation, KernelValues, Mapping, SumLayout, VariantSpec};
 use sphlab::gpu::variant_buffers::{self, VBufs};
 use sphlab::gpu::GpuContext;
+use sphlab::neighbours::cells::CellBox;
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Precision;
 use sphlab::real::{Real, V2};
@@ -155,7 +156,7 @@ struct Device<T: Real> {
 impl<T: Real> Device<T> {
     fn new(ctx: &GpuContext, cpu: &CpuSolver<T>, spec: VariantSpec) -> Self {
         let n = cpu.pos.len();
-        let grid = GridSpec::new(&cpu.pos, cpu.model.support());
+        let grid = CellBox::over(&cpu.pos, cpu.model.support());
         let params = Params::new(&cpu.model, n, cpu.n_fluid, &grid);
         let b = Bufs::new(ctx, &params, n, grid.cells()).expect("state buffers");
         let vb = VBufs::new(ctx, spec, &cpu.model, n).expect("strategy buffers");

@@ -19,7 +19,9 @@
 pub mod memory_limits;
 
 use crate::gpu::plan as gpu;
+use crate::neighbours::cells::CellBox;
 use crate::neighbours::INDEX_MASK;
+use crate::scene::lattice::Lattice;
 use crate::scene::Scene;
 pub use memory_limits::{available_memory, fmt_bytes, MemoryLimit};
 use serde::Serialize;
@@ -200,21 +202,15 @@ impl Plan {
     /// domain extents and `kernel.h_ratio` are finite and positive (as [`Scene::validate`]
     /// checks); any other value still gives a finite plan.
     pub fn new(scene: &Scene, real: usize, gpu: bool) -> Plan {
-        let d = &scene.domain;
-        let (lx, ly) = (d.x[1] - d.x[0], d.y[1] - d.y[0]);
-        let nx = d.nx as f64;
-        let dx = lx / nx;
-        let ny = (ly / dx).round().max(1.0);
-        let support = scene.support();
-        let wall_layers = 2.0 * (support / dx - 1e-9).ceil().max(0.0);
-        let ext = |s: crate::scene::Side| if s.is_wall() { wall_layers } else { 0.0 };
-        let (wx, wy) = (nx + ext(d.left) + ext(d.right), ny + ext(d.bottom) + ext(d.top));
+        let lattice = Lattice::of(scene);
+        let (nx, ny, dx, wall_layers) = (lattice.nx, lattice.ny.max(1.0), lattice.dx, lattice.wall_layers);
+        let (wx, wy) = (nx + lattice.sides[0] + lattice.sides[1], ny + lattice.sides[2] + lattice.sides[3]);
         let n_fluid = nx * ny;
         let n_total = wx * wy;
         let n_wall = n_total - n_fluid;
+        let support = scene.support();
         let k = (2.0 * support / dx + 1.0).powi(2);
-        let cell = 1.01 * support;
-        let cells = ((wx * dx / cell).floor() + 3.0) * ((wy * dx / cell).floor() + 3.0);
+        let cells = CellBox::<f64>::cells_over(wx * dx, wy * dx, support);
         let host_real = if gpu { 8 } else { real };
         let mut host = vec![
             HostBuffer {

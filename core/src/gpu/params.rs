@@ -7,7 +7,8 @@
 //! naga's layout of the WGSL struct.
 
 use crate::model::{AxisMap, Model};
-use crate::real::{Real, V2};
+use crate::neighbours::cells::CellBox;
+use crate::real::Real;
 use crate::scene::{ContactMode, WallVelocity};
 
 /// Stage flag bits (`STAGE_*` in `shaders/types.wgsl`).
@@ -121,44 +122,6 @@ unsafe impl<T: Real> bytemuck::Pod for Params<T> {}
 const _: () = assert!(size_of::<Params<f32>>() == 128 + 24 * 4 + 12 * 16);
 const _: () = assert!(size_of::<Params<f64>>() == 128 + 24 * 8 + 12 * 32);
 
-/// The grid of the `cells` search (fixed at construction: walls do not move and fluids stay in
-/// the box; positions outside are clamped into the border cells exactly as the CPU grid does).
-#[derive(Clone, Copy, Debug)]
-pub struct GridSpec<T> {
-    /// Lower corner.
-    pub origin: V2<T>,
-    /// 1 / cell size.
-    pub inv_cell: T,
-    /// Cells along x.
-    pub nx: u32,
-    /// Cells along y.
-    pub ny: u32,
-}
-
-impl<T: Real> GridSpec<T> {
-    /// The grid over the bounding box of `pos` (cell = support × 1.01, like `CellGrid::build`).
-    pub fn new(pos: &[V2<T>], support: T) -> Self {
-        let cell = support * T::c(1.01);
-        let (mut lo, mut hi) = (V2::new(T::infinity(), T::infinity()), V2::new(T::neg_infinity(), T::neg_infinity()));
-        for p in pos {
-            lo = V2::new(lo.x.min(p.x), lo.y.min(p.y));
-            hi = V2::new(hi.x.max(p.x), hi.y.max(p.y));
-        }
-        if pos.is_empty() {
-            (lo, hi) = (V2::zero(), V2::zero());
-        }
-        let origin = lo - V2::new(cell, cell);
-        let inv_cell = T::one() / cell;
-        let nx = (((hi.x - origin.x) * inv_cell).f64().floor() as i64 + 2).max(1) as u32;
-        let ny = (((hi.y - origin.y) * inv_cell).f64().floor() as i64 + 2).max(1) as u32;
-        Self { origin, inv_cell, nx, ny }
-    }
-    /// Number of cells.
-    pub fn cells(&self) -> usize {
-        (self.nx * self.ny) as usize
-    }
-}
-
 fn axis_map<T: Real>(m: Option<AxisMap<T>>) -> (u32, T) {
     match m {
         None => (code::IMAGE_NONE, T::zero()),
@@ -169,7 +132,7 @@ fn axis_map<T: Real>(m: Option<AxisMap<T>>) -> (u32, T) {
 
 impl<T: Real> Params<T> {
     /// The uniform of `m` for `n` particles (`n_fluid` fluids first) on `grid`.
-    pub fn new(m: &Model<T>, n: usize, n_fluid: usize, grid: &GridSpec<T>) -> Self {
+    pub fn new(m: &Model<T>, n: usize, n_fluid: usize, grid: &CellBox<T>) -> Self {
         let mut p: Self = bytemuck::Zeroable::zeroed();
         let kp = m.kernel;
         p.kernel_kind = kp.kind.id();

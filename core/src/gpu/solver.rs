@@ -16,7 +16,7 @@
 //! sees is in the original order.
 
 use super::clock::{write_clock, Control, ControlReader};
-use super::params::{GridSpec, Params};
+use super::params::Params;
 use super::reorder::{self, RBufs};
 use super::solver_buffers::{ctl, Bufs};
 use super::stages::{Domain, Pipelines};
@@ -28,6 +28,7 @@ use crate::backend::{Backend, DeviceTimes, EngineCounters, Frame, SolverError};
 use crate::fields::Fields;
 use crate::gpu::plan::{DeviceLimits, GpuPlan};
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
+use crate::neighbours::cells::CellBox;
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{ContactMode, Integrator, Scene};
@@ -40,7 +41,7 @@ pub struct GpuSolver<T: Real> {
     pub(super) spec: VariantSpec,
     /// Constants (the same struct the CPU uses).
     pub model: Model<T>,
-    pub(super) grid: GridSpec<T>,
+    pub(super) grid: CellBox<T>,
     pub(super) b: Bufs<T>,
     pub(super) vb: VBufs<T>,
     pub(super) rb: RBufs<T>,
@@ -159,7 +160,7 @@ impl<T: Real> GpuSolver<T> {
         let n_fluid = layout.n_fluid;
         let pos: Vec<V2<T>> = layout.pos.iter().map(v2).collect();
         let vel: Vec<V2<T>> = layout.vel.iter().map(v2).collect();
-        let grid = GridSpec::new(&pos, model.support());
+        let grid = CellBox::over(&pos, model.support());
         // The memory plan before any buffer exists: each buffer within the adapter's caps, the
         // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
         let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);

@@ -1,8 +1,58 @@
 //! Uniform cell grid by counting sort (count, prefix sum, scatter), the same algorithm the GPU
-//! `cells` search runs. The cell size is the query radius × 1.01 so that rounding in the image
-//! transforms can never push a true neighbour two cells away.
+//! `cells` search runs, over the one grid geometry both executors use ([`CellBox`]). The cell
+//! size is the query radius × [`CELL_FACTOR`] so that rounding in the image transforms can never
+//! push a true neighbour two cells away.
 
 use crate::real::{Real, V2};
+
+/// Cell size / query radius.
+pub const CELL_FACTOR: f64 = 1.01;
+
+/// The geometry of a cell grid over the bounding box of the particles, one cell of margin on
+/// each side: the CPU grid's and the GPU's `cells` search's (fixed there at construction:
+/// walls do not move and fluids stay in the box; positions outside are clamped into the border
+/// cells).
+#[derive(Clone, Copy, Debug)]
+pub struct CellBox<T> {
+    /// Lower corner.
+    pub origin: V2<T>,
+    /// 1 / cell size.
+    pub inv_cell: T,
+    /// Cells along x.
+    pub nx: u32,
+    /// Cells along y.
+    pub ny: u32,
+}
+
+impl<T: Real> CellBox<T> {
+    /// The grid over the bounding box of `pos` for query radius `radius`.
+    pub fn over(pos: &[V2<T>], radius: T) -> Self {
+        let cell = radius * T::c(CELL_FACTOR);
+        let (mut lo, mut hi) = (V2::new(T::infinity(), T::infinity()), V2::new(T::neg_infinity(), T::neg_infinity()));
+        for p in pos {
+            lo = V2::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = V2::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+        if pos.is_empty() {
+            (lo, hi) = (V2::zero(), V2::zero());
+        }
+        let origin = lo - V2::new(cell, cell);
+        let inv_cell = T::one() / cell;
+        let nx = (((hi.x - origin.x) * inv_cell).f64().floor() as i64 + 2).max(1) as u32;
+        let ny = (((hi.y - origin.y) * inv_cell).f64().floor() as i64 + 2).max(1) as u32;
+        Self { origin, inv_cell, nx, ny }
+    }
+    /// Number of cells.
+    pub fn cells(&self) -> usize {
+        (self.nx * self.ny) as usize
+    }
+    /// An upper estimate of the cells over particles spanning `width × height`, for the resource
+    /// plan (in `f64`, finite for any finite extent).
+    pub fn cells_over(width: f64, height: f64, radius: f64) -> f64 {
+        let cell = CELL_FACTOR * radius;
+        ((width / cell).floor() + 3.0) * ((height / cell).floor() + 3.0)
+    }
+}
 
 /// A cell grid over the bounding box of the particles.
 #[derive(Clone, Debug)]
@@ -19,22 +69,8 @@ pub struct CellGrid<T> {
 impl<T: Real> CellGrid<T> {
     /// Builds the grid for query radius `radius`.
     pub fn build(pos: &[V2<T>], radius: T) -> Self {
-        let cell = radius * T::c(1.01);
-        let (mut lo, mut hi) = (V2::new(T::infinity(), T::infinity()), V2::new(T::neg_infinity(), T::neg_infinity()));
-        for p in pos {
-            lo.x = lo.x.min(p.x);
-            lo.y = lo.y.min(p.y);
-            hi.x = hi.x.max(p.x);
-            hi.y = hi.y.max(p.y);
-        }
-        if pos.is_empty() {
-            lo = V2::zero();
-            hi = V2::zero();
-        }
-        let origin = lo - V2::new(cell, cell);
-        let inv_cell = T::one() / cell;
-        let nx = (((hi.x - origin.x) * inv_cell).to_f64().unwrap_or(0.0).floor() as i64 + 2).max(1);
-        let ny = (((hi.y - origin.y) * inv_cell).to_f64().unwrap_or(0.0).floor() as i64 + 2).max(1);
+        let CellBox { origin, inv_cell, nx, ny } = CellBox::over(pos, radius);
+        let (nx, ny) = (nx as i64, ny as i64);
         let mut g =
             Self { origin, inv_cell, nx, ny, start: vec![0; (nx * ny + 1) as usize], sorted: vec![0; pos.len()] };
         let ids: Vec<usize> = pos.iter().map(|&p| g.cell_of(p)).collect();
