@@ -13,7 +13,7 @@
 //! Cost: 2 runs of 1,600 fluid particles to t = 0.6 (≈ 4,100 steps), about 20 s each here.
 
 use sphlab::backend::Backend;
-use sphlab::cpu::stages::PairTerm;
+use sphlab::cpu::momentum::PairTerm;
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::forces::balance::{band_tension, cut_rows};

@@ -1,11 +1,11 @@
 //! Force balance of a saved state: every fluid particle's pair forces split by term (pressure,
 //! viscous, surface) and by partner (same fluid phase, other fluid phase, wall), taken from the
-//! very walk the solver sums ([`stages::acceleration_pairs`]); and their sums over a window
+//! very walk the solver sums ([`momentum::acceleration_pairs`]); and their sums over a window
 //! around a contact point, row by row above the wall. It answers "which pairs pull the contact
 //! line, and how hard" (`sphlab forces`).
 
 use crate::backend::SolverError;
-use crate::cpu::stages::{acceleration_pairs, PairTerm};
+use crate::cpu::momentum::{acceleration_pairs, PairTerm};
 use crate::cpu::CpuSolver;
 use crate::exec::Exec;
 use crate::neighbours::SearchKind;

@@ -6,7 +6,7 @@
 use super::balance::{
     band_tension, cut_rows, evaluate_state, split_forces, total, Split, State, Window, PARTNER_NAMES, TERMS, TERM_NAMES,
 };
-use crate::cpu::stages::PairTerm;
+use crate::cpu::momentum::PairTerm;
 use crate::diagnostics::contact_half_width;
 use crate::exec::Exec;
 use crate::scene::{ContactMode, Scene};

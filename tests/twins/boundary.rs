@@ -1,13 +1,13 @@
 //! Twin checks of `shaders/geometry.wgsl` (part of `tests/wgsl_twins.rs`; same harness, error
 //! measure and tolerances, see its module doc): the image transforms against `model::Images`,
 //! `wall_distance`/`wall_normal`/`nearest_wall` against `WallLine` and `Model::nearest_wall`,
-//! `lennard_jones` against `cpu::stages::lennard_jones`, `boundary_axis` against
+//! `lennard_jones` against `cpu::momentum::lennard_jones`, `boundary_axis` against
 //! `cpu::boundary_axis`. Each case is a random box whose four sides are each none, mirror or
 //! periodic, up to four random wall lines, and a point inside, outside or near them.
 
 use super::{check, m, v2, N, TOL32, TOL64};
 use crate::common::{Case, Rng, Twin};
-use sphlab::cpu::{boundary_axis, stages::lennard_jones};
+use sphlab::cpu::{boundary_axis, momentum::lennard_jones};
 use sphlab::gpu::GpuContext;
 use sphlab::model::{AxisMap, Images, Model, WallLine};
 use sphlab::real::{Real, Sym2, V2};

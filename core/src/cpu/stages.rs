@@ -3,6 +3,7 @@
 //! gather over the neighbour list of each particle, so `Exec::Serial` and `Exec::Parallel`
 //! give identical bits. Boundary images enter through `model.images`.
 
+use super::momentum::{acceleration, xsph};
 use crate::exec::{self, Exec};
 pub use crate::fields::{ContactPoint, Fields};
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
@@ -12,9 +13,8 @@ use crate::physics::eos::eos_pressure;
 use crate::physics::kernel::{kernel_dwdr, kernel_w};
 use crate::physics::pair::*;
 use crate::physics::stress::stress_tensor;
-use crate::physics::wall::{holmes_beta, lj_wall_acc, noslip_beta, wall_relative_velocity};
 use crate::real::{Real, Sym2, V2};
-use crate::scene::{ContactMode, WallVelocity};
+use crate::scene::ContactMode;
 use crate::stage::Stage;
 
 /// A CPU evaluation stage: reads the context, updates the fields.
@@ -352,152 +352,4 @@ pub fn surface_stress<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         }
         f.pi[i] = pi;
     }
-}
-
-/// Lennard-Jones repulsion of the boundary points (spacing Δx/2 on each wall line, r0 = Δx/2);
-/// twin of WGSL `lennard_jones` in shaders/geometry.wgsl.
-#[inline(always)]
-pub fn lennard_jones<T: Real>(m: &Model<T>, x: V2<T>) -> V2<T> {
-    let r0 = T::c(0.5) * m.dx;
-    let mut a = V2::zero();
-    for w in &m.walls {
-        if w.wall_distance(x) >= r0 {
-            continue;
-        }
-        let (t, t0) = if w.axis == 0 { (x.y, m.lo.y) } else { (x.x, m.lo.x) };
-        let k0 = ((t - t0) / r0).round();
-        for dk in [-1.0, 0.0, 1.0] {
-            let tb = t0 + (k0 + T::c(dk)) * r0;
-            let b = if w.axis == 0 { V2::new(w.coord, tb) } else { V2::new(tb, w.coord) };
-            a += lj_wall_acc(x - b, r0, m.lj_strength);
-        }
-    }
-    a
-}
-
-/// A term of the pair sum of [`acceleration`], as [`acceleration_pairs`] hands it out.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PairTerm {
-    /// Pressure (T68).
-    Pressure,
-    /// Viscous (T70, with the wall ghost velocities of §6.2–6.4).
-    Viscous,
-    /// Surface stress (T76).
-    Surface,
-    /// The transport-velocity shift a_b (not a force; zero unless `time.background = "transport"`).
-    TransportShift,
-}
-
-/// The pair terms of fluid particle `i`'s acceleration, handed to `sink(j, x_j, term, value)`
-/// (`x_j` the partner's position, or its image's) in the
-/// order [`acceleration`] sums them. A value is a force on `i` (`m_i a`, per unit depth); the
-/// acceleration is their sum over Pressure, Viscous and Surface divided by `m_i`, plus gravity
-/// and the Lennard-Jones walls. The one walk over the neighbours, so the force balance
-/// (`sphlab::forces::balance`) splits the very sums the solver adds.
-#[inline(always)]
-pub fn acceleration_pairs<T: Real>(
-    c: &Ctx<T>,
-    fr: &Fields<T>,
-    i: usize,
-    mut sink: impl FnMut(usize, V2<T>, PairTerm, V2<T>),
-) {
-    let m = c.m;
-    let kp = m.kernel;
-    let st = m.stages;
-    let xi = c.pos[i];
-    let vi = c.vel[i];
-    let inv_s2_i = T::one() / (fr.sigma[i] * fr.sigma[i]);
-    let eta_i = m.phases[c.phase[i] as usize].eta;
-    let wall = m.nearest_wall(xi);
-    let d_i = wall.map_or(T::zero(), |w| w.wall_distance(xi));
-    // Transport-velocity shift a_b (Adami, Hu & Adams 2013, eq. 13): the pressure term (T68)
-    // of a uniform p_b, summed in the same walk.
-    let p_b = m.transport_p_b.as_ref().map_or(T::zero(), |p| p[c.phase[i] as usize]);
-    for &e in c.nbrs.of(i) {
-        let (j, code) = unpack(e);
-        let xj = m.images.image_pos(code, c.pos[j]);
-        let x_ij = xi - xj;
-        let r2 = x_ij.norm2();
-        if r2 == T::zero() {
-            continue;
-        }
-        let r = r2.sqrt();
-        let dwdr = kernel_dwdr(&kp, r);
-        let gw = grad_w_ij(dwdr, x_ij, r);
-        let inv_s2_j = T::one() / (fr.sigma[j] * fr.sigma[j]);
-        sink(j, xj, PairTerm::Pressure, pressure_acc_ij(fr.p[i], inv_s2_i, fr.p[j], inv_s2_j, gw));
-        if p_b != T::zero() {
-            sink(j, xj, PairTerm::TransportShift, pressure_acc_ij(p_b, inv_s2_i, p_b, inv_s2_j, gw));
-        }
-        if st.viscosity {
-            let fac = viscous_fac_ij(dwdr, r, kp.h);
-            let (eta_ij, v_ij) = if j < c.n_fluid {
-                let eta_j = m.phases[c.phase[j] as usize].eta;
-                (harmonic_viscosity(eta_i, eta_j), vi - m.images.image_vec(code, c.vel[j]))
-            } else if let Some(w) = wall {
-                let beta = match m.wall_velocity {
-                    WallVelocity::Morris => noslip_beta(d_i, -w.wall_distance(xj), m.beta_max, m.dx),
-                    WallVelocity::Holmes => holmes_beta(fr.chi[i], fr.chi[j], m.chi_floor, m.beta_max),
-                };
-                (eta_i, wall_relative_velocity(vi, beta, w.free_slip, w.wall_normal()))
-            } else {
-                (eta_i, vi)
-            };
-            sink(j, xj, PairTerm::Viscous, viscous_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij));
-        }
-        if st.surface_tension {
-            sink(
-                j,
-                xj,
-                PairTerm::Surface,
-                surface_acc_ij(fr.pi[i], inv_s2_i, m.images.image_sym(code, fr.pi[j]), inv_s2_j, gw),
-            );
-        }
-    }
-}
-
-/// `acceleration` (T65): pressure (T68) + viscous (T70, wall ghost velocities §6.2–6.4) +
-/// surface (T76) + gravity + optional Lennard-Jones, for fluid particles; the pair sums are
-/// those of [`acceleration_pairs`].
-pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
-    let m = c.m;
-    let fr = &*f;
-    let out: Vec<(V2<T>, V2<T>)> = exec::map(c.exec, c.n_fluid, |i| {
-        let (mut sum, mut shift) = (V2::zero(), V2::zero());
-        acceleration_pairs(c, fr, i, |_, _, term, v| match term {
-            PairTerm::TransportShift => shift += v,
-            _ => sum += v,
-        });
-        let mut a = sum / fr.mass[i] + m.gravity;
-        if m.stages.lennard_jones {
-            a += lennard_jones(m, c.pos[i]);
-        }
-        (a, shift / fr.mass[i])
-    });
-    for (k, (a, _)) in out.iter().enumerate() {
-        f.acc[k] = *a;
-    }
-    f.shift = if m.transport_p_b.is_some() { out.into_iter().map(|o| o.1).collect() } else { Vec::new() };
-}
-
-/// `xsph` (T51): ṽ_i = v_i + ε Σ_{j same fluid phase} 2m_j/(ρ_i+ρ_j) (v_j − v_i) W_ij.
-pub fn xsph<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
-    let m = c.m;
-    let kp = m.kernel;
-    let fr = &*f;
-    let vt: Vec<V2<T>> = exec::map(c.exec, c.n_fluid, |i| {
-        let mut s = V2::zero();
-        for &e in c.nbrs.of(i) {
-            let (j, code) = unpack(e);
-            if j >= c.n_fluid || c.phase[j] != c.phase[i] {
-                continue;
-            }
-            let xj = m.images.image_pos(code, c.pos[j]);
-            let w = kernel_w(&kp, (c.pos[i] - xj).norm());
-            let v_ji = m.images.image_vec(code, c.vel[j]) - c.vel[i];
-            s += xsph_ij(fr.mass[j], fr.rho[i], fr.rho[j], v_ji, w);
-        }
-        c.vel[i] + s * m.xsph
-    });
-    f.vt[..c.n_fluid].copy_from_slice(&vt);
 }

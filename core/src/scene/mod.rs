@@ -10,6 +10,9 @@ pub mod initial;
 pub mod lattice;
 pub mod overrides;
 pub mod validate;
+mod walls;
+
+pub use walls::{Contact, ContactMode, WallPressure, WallVelocity, Walls};
 
 use crate::physics::kernel::KernelKind;
 use serde::{Deserialize, Serialize};
@@ -244,131 +247,6 @@ impl ColourGradient {
     pub fn is_thesis(&self) -> bool {
         *self == ColourGradient::Thesis
     }
-}
-
-/// Contact-angle mode at the bottom wall (§8).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct Contact {
-    /// none | a | b.
-    pub mode: ContactMode,
-    /// Mode A: σ between the wall and fluid phase 0 (σ_LS).
-    #[serde(default)]
-    pub sigma_ls: f64,
-    /// Mode A: σ between the wall and fluid phase 1 (σ_GS).
-    #[serde(default)]
-    pub sigma_gs: f64,
-    /// Mode B: the desired angle θ_d in degrees (inside the liquid, phase 0).
-    #[serde(default = "default_theta")]
-    pub theta_deg: f64,
-    /// Mode B: Algorithm 1 (normal correction) on/off.
-    #[serde(default = "yes")]
-    pub normal_correction: bool,
-    /// Mode B: Algorithm 2 (wall typing by the interpolation line) on/off.
-    #[serde(default = "yes")]
-    pub wall_typing: bool,
-    /// Mode B: the contact-line band is 0 < y − y_w ≤ band·Δx (thesis 1.2).
-    #[serde(default = "default_band")]
-    pub band: f64,
-}
-
-fn default_theta() -> f64 {
-    90.0
-}
-fn yes() -> bool {
-    true
-}
-fn default_band() -> f64 {
-    1.2
-}
-
-impl Default for Contact {
-    fn default() -> Self {
-        Self {
-            mode: ContactMode::None,
-            sigma_ls: 0.0,
-            sigma_gs: 0.0,
-            theta_deg: 90.0,
-            normal_correction: true,
-            wall_typing: true,
-            band: 1.2,
-        }
-    }
-}
-
-/// The contact-angle modes.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "kebab-case")]
-pub enum ContactMode {
-    /// Walls carry no colour.
-    None,
-    /// Mode A: walls are a third phase with σ_LS, σ_GS (Young).
-    A,
-    /// Mode B: one coefficient plus Algorithms 1 and 2.
-    B,
-}
-
-/// Wall treatment (§6).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct Walls {
-    /// t-wall (EOS of the wall's phase) or r-wall (Adami extrapolation).
-    #[serde(default = "default_wall_pressure")]
-    pub pressure: WallPressure,
-    /// morris (geometric distances) or holmes (state ratio χ).
-    #[serde(default = "default_wall_velocity")]
-    pub velocity: WallVelocity,
-    /// Cap β_max of the ghost-velocity factor.
-    #[serde(default = "default_beta_max")]
-    pub beta_max: f64,
-    /// The phase whose mass and EOS untyped wall particles use.
-    #[serde(default)]
-    pub phase: Option<String>,
-    /// Lennard-Jones strength D (0 = off); r0 = Δx/2.
-    #[serde(default)]
-    pub lj_strength: f64,
-}
-
-fn default_wall_pressure() -> WallPressure {
-    WallPressure::TWall
-}
-fn default_wall_velocity() -> WallVelocity {
-    WallVelocity::Morris
-}
-fn default_beta_max() -> f64 {
-    1.5
-}
-
-impl Default for Walls {
-    fn default() -> Self {
-        Self {
-            pressure: WallPressure::TWall,
-            velocity: WallVelocity::Morris,
-            beta_max: 1.5,
-            phase: None,
-            lj_strength: 0.0,
-        }
-    }
-}
-
-/// Wall pressure options (§6.1).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "kebab-case")]
-pub enum WallPressure {
-    /// Thesis: `ρ_w = m_w σ_w`, EOS of the wall's (typed) phase.
-    TWall,
-    /// Adami–Hu–Adams 2012 extrapolation from the fluid neighbours.
-    RWall,
-}
-
-/// Wall ghost-velocity options (§6.2, §6.4).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "kebab-case")]
-pub enum WallVelocity {
-    /// Geometric distances to the nearest wall line.
-    Morris,
-    /// Holmes state ratio χ.
-    Holmes,
 }
 
 /// Time stepping.

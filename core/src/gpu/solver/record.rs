@@ -1,0 +1,138 @@
+//! Recording a step into a command encoder: the workgroup grid of each kernel domain, the
+//! kernels of one stage (the stage table's clears, then one compute pass), an evaluation, a whole
+//! step, and one submission of recorded work.
+
+// The solver's own imports (state, buffers, stage table, errors).
+use super::*;
+
+impl<T: Real> GpuSolver<T> {
+    /// The workgroup grid of a kernel over `d`: the groups a 1-D dispatch would need, spread
+    /// over x and y (x and z for the block layout, whose y holds the 4 list blocks) when x alone
+    /// would pass [`Self::max_groups_per_dim`]; the kernels rebuild the linear index with
+    /// `linear_id` / `linear_group_xz` (kernels-variants/common/dispatch.wgsl).
+    pub fn groups(&self, d: Domain) -> [u32; 3] {
+        let threads = match d {
+            Domain::All => self.n,
+            Domain::Fluid => self.n_fluid,
+            Domain::Wall => self.n - self.n_fluid,
+            Domain::One | Domain::Group => return [1, 1, 1],
+            Domain::Cells => self.grid.cells(),
+            Domain::ScanBlocks => {
+                let (gx, gy) = spread(crate::gpu::plan::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
+                return [gx, gy, 1];
+            }
+            Domain::Subgroups => {
+                let per_group = 64 / self.ctx.adapter_info.subgroup_max_size.clamp(1, 64) as usize;
+                let (gx, gy) = spread(self.n.div_ceil(per_group), self.max_groups_per_dim);
+                return [gx, gy, 1];
+            }
+            Domain::Block => {
+                let (gx, gz) = spread(self.n.div_ceil(32), self.max_groups_per_dim);
+                return [gx, (vbufs::NBR_SLOTS / 16) as u32, gz];
+            }
+        };
+        let (gx, gy) = spread(threads.div_ceil(64), self.max_groups_per_dim);
+        [gx, gy, 1]
+    }
+
+    /// Records the kernels of one stage into `enc`: the table's clears (when the stage has
+    /// kernels), the block accumulator clear (block kernels), then one compute pass.
+    pub(in crate::gpu) fn record(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
+        let Some(kernels) = self.pipes.stages.get(&stage) else { return };
+        if kernels.is_empty() {
+            return;
+        }
+        for clear in stage.def().clears {
+            let (buffer, offset, size) = match clear {
+                Clear::CellCounts => (&self.b.cell_count.buffer, 0, None),
+                Clear::ContactsFound => (&self.b.ctl.buffer, 4 * ctl::CONTACTS_FOUND as u64, Some(4)),
+                Clear::Maxima => (&self.b.ctl.buffer, 4 * ctl::VMAX as u64, Some(8)),
+            };
+            enc.clear_buffer(buffer, offset, size);
+        }
+        if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
+            enc.clear_buffer(&self.vb.accum.buffer, 0, None);
+        }
+        let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain)[0] > 0);
+        let timestamp_writes = if dispatches { self.ts.writes(stage.name()) } else { None };
+        let desc = wgpu::ComputePassDescriptor { label: Some(stage.name()), timestamp_writes };
+        let mut pass = enc.begin_compute_pass(&desc);
+        pass.set_bind_group(0, &self.bg, &[]);
+        pass.set_bind_group(1, &self.vbg, &[]);
+        if kernels.iter().any(|(kd, _)| kd.file == reorder::FILE) {
+            pass.set_bind_group(2, &self.rbg, &[]);
+        }
+        for (kd, p) in kernels {
+            if kd.file == reorder::FILE && self.reorder_every == 0 {
+                continue;
+            }
+            let [gx, gy, gz] = self.groups(kd.domain);
+            if gx > 0 {
+                pass.set_pipeline(p);
+                pass.dispatch_workgroups(gx, gy, gz);
+                self.ctx.traffic.dispatch(1);
+            }
+        }
+    }
+
+    /// Records one force evaluation: every active stage in the CPU order, then ṽ.
+    pub(super) fn record_evaluate(&self, enc: &mut wgpu::CommandEncoder) {
+        for stage in self.model.stages.evaluation() {
+            self.record(enc, stage);
+        }
+        if !self.model.stages.xsph {
+            let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
+            if bytes > 0 {
+                enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes);
+            }
+        }
+    }
+
+    pub(in crate::gpu) fn submit(&self, f: impl FnOnce(&mut wgpu::CommandEncoder)) -> Result<(), GpuError> {
+        self.ts.before_submit(&self.ctx)?;
+        self.ctx.scoped(|d| {
+            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.step") });
+            f(&mut enc);
+            self.ctx.queue.submit([enc.finish()]);
+            self.ctx.traffic.submit();
+        })
+    }
+
+    /// One force evaluation at the current state (no integration), waited for; a neighbour
+    /// overflow is an error (`GpuError::Solver(NeighbourOverflow)`).
+    pub fn evaluate_once(&mut self) -> Result<(), GpuError> {
+        self.submit(|enc| self.record_evaluate(enc))?;
+        self.ctx.wait_idle()?;
+        self.vb.overflow(&self.ctx, self.step).map_err(|e| self.to_original(e))?;
+        Ok(())
+    }
+
+    /// `e` with the overflowing particle's device index (`VBufs::overflow`) mapped through the
+    /// renumbering to its original id.
+    pub(in crate::gpu) fn to_original(&self, mut e: SolverError) -> SolverError {
+        if let SolverError::NeighbourOverflow { particle: Some(p), .. } = &mut e {
+            if let Some(o) = self.device_order().ok().and_then(|order| order.get(*p).copied()) {
+                *p = o as usize;
+            }
+        }
+        e
+    }
+
+    /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
+    /// `dt_compute`, the integrator's opening stage, the evaluation, its closing stage, then
+    /// `check` (`clock_tick` first). Reads nothing from the host: dt and the step number come from
+    /// the device clock.
+    pub(super) fn record_step(&self, enc: &mut wgpu::CommandEncoder, first_eval: bool) {
+        if first_eval {
+            self.record_evaluate(enc);
+        }
+        if self.model.dt_fixed <= 0.0 {
+            self.record(enc, Stage::ReduceMax);
+        }
+        let (pre, post) = Stage::step_pair(self.integrator);
+        self.record(enc, pre);
+        self.record_evaluate(enc);
+        self.record(enc, post);
+        self.record(enc, Stage::Check);
+    }
+}
