@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
-"""A relax-60 contact line's balance against its end angle (issue 10,
-reports/validation/relax-60/mode-a-check/README.md, reports/validation/convergence/balance/).
+"""A relax-60 contact line's balance against its end angle (reports/validation/relax-60/mode-a-check/README.md, reports/validation/convergence/balance/).
 For each relax-60 run: the
 circle-fit angle averaged over t in [T0, T1] of its series, and X, the x-force of the wall
 pairs on the fluid in `sphlab forces`' window around the contact point at the run's last

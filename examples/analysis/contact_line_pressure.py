@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Pressure at a relax-60 contact line (issue 10, reports/validation/relax-60/mode-a-check):
+"""Pressure at a relax-60 contact line (reports/validation/relax-60/mode-a-check):
 over the snapshots at t >= T0 of each run, the lowest fluid pressure within 3Δx of the contact
 point (the outermost first-row liquid particle + Δx/2, on the wall), also relative to p_b, and
 the mean first-row gas pressure's deficit against the gas interior (y > 0.35, x < 0.3).

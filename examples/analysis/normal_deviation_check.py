@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""sessile-90 max normal deviation per snapshot (issue 10, Fig. 4.9), the same selection as
+"""sessile-90 max normal deviation per snapshot (Fig. 4.9), the same selection as
 diagnostics::flow::normal_deviations with the validate case's band (fluid particles with
 |r − 0.25| ≤ 3Δx, y > 3Δx, |∇C| ≥ 0.3·max; angle between ±∇C and the radial direction from the
 origin). Per snapshot in [T0, T1]: the largest angle, and over the snapshots the median of the

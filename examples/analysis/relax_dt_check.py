@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""relax-60 dt check (issue 10): compares θ(t) and D/D0(t) of runs that differ only in dt or
+"""relax-60 dt check: compares θ(t) and D/D0(t) of runs that differ only in dt or
 precision. For each run against a reference run: the largest |Δθ| (circle fit) at the reference's
 row times for t <= 0.5 and for t >= 1 (rows both runs have), and the means ± std of θ (circle
 fit, area inversion) and D/D0 over unit windows. Usage:

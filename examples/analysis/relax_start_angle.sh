@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# relax-60 started from another angle (issue 10): is a mode's end angle an equilibrium or a
+# relax-60 started from another angle: is a mode's end angle an equilibrium or a
 # pinned contact line? The 90° half-disc of radius R0 = 0.25 is replaced by the cap of equal
 # area that meets the wall at THETA0 (circle of radius R centred at (0, −R cos θ0), with
 # R² (θ0 − sin θ0 cos θ0)/2 = π R0²/4); everything else is relax-60's: θ_d = 60°, no-slip,

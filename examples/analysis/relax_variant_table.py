@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""relax-60 variant table (issue 10): runs grouped by variant, each variant run at several dt
+"""relax-60 variant table: runs grouped by variant, each variant run at several dt
 (different realisations of the stick-slip contact line). Per run the means over the window of
 θ (circle fit, area inversion) and D/D0 (series.csv spread_factor); per variant the mean and the
 values of its runs. Run directories are named VARIANT_dtDT[-NOTE] and grouped by the part before

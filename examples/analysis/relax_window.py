@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""relax-60 equilibrium of a run (issue 10), averaged over a window of the series: the
+"""relax-60 equilibrium of a run, averaged over a window of the series: the
 circle-fit angle, the area-inversion angle (the cap of the liquid's area and width) and D/D0 at
 the wall (first-row D/D0 + (dx/2)·cot(theta)/R0, as validate's relax::wall_spread); also the
 angle at t = 0 and the largest density error. D0 is the diameter of the scene's 90° half-disc

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""sessile-90 quietness check (issue 10): over the snapshots of RUN with t in [T0, T1], the mean
+"""sessile-90 quietness check: over the snapshots of RUN with t in [T0, T1], the mean
 liquid kinetic energy, the mean-flow wall shear (signed u/(y - y_w) of first-row fluid particles,
 averaged per bin of 1/20 of the wall, then its magnitude: the validate case's
 `peak mean-flow wall shear rate`), the same with |u/(y - y_w)|, and the max normal deviation of

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed against physical error (issue 10 item 7 / issue 9 item 7): CPU runs, one thread, and GPU
+# Speed against physical error: CPU runs, one thread, and GPU
 # variants (`gpu`, GPU_ONLY=1 runs just those) of
 #   drop:  the oscillating drop, relax 0.1, T84 field on every fluid particle, t = 0.6 (error of
 #          the period against the thesis's 0.37), kernels × p_b × nx × precision;
@@ -7,7 +7,7 @@
 #          angle against 60° over t ∈ [4.3, 4.5]), kernels × p_b × precision.
 # The nx = 24 f64 drop runs are the p_b sweep's (reports/validation/pb-sweep/runs, same set-up);
 # the relax-60 runs at nx = 33 and 45 are reports/validation/relax-60's. Analysis:
-# scripts/speed_vs_physical_error.py. Usage: scripts/speed_vs_physical_error.sh OUTDIR
+# examples/analysis/speed_vs_physical_error.py. Usage: examples/analysis/speed_vs_physical_error.sh OUTDIR
 set -uo pipefail
 out=${1:-out/speed-vs-physical-error}
 bin=${SPHLAB:-target/release/sphlab}

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Speed against physical error (issue 10 item 7): time to solution against the error of the
+"""Speed against physical error: time to solution against the error of the
 oscillating drop's period (thesis 0.37) and of relax-60's equilibrium angle (60°), across
 kernels × p_b × resolution × precision, with the Pareto front (no other run both faster and
-more accurate). Reads the runs of scripts/speed_vs_physical_error.sh, the p_b sweep's nx = 24 drop
+more accurate). Reads the runs of examples/analysis/speed_vs_physical_error.sh, the p_b sweep's nx = 24 drop
 runs and relax-60's long runs; writes OUT/speed_vs_physical_error.csv, OUT/*.svg (log-log) and
-OUT/summary.md (stdlib only). Usage: scripts/speed_vs_physical_error.py RUNDIR OUTDIR"""
+OUT/summary.md (stdlib only). Usage: examples/analysis/speed_vs_physical_error.py RUNDIR OUTDIR"""
 import csv, glob, json, math, os, sys
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -240,11 +240,11 @@ def main():
         "|T − 0.37| / 0.37", "wall_time_s", "pareto_wall")
     svg(relax, f"{out}/relax60_time_vs_angle_error.svg", "relax-60 Mode B no-slip: wall time vs angle error (load-dependent)",
         "|θ(t ≈ 4.4) − 60°| / 60°", "wall_time_s", "pareto_wall")
-    md = ["# Speed against physical error (issue 10 item 7)", "",
+    md = ["# Speed against physical error", "",
           "CPU runs, one thread each, and GPU variants on lavapipe (Mesa's software Vulkan on the same CPU: a GPU row's "
           "wall time is a CPU's, kept to compare variants, precisions and resolutions with each other, not with hardware), "
-          "on the shared 2-core machine (`scripts/speed_vs_physical_error.sh`, analysed by "
-          "`scripts/speed_vs_physical_error.py`). Time to solution = the run's wall time (`summary.json`). It carries "
+          "on the shared 2-core machine (`examples/analysis/speed_vs_physical_error.sh`, analysed by "
+          "`examples/analysis/speed_vs_physical_error.py`). Time to solution = the run's wall time (`summary.json`). It carries "
           "the machine's load at the time (five other sessions compiling and running): the same run's ms/step varied "
           "about 5× between runs here, so the Pareto front is drawn on a deterministic work measure instead — pair "
           "interactions evaluated, steps (relaxation included) × 2 evaluations × (fluid + wall particles) × π(κh/Δx)² — "

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Background-pressure sweep (issue 10, item 1): the oscillating-drop scene at nx = 24
+# Background-pressure sweep: the oscillating-drop scene at nx = 24
 # (Δx = 1/48, σ/Δx = 48) for each kernel against p_b, two runs per point:
 #   rest: initial velocity and relaxation removed, t = 0.3 (spurious speed, Laplace jump, voids);
 #   osc:  relax 0.1, then the T84 field on every fluid particle, t = 0.6 (period, amplitude).
-# Analysis: scripts/pb_sweep.py → reports/validation/pb-sweep/. Usage: scripts/pb_sweep.sh OUTDIR (the committed runs: reports/validation/pb-sweep/runs)
+# Analysis: examples/analysis/pb_sweep.py → reports/validation/pb-sweep/. Usage: examples/analysis/pb_sweep.sh OUTDIR (the committed runs: reports/validation/pb-sweep/runs)
 # BACKGROUND=transport: the same runs with the transport-velocity formulation
 # (time.background = "transport", directories transport-KIND-pbPB) at p_b 48, B = 175 and
 # ρ0c0² = 1225 (Adami, Hu & Adams 2013 / PySPH's TVF scheme take p_b = ρ0c0²).

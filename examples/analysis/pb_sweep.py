@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Analysis of scripts/pb_sweep.sh (issue 10, item 1): one row per (kernel, p_b) with the drop
+"""Analysis of examples/analysis/pb_sweep.sh: one row per (kernel, p_b) with the drop
 at rest's spurious speed, Laplace jump and void indicator and the oscillating drop's period,
 amplitude and mean centroid. Writes OUT/pb_sweep.csv and OUT/summary.md (stdlib only).
-Usage: scripts/pb_sweep.py RUNDIR OUTDIR COMMIT"""
+Usage: examples/analysis/pb_sweep.py RUNDIR OUTDIR COMMIT"""
 import csv, glob, json, math, os, sys
 
 R, SIGMA, DX = 0.1875, 1.0, 1.0 / 48
@@ -113,7 +113,7 @@ def main():
         w.writerows(rows)
     md = [f"# Background-pressure sweep (commit {commit})", "",
           "Oscillating-drop scene at nx = 24 (Δx = 1/48, σ/Δx = 48, σ/R = 5.33), CPU f64, one thread "
-          "(`scripts/pb_sweep.sh`, analysed by `scripts/pb_sweep.py`). *rest*: no initial velocity, no "
+          "(`examples/analysis/pb_sweep.sh`, analysed by `examples/analysis/pb_sweep.py`). *rest*: no initial velocity, no "
           "relaxation, t = 0.3: max fluid speed over t ≥ 0.1, Laplace jump (mean p of the liquid deeper "
           "than one support inside the circle minus the gas beyond one support outside it and away from "
           "the walls; 2D theory σ/R = 5.333), min ρ/ρ0 and the number of fluid particles with ρ < 0.95ρ0 "
