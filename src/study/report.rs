@@ -100,6 +100,28 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
     adapters.dedup();
     let side_by_side = adapters.len() > 1;
 
+    let mut md = header(recs, adapter, notes, &adapters, timed);
+    for exp in ["e1", "e4", "scaling"] {
+        experiment_table(&mut md, recs, exp, &adapters);
+    }
+    super::engine_ab::summary(&mut md, recs);
+    scaling_plots(dir, recs, side_by_side, &mut md)?;
+    speed_vs_error(dir, recs, &mut md)?;
+    super::thesis_figs::write(dir, recs, &mut md)?;
+    if !timed {
+        let _ = writeln!(
+            md,
+            "GPU timestamps: none in these records (the adapter has none, or no GPU ran): all times are wall clock.\n"
+        );
+    }
+    let p = dir.join("summary.md");
+    std::fs::write(&p, md).map_err(|x| e(&p, x))
+}
+
+/// The head of `summary.md`: commits, date, CPU and adapters, the lavapipe warning, the plan,
+/// the run's notes and the protocol.
+fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: &[&str], timed: bool) -> String {
+    let side_by_side = adapters.len() > 1;
     let mut md = String::new();
     let first = recs.first();
     let _ = writeln!(md, "# sphlab study (thesis Chapter 6)\n");
@@ -140,83 +162,76 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
          whether the CPU time was measured at the same N or scaled by N from the largest CPU size.\n",
         if timed { " (`stage_times.csv`)" } else { "" }
     );
-    for exp in ["e1", "e4", "scaling"] {
-        let rows: Vec<&Record> = recs.iter().filter(|r| r.experiment == exp).collect();
-        if rows.is_empty() {
-            continue;
-        }
-        let title = match exp {
-            "e1" => "E1 — neighbour search × backend (Fig. 6.3; 2,025 fluid particles)",
-            "e4" => "E4 — every GPU variant against the single-thread CPU NNPS (§6.5; 10,000 fluid particles)",
-            _ => "Scaling — time per step against N",
-        };
-        let _ = writeln!(md, "## {title}\n");
-        let ad = if side_by_side { " adapter |" } else { "" };
-        let _ = writeln!(
-            md,
-            "| variant |{ad} N | status | ms/step (median) | fastest | slowest | latency ms | particle-evals/s | speedup vs {BASELINE} | KE rel. error | centroid error (Δx) | device ms/step |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|",
-            if side_by_side { "---|" } else { "" }
-        );
-        for r in &rows {
-            let sp = opt(r.speedup_vs_cpu1, |s| {
-                if r.cpu_ref == "measured" {
-                    format!("{s:.2}×")
-                } else {
-                    format!("{s:.2}× ({})", r.cpu_ref)
-                }
-            });
-            let status = if r.status == "ok" { "ok".into() } else { format!("**{}**: {}", r.status, r.reason) };
-            let ad = if side_by_side { format!(" {} |", r.adapter) } else { String::new() };
-            let _ = writeln!(
-                md,
-                "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                r.variant,
-                r.n,
-                status,
-                opt(r.ms_per_step_median, |x| format!("{x:.3}")),
-                opt(r.ms_per_step_min, |x| format!("{x:.3}")),
-                opt(r.ms_per_step_max, |x| format!("{x:.3}")),
-                opt(r.latency_ms_median, |x| format!("{x:.3}")),
-                opt(r.particle_evals_per_s, |x| format!("{x:.3e}")),
-                sp,
-                opt(r.ke_rel_error, |x| format!("{x:.1e}")),
-                opt(r.centroid_error_dx, |x| format!("{x:.1e}")),
-                opt(r.gpu_ms_per_step, |x| format!("{x:.3}"))
-            );
-        }
-        if exp == "e4" {
-            for a in adapters.iter() {
-                let best = rows
-                    .iter()
-                    .filter(|r| r.backend == "gpu" && r.adapter == *a && r.speedup_vs_cpu1.is_some())
-                    .max_by(|x, y| x.speedup_vs_cpu1.unwrap_or(0.0).total_cmp(&y.speedup_vs_cpu1.unwrap_or(0.0)));
-                if let Some(b) = best {
-                    let _ = writeln!(
-                        md,
-                        "\nBest GPU variant on {a}: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS ({}; thesis: 120× on a 2012 GPU against a 2012 CPU core).",
-                        b.variant,
-                        b.ms_per_step_median.unwrap_or(f64::NAN),
-                        b.speedup_vs_cpu1.unwrap_or(f64::NAN),
-                        b.cpu_ref
-                    );
-                }
+    md
+}
+
+/// The table of one experiment (`e1`, `e4`, `scaling`), with E4's best variant per adapter and
+/// its stage table; nothing when the experiment has no record.
+fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&str]) {
+    let side_by_side = adapters.len() > 1;
+    let rows: Vec<&Record> = recs.iter().filter(|r| r.experiment == exp).collect();
+    if rows.is_empty() {
+        return;
+    }
+    let title = match exp {
+        "e1" => "E1 — neighbour search × backend (Fig. 6.3; 2,025 fluid particles)",
+        "e4" => "E4 — every GPU variant against the single-thread CPU NNPS (§6.5; 10,000 fluid particles)",
+        _ => "Scaling — time per step against N",
+    };
+    let _ = writeln!(md, "## {title}\n");
+    let ad = if side_by_side { " adapter |" } else { "" };
+    let _ = writeln!(
+        md,
+        "| variant |{ad} N | status | ms/step (median) | fastest | slowest | latency ms | particle-evals/s | speedup vs {BASELINE} | KE rel. error | centroid error (Δx) | device ms/step |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|",
+        if side_by_side { "---|" } else { "" }
+    );
+    for r in &rows {
+        let sp = opt(r.speedup_vs_cpu1, |s| {
+            if r.cpu_ref == "measured" {
+                format!("{s:.2}×")
+            } else {
+                format!("{s:.2}× ({})", r.cpu_ref)
             }
-            stage_table(&mut md, &rows);
-        }
-        let _ = writeln!(md);
-    }
-    super::engine_ab::summary(&mut md, recs);
-    scaling_plots(dir, recs, side_by_side, &mut md)?;
-    speed_vs_error(dir, recs, &mut md)?;
-    super::thesis_figs::write(dir, recs, &mut md)?;
-    if !timed {
+        });
+        let status = if r.status == "ok" { "ok".into() } else { format!("**{}**: {}", r.status, r.reason) };
+        let ad = if side_by_side { format!(" {} |", r.adapter) } else { String::new() };
         let _ = writeln!(
             md,
-            "GPU timestamps: none in these records (the adapter has none, or no GPU ran): all times are wall clock.\n"
+            "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.variant,
+            r.n,
+            status,
+            opt(r.ms_per_step_median, |x| format!("{x:.3}")),
+            opt(r.ms_per_step_min, |x| format!("{x:.3}")),
+            opt(r.ms_per_step_max, |x| format!("{x:.3}")),
+            opt(r.latency_ms_median, |x| format!("{x:.3}")),
+            opt(r.particle_evals_per_s, |x| format!("{x:.3e}")),
+            sp,
+            opt(r.ke_rel_error, |x| format!("{x:.1e}")),
+            opt(r.centroid_error_dx, |x| format!("{x:.1e}")),
+            opt(r.gpu_ms_per_step, |x| format!("{x:.3}"))
         );
     }
-    let p = dir.join("summary.md");
-    std::fs::write(&p, md).map_err(|x| e(&p, x))
+    if exp == "e4" {
+        for a in adapters.iter() {
+            let best = rows
+                .iter()
+                .filter(|r| r.backend == "gpu" && r.adapter == *a && r.speedup_vs_cpu1.is_some())
+                .max_by(|x, y| x.speedup_vs_cpu1.unwrap_or(0.0).total_cmp(&y.speedup_vs_cpu1.unwrap_or(0.0)));
+            if let Some(b) = best {
+                let _ = writeln!(
+                    md,
+                    "\nBest GPU variant on {a}: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS ({}; thesis: 120× on a 2012 GPU against a 2012 CPU core).",
+                    b.variant,
+                    b.ms_per_step_median.unwrap_or(f64::NAN),
+                    b.speedup_vs_cpu1.unwrap_or(f64::NAN),
+                    b.cpu_ref
+                );
+            }
+        }
+        stage_table(md, &rows);
+    }
+    let _ = writeln!(md);
 }
 
 /// The scaling plots, faceted by neighbour search, then by mapping

@@ -14,12 +14,14 @@
 //! before exiting 130 / 143. A part already `done` in the same output directory (an earlier,
 //! interrupted run) is not run again.
 
+mod adapter;
 pub mod archive;
 pub mod parts;
 
-use crate::gpu::variant::VariantSpec;
+pub use adapter::{adapter_slug, check_adapter, describe_adapter, fitting_sizes};
+use adapter::{provenance, variants_csv};
+
 use crate::gpu::GpuContext;
-use crate::provenance::{GpuInfo, Provenance};
 use archive::Outcome;
 use parts::{Part, Scale};
 use std::fmt::Write;
@@ -64,107 +66,6 @@ pub enum PresetError {
     Refused(String),
     /// Exit 1: something failed while running.
     Failed(String),
-}
-
-/// A directory name from an adapter name (`NVIDIA H200` → `nvidia-h200`).
-pub fn adapter_slug(name: &str) -> String {
-    let s: String =
-        name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
-    let s = s.split('-').filter(|p| !p.is_empty()).collect::<Vec<_>>().join("-");
-    if s.is_empty() {
-        "adapter".into()
-    } else {
-        s
-    }
-}
-
-/// The scaling resolutions whose host plan and GPU buffers fit this adapter.
-pub fn fitting_sizes(ctx: &GpuContext) -> Vec<u32> {
-    let device = crate::gpu::plan::DeviceLimits::of(ctx, None);
-    let limits = crate::plan::Limits::default();
-    parts::SCALING_NX
-        .iter()
-        .copied()
-        .filter(|&nx| {
-            let Ok(scene) = super::study_scene_with(nx, &[]) else { return false };
-            crate::resources::run_plan(&scene, 8, false).check(&limits).is_ok()
-                && crate::resources::run_plan(&scene, 4, true).check_gpu(&device).is_ok()
-        })
-        .collect()
-}
-
-/// Adapter, driver and the limits that bound the sizes.
-pub fn describe_adapter(ctx: &GpuContext) -> String {
-    let i = &ctx.adapter_info;
-    let l = &ctx.limits;
-    format!(
-        "adapter: {} ({:?}, {:?}); driver: {} {}\nlimits: max_buffer_size {}, max_storage_buffer_binding_size {}, \
-         max_compute_workgroups_per_dimension {}; features: {:?}",
-        i.name,
-        i.backend,
-        i.device_type,
-        i.driver,
-        i.driver_info,
-        l.max_buffer_size,
-        l.max_storage_buffer_binding_size,
-        l.max_compute_workgroups_per_dimension,
-        ctx.features
-    )
-}
-
-/// `Err` (exit 2, naming adapter and backend) unless the adapter is a GPU on Vulkan, Metal or
-/// DX12; a CPU adapter passes with `allow_cpu`.
-pub fn check_adapter(info: &wgpu::AdapterInfo, allow_cpu: bool) -> Result<(), String> {
-    let named = format!("the adapter `{}` (backend {:?}, device type {:?})", info.name, info.backend, info.device_type);
-    if !matches!(info.backend, wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12) {
-        return Err(format!(
-            "--preset gpu: {named} is not on Vulkan, Metal or DX12; set WGPU_BACKEND=vulkan (scripts/gpu-report.sh does)"
-        ));
-    }
-    if info.device_type == wgpu::DeviceType::Cpu && !allow_cpu {
-        return Err(format!(
-            "--preset gpu: {named} is a CPU adapter (e.g. lavapipe), not a GPU; its times are not GPU times. Pass \
-             --allow-cpu-adapter to rehearse the preset on it"
-        ));
-    }
-    Ok(())
-}
-
-/// `variants.csv`: every variant and whether this adapter runs it.
-fn variants_csv(ctx: &GpuContext) -> String {
-    let mut csv = String::from("variant,status\n");
-    for v in VariantSpec::all() {
-        let st = v
-            .support(ctx)
-            .map_or_else(|e| format!("\"unsupported: {}\"", e.replace('"', "'")), |()| "supported".into());
-        let _ = writeln!(csv, "{v},{st}");
-    }
-    csv
-}
-
-/// `provenance.json`: the common envelope plus backend, limits, budget, scale and binary hash.
-fn provenance(ctx: &GpuContext, exe: &Path, o: &PresetOptions, scale: &str) -> Result<serde_json::Value, String> {
-    let prov = Provenance::new(
-        "study --preset gpu",
-        Some(GpuInfo::from_adapter(&ctx.adapter_info)),
-        crate::provenance::STUDY_UNITS,
-    );
-    let mut v = serde_json::to_value(&prov).map_err(|e| e.to_string())?;
-    let l = &ctx.limits;
-    v["adapter_backend"] = format!("{:?}", ctx.adapter_info.backend).into();
-    v["limits"] = serde_json::json!({
-        "max_buffer_size": l.max_buffer_size,
-        "max_storage_buffer_binding_size": l.max_storage_buffer_binding_size,
-        "max_compute_workgroups_per_dimension": l.max_compute_workgroups_per_dimension,
-        "max_compute_invocations_per_workgroup": l.max_compute_invocations_per_workgroup,
-        "max_compute_workgroup_storage_size": l.max_compute_workgroup_storage_size,
-    });
-    v["features"] = format!("{:?}", ctx.features).into();
-    v["binary"] = exe.display().to_string().into();
-    v["binary_sha256"] = archive::sha256_of(exe)?.into();
-    v["budget_s"] = o.budget_s.into();
-    v["scale"] = scale.into();
-    Ok(v)
 }
 
 /// How a child part ended.
@@ -242,6 +143,69 @@ fn part_share(parts: &[Part], k: usize, budget_s: f64, left_s: f64) -> f64 {
 /// test failed, 128 + the signal when interrupted.
 pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
     let t0 = Instant::now();
+    let Some(setup) = prepare(o)? else { return Ok(0) };
+    let signal = Arc::new(AtomicUsize::new(0));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize)
+            .map_err(|e| PresetError::Failed(format!("signal handler: {e}")))?;
+    }
+    let report = Report {
+        dir: &setup.dir,
+        archive: o.archive.as_deref(),
+        header: archive::Header {
+            adapter: &setup.adapter,
+            scale: setup.scale.name,
+            budget_s: o.budget_s,
+            provenance: &setup.head,
+        },
+        t0,
+    };
+    let parts = &setup.parts;
+    let mut outcomes: Vec<Outcome> = parts.iter().map(|p| Outcome::pending(&p.name, &p.what)).collect();
+    report.refresh(&outcomes, "started");
+    let hard_end = t0 + Duration::from_secs_f64(HARD_END * o.budget_s);
+    let mut blocked: Option<String> = None;
+    for (k, part) in parts.iter().enumerate() {
+        let left = o.budget_s - RESERVE_S - t0.elapsed().as_secs_f64();
+        let share = part_share(parts, k, o.budget_s, left);
+        if signal.load(Ordering::SeqCst) != 0 {
+            break;
+        }
+        let turn = Turn { part, dir: setup.dir.join("parts").join(&part.name), share, hard_end };
+        if !run_turn(&turn, &mut outcomes, k, &blocked, &setup.exe, &signal, &report) {
+            continue;
+        }
+        if part.gate && outcomes[k].status != "done" {
+            blocked = Some(format!("not run: {} did not pass ({})", part.name, outcomes[k].status));
+        }
+        if part.study {
+            merge_studies(&setup.dir, parts);
+        }
+        let ending = if signal.load(Ordering::SeqCst) != 0 { "interrupted" } else { "running" };
+        report.refresh(&outcomes, ending);
+    }
+    Ok(finish(&mut outcomes, signal.load(Ordering::SeqCst), blocked.is_some(), o, &report))
+}
+
+/// What the preset runs with, once the adapter is accepted and the report folder written.
+struct Setup {
+    /// `<out_root>/<adapter>`.
+    dir: PathBuf,
+    /// The sphlab binary the parts run.
+    exe: PathBuf,
+    /// The adapter line.
+    adapter: String,
+    /// The commit, date and binary-hash line.
+    head: String,
+    /// The scale of the parts.
+    scale: Scale,
+    /// The parts, in order.
+    parts: Vec<Part>,
+}
+
+/// Accepts or refuses the adapter, prints the plan, and (unless `dry_run`: `None`) writes
+/// `provenance.json`, `plan.txt` and `variants.csv`.
+fn prepare(o: &PresetOptions) -> Result<Option<Setup>, PresetError> {
     let ctx = GpuContext::new().map_err(|e| PresetError::Refused(format!("--preset gpu: no GPU adapter ({e})")))?;
     check_adapter(&ctx.adapter_info, o.allow_cpu_adapter).map_err(PresetError::Refused)?;
     let scale = if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu {
@@ -254,7 +218,7 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
     let plan = plan_text(&describe_adapter(&ctx), &dir, o, &scale, &parts);
     eprint!("{plan}");
     if o.dry_run {
-        return Ok(0);
+        return Ok(None);
     }
     let fail = |e: String| PresetError::Failed(e);
     let exe = std::env::current_exe().map_err(|e| fail(format!("the sphlab binary: {e}")))?;
@@ -263,13 +227,6 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
     crate::output::write_json(dir.join("provenance.json"), &prov).map_err(|e| fail(e.to_string()))?;
     std::fs::write(dir.join("plan.txt"), &plan).map_err(|e| fail(e.to_string()))?;
     std::fs::write(dir.join("variants.csv"), variants_csv(&ctx)).map_err(|e| fail(e.to_string()))?;
-    let adapter = ctx.describe();
-    drop(ctx);
-    let signal = Arc::new(AtomicUsize::new(0));
-    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize)
-            .map_err(|e| fail(format!("signal handler: {e}")))?;
-    }
     let sha = prov["binary_sha256"].as_str().unwrap_or("").chars().take(16).collect::<String>();
     let head = format!(
         "Commit `{}`{}, {}; binary SHA-256 `{sha}…`.",
@@ -277,14 +234,25 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
         if prov["dirty"].as_bool() == Some(true) { " (dirty)" } else { "" },
         prov["date"].as_str().unwrap_or("?")
     );
-    let header = archive::Header { adapter: &adapter, scale: scale.name, budget_s: o.budget_s, provenance: &head };
-    let mut outcomes: Vec<Outcome> = parts.iter().map(|p| Outcome::pending(&p.name, &p.what)).collect();
-    let refresh = |outcomes: &[Outcome], ending: &str| {
-        let md = archive::summary(&header, outcomes, t0.elapsed().as_secs_f64(), ending);
-        let _ = std::fs::write(dir.join("summary.md"), &md);
-        let _ = crate::output::write_json(dir.join("parts.json"), &outcomes);
-        if let Some(a) = &o.archive {
-            match archive::write(&dir, a, &md) {
+    Ok(Some(Setup { dir, exe, adapter: ctx.describe(), head, scale, parts }))
+}
+
+/// Where the preset's summary goes after every part.
+struct Report<'a> {
+    dir: &'a Path,
+    archive: Option<&'a Path>,
+    header: archive::Header<'a>,
+    t0: Instant,
+}
+
+impl Report<'_> {
+    /// Rewrites `summary.md`, `parts.json` and, with `--archive`, the tarball.
+    fn refresh(&self, outcomes: &[Outcome], ending: &str) {
+        let md = archive::summary(&self.header, outcomes, self.t0.elapsed().as_secs_f64(), ending);
+        let _ = std::fs::write(self.dir.join("summary.md"), &md);
+        let _ = crate::output::write_json(self.dir.join("parts.json"), &outcomes);
+        if let Some(a) = self.archive {
+            match archive::write(self.dir, a, &md) {
                 Ok(bytes) => eprintln!(
                     "preset: archive {} ({:.1} MiB)",
                     a.join(archive::ARCHIVE).display(),
@@ -293,82 +261,86 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
                 Err(e) => eprintln!("preset: archive not written: {e}"),
             }
         }
-    };
-    refresh(&outcomes, "started");
-    let hard_end = t0 + Duration::from_secs_f64(HARD_END * o.budget_s);
-    let mut blocked: Option<String> = None;
-    for (k, part) in parts.iter().enumerate() {
-        let pdir = dir.join("parts").join(&part.name);
-        let left = o.budget_s - RESERVE_S - t0.elapsed().as_secs_f64();
-        let share = part_share(&parts, k, o.budget_s, left);
-        if signal.load(Ordering::SeqCst) != 0 {
-            break;
-        }
-        let out = &mut outcomes[k];
-        out.share_s = share;
-        out.command = format!("sphlab {}", parts::command(part, child_budget(share), &pdir).join(" "));
-        if let Some(why) = &blocked {
-            (out.status, out.note) = ("skipped".into(), why.clone());
-            continue;
-        }
-        if done_earlier(&pdir) {
-            (out.status, out.note) =
-                ("done".into(), format!("done by an earlier run: {}", archive::result_line(&pdir)));
-            continue;
-        }
-        if share < parts::MIN_SHARE_S {
-            (out.status, out.note) = (
-                "skipped".into(),
-                format!("its share, {share:.1} s, is below the {} s a part needs", parts::MIN_SHARE_S),
-            );
-            continue;
-        }
-        if let Err(e) = std::fs::create_dir_all(&pdir) {
-            (out.status, out.note) = ("failed".into(), format!("{}: {e}", pdir.display()));
-            continue;
-        }
-        eprintln!("preset: {} ({share:.0} s): {}", part.name, out.command);
-        out.status = "running".into();
-        refresh(&outcomes, "running");
-        let out = &mut outcomes[k];
-        let started = Instant::now();
-        let deadline = (started + Duration::from_secs_f64(share * (1.0 + OVERRUN) + GRACE_S)).min(hard_end);
-        let args = parts::command(part, child_budget(share), &pdir);
-        (out.status, out.note) = run_part(&exe, &args, &pdir, deadline, &signal);
-        out.used_s = started.elapsed().as_secs_f64();
-        eprintln!("preset: {} {} in {:.1} s: {}", part.name, out.status, out.used_s, out.note);
-        let _ = crate::output::write_json(pdir.join("part.json"), &*out);
-        if part.gate && out.status != "done" {
-            blocked = Some(format!("not run: {} did not pass ({})", part.name, out.status));
-        }
-        if part.study {
-            merge_studies(&dir, &parts);
-        }
-        let ending = if signal.load(Ordering::SeqCst) != 0 { "interrupted" } else { "running" };
-        refresh(&outcomes, ending);
     }
-    let sig = signal.load(Ordering::SeqCst);
+}
+
+/// One part's turn: the part, its folder, its share (s) and the hard end of the preset.
+struct Turn<'a> {
+    part: &'a Part,
+    dir: PathBuf,
+    share: f64,
+    hard_end: Instant,
+}
+
+/// Runs one part into `outcomes[k]` (true), or records why it is skipped, already done or
+/// could not start (false).
+fn run_turn(
+    turn: &Turn,
+    outcomes: &mut [Outcome],
+    k: usize,
+    blocked: &Option<String>,
+    exe: &Path,
+    signal: &AtomicUsize,
+    report: &Report,
+) -> bool {
+    let (part, pdir, share) = (turn.part, &turn.dir, turn.share);
+    let out = &mut outcomes[k];
+    out.share_s = share;
+    out.command = format!("sphlab {}", parts::command(part, child_budget(share), pdir).join(" "));
+    if let Some(why) = blocked {
+        (out.status, out.note) = ("skipped".into(), why.clone());
+        return false;
+    }
+    if done_earlier(pdir) {
+        (out.status, out.note) = ("done".into(), format!("done by an earlier run: {}", archive::result_line(pdir)));
+        return false;
+    }
+    if share < parts::MIN_SHARE_S {
+        let note = format!("its share, {share:.1} s, is below the {} s a part needs", parts::MIN_SHARE_S);
+        (out.status, out.note) = ("skipped".into(), note);
+        return false;
+    }
+    if let Err(e) = std::fs::create_dir_all(pdir) {
+        (out.status, out.note) = ("failed".into(), format!("{}: {e}", pdir.display()));
+        return false;
+    }
+    eprintln!("preset: {} ({share:.0} s): {}", part.name, out.command);
+    out.status = "running".into();
+    report.refresh(outcomes, "running");
+    let out = &mut outcomes[k];
+    let started = Instant::now();
+    let deadline = (started + Duration::from_secs_f64(share * (1.0 + OVERRUN) + GRACE_S)).min(turn.hard_end);
+    let args = parts::command(part, child_budget(share), pdir);
+    (out.status, out.note) = run_part(exe, &args, pdir, deadline, signal);
+    out.used_s = started.elapsed().as_secs_f64();
+    eprintln!("preset: {} {} in {:.1} s: {}", part.name, out.status, out.used_s, out.note);
+    let _ = crate::output::write_json(pdir.join("part.json"), &*out);
+    true
+}
+
+/// Marks the parts not reached, writes the last summary and returns the exit code.
+fn finish(outcomes: &mut [Outcome], sig: usize, blocked: bool, o: &PresetOptions, report: &Report) -> u8 {
     for out in outcomes.iter_mut().filter(|o| o.status == "pending") {
         out.status = "skipped".into();
         out.note = if sig != 0 { "not reached: interrupted".into() } else { "not reached".into() };
     }
     let ending = match sig {
-        0 if blocked.is_some() => "stopped: the smoke test failed",
+        0 if blocked => "stopped: the smoke test failed",
         0 => "finished",
         _ => "interrupted by a signal",
     };
-    refresh(&outcomes, ending);
+    report.refresh(outcomes, ending);
     eprintln!(
         "preset: {ending} after {:.0} s of {:.0} s; report in {}",
-        t0.elapsed().as_secs_f64(),
+        report.t0.elapsed().as_secs_f64(),
         o.budget_s,
-        dir.display()
+        report.dir.display()
     );
-    Ok(match sig {
-        0 if blocked.is_some() => 1,
+    match sig {
+        0 if blocked => 1,
         0 => 0,
         s => (128 + s) as u8,
-    })
+    }
 }
 
 /// The budget a part's own command is given: below its share, leaving room for its process
