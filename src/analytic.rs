@@ -1,7 +1,7 @@
 //! Analytic maximum-spread models of a drop impacting a wall (thesis §5.1, Table 1).
 //!
 //! Energy balance of an infinite liquid cylinder of diameter D0 hitting a wall at V0 (thesis
-//! T85–T93, equations reconstructed in `shared/spec/ANALYTIC.md`). Energies are per unit length
+//! T85–T93, equations reconstructed in docs/PHYSICS.md §11). Energies are per unit length
 //! divided by σD0; only Re = ρV0D0/μ, We = ρV0²D0/σ and the contact angle θ (radians) matter:
 //!
 //! ```text

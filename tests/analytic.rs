@@ -1,5 +1,5 @@
 //! The analytic drop-spread models against thesis Table 1 and the §5.2 impact case
-//! (`shared/spec/ANALYTIC.md`).
+//! (docs/PHYSICS.md §11).
 
 use sphlab::analytic::*;
 use std::f64::consts::PI;
@@ -45,7 +45,7 @@ fn table1_all_model_cells_within_half_percent() {
 
 #[test]
 fn impact_case_of_section_5_2() {
-    // θ (°), axisym, (a), (b), (c) h>δ, (c) h<δ — ANALYTIC.md, Re = 440, We = 6.86.
+    // θ (°), axisym, (a), (b), (c) h>δ, (c) h<δ — docs/PHYSICS.md §11, Re = 440, We = 6.86.
     let table = [
         (50.0, 2.815, 8.843, 11.028, 4.373, 4.295),
         (70.0, 2.397, 6.074, 7.527, 4.026, 3.992),

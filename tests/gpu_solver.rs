@@ -1,4 +1,4 @@
-//! The GPU solver against the CPU reference (ARCHITECTURE.md ladder, steps 3–5): the `Params`
+//! The GPU solver against the CPU reference: the `Params`
 //! layout (no GPU), one force evaluation per field and scene, every stage alone from CPU inputs
 //! with poisoned outputs (all by `sphlab::verify`'s measure and tolerances; neighbour structures
 //! exactly), 50-step observables, direct = cells, and bitwise reproducibility.

@@ -16,7 +16,7 @@
 //! live in the GPU executor (`gpu::plan`), which plans every device buffer of a variant and checks
 //! it against the adapter before any buffer is created.
 
-pub mod memory_limits;
+pub(crate) mod memory_limits;
 
 use crate::gpu::plan as gpu;
 use crate::neighbours::cells::CellBox;
@@ -202,11 +202,12 @@ impl Plan {
     /// domain extents and `kernel.h_ratio` are finite and positive (as [`Scene::validate`]
     /// checks); any other value still gives a finite plan.
     pub fn new(scene: &Scene, real: usize, gpu: bool) -> Plan {
+        // At least one row, so that a plan exists even for a domain lower than Δx/2.
         let lattice = Lattice::of(scene);
-        let (nx, ny, dx, wall_layers) = (lattice.nx, lattice.ny.max(1.0), lattice.dx, lattice.wall_layers);
-        let (wx, wy) = (nx + lattice.sides[0] + lattice.sides[1], ny + lattice.sides[2] + lattice.sides[3]);
-        let n_fluid = nx * ny;
-        let n_total = wx * wy;
+        let lattice = Lattice { ny: lattice.ny.max(1.0), ..lattice };
+        let (nx, ny, dx, wall_layers) = (lattice.nx, lattice.ny, lattice.dx, lattice.wall_layers);
+        let (wx, wy) = (lattice.columns(), lattice.rows());
+        let (n_fluid, n_total) = (lattice.n_fluid(), lattice.n_total());
         let n_wall = n_total - n_fluid;
         let support = scene.support();
         let k = (2.0 * support / dx + 1.0).powi(2);

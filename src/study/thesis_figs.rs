@@ -1,8 +1,8 @@
 //! The study's figures drawn like the thesis's Figs. 6.3 (E1: search × backend), 6.8 (E2:
 //! residency) and 6.9 (E3: subdomain budgets), with what the thesis states beside sphlab's
 //! values, and the E2/E3 tables of `summary.md`. The thesis's figures survive only as captions
-//! in the seed text (`../shared/seed/thesis-farrokhpanah-2012.txt`); the numbers its text gives
-//! are [`THESIS`], each with the seed line it comes from. SVG via plotters, as `crate::plot`.
+//! in the thesis text; the numbers its text gives are [`THESIS`], each with the line of the
+//! thesis text it comes from. SVG via plotters, as `crate::plot`.
 
 use super::Record;
 use plotters::coord::Shift;

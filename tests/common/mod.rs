@@ -21,7 +21,7 @@ pub fn serial() -> MutexGuard<'static, ()> {
     LOCK.lock().unwrap_or_else(|p| p.into_inner())
 }
 
-/// The GPU presence rule (ARCHITECTURE.md principle 6): `Some(ctx)` when an adapter opens;
+/// The GPU presence rule: `Some(ctx)` when an adapter opens;
 /// otherwise a loud SKIP and `None`, or a panic when [`gpu_required`] (`SPHLAB_REQUIRE_GPU=1`
 /// or `CI=true`).
 pub fn gpu_or_skip() -> Option<GpuContext> {

@@ -4,7 +4,7 @@
 //! Read back copies into a fresh `MAP_READ` staging buffer, maps it and waits on the device
 //! ([`super::staging`]), so it is a synchronisation point; the solver reads back only
 //! for checks and output. `fill` writes a sentinel (f32 NaN bits, `u32::MAX`) so a shader that
-//! forgets to write an element is caught by the comparison (wgpu tests, ARCHITECTURE.md ladder 3).
+//! forgets to write an element is caught by the comparison (the stage-by-stage GPU tests).
 
 use super::{GpuContext, GpuError};
 use bytemuck::Pod;

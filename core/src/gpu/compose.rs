@@ -1,4 +1,4 @@
-//! The tiny WGSL preprocessor of `ARCHITECTURE.md` ("How WGSL variants should be composed").
+//! The tiny WGSL preprocessor that composes the GPU variants from shared files.
 //!
 //! Directives (a line whose first non-blank character is `#`):
 //! * `#import name`: pastes `shaders/name.wgsl` (`#import common/x`: `kernels-variants/common/x.wgsl`) once (de-duplicated over the whole composition,

@@ -4,13 +4,13 @@
 //! stages of [`stages`] for a [`variant`].
 
 pub mod bandwidth;
-pub mod buffers;
-pub mod clock;
+pub(crate) mod buffers;
+pub(crate) mod clock;
 pub mod compose;
-pub mod context;
-pub mod counters;
+pub(crate) mod context;
+pub(crate) mod counters;
 pub mod params;
-pub mod pipeline_cache;
+pub(crate) mod pipeline_cache;
 pub mod plan;
 mod readback;
 pub mod reorder;
@@ -18,8 +18,8 @@ pub mod residency;
 pub mod solver;
 pub mod solver_buffers;
 pub mod stages;
-pub mod staging;
-pub mod timing;
+pub(crate) mod staging;
+pub(crate) mod timing;
 pub mod variant;
 pub mod variant_buffers;
 

@@ -7,7 +7,7 @@ pub mod build;
 pub mod builtin;
 pub mod dt_policy;
 pub mod initial;
-pub mod lattice;
+pub(crate) mod lattice;
 pub mod overrides;
 pub mod validate;
 mod walls;
