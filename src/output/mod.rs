@@ -1,7 +1,7 @@
 //! The files a run leaves behind, written from plain data (no solver types):
 //!
-//! * [`snapshot`]: particle snapshots as CSV and as VTK (`.vtu` files plus a ParaView `.pvd`
-//!   time series), streamed: a writer holds one row or one data array at a time;
+//! * [`snapshot`]: particle snapshots as CSV, and [`vtk`]: as VTK (`.vtu` files plus a
+//!   ParaView `.pvd` time series), streamed: a writer holds one row or one data array at a time;
 //! * [`series`]: a CSV time series of any `serde::Serialize` row, flushed after every row;
 //! * [`summary`]: pretty JSON summaries, the git commit and a UTC timestamp;
 //! * [`progress`]: a terminal progress bar that is silent when stderr is not a terminal.
@@ -12,6 +12,7 @@ pub mod progress;
 pub mod series;
 pub mod snapshot;
 pub mod summary;
+pub mod vtk;
 
 use std::path::{Path, PathBuf};
 

@@ -135,55 +135,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         quick,
     );
     if !quick && !full {
-        // Cost of the full resolution, measured over 100 steps.
-        let dir = ctx.dir.join("runs").join("probe");
-        let reuse = crate::validate::RunRecord::load(&dir, "", true)
-            .filter(|r| ctx.opts.reuse && r.status == "ok" && r.steps == 100);
-        let rec = match reuse {
-            Some(r) => r,
-            None => {
-                let scene = crate::scene::builtin::impact(90.0);
-                let opts = RunOptions {
-                    steps: Some(100),
-                    every: 0,
-                    out: dir.clone(),
-                    backend: ctx.opts.backend,
-                    ..RunOptions::default()
-                };
-                crate::run::run(&scene, &opts).map_err(|err| ValidateError::Run { id: "probe".into(), err })?;
-                crate::validate::RunRecord::load(&dir, "", false)
-                    .ok_or_else(|| ValidateError::Io("probe: no summary".into()))?
-            }
-        };
-        let dt = rec.t_final / rec.steps as f64;
-        let steps = T_END / dt;
-        let hours = steps * rec.ms_per_step / 3.6e6;
-        rep.rows.push(Row::new(
-            "full resolution: ms/step (100×100, 10,000 fluid particles)",
-            rec.ms_per_step,
-            1,
-            None,
-            None,
-        ));
-        rep.rows.push(
-            Row::new("full resolution: dt (s)", dt, 10, Some(1e-8), None)
-                .sphlab_text(format!("{dt:.3e}"))
-                .thesis_text("≈ 1e-8"),
-        );
-        rep.rows.push(Row::new("full resolution: projected hours per angle (1.65 ms)", hours, 1, None, None));
-        rep.not_full_because(format!(
-            "full resolution not run: {:.1} ms/step measured over 100 steps × {:.0} steps (dt = {:.3e} s to 1.65 ms) ≈ {:.1} h per angle, {:.0} h for the 9 angles on this CPU; ran all nine angles to 1.65 ms at nx = {CPU_NX} (Δx = {:.1} µm, the finest whose nine angles fit in one session on 2 cores) instead, and again at nx = {CHECK_NX} (Δx = {:.1} µm) as a resolution check",
-            rec.ms_per_step,
-            steps,
-            dt,
-            hours,
-            9.0 * hours,
-            1125.0 / CPU_NX as f64,
-            1125.0 / CHECK_NX as f64
-        ));
-        let mut probe = rec;
-        probe.command = "sphlab run impact --steps 100 --every 0".into();
-        rep.runs.push(probe);
+        probe_full_resolution(ctx, &mut rep)?;
     }
     let (angles, nx, t_end): (Vec<f64>, Option<u32>, f64) = if quick {
         (QUICK_ANGLES.to_vec(), Some(CHECK_NX), QUICK_T_END)
@@ -265,39 +217,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         }
         csv.push(line);
     }
-    if reached && !full {
-        // the thesis's band, counted (its pass/FAIL is for the full resolution only)
-        let mut text = format!("{} of {} at nx = {}", band.0, band.1, nx.unwrap_or(0));
-        if let Some(n) = check_nx {
-            text += &format!("; {} of {} at nx = {n}", band_check.0, band_check.1);
-        }
-        rep.rows.push(
-            Row::new("angles with D_max/D0 within [0.9·min, 1.1·max] of axisym, (c)", band.0 as f64, 0, None, None)
-                .sphlab_text(text)
-                .thesis_text("all (Fig. 5.5)"),
-        );
-        let mut text = format!("nx = {}: {}", nx.unwrap_or(0), rises(&sph));
-        if let Some(n) = check_nx {
-            text += &format!("; nx = {n}: {}", rises(&sph_check));
-        }
-        rep.rows.push(
-            Row::new("D_max/D0 against θ: steps where it rises", rises_count(&sph) as f64, 0, None, None)
-                .sphlab_text(text)
-                .thesis_text("falls with θ (Fig. 5.5)"),
-        );
-    }
-    if let (Some(a), Some(b)) = (at_end.first(), at_end.last()) {
-        rep.rows.push(
-            Row::new(
-                &format!("D/D0 at t = {:.2} ms: θ = {:.0}° minus θ = {:.0}°", t_end * 1e3, a.0, b.0),
-                a.1 - b.1,
-                3,
-                None,
-                None,
-            )
-            .check(a.1 > b.1, "the hydrophilic drop spreads more (direction)"),
-        );
-    }
+    across_angles(&mut rep, (reached, full), (nx, check_nx), (&sph, &sph_check), (band, band_check), &at_end, t_end);
     let name = nx.map_or("sphlab".to_string(), |n| format!("sphlab nx = {n}"));
     dmax.series = vec![Series::line_points(&name, sph)];
     if let Some(n) = check_nx {
@@ -319,6 +239,110 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         rep.notes.push("Quick: the run stops 0.225 ms after contact, well before the maximum; only the direction (50° spreads more than 160°) and the conservation are checked.".into());
     }
     Ok(rep)
+}
+
+/// The cost of the full resolution, measured over 100 steps (or a finished probe reused): the
+/// ms/step, dt and projected hours per angle, and why the case runs coarser.
+fn probe_full_resolution(ctx: &Ctx, rep: &mut CaseReport) -> Result<(), ValidateError> {
+    let dir = ctx.dir.join("runs").join("probe");
+    let reuse = crate::validate::RunRecord::load(&dir, "", true)
+        .filter(|r| ctx.opts.reuse && r.status == "ok" && r.steps == 100);
+    let rec = match reuse {
+        Some(r) => r,
+        None => {
+            let scene = crate::scene::builtin::impact(90.0);
+            let opts = RunOptions {
+                steps: Some(100),
+                every: 0,
+                out: dir.clone(),
+                backend: ctx.opts.backend,
+                ..RunOptions::default()
+            };
+            crate::run::run(&scene, &opts).map_err(|err| ValidateError::Run { id: "probe".into(), err })?;
+            crate::validate::RunRecord::load(&dir, "", false)
+                .ok_or_else(|| ValidateError::Io("probe: no summary".into()))?
+        }
+    };
+    let dt = rec.t_final / rec.steps as f64;
+    let steps = T_END / dt;
+    let hours = steps * rec.ms_per_step / 3.6e6;
+    rep.rows.push(Row::new(
+        "full resolution: ms/step (100×100, 10,000 fluid particles)",
+        rec.ms_per_step,
+        1,
+        None,
+        None,
+    ));
+    rep.rows.push(
+        Row::new("full resolution: dt (s)", dt, 10, Some(1e-8), None)
+            .sphlab_text(format!("{dt:.3e}"))
+            .thesis_text("≈ 1e-8"),
+    );
+    rep.rows.push(Row::new("full resolution: projected hours per angle (1.65 ms)", hours, 1, None, None));
+    rep.not_full_because(format!(
+        "full resolution not run: {:.1} ms/step measured over 100 steps × {:.0} steps (dt = {:.3e} s to 1.65 ms) ≈ {:.1} h per angle, {:.0} h for the 9 angles on this CPU; ran all nine angles to 1.65 ms at nx = {CPU_NX} (Δx = {:.1} µm, the finest whose nine angles fit in one session on 2 cores) instead, and again at nx = {CHECK_NX} (Δx = {:.1} µm) as a resolution check",
+        rec.ms_per_step,
+        steps,
+        dt,
+        hours,
+        9.0 * hours,
+        1125.0 / CPU_NX as f64,
+        1125.0 / CHECK_NX as f64
+    ));
+    let mut probe = rec;
+    probe.command = "sphlab run impact --steps 100 --every 0".into();
+    rep.runs.push(probe);
+    Ok(())
+}
+
+/// `(θ, D_max/D0)` of the angles run at one resolution.
+type Maxima = [(f64, f64)];
+
+/// The rows across the angles: how many maxima lie in the thesis's band and where D_max/D0
+/// rises with θ (a run that reaches the maximum, below full resolution), and the direction
+/// check of the spread at the end.
+fn across_angles(
+    rep: &mut CaseReport,
+    (reached, full): (bool, bool),
+    (nx, check_nx): (Option<u32>, Option<u32>),
+    (sph, sph_check): (&Maxima, &Maxima),
+    (band, band_check): ((usize, usize), (usize, usize)),
+    at_end: &[(f64, f64)],
+    t_end: f64,
+) {
+    if reached && !full {
+        // the thesis's band, counted (its pass/FAIL is for the full resolution only)
+        let mut text = format!("{} of {} at nx = {}", band.0, band.1, nx.unwrap_or(0));
+        if let Some(n) = check_nx {
+            text += &format!("; {} of {} at nx = {n}", band_check.0, band_check.1);
+        }
+        rep.rows.push(
+            Row::new("angles with D_max/D0 within [0.9·min, 1.1·max] of axisym, (c)", band.0 as f64, 0, None, None)
+                .sphlab_text(text)
+                .thesis_text("all (Fig. 5.5)"),
+        );
+        let mut text = format!("nx = {}: {}", nx.unwrap_or(0), rises(sph));
+        if let Some(n) = check_nx {
+            text += &format!("; nx = {n}: {}", rises(sph_check));
+        }
+        rep.rows.push(
+            Row::new("D_max/D0 against θ: steps where it rises", rises_count(sph) as f64, 0, None, None)
+                .sphlab_text(text)
+                .thesis_text("falls with θ (Fig. 5.5)"),
+        );
+    }
+    if let (Some(a), Some(b)) = (at_end.first(), at_end.last()) {
+        rep.rows.push(
+            Row::new(
+                &format!("D/D0 at t = {:.2} ms: θ = {:.0}° minus θ = {:.0}°", t_end * 1e3, a.0, b.0),
+                a.1 - b.1,
+                3,
+                None,
+                None,
+            )
+            .check(a.1 > b.1, "the hydrophilic drop spreads more (direction)"),
+        );
+    }
 }
 
 #[cfg(test)]

@@ -10,7 +10,9 @@
 //! a run whose `summary.json` says `ok` with exactly the same scene and end time instead of
 //! running it again (so long runs started by hand with `sphlab run --out` can be analysed).
 
+pub mod case;
 pub mod data;
+pub mod executor;
 pub mod report;
 
 mod convergence;

@@ -3,11 +3,12 @@
 //! [`crate::diagnostics::oscillation`], against the thesis (0.37 / 0.012) and the analytic
 //! mode-2 period (0.2945 inviscid; ≈ 0.31–0.35 with viscous damping).
 
-use super::data::{col, read_series};
-use super::report::{plot, CaseReport, Row};
+use super::data::read_series;
+use super::report::CaseReport;
 use super::{Ctx, RunSpec, ValidateError};
-use crate::diagnostics::{drop_mode2_period, oscillation};
-use crate::plot::{PlotSpec, RefLine, Series};
+use crate::diagnostics::oscillation;
+
+mod case;
 
 /// Thesis Fig. 4.1: period and amplitude.
 pub const THESIS_PERIOD: f64 = 0.37;
@@ -16,7 +17,7 @@ pub const THESIS_AMPLITUDE: f64 = 0.012;
 /// Viscous estimate band of the period (§9(a): inner-fluid damping 0.31, both fluids 0.35).
 pub const VISCOUS_BAND: (f64, f64) = (0.31, 0.35);
 /// The drop must return to a circle: mean centroid over t ≥ `LATE_T` within `LATE_TOL` of
-/// 4R/(3π) = 0.0796 (with p_b = B the cubic-spline drop settled at 0.084).
+/// 4R/(3π) = 0.0796.
 pub const LATE_T: f64 = 0.4;
 /// See [`LATE_T`].
 pub const LATE_TOL: f64 = 0.002;
@@ -94,171 +95,5 @@ pub fn spec(id: &str, quick: bool, extra: &[&str]) -> RunSpec<'static> {
 }
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
-    let quick = ctx.opts.quick;
-    let mut rep = CaseReport::new("oscillation", "Thesis §4.2.1, Fig. 4.1 (PHYSICS.md §9(a)): oscillating drop", quick);
-    let analytic = drop_mode2_period(1.0, 1.0, 1.0, 0.1875);
-    let mut variants: Vec<(&str, &str, Vec<&str>)> =
-        vec![("quintic", "field on all particles, quintic h = 1.2Δx, p_b = σ/(2Δx) (default)", vec![])];
-    if !quick {
-        variants.extend(kernel_sets());
-        variants.push((
-            "wendland13",
-            "Wendland C2 h = 1.3Δx (support 2.6Δx)",
-            vec!["kernel.kind=wendland-c2", "kernel.h_ratio=1.3"],
-        ));
-        variants.push((
-            "johnson15",
-            "Johnson quadratic h = 1.5Δx (support 3Δx)",
-            vec!["kernel.kind=johnson", "kernel.h_ratio=1.5"],
-        ));
-        variants.push((
-            "johnson12",
-            "Johnson quadratic h = 1.2Δx (support 2.4Δx)",
-            vec!["kernel.kind=johnson", "kernel.h_ratio=1.2"],
-        ));
-        variants.push(("quintic-h10", "quintic h = Δx (support 3Δx; the former default)", vec!["kernel.h_ratio=1.0"]));
-        variants.push(("pb-b", "p_b = B = 175 (the former default)", vec!["phases.0.p_b=175", "phases.1.p_b=175"]));
-        variants.push(("pb0", "p_b = 0 (thesis-literal pressure)", vec!["phases.0.p_b=0", "phases.1.p_b=0"]));
-        variants.push(("drop-only", "field on the drop only (thesis text)", vec!["initial_velocity.phase=liquid"]));
-    }
-    let mut quintic_period = f64::NAN;
-    let mut periods: Vec<(&str, f64, f64)> = Vec::new();
-    let mut spec_plot = PlotSpec::new(
-        "Oscillating drop: liquid centroid x_c(t) (Fig. 4.1)",
-        "t (nondimensional)",
-        "centroid x_c (nondimensional)",
-    );
-    let mut first_max: Option<f64> = None;
-    for (id, what, extra) in &variants {
-        let rec = match ctx.run(&spec(id, quick, extra), &[]) {
-            Ok(r) => r,
-            Err(ValidateError::Skipped(s)) => {
-                rep.notes.push(format!("variant {s} was not run (--skip-missing)."));
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
-        let dir = std::path::PathBuf::from(&rec.dir);
-        let rows = read_series(&dir);
-        spec_plot.series.push(Series::line(format!("sphlab: {what}"), col(&rows, |r| Some(r.centroid_x))));
-        let (period, amp) = measure(&dir).unwrap_or((f64::NAN, f64::NAN));
-        if first_max.is_none() {
-            // time of the first centroid maximum (t < 0.2), to place the thesis period
-            first_max =
-                rows.iter().filter(|r| r.t < 0.2).max_by(|a, b| a.centroid_x.total_cmp(&b.centroid_x)).map(|r| r.t);
-        }
-        let band = if quick { (0.25, 0.45) } else { PERIOD_BAND };
-        let row = Row::new(&format!("period, {what}"), period, 4, Some(THESIS_PERIOD), Some(analytic))
-            .analytic_text(&format!("{analytic:.4} inviscid; {:.2}–{:.2} viscous", VISCOUS_BAND.0, VISCOUS_BAND.1));
-        rep.rows.push(match *id {
-            "quintic" if quick => {
-                quintic_period = period;
-                row.check(period >= band.0 && period <= band.1, &format!("{} ≤ T ≤ {}", band.0, band.1))
-            }
-            "quintic" => {
-                quintic_period = period;
-                row.check(
-                    (period / THESIS_PERIOD - 1.0).abs() <= THESIS_PERIOD_TOL,
-                    &format!("within {:.0} % of the thesis's 0.37", THESIS_PERIOD_TOL * 100.0),
-                )
-            }
-            k if kernel_sets().iter().any(|s| s.0 == k) => row.check(
-                (period / quintic_period - 1.0).abs() <= KERNEL_PERIOD_TOL,
-                &format!("within {:.0} % of the quintic's {quintic_period:.3}", KERNEL_PERIOD_TOL * 100.0),
-            ),
-            _ => row,
-        });
-        if !quick && !(band.0..=band.1).contains(&period) {
-            let best = |f: fn(f64, f64) -> bool| {
-                rows.iter().fold(None::<(f64, f64)>, |m, r| match m {
-                    Some(b) if !f(r.centroid_x, b.1) => Some(b),
-                    _ => Some((r.t, r.centroid_x)),
-                })
-            };
-            if let (Some(mx), Some(mn)) = (best(|a, b| a > b), best(|a, b| a < b)) {
-                rep.notes.push(format!(
-                    "{what}: no regular oscillation in t ≤ 0.6 (period {period:.3} is outside the band): global maximum x_c = {:.4} at t = {:.3}, global minimum {:.4} at t = {:.3}; see the plot.",
-                    mx.1, mx.0, mn.1, mn.0
-                ));
-            }
-        }
-        let amp_row = Row::new(&format!("first-cycle amplitude, {what}"), amp, 4, Some(THESIS_AMPLITUDE), None);
-        rep.rows.push(if *id == "quintic" && !quick {
-            amp_row.check(
-                (amp / THESIS_AMPLITUDE - 1.0).abs() <= THESIS_AMPLITUDE_TOL,
-                &format!("within ±{:.0} % of 0.012", THESIS_AMPLITUDE_TOL * 100.0),
-            )
-        } else {
-            amp_row
-        });
-        let late: Vec<f64> = rows.iter().filter(|r| r.t >= LATE_T).map(|r| r.centroid_x).collect();
-        let late_mean = late.iter().sum::<f64>() / late.len().max(1) as f64;
-        let circle = 4.0 * 0.1875 / (3.0 * std::f64::consts::PI);
-        let late_row = Row::new(&format!("mean centroid t ≥ {LATE_T}, {what}"), late_mean, 4, None, Some(circle));
-        let judged = *id == "quintic" || kernel_sets().iter().any(|s| s.0 == *id);
-        rep.rows.push(if judged && !quick {
-            late_row.check((late_mean - circle).abs() <= LATE_TOL, &format!("within {LATE_TOL} of the circle's"))
-        } else {
-            late_row
-        });
-        periods.push((id, period, amp));
-        rep.runs.push(rec);
-    }
-    let find = |k: &str| periods.iter().find(|p| p.0 == k).map(|p| (p.1, p.2));
-    if let (Some((tw13, _)), Some((tw, _))) = (find("wendland13"), find("wendland")) {
-        rep.notes.push(format!(
-            "Wendland C2 at h = 1.3Δx (support 2.6Δx): period {tw13:.3}, {:+.1} % from the quintic's {quintic_period:.3}; at \
-             h = 1.5Δx (support 3Δx; the h this case uses) {tw:.3} ({:+.1} %): the period follows the \
-             support radius in particle spacings, and both drops oscillate like a liquid (centroid back to the circle's).",
-            (tw13 / quintic_period - 1.0) * 100.0,
-            (tw / quintic_period - 1.0) * 100.0
-        ));
-    }
-    if let (Some((tj12, _)), Some((tj15, _)), Some((tj, _))) = (find("johnson12"), find("johnson15"), find("johnson")) {
-        let pct = |t: f64| (t / quintic_period - 1.0) * 100.0;
-        rep.notes.push(format!(
-            "Johnson quadratic, period against the quintic's {quintic_period:.3}: h = 1.2Δx (support 2.4Δx) {tj12:.3} \
-             ({:+.1} %), h = 1.5Δx (support 3Δx) {tj15:.3} ({:+.1} %), h = 2Δx (support 4Δx; the h this case uses) \
-             {tj:.3} ({:+.1} %). Its gradient does not vanish at r → 0 (PHYSICS.md §1), so close pairs repel stiffly: \
-             with a narrow support the drop rings like a solid at every p_b > 0 (pb-sweep/summary.md). Use h ≥ 2Δx.",
-            pct(tj12),
-            pct(tj15),
-            pct(tj)
-        ));
-    }
-    if let (Some((tq, a)), Some((t10, a10)), Some((_, ab))) = (find("quintic"), find("quintic-h10"), find("pb-b")) {
-        rep.notes.push(format!(
-            "Quintic h = 1.2Δx (default) against h = Δx: period {tq:.3} vs {t10:.3}, first-cycle amplitude {a:.4} vs {a10:.4}. \
-             The amplitude falls as the arrangement stiffens: with p_b ({ab:.4} at B = 175; reports/validation/pb-sweep at \
-             nx = 24) and with a narrower support (h = Δx), whose noisier colour gradient and pressure sum also raise the \
-             spurious speeds of the drop at rest (spurious/summary.md)."
-        ));
-    }
-    if let Some((_, a)) = find("quintic") {
-        let eq = 4.0 * 0.1875 / (3.0 * std::f64::consts::PI);
-        let rows = read_series(&ctx.dir.join("runs").join("quintic"));
-        let first_max = rows.iter().filter(|r| r.t < 0.2).map(|r| r.centroid_x).fold(f64::NAN, f64::max);
-        if !quick {
-            rep.notes.push(format!(
-                "The first-cycle amplitude ½(max − min) = {a:.4} of a viscously damped oscillation is smaller than its first \
-                 excursion x_c,max − 4R/(3π) = {:.4}; PHYSICS.md §9(a) defines the thesis's 0.012 as the former.",
-                first_max - eq
-            ));
-        }
-    }
-    let eq = 4.0 * 0.1875 / (3.0 * std::f64::consts::PI);
-    spec_plot.refs = vec![
-        RefLine::horizontal("equilibrium 4R/(3π) = 0.0796", eq),
-        RefLine::horizontal("thesis amplitude: 0.0796 + 0.012", eq + THESIS_AMPLITUDE),
-        RefLine::horizontal("thesis amplitude: 0.0796 − 0.012", eq - THESIS_AMPLITUDE),
-        RefLine::vertical("first maximum + thesis period 0.37", first_max.unwrap_or(0.0) + THESIS_PERIOD),
-    ];
-    plot(ctx, &mut rep, "fig4_1_centroid.svg", &spec_plot)?;
-    rep.notes.push(format!(
-        "Analytic mode-2 period of a 2D drop in an equal-density outer fluid: T = {analytic:.4} (inviscid); weak \
-         viscous damping puts it at ≈ 0.31 (inner fluid) to ≈ 0.35 (both fluids). The thesis's 0.37 is ~25 % \
-         above inviscid theory."
-    ));
-    rep.notes.push("Period = weighted least-squares spacing of the centroid maxima; amplitude = ½(max − min) over the first full cycle (diagnostics::oscillation). Where fewer than two maxima stand out above the record mean (strongly damped coarse runs), period = 2 × (first minimum − first maximum) and amplitude = ½(first max − first min) instead.".into());
-    Ok(rep)
+    super::executor::execute(ctx, &mut case::Oscillation::new(ctx))
 }

@@ -1,0 +1,190 @@
+//! The line plot ([`line_plot_svg`]): curves as lines, points or both, reference lines dashed,
+//! the legend inside the plot or in a column beside it, linear or log axes.
+
+use std::path::Path;
+
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::types::RangedCoordf64;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+
+use super::axes::{axis_range, drawable, segments, snap_span, tick_label};
+use super::{msg, svg_area, Area, PlotSpec, Style, LEGEND_WIDTH, PALETTE, PLOT_SIZE};
+use crate::output::{OutputError, Result};
+
+/// Draws `spec` on `root` in the coordinates `xc`, `yc` (linear or log).
+#[allow(clippy::too_many_arguments)]
+fn draw_lines<X, Y>(
+    root: &Area<'_>,
+    legend: Option<&Area<'_>>,
+    spec: &PlotSpec,
+    xc: X,
+    yc: Y,
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> std::result::Result<(), String>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let (xspan, yspan) = {
+        let (rx, ry) = (xc.range(), yc.range());
+        (snap_span(rx.start, rx.end), snap_span(ry.start, ry.end))
+    };
+    let mut chart = ChartBuilder::on(root)
+        .caption(&spec.title, ("sans-serif", 26))
+        .margin(20)
+        .x_label_area_size(56)
+        .y_label_area_size(84)
+        .build_cartesian_2d(xc, yc)
+        .map_err(msg)?;
+    chart
+        .configure_mesh()
+        .x_desc(spec.x_label.as_str())
+        .y_desc(spec.y_label.as_str())
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 14))
+        .x_label_formatter(&|v| tick_label(*v, xspan))
+        .y_label_formatter(&|v| tick_label(*v, yspan))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(msg)?;
+
+    let inside = |x: f64, y: f64| {
+        drawable(x, spec.log_x) && drawable(y, spec.log_y) && (xr.0..=xr.1).contains(&x) && (yr.0..=yr.1).contains(&y)
+    };
+    let mut labelled = false;
+    for (k, s) in spec.series.iter().enumerate() {
+        let color = PALETTE[k % PALETTE.len()];
+        let line_style = color.stroke_width(2);
+        let (segs, pts) = segments(&s.points, inside);
+        labelled |= !s.label.is_empty();
+        match s.style {
+            Style::Line => {
+                chart
+                    .draw_series(segs.into_iter().map(|seg| PathElement::new(seg, line_style)))
+                    .map_err(msg)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x - 12, y), (x + 12, y)], line_style));
+            }
+            Style::Points => {
+                chart
+                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled())))
+                    .map_err(msg)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+            }
+            Style::LinePoints => {
+                chart
+                    .draw_series(segs.into_iter().map(|seg| PathElement::new(seg, line_style)))
+                    .map_err(msg)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(-12, 0), (12, 0)], line_style)
+                            + Circle::new((0, 0), 4, color.filled())
+                    });
+                chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled()))).map_err(msg)?;
+            }
+        }
+    }
+    for (j, r) in spec.refs.iter().enumerate() {
+        let color = PALETTE[(spec.series.len() + j) % PALETTE.len()];
+        let style = color.stroke_width(2);
+        let line = if r.horizontal && drawable(r.value, spec.log_y) {
+            Some(vec![(xr.0, r.value), (xr.1, r.value)])
+        } else if !r.horizontal && drawable(r.value, spec.log_x) {
+            Some(vec![(r.value, yr.0), (r.value, yr.1)])
+        } else {
+            None
+        };
+        labelled |= !r.label.is_empty();
+        chart
+            .draw_series(line.into_iter().map(|l| DashedPathElement::new(l, 10, 6, style)))
+            .map_err(msg)?
+            .label(r.label.as_str())
+            .legend(move |(x, y)| DashedPathElement::new(vec![(x - 12, y), (x + 12, y)], 5, 3, style));
+    }
+    if let Some(area) = legend {
+        draw_legend_column(area, spec)?;
+    } else if labelled {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font(("sans-serif", 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(msg)?;
+    }
+    Ok(())
+}
+
+/// The legend of `spec` as a column in `area` (right of the plot): one row per labelled series
+/// and reference line, in the colours and styles [`draw_lines`] gives them.
+fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(), String> {
+    let font = ("sans-serif", 15).into_font();
+    let mut y = 80;
+    let mut row = |label: &str, color: RGBColor, dashed: bool, dot: bool| -> std::result::Result<(), String> {
+        if label.is_empty() {
+            return Ok(());
+        }
+        let style = color.stroke_width(2);
+        if dashed {
+            area.draw(&DashedPathElement::new(vec![(10, y), (40, y)], 5, 3, style)).map_err(|e| e.to_string())?;
+        } else {
+            area.draw(&PathElement::new(vec![(10, y), (40, y)], style)).map_err(|e| e.to_string())?;
+        }
+        if dot {
+            area.draw(&Circle::new((25, y), 4, color.filled())).map_err(|e| e.to_string())?;
+        }
+        area.draw(&Text::new(label.to_string(), (48, y - 8), font.clone())).map_err(|e| e.to_string())?;
+        y += 24;
+        Ok(())
+    };
+    for (k, s) in spec.series.iter().enumerate() {
+        row(&s.label, PALETTE[k % PALETTE.len()], false, s.style != Style::Line)?;
+    }
+    for (j, r) in spec.refs.iter().enumerate() {
+        row(&r.label, PALETTE[(spec.series.len() + j) % PALETTE.len()], true, false)?;
+    }
+    Ok(())
+}
+
+/// Draws `spec` into the SVG file `path` (parent directory created if missing).
+pub fn line_plot_svg(path: impl AsRef<Path>, spec: &PlotSpec) -> Result<()> {
+    let path = path.as_ref();
+    let xs = spec
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().filter(|p| drawable(p.1, spec.log_y)).map(|p| p.0))
+        .chain(spec.refs.iter().filter(|r| !r.horizontal).map(|r| r.value));
+    let xr = axis_range(spec.x_range, xs, spec.log_x, 0.05, "x", path)?;
+    let ys = spec
+        .series
+        .iter()
+        .flat_map(|s| {
+            s.points.iter().filter(|p| drawable(p.0, spec.log_x) && (xr.0..=xr.1).contains(&p.0)).map(|p| p.1)
+        })
+        .chain(spec.refs.iter().filter(|r| r.horizontal).map(|r| r.value));
+    let yr = axis_range(spec.y_range, ys, spec.log_y, 0.05, "y", path)?;
+
+    let root = svg_area(path)?;
+    let (plot, legend) = if spec.legend_outside {
+        let (p, l) = root.split_horizontally(PLOT_SIZE.0 as i32 - LEGEND_WIDTH);
+        (p, Some(l))
+    } else {
+        (root.clone(), None)
+    };
+    let lin = |r: (f64, f64)| RangedCoordf64::from(r.0..r.1);
+    let log = |r: (f64, f64)| LogCoord::<f64>::from((r.0..r.1).log_scale());
+    let l = legend.as_ref();
+    let drawn = match (spec.log_x, spec.log_y) {
+        (false, false) => draw_lines(&plot, l, spec, lin(xr), lin(yr), xr, yr),
+        (true, false) => draw_lines(&plot, l, spec, log(xr), lin(yr), xr, yr),
+        (false, true) => draw_lines(&plot, l, spec, lin(xr), log(yr), xr, yr),
+        (true, true) => draw_lines(&plot, l, spec, log(xr), log(yr), xr, yr),
+    };
+    drawn.map_err(|m| OutputError::plot(path, m))?;
+    root.present().map_err(|e| OutputError::plot(path, msg(e)))
+}
