@@ -1,5 +1,5 @@
 //! Criterion bench of a full time step, one group per experiment of `sphlab study`
-//! (STUDY.md §4), with the study's scenes (`sphlab::study::study_scene`) and ids:
+//! (docs/STUDY.md §4), with the study's scenes (`sphlab::study::study_scene`) and ids:
 //! `BenchmarkId::new(backend id, N)` where the backend id is the [`BackendId`] of the study and
 //! `records.csv` (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …), throughput in particles.
 //!

@@ -1,4 +1,4 @@
-// contact.wgsl: contact-angle geometry of Mode B (PHYSICS.md §8.3–8.4, thesis T81–T83,
+// contact.wgsl: contact-angle geometry of Mode B (docs/PHYSICS.md §8.3–8.4, thesis T81–T83,
 // Algorithms 1–2). WGSL twin of src/physics/contact.rs, same names and argument order.
 // Library module: functions only (no bindings, no entry points).
 // NOTE: GLSL.std.450 Sin/Cos exist for 16/32-bit floats only: the f64 build evaluates them in f32.

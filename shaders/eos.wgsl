@@ -1,4 +1,4 @@
-// eos.wgsl: Tait / Batchelor equation of state (PHYSICS.md §3, thesis T34–T36).
+// eos.wgsl: Tait / Batchelor equation of state (docs/PHYSICS.md §3, thesis T34–T36).
 // WGSL twin of src/physics/eos.rs (eos_pressure). Library module: no bindings, no entry points.
 //
 // NOTE (arithmetic differs from Rust on purpose): Rust uses `powf(γ)`. Here a whole γ in

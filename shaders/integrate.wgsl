@@ -1,4 +1,4 @@
-// integrate.wgsl: time-integration updates (PHYSICS.md §7.2): midpoint predictor–corrector and
+// integrate.wgsl: time-integration updates (docs/PHYSICS.md §7.2): midpoint predictor–corrector and
 // velocity Verlet. WGSL twin of src/physics/integrate.rs, same names and argument order; the
 // Rust tuples `(r, v)` are returned as `PosVel`. `vt` is the advection velocity (v or XSPH).
 // Library module: functions and structs only (no bindings, no entry points).

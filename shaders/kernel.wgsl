@@ -1,4 +1,4 @@
-// kernel.wgsl: 2D smoothing kernels (PHYSICS.md §1, thesis T40–T43).
+// kernel.wgsl: 2D smoothing kernels (docs/PHYSICS.md §1, thesis T40–T43).
 // WGSL twin of src/physics/kernel.rs (kernel_f, kernel_df, kernel_w, kernel_dwdr): same names,
 // same argument order, same operation order, so f32 results agree to rounding level.
 // W(r,h) = α f(q) and ∂W/∂r = (α/h) f'(q) with q = r/h and α = α_2D/h² (constants computed on

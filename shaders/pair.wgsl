@@ -1,4 +1,4 @@
-// pair.wgsl: pair terms of the Hu–Adams momentum equation (PHYSICS.md §4, §5.2, §5.5, §7.1;
+// pair.wgsl: pair terms of the Hu–Adams momentum equation (docs/PHYSICS.md §4, §5.2, §5.5, §7.1;
 // thesis T67–T71, T76, T51). WGSL twin of src/physics/pair.rs, same names and argument order.
 // Each function is the contribution of one neighbour j to a sum over j for particle i; the caller
 // applies the prefactor (1/m_i or σ_i). Conventions: x_ij = x_i − x_j, ∇_iW_ij = F'(r) x_ij / r.

@@ -1,4 +1,4 @@
-// stress.wgsl: Hu–Adams surface stress tensor (PHYSICS.md §5.3, thesis T73–T74).
+// stress.wgsl: Hu–Adams surface stress tensor (docs/PHYSICS.md §5.3, thesis T73–T74).
 // WGSL twin of src/physics/stress.rs (stress_tensor) and of `Sym2` in src/real.rs.
 // Library module: functions and structs only (no bindings, no entry points).
 

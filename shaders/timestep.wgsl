@@ -1,4 +1,4 @@
-// timestep.wgsl: the adaptive time step (PHYSICS.md §7.3, thesis T52–T54 and the Brackbill
+// timestep.wgsl: the adaptive time step (docs/PHYSICS.md §7.3, thesis T52–T54 and the Brackbill
 // capillary limit). WGSL twin of `DtLimits::compute(...).min()` in src/physics/timestep.rs, same
 // argument order and the same operations in the same order; a limit whose physics is absent
 // (ν = 0, |a| = 0, σ = 0) is infinite there and skipped here (WGSL has no infinity literal).

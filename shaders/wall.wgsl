@@ -1,4 +1,4 @@
-// wall.wgsl: wall boundary physics (PHYSICS.md §6, thesis T44–T49): Morris no-slip ghost
+// wall.wgsl: wall boundary physics (docs/PHYSICS.md §6, thesis T44–T49): Morris no-slip ghost
 // velocity with its cap, the free-slip variant, the Holmes state-ratio option and Monaghan's
 // Lennard-Jones repulsion. WGSL twin of src/physics/wall.rs, same names and argument order.
 // Library module: functions only (no bindings, no entry points).

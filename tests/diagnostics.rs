@@ -1,4 +1,4 @@
-//! Tests of `sphlab::diagnostics` on synthetic particle sets (PHYSICS.md §9, §10).
+//! Tests of `sphlab::diagnostics` on synthetic particle sets (docs/PHYSICS.md §9, §10).
 //! Run with `--nocapture` to see the measured numbers.
 
 use sphlab::diagnostics::analytic_flows::poiseuille_max;

@@ -1,4 +1,4 @@
-//! Every GPU strategy variant of `VariantSpec::all()` against the CPU reference (STUDY.md §3):
+//! Every GPU strategy variant of `VariantSpec::all()` against the CPU reference (docs/STUDY.md §3):
 //! compose + naga-validate every kernel of every variant (no GPU); one force evaluation per
 //! field on `oscillating-drop` (relax off) and `sessile-90` Mode B at nx = 33 for every
 //! variant the adapter supports (the others must give a reason); bitwise reproducibility of

@@ -485,7 +485,7 @@ fn every_relative_link_resolves_inside_the_repository() {
 /// missing anchor are caught, a good link and anchor pass; a placeholder is not taken for a path.
 #[test]
 fn the_checks_catch_what_they_are_for() {
-    let md = "[a](../outside.md) [b](nope.md) [c](#no-such-heading) [d](PHYSICS.md#0-notation-and-signs) `src/<name>.rs` `tests/guide.rs` `src/nope.rs`";
+    let md = "[a](../outside.md) [b](nope.md) [c](#no-such-heading) [d](docs/PHYSICS.md#0-notation-and-signs) `src/<name>.rs` `tests/guide.rs` `src/nope.rs`";
     assert_eq!(links(md).len(), 4);
     let file = repo().join("docs/example.md");
     assert_eq!(unresolved(&file, md), ["../outside.md", "nope.md", "#no-such-heading"]);

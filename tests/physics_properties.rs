@@ -1,4 +1,4 @@
-//! Properties of the pure physics functions (`core/src/physics/`) against PHYSICS.md §0, §1, §3, §5.3:
+//! Properties of the pure physics functions (`core/src/physics/`) against docs/PHYSICS.md §0, §1, §3, §5.3:
 //! kernel normalisation by radial quadrature (independent of the lattice), second moments
 //! against closed forms, lattice sums and self values of §1, dW/dr against central finite
 //! differences, F' ≤ 0, the sign rules of §0 through `physics::pair`, the surface stress tensor
@@ -51,7 +51,7 @@ fn radial_moment(kind: KernelKind, h: f64, p: i32, sub: usize) -> f64 {
     2.0 * PI * s
 }
 
-/// Closed-form `∫ W dA` (the Gaussian is truncated at 3h and loses e⁻⁹, PHYSICS.md §1).
+/// Closed-form `∫ W dA` (the Gaussian is truncated at 3h and loses e⁻⁹, docs/PHYSICS.md §1).
 fn exact_mass(kind: KernelKind) -> f64 {
     match kind {
         KernelKind::Gaussian => 1.0 - (-9.0f64).exp(),
@@ -87,7 +87,7 @@ fn kernel_integrates_to_one_by_radial_quadrature() {
 #[test]
 fn gaussian_truncation_loss_is_e_minus_9() {
     // The brief asks ∫W = 1 within 1e-6 for every kernel; the truncated Gaussian (α = 1/(πh²),
-    // untruncated) cannot satisfy that: it misses e⁻⁹ = 1.234e-4 (PHYSICS.md §1, optional fix
+    // untruncated) cannot satisfy that: it misses e⁻⁹ = 1.234e-4 (docs/PHYSICS.md §1, optional fix
     // not applied in core/src/physics/kernel.rs). Pin the deficit so a change is noticed.
     let m = radial_moment(KernelKind::Gaussian, 1.0, 0, 400);
     let loss = 1.0 - m;

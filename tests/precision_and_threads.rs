@@ -22,7 +22,7 @@ fn scene(name: &str) -> Scene {
     s
 }
 
-/// The T84 rod-oscillation field (PHYSICS.md §9a) on the liquid, centre at the origin.
+/// The T84 rod-oscillation field (docs/PHYSICS.md §9a) on the liquid, centre at the origin.
 fn rod_velocity(layout: &Layout, h: f64) -> Vec<[f64; 2]> {
     let (v0, r0) = (10.0, 0.05);
     (0..layout.n_fluid)

@@ -1,4 +1,4 @@
-//! Surface tension of the CPU reference against PHYSICS.md §5.2 and §5.6: the Laplace ray
+//! Surface tension of the CPU reference against docs/PHYSICS.md §5.2 and §5.6: the Laplace ray
 //! integral `Σ_i m_i a_i·r̂_i / (2π r_i)` of a circular drop (R = 10Δx and 15.3Δx, quintic h = Δx
 //! and cubic h = 1.2Δx) within 5 % of −σ/R and near the spec's values, `∫|∇C|dA/(2πR)` within
 //! 2 % of the spec's values, and the flat-interface colour-gradient profile (first row 0.4628,
@@ -77,7 +77,7 @@ fn laplace_case(kernel: &str, hr: f64, r: f64) -> (f64, f64) {
     (ray, gc)
 }
 
-/// Checks one case against the PHYSICS.md §5.6 table: ray integral within 1.5e-3 of the listed
+/// Checks one case against the docs/PHYSICS.md §5.6 table: ray integral within 1.5e-3 of the listed
 /// value (the table has 3 significant digits), inward, and ∫|∇C|dA/(2πR) within 2 %.
 fn check_against_spec(kernel: &str, hr: f64, r: f64, spec_ray: f64, spec_gc: f64) {
     let (ray, gc) = laplace_case(kernel, hr, r);
@@ -119,7 +119,7 @@ fn laplace_quintic_within_5_percent_of_exact() {
 }
 
 /// The cubic spline at h = 1.2Δx has a wider interface band than the quintic: at R = 10Δx the
-/// ray integral is −0.0939 (PHYSICS.md §5.6), 6.1 % short of −σ/R, and 4.4 % at R = 15.3Δx.
+/// ray integral is −0.0939 (docs/PHYSICS.md §5.6), 6.1 % short of −σ/R, and 4.4 % at R = 15.3Δx.
 /// The error must shrink as the drop is resolved by more particles (first order in Δx/R).
 #[test]
 fn laplace_cubic_error_falls_with_resolution() {
@@ -281,6 +281,6 @@ fn flat_interface_surface_force() {
         assert!((a + b).abs() < 1e-13, "a_y not antisymmetric about the interface at d={d}: {b:e} vs {a:e}");
     }
     // The per-row normal force is NOT zero: the traceless I/d part of Π acts like a pressure
-    // −σ|∇C|/2 inside the band (PHYSICS.md §5.6 note); it is balanced by pressure at rest.
+    // −σ|∇C|/2 inside the band (docs/PHYSICS.md §5.6 note); it is balanced by pressure at rest.
     println!("flat quintic: per-row |a_y| up to {amax:.4e} (I/2 part of Π)");
 }

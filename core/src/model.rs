@@ -21,7 +21,7 @@ pub const MAX_CONTACTS: usize = 32;
 pub struct PhaseConst<T> {
     /// Rest density ρ0.
     pub rho0: T,
-    /// Particle mass `ρ0 / σ_lattice` (lattice-normalised, PHYSICS.md §2).
+    /// Particle mass `ρ0 / σ_lattice` (lattice-normalised, docs/PHYSICS.md §2).
     pub mass: T,
     /// EOS stiffness B = ρ0c0²/γ.
     pub stiffness: T,
@@ -167,7 +167,7 @@ impl<T: Real> Images<T> {
     }
 }
 
-/// Which stages a scene needs (PHYSICS.md §12); the stage list follows from it in
+/// Which stages a scene needs (docs/PHYSICS.md §12); the stage list follows from it in
 /// [`crate::stage`]. Printed and written into the run summary.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct ActiveStages {

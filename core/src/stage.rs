@@ -10,7 +10,7 @@ use crate::fields::Field;
 use crate::model::ActiveStages;
 use crate::scene::Integrator;
 
-/// One stage of a time step: the force-evaluation stages in the order of PHYSICS.md §12, then
+/// One stage of a time step: the force-evaluation stages in the order of docs/PHYSICS.md §12, then
 /// the integrator's, the blow-up check and the dt reduction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Stage {

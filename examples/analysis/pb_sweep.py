@@ -153,11 +153,11 @@ def main():
            "The truncated Gaussian (T40, h = Δx, support 3Δx) behaves like the quintic: at the rule period 0.370 "
            "(quintic 0.390), amplitude 0.0085, Laplace jump −7.6 %, spurious speed 0.10; at p_b Δx/σ = 1 period "
            "0.328 and jump −3.3 %; at B = 175 it rings at 0.268 and its centroid settles at 0.0838 (solid-like, "
-           "as the cubic spline). The Johnson quadratic (T41) at h = 1.2Δx (support 2.4Δx, PHYSICS.md §1's "
+           "as the cubic spline). The Johnson quadratic (T41) at h = 1.2Δx (support 2.4Δx, docs/PHYSICS.md §1's "
            "lattice-sum value) is solid-like at every p_b > 0: periods 0.260, 0.222, 0.188 and 0.098 at p_b 12, "
            "24, 48 and 175, spurious speeds 0.02–0.06 and Laplace jumps 9–17 % low; only p_b = 0 gives a liquid's "
            "period (0.376), at a spurious speed of 0.82. Its gradient does not vanish as r → 0 (f'(0) ≠ 0, "
-           "PHYSICS.md §1), so the pressure term of close pairs is a stiff repulsion that holds the lattice. "
+           "docs/PHYSICS.md §1), so the pressure term of close pairs is a stiff repulsion that holds the lattice. "
            "Widening the support removes it: at the rule, h = 1.5Δx (support 3Δx) gives period 0.334 and "
            "jump −6.0 %, and h = 2Δx gives 0.372 and −0.1 % (johnson-h/README.md). `validate oscillation` "
            "runs it at h = 2Δx (at nx = 30, h = 1.5Δx still rings 27 % fast; h = 2Δx is 8 % off the quintic).",

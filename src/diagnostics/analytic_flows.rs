@@ -1,6 +1,6 @@
 //! Analytic reference solutions used to validate the solver: transient plane Poiseuille flow
-//! (Morris, Fox & Zhu 1997), the mode-2 oscillation period of a 2D drop (PHYSICS.md §9(a)) and
-//! the equilibrium circular cap of a 2D sessile drop (PHYSICS.md §9(c), §10.3).
+//! (Morris, Fox & Zhu 1997), the mode-2 oscillation period of a 2D drop (docs/PHYSICS.md §9(a)) and
+//! the equilibrium circular cap of a 2D sessile drop (docs/PHYSICS.md §9(c), §10.3).
 
 use std::f64::consts::PI;
 

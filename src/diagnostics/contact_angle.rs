@@ -1,4 +1,4 @@
-//! Contact angle from particle data (PHYSICS.md §10; contact half-width from §9(e)).
+//! Contact angle from particle data (docs/PHYSICS.md §10; contact half-width from §9(e)).
 //!
 //! Conventions (§6.1, §10): the bottom wall surface is at `y_w`; particle rows sit at
 //! `y_w + (k+½)Δx`; the drop sits against the symmetry plane x = 0 with x positive away from

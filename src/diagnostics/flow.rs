@@ -1,4 +1,4 @@
-//! Flow measurements on particle data (PHYSICS.md §9(a) centroid and oscillation, §9(b)
+//! Flow measurements on particle data (docs/PHYSICS.md §9(a) centroid and oscillation, §9(b)
 //! kinetic energy, wall shear-rate profile and maximum normal deviation).
 //!
 //! Pure functions over plain slices; wall particles carry the phase [`WALL`] and are skipped

@@ -1,5 +1,5 @@
 //! Coarse cell grid of the gas particles for the nearest-gas-neighbour queries of the
-//! contact-angle measurement (PHYSICS.md §10.1–§10.2): O(n) build, O(1) query. Only the gas
+//! contact-angle measurement (docs/PHYSICS.md §10.1–§10.2): O(n) build, O(1) query. Only the gas
 //! within the query radius of the liquid's bounding box is gridded, and the cells are capped
 //! by the particles gridded, so the grid is sized by the drop it samples, never by the domain
 //! ([`GasGrid::max_bytes`] bounds it for the resource plan); its arrays are allocated fallibly.

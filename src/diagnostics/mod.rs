@@ -1,4 +1,4 @@
-//! Diagnostics: pure measurements on particle data (PHYSICS.md §9 validation scenes, §10
+//! Diagnostics: pure measurements on particle data (docs/PHYSICS.md §9 validation scenes, §10
 //! contact-angle measurement) and analytic reference solutions. No solver dependency; all
 //! inputs are plain `f64` slices with the phase convention of [`crate::scene::build`]
 //! (0 = liquid, 1 = gas, [`crate::scene::build::WALL`] = wall particle).

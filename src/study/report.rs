@@ -1,4 +1,4 @@
-//! Writes the study's outputs: `records.csv` (STUDY.md §5, one row per backend × size, failed
+//! Writes the study's outputs: `records.csv` (docs/STUDY.md §5, one row per backend × size, failed
 //! runs included with their status and no timing), `summary.md` (the plan, E1/E4/scaling tables
 //! with speedups, what the numbers mean on this adapter), SVG plots (scaling log-log, one facet
 //! per neighbour search; speed against error); with GPU timestamps also `stage_times.csv` and

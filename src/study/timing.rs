@@ -1,4 +1,4 @@
-//! How the study times one backend, honestly (STUDY.md §5):
+//! How the study times one backend, honestly (docs/STUDY.md §5):
 //!
 //! 1. **Accuracy snapshot**: `K` steps from the shared start, a device sync, the error check,
 //!    and the state read back: it is compared with the CPU f64 one-thread reference after the

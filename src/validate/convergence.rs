@@ -1,4 +1,4 @@
-//! Case `convergence` (PHYSICS.md §9(d), thesis §4.2.4): relax-60, Mode B, no-slip, at
+//! Case `convergence` (docs/PHYSICS.md §9(d), thesis §4.2.4): relax-60, Mode B, no-slip, at
 //! Δx = 0.5/45, 0.5/65, 0.5/85, 0.5/105 with `time.dt_policy = "scale"` (7e-5 at 65; the
 //! viscous limit binds, so dt ∝ Δx²). D/D0 and θ at the end against the analytic cap, and time to solution
 //! against error. Thesis: all but 0.5/45 converge in D/D0 and θ.
@@ -164,7 +164,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
     let mut rep = CaseReport::new(
         "convergence",
-        "Thesis §4.2.4 (PHYSICS.md §9(d)): resolution study of relax-60, Mode B, no-slip",
+        "Thesis §4.2.4 (docs/PHYSICS.md §9(d)): resolution study of relax-60, Mode B, no-slip",
         quick,
     );
     let t_end = ctx.opts.long_t_end(0.3);

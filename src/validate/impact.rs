@@ -1,4 +1,4 @@
-//! Case `impact` (PHYSICS.md §9(e), thesis §5.2, Figs. 5.3–5.5): 2D water drop impact at
+//! Case `impact` (docs/PHYSICS.md §9(e), thesis §5.2, Figs. 5.3–5.5): 2D water drop impact at
 //! Re = 440, We = 6.86 with a constant contact angle θ = 50…175° (Mode B). D/D0 vs
 //! τ = 4μt/(ρD0²) until the maximum, and D_max/D0 against the analytic models of
 //! `crate::analytic` (axisymmetric Pasandideh-Fard and the thesis's 2D model (c)).
@@ -26,8 +26,7 @@ pub const RE: f64 = 440.0;
 /// Weber number.
 pub const WE: f64 = 6.86;
 /// Resolution of the CPU case (particles across the 1125 µm half domain; 10.7 drop particles
-/// per radius, Δx = 23.4 µm): 997–1176 s CPU per angle on one thread (measured, e1d1803), nine
-/// angles ≈ 1 h 40 min on 2 cores; nx = 64 would take ≈ 3.2 h (`impact/nx32-check/README.md`).
+/// per radius, Δx = 23.4 µm); its cost per angle is in `reports/validation/impact/`.
 pub const CPU_NX: u32 = 48;
 /// Coarser resolution: the quick case and the CPU case's resolution check (5.3 particles per
 /// radius, Δx = 46.9 µm).
@@ -131,7 +130,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let full = ctx.opts.full_impact && !quick;
     let mut rep = CaseReport::new(
         "impact",
-        "Thesis §5.2, Figs. 5.3–5.5 (PHYSICS.md §9(e)): 2D drop impact, Re = 440, We = 6.86",
+        "Thesis §5.2, Figs. 5.3–5.5 (docs/PHYSICS.md §9(e)): 2D drop impact, Re = 440, We = 6.86",
         quick,
     );
     if !quick && !full {

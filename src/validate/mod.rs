@@ -1,6 +1,6 @@
-//! `sphlab validate`: the validation cases of PHYSICS.md §9 (thesis Chapters 4–5), each run
+//! `sphlab validate`: the validation cases of docs/PHYSICS.md §9 (thesis Chapters 4–5), each run
 //! through [`crate::run::run`] and compared with the thesis's reported values and the analytic
-//! references (ANALYTIC.md, `diagnostics::analytic_flows`). Every case writes, under
+//! references (docs/PHYSICS.md §11, `diagnostics::analytic_flows`). Every case writes, under
 //! `OUT/<case>/`, the runs (`runs/<id>/series.csv`, `summary.json`, particle snapshots), one SVG
 //! per thesis figure and `summary.md` (table `quantity | sphlab | thesis | analytic |
 //! difference | verdict` plus the provenance of every run); `validate all` adds `index.md`.

@@ -1,4 +1,4 @@
-//! Case `oscillation` (PHYSICS.md §9(a), thesis §4.2.1 / Fig. 4.1): the oscillating 2D drop.
+//! Case `oscillation` (docs/PHYSICS.md §9(a), thesis §4.2.1 / Fig. 4.1): the oscillating 2D drop.
 //! Period and first-cycle amplitude of the liquid centroid x_c(t) by
 //! [`crate::diagnostics::oscillation`], against the thesis (0.37 / 0.012) and the analytic
 //! mode-2 period (0.2945 inviscid; ≈ 0.31–0.35 with viscous damping).
@@ -32,7 +32,7 @@ pub const THESIS_AMPLITUDE_TOL: f64 = 0.2;
 /// period against the quintic's at nx = 30, p_b = σ/(2Δx) = 30:
 /// * quintic h = 1.2Δx (support 3.6Δx): the scene's default (amplitude and spurious speed, see
 ///   `scene::builtin::oscillating_drop`); h = Δx kept as an info run;
-/// * cubic spline h = 1.2Δx (support 2.4Δx): the thesis's choice for §4.2.2–4.2.4 (PHYSICS.md §7.4);
+/// * cubic spline h = 1.2Δx (support 2.4Δx): the thesis's choice for §4.2.2–4.2.4 (docs/PHYSICS.md §7.4);
 ///   period 0.316, −14 % from the quintic's 0.366 (h = 1.5Δx was no closer: 0.320);
 /// * Wendland C2 h = 1.5Δx (support 3Δx): 0.358, −2 %; at h = 1.3Δx (support 2.6Δx) the drop
 ///   rings 16 % fast, outside the 15 % of [`KERNEL_PERIOD_TOL`] (kept as an info run);

@@ -1,4 +1,4 @@
-//! Case `relax-60` (PHYSICS.md §9(c), thesis §4.2.3, Figs. 4.10–4.15): the 90° drop relaxing
+//! Case `relax-60` (docs/PHYSICS.md §9(c), thesis §4.2.3, Figs. 4.10–4.15): the 90° drop relaxing
 //! to 60°, Mode B and Mode A, no-slip and free-slip bottom walls, and both no-slip modes again
 //! from a 45° cap, so that each mode's end angle is approached from both sides (equilibrium or
 //! pinning). Contact angle vs time (three methods), D/D0 vs time against the analytic

@@ -1,4 +1,4 @@
-//! Case `sessile-90` (PHYSICS.md §9(b), thesis §4.2.2, Figs. 4.3–4.9): the 90° drop at rest on
+//! Case `sessile-90` (docs/PHYSICS.md §9(b), thesis §4.2.2, Figs. 4.3–4.9): the 90° drop at rest on
 //! a no-slip wall, Mode B (thesis method) and Mode A (three coefficients). Contact-angle
 //! deviation from 90° by the three §10 methods, liquid kinetic energy, the wall shear-rate
 //! profile averaged near t ≈ 4.4 (the last 10 % of a shortened run) and the maximum normal

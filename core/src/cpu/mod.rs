@@ -1,5 +1,5 @@
 //! The CPU reference solver: the physics truth every GPU variant is judged against. Runs the
-//! stages of the stage table ([`crate::stage`]; functions in [`stages`]) in the order of PHYSICS.md §12, in `f64` or `f32`, on all cores or one
+//! stages of the stage table ([`crate::stage`]; functions in [`stages`]) in the order of docs/PHYSICS.md §12, in `f64` or `f32`, on all cores or one
 //! thread, with any of the three neighbour searches (identical results).
 
 pub mod momentum;

@@ -1,4 +1,4 @@
-//! The stages of one force evaluation on the CPU (PHYSICS.md §12), one function per stage of
+//! The stages of one force evaluation on the CPU (docs/PHYSICS.md §12), one function per stage of
 //! [`crate::stage::TABLE`], named as the stage. Every stage is a
 //! gather over the neighbour list of each particle, so `Exec::Serial` and `Exec::Parallel`
 //! give identical bits. Boundary images enter through `model.images`.
@@ -128,7 +128,7 @@ fn in_band<T: Real>(m: &Model<T>, y: T) -> bool {
 /// For each liquid band particle, its predecessor and successor are the nearest band particles
 /// (images included) on either side among its neighbours; a gas neighbour there makes a contact
 /// point at the midpoint, no neighbour at all a point Δx/2 beyond the particle. The point lies on
-/// the wall surface (PHYSICS.md §8 ambiguity 2): anchoring the line at the first row's height or
+/// the wall surface (docs/PHYSICS.md §8 ambiguity 2): anchoring the line at the first row's height or
 /// at a particle centre moved relax-60's equilibrium by less than the run-to-run scatter
 /// (`reports/validation/relax-60/anchor-check/README.md`).
 pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {

@@ -3,7 +3,7 @@
 //!
 //! Every optional feature sphlab can use ([`OPTIONAL_FEATURES`]) is requested when the adapter
 //! has it; variants check [`GpuContext::features`] and report "unsupported on this adapter"
-//! instead of silently falling back (STUDY.md §2).
+//! instead of silently falling back (docs/STUDY.md §2).
 
 use super::GpuError;
 use wgpu::{Features, Limits};

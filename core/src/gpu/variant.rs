@@ -1,4 +1,4 @@
-//! GPU variant ids (STUDY.md): search × mapping × accumulation × kernel values × precision,
+//! GPU variant ids (docs/STUDY.md): search × mapping × accumulation × kernel values × precision,
 //! written `"{search}.{mapping}[.{accum}].{kernel_values}.{precision}"`, e.g.
 //! `cells.thread.recomputed.f32` or `tracking.block-atomic.fixed.cached.f32`; the mappings are
 //! registered in one table (`mappings!`: id, kernel file, layout; `subgroup` needs SUBGROUP).

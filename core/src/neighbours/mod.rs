@@ -1,4 +1,4 @@
-//! Neighbour searches (PHYSICS.md §12 step 1, thesis §6.3). Three searches with identical
+//! Neighbour searches (docs/PHYSICS.md §12 step 1, thesis §6.3). Three searches with identical
 //! results: `direct` (all pairs), `cells` (uniform grid by counting sort, rebuilt every
 //! evaluation) and `tracking` (the thesis's tracking lists: cells + a per-particle candidate
 //! list within support + skin, rebuilt every k evaluations or when a particle has moved more

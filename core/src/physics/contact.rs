@@ -1,4 +1,4 @@
-//! Contact-angle geometry of Mode B (PHYSICS.md §8.3–8.4, thesis T81–T83, Algorithms 1–2).
+//! Contact-angle geometry of Mode B (docs/PHYSICS.md §8.3–8.4, thesis T81–T83, Algorithms 1–2).
 //! CPU twin of `shaders/contact.wgsl`.
 
 use crate::real::{Real, V2};

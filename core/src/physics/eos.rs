@@ -1,4 +1,4 @@
-//! Equation of state (PHYSICS.md §3, thesis T34–T36). CPU twin of `shaders/eos.wgsl`.
+//! Equation of state (docs/PHYSICS.md §3, thesis T34–T36). CPU twin of `shaders/eos.wgsl`.
 
 use crate::real::Real;
 

@@ -1,4 +1,4 @@
-//! Time integration updates (PHYSICS.md §7.2). CPU twin of `shaders/integrate.wgsl`.
+//! Time integration updates (docs/PHYSICS.md §7.2). CPU twin of `shaders/integrate.wgsl`.
 //! Midpoint predictor–corrector (default, sph-blitz `step`, as in §7.2) and velocity Verlet.
 //! `vt` is the advection velocity (v, or the XSPH-smoothed velocity).
 //!

@@ -1,4 +1,4 @@
-//! Smoothing kernels in 2D (PHYSICS.md §1, thesis T40–T43). CPU twin of `shaders/kernel.wgsl`.
+//! Smoothing kernels in 2D (docs/PHYSICS.md §1, thesis T40–T43). CPU twin of `shaders/kernel.wgsl`.
 //!
 //! `W(r,h) = α·f(q)` and `∂W/∂r = (α/h)·f'(q)` with `q = r/h` and `α = α_2D/h²`. Constants are
 //! computed in `f64` and stored in the working precision ([`KernelParams`]). The kernel is
@@ -7,7 +7,7 @@
 use crate::real::Real;
 use serde::{Deserialize, Serialize};
 
-/// The kernels sphlab offers (PHYSICS.md §1).
+/// The kernels sphlab offers (docs/PHYSICS.md §1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Hash)]
 #[serde(rename_all = "kebab-case")]
 pub enum KernelKind {

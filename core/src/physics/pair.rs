@@ -1,4 +1,4 @@
-//! Pair terms of the Hu–Adams momentum equation (PHYSICS.md §4, §5.2, §5.5, §7.1).
+//! Pair terms of the Hu–Adams momentum equation (docs/PHYSICS.md §4, §5.2, §5.5, §7.1).
 //! CPU twin of `shaders/pair.wgsl`. Every function returns the contribution of one neighbour j
 //! to a sum over j for particle i; the caller multiplies the sum by the prefactor named in the
 //! doc (1/m_i or σ_i). Conventions: `x_ij = x_i − x_j`, `∇_iW_ij = F'(r_ij) x_ij / r_ij` points

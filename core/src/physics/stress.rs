@@ -1,4 +1,4 @@
-//! Hu–Adams surface stress tensor (PHYSICS.md §5.3, thesis T73–T74).
+//! Hu–Adams surface stress tensor (docs/PHYSICS.md §5.3, thesis T73–T74).
 //! CPU twin of `shaders/stress.wgsl`.
 
 use crate::real::{Real, Sym2, V2};

@@ -1,4 +1,4 @@
-//! Time-step limits (PHYSICS.md §7.3, thesis T52–T54 and the Brackbill capillary limit).
+//! Time-step limits (docs/PHYSICS.md §7.3, thesis T52–T54 and the Brackbill capillary limit).
 
 use serde::Serialize;
 

@@ -1,4 +1,4 @@
-//! Wall boundary physics (PHYSICS.md §6): Morris no-slip ghost velocity with its cap, the
+//! Wall boundary physics (docs/PHYSICS.md §6): Morris no-slip ghost velocity with its cap, the
 //! free-slip variant, the Holmes state ratio option, and Monaghan's Lennard-Jones repulsion.
 //! CPU twin of `shaders/wall.wgsl`.
 

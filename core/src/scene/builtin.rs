@@ -1,4 +1,4 @@
-//! Built-in scenes, exactly as PHYSICS.md §9 sets them up, plus a single-phase Poiseuille flow
+//! Built-in scenes, exactly as docs/PHYSICS.md §9 sets them up, plus a single-phase Poiseuille flow
 //! with an analytic answer. `sphlab scene show NAME` prints any of them as editable TOML.
 
 use super::*;
@@ -136,7 +136,7 @@ pub fn oscillating_drop() -> Scene {
 
 /// §9(b): half-circle drop R = 0.25 on a no-slip wall, symmetry at x = 0, 65×65 particles,
 /// ρ = 1, μ = 0.15, σ = 1, Mode B at θ_d (Mode A coefficients all 1 for `--set contact.mode=a`).
-/// Cubic spline with h = 1.2Δx and dt = 7e-5 reproduce the thesis (PHYSICS.md §7.4).
+/// Cubic spline with h = 1.2Δx and dt = 7e-5 reproduce the thesis (docs/PHYSICS.md §7.4).
 pub fn sessile(theta_deg: f64) -> Scene {
     Scene {
         name: "sessile-90".into(),

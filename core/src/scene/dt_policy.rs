@@ -1,4 +1,4 @@
-//! A fixed `time.dt` against the stability limits (PHYSICS.md §7.3, [`DtLimits`]) at load:
+//! A fixed `time.dt` against the stability limits (docs/PHYSICS.md §7.3, [`DtLimits`]) at load:
 //! the CFL, viscous, force and capillary limits at the scene's resolution, phases and σ, with
 //! `|v|_max` the largest initial speed (shape velocities, the analytic field) and `|a|_max` the
 //! body force (the only acceleration known before the first evaluation; the running check uses

@@ -1,5 +1,5 @@
 //! A scene's initial velocities: each shape's own velocity, and on the phase it names the
-//! analytic oscillating-rod field (T84 of PHYSICS.md; PySPH's `oscillating_rod.py`).
+//! analytic oscillating-rod field (T84 of docs/PHYSICS.md; PySPH's `oscillating_rod.py`).
 
 use super::build::Layout;
 use super::{InitialVelocity, Scene};

@@ -336,7 +336,7 @@ pub enum Integrator {
     /// Velocity Verlet (one force evaluation per step), the evaluation after the drift at the
     /// predicted velocity v_n + dt·a_n: second order with viscosity.
     Verlet,
-    /// Velocity Verlet with the evaluation at the half-step velocity v_{n+½} (PHYSICS.md §7.2's
+    /// Velocity Verlet with the evaluation at the half-step velocity v_{n+½} (docs/PHYSICS.md §7.2's
     /// form, PySPH's PEC integrator): the viscous force lags by O(dt), first order with
     /// viscosity. CPU only; for the cross-code check against PySPH (`scenes/pysph-rod.toml`).
     VerletPec,

@@ -122,7 +122,7 @@ impl Oscillation {
             notes.push(format!(
                 "Johnson quadratic, period against the quintic's {quintic:.3}: h = 1.2Δx (support 2.4Δx) {tj12:.3} \
                  ({:+.1} %), h = 1.5Δx (support 3Δx) {tj15:.3} ({:+.1} %), h = 2Δx (support 4Δx; the h this case uses) \
-                 {tj:.3} ({:+.1} %). Its gradient does not vanish at r → 0 (PHYSICS.md §1); the kernels against p_b: \
+                 {tj:.3} ({:+.1} %). Its gradient does not vanish at r → 0 (docs/PHYSICS.md §1); the kernels against p_b: \
                  pb-sweep/summary.md.",
                 pct(tj12),
                 pct(tj15),
@@ -141,7 +141,7 @@ impl Oscillation {
             if !self.quick {
                 notes.push(format!(
                     "The first-cycle amplitude ½(max − min) = {a:.4} of a viscously damped oscillation is smaller than its first \
-                     excursion x_c,max − 4R/(3π) = {:.4}; PHYSICS.md §9(a) defines the thesis's 0.012 as the former.",
+                     excursion x_c,max − 4R/(3π) = {:.4}; docs/PHYSICS.md §9(a) defines the thesis's 0.012 as the former.",
                     first_max - CIRCLE_CENTROID
                 ));
             }
@@ -156,7 +156,7 @@ impl Case for Oscillation {
             self.variants().into_iter().map(|(id, what, extra)| CaseRun::new(spec(id, self.quick, &extra), what));
         CaseSpec {
             name: "oscillation",
-            reference: "Thesis §4.2.1, Fig. 4.1 (PHYSICS.md §9(a)): oscillating drop",
+            reference: "Thesis §4.2.1, Fig. 4.1 (docs/PHYSICS.md §9(a)): oscillating drop",
             runs: runs.collect(),
             not_full: Vec::new(),
             plots: vec![CasePlot {

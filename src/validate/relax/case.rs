@@ -143,7 +143,7 @@ impl Relax {
         ];
         if !self.quick {
             notes.push("Transport velocity (`b-noslip-tvf`: `time.background = \"transport\"`, p_b = ρ0c0² = 400; Adami, Hu & Adams 2013; CPU only): p_b leaves the EOS and the momentum equation and only moves the particles, through ṽ = v + (dt/2)a_b. Its price in motion is in the rows 'max fluid speed' and 'liquid kinetic energy'; the [0.7t_end, t_end] rows against the 0.2-wide window show any sloshing about the cap. In the thesis's form p_b acts in the momentum equation; relax-60's p_b is fixed in units of σ/R (../convergence/summary.md, ../convergence/pb-check/README.md); the transport form at other p_b: ../pb-sweep/summary.md.".into());
-            notes.push("Mode B's equilibrium against the interpolation line's anchor, the Algorithm 1 band and its κh restriction (PHYSICS.md §8 ambiguities 2–4) and the background pressure: anchor-check/README.md.".into());
+            notes.push("Mode B's equilibrium against the interpolation line's anchor, the Algorithm 1 band and its κh restriction (docs/PHYSICS.md §8 ambiguities 2–4) and the background pressure: anchor-check/README.md.".into());
         }
         notes
     }
@@ -356,7 +356,7 @@ impl Case for Relax {
     fn spec(&self, ctx: &Ctx) -> CaseSpec {
         CaseSpec {
             name: "relax-60",
-            reference: "Thesis §4.2.3, Figs. 4.10–4.15 (PHYSICS.md §9(c)): 90° → 60° relaxation",
+            reference: "Thesis §4.2.3, Figs. 4.10–4.15 (docs/PHYSICS.md §9(c)): 90° → 60° relaxation",
             runs: self.variants.iter().map(|v| self.run_of(ctx, v)).collect(),
             not_full: self.not_full(),
             plots: self.plots(),

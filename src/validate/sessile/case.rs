@@ -298,7 +298,7 @@ impl Case for Sessile {
             .collect();
         CaseSpec {
             name: "sessile-90",
-            reference: "Thesis §4.2.2, Figs. 4.3–4.9 (PHYSICS.md §9(b)): 90° drop at rest",
+            reference: "Thesis §4.2.2, Figs. 4.3–4.9 (docs/PHYSICS.md §9(b)): 90° drop at rest",
             runs,
             not_full: Vec::new(),
             plots: self.plots(),
