@@ -1,10 +1,9 @@
 //! The `sphlab stability` command line: its arguments, parsed into [`StabilityOptions`] (a bad
 //! value exits 2 naming the option and what it accepts), then the sweep and the report.
 
-use super::{StabilityOptions, Target};
-use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
+use super::{backend, StabilityOptions, BACKENDS};
+use crate::backend_id::BackendId;
 use crate::gpu::GpuContext;
-use crate::real::Precision;
 use crate::scene::Scene;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -75,28 +74,20 @@ fn list<T: std::str::FromStr>(opt: &str, text: &str, ok: impl Fn(&T) -> bool, ra
         .collect()
 }
 
-fn with_precision(p: Precision) -> VariantSpec {
-    VariantSpec { precision: p, ..DEFAULT_VARIANT.parse().expect("default id parses") }
-}
-
 /// The options of `a` (without the scene), or the message of a bad value.
 pub fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
     let mut targets = Vec::new();
-    let backends = if a.backend == "all" { "cpu.f64,cpu.f32,gpu.f32,gpu.f64" } else { a.backend.as_str() };
+    let all = BACKENDS.join(",");
+    let backends = if a.backend == "all" { all.as_str() } else { a.backend.as_str() };
     for b in backends.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        targets.push(match b {
-            "cpu.f64" => Target::Cpu { f32: false },
-            "cpu.f32" => Target::Cpu { f32: true },
-            "gpu.f32" => Target::Gpu(with_precision(Precision::F32)),
-            "gpu.f64" => Target::Gpu(with_precision(Precision::F64)),
-            _ => return Err(format!("--backend: `{b}` is not one of cpu.f64, cpu.f32, gpu.f32, gpu.f64, all")),
-        });
+        let id = backend(b).ok_or_else(|| format!("--backend: `{b}` is not one of {}, all", BACKENDS.join(", ")))?;
+        targets.push(id);
     }
     for v in a.variants.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        targets.push(Target::Gpu(v.parse().map_err(|e: String| format!("--variants: {e}"))?));
+        targets.push(BackendId::Gpu(v.parse().map_err(|e: String| format!("--variants: {e}"))?));
     }
     if targets.is_empty() {
-        return Err("--backend: name at least one backend (cpu.f64, cpu.f32, gpu.f32, gpu.f64)".into());
+        return Err(format!("--backend: name at least one backend ({})", BACKENDS.join(", ")));
     }
     let pos = |x: &f64| x.is_finite() && *x > 0.0;
     let dt_factors = list("dt-factors", &a.dt_factors, pos, "a positive number")?;
@@ -156,7 +147,7 @@ pub fn run(a: &StabilityArgs, scene: &Scene) -> u8 {
             return 2;
         }
     };
-    let wants_gpu = o.targets.iter().any(|t| matches!(t, Target::Gpu(_)));
+    let wants_gpu = o.targets.iter().any(|t| matches!(t, BackendId::Gpu(_)));
     let gpu = if wants_gpu {
         GpuContext::new()
             .map(Arc::new)
