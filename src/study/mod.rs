@@ -37,6 +37,7 @@ pub mod timing;
 
 use crate::backend::Frame;
 use crate::backend_id::BackendId;
+use crate::error::Error;
 use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
@@ -123,6 +124,11 @@ pub fn study_scene_with(nx: u32, sets: &[String]) -> Result<Scene, String> {
     let scene =
         apply_overrides(&builtin("oscillating-drop").expect("built-in"), &all).map_err(|e| format!("--set: {e}"))?;
     crate::scene::dt_policy::apply(&scene).map(|r| r.scene).map_err(|e| format!("--set: {e}"))
+}
+
+/// [`study_scene_with`] as the study's input: a scene that `--set` makes invalid is bad input.
+fn scene_at(nx: u32, sets: &[String]) -> Result<Scene, Error> {
+    study_scene_with(nx, sets).map_err(Error::Input)
 }
 
 /// The study scene at resolution nx (no extra overrides).
@@ -261,9 +267,23 @@ fn run_sweep(
     gpu: Option<&Arc<GpuContext>>,
     t0: Instant,
     out: &mut Vec<Record>,
-) -> Result<RunNotes, String> {
-    let (mut all, notes) = plan::jobs(opts, gpu)?;
-    let probe = if all.is_empty() { plan::Probe::default() } else { plan::Probe::run(opts, gpu, probe_variant(&all))? };
+) -> Result<RunNotes, Error> {
+    // The scenes the plan builds, checked first in its order: a bad `--set` is bad input, and
+    // what fails in the plan after that is not.
+    for e in opts.experiments.iter().filter(|e| plan::SWEEP_EXPERIMENTS.contains(&e.as_str())) {
+        for nx in plan::sizes_of(e, opts) {
+            scene_at(nx, &opts.sets)?;
+        }
+    }
+    let (mut all, notes) = plan::jobs(opts, gpu).map_err(Error::Failed)?;
+    let probe = if all.is_empty() {
+        plan::Probe::default()
+    } else {
+        for &nx in &opts.probe_sizes {
+            scene_at(nx, &opts.sets)?;
+        }
+        plan::Probe::run(opts, gpu, probe_variant(&all)).map_err(Error::Failed)?
+    };
     probe.estimate(&mut all, &opts.protocol);
     let sel = plan::select(&all, opts, t0.elapsed().as_secs_f64());
     let mut text = plan::describe(opts, &sel, &notes, probe.seconds);
@@ -306,8 +326,8 @@ fn run_sweep(
         }
         let tj = Instant::now();
         if start.as_ref().is_none_or(|(e, nx, _)| *e != job.experiment || *nx != job.nx) {
-            let scene = study_scene_with(job.nx, &opts.sets)?;
-            let layout = build_layout(&scene).map_err(|e| e.to_string())?;
+            let scene = scene_at(job.nx, &opts.sets)?;
+            let layout = build_layout(&scene).map_err(Error::failed)?;
             let vel0 = initial_velocities(&scene, &layout, None);
             start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
         }
@@ -337,7 +357,7 @@ fn run_sweep(
             ),
             Err(f) => eprintln!("{} nx={} {}: {}: {}", job.experiment, job.nx, rec.variant, f.status, f.reason),
         }
-        report::journal(&opts.out, std::slice::from_ref(&rec))?;
+        report::journal(&opts.out, std::slice::from_ref(&rec)).map_err(Error::Failed)?;
         out.push(rec);
         est_done += job.est_s;
         spent_done += tj.elapsed().as_secs_f64();
@@ -369,21 +389,22 @@ fn outcome(budget_s: Option<f64>, total: f64, cut: &[String], skipped: &[String]
 }
 
 /// Runs the selected experiments and writes `records.csv`, `summary.md` and plots (nothing with
-/// `dry_run`, which prints the plan only).
-pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
+/// `dry_run`, which prints the plan only). An unknown experiment or a scene that `--set` makes
+/// invalid is [`Error::Input`]; any other failure [`Error::Failed`].
+pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, Error> {
     let t0 = Instant::now();
     let gpu = GpuContext::new().map(Arc::new).map_err(|e| eprintln!("study: no GPU adapter ({e}); CPU only")).ok();
     run_study_on(opts, gpu.as_ref(), t0)
 }
 
 /// [`run_study`] on a given adapter (`None`: CPU only), the clock started at `t0`.
-pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, String> {
+pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, Error> {
     let mut recs = Vec::new();
     for e in &opts.experiments {
         // `engine` runs only when named (not in `all` nor the preset: it is not budgeted).
         if !EXPERIMENTS.contains(&e.as_str()) && e != engine_ab::EXPERIMENT {
             let known = [EXPERIMENTS, &[engine_ab::EXPERIMENT]].concat();
-            return Err(format!("--experiments: unknown experiment `{e}` ({})", known.join(", ")));
+            return Err(Error::Input(format!("--experiments: unknown experiment `{e}` ({})", known.join(", "))));
         }
     }
     if !opts.dry_run {
@@ -399,15 +420,20 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
         let before = recs.len();
         match e.as_str() {
             "e2" | "e3" => match gpu {
-                Some(g) if e == "e2" => e23::run_e2(&opts.e23, opts.protocol.steps, g, &mut recs)?,
-                Some(g) => e23::run_e3(&opts.e23, g, &mut recs)?,
+                Some(g) if e == "e2" => {
+                    e23::run_e2(&opts.e23, opts.protocol.steps, g, &mut recs).map_err(Error::Failed)?
+                }
+                Some(g) => e23::run_e3(&opts.e23, g, &mut recs).map_err(Error::Failed)?,
                 None => eprintln!("{e}: skipped: it needs a GPU adapter"),
             },
-            engine_ab::EXPERIMENT => engine_ab::run(opts, gpu, &mut recs)?,
-            other => return Err(format!("--experiments: `{other}` has no runner")),
+            engine_ab::EXPERIMENT => {
+                scene_at(opts.engine_nx, &opts.sets)?;
+                engine_ab::run(opts, gpu, &mut recs).map_err(Error::Failed)?
+            }
+            other => return Err(Error::Input(format!("--experiments: `{other}` has no runner"))),
         }
-        report::journal(&opts.out, &recs[before..])?;
+        report::journal(&opts.out, &recs[before..]).map_err(Error::Failed)?;
     }
-    report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes)?;
+    report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes).map_err(Error::Failed)?;
     Ok(recs)
 }

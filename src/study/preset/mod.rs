@@ -17,6 +17,7 @@
 pub mod archive;
 pub mod parts;
 
+use crate::error::Error;
 use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
 use crate::provenance::{GpuInfo, Provenance};
@@ -55,15 +56,6 @@ pub struct PresetOptions {
     pub dry_run: bool,
     /// Where to write `gpu-report.tar.gz` and `summary.md` after every part.
     pub archive: Option<PathBuf>,
-}
-
-/// Why the preset did not run: bad input or a refused adapter (exit 2), or a failure (exit 1).
-#[derive(Debug)]
-pub enum PresetError {
-    /// Exit 2: a CPU adapter without `--allow-cpu-adapter`, a GL backend, no adapter.
-    Refused(String),
-    /// Exit 1: something failed while running.
-    Failed(String),
 }
 
 /// A directory name from an adapter name (`NVIDIA H200` → `nvidia-h200`).
@@ -238,12 +230,13 @@ fn part_share(parts: &[Part], k: usize, budget_s: f64, left_s: f64) -> f64 {
     }
 }
 
-/// Runs the preset (or prints its plan with `dry_run`); the exit code: 0, 1 when the smoke
-/// test failed, 128 + the signal when interrupted.
-pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
+/// Runs the preset (or prints its plan with `dry_run`). A refused adapter is [`Error::Input`];
+/// a failed smoke test [`Error::CheckFailed`], SIGINT [`Error::Interrupted`] and SIGTERM
+/// [`Error::Terminated`], each without a message (the summary says it).
+pub fn run(o: &PresetOptions) -> Result<(), Error> {
     let t0 = Instant::now();
-    let ctx = GpuContext::new().map_err(|e| PresetError::Refused(format!("--preset gpu: no GPU adapter ({e})")))?;
-    check_adapter(&ctx.adapter_info, o.allow_cpu_adapter).map_err(PresetError::Refused)?;
+    let ctx = GpuContext::new().map_err(|e| Error::Input(format!("--preset gpu: no GPU adapter ({e})")))?;
+    check_adapter(&ctx.adapter_info, o.allow_cpu_adapter).map_err(Error::Input)?;
     let scale = if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu {
         Scale::rehearsal()
     } else {
@@ -254,9 +247,9 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
     let plan = plan_text(&describe_adapter(&ctx), &dir, o, &scale, &parts);
     eprint!("{plan}");
     if o.dry_run {
-        return Ok(0);
+        return Ok(());
     }
-    let fail = |e: String| PresetError::Failed(e);
+    let fail = Error::Failed;
     let exe = std::env::current_exe().map_err(|e| fail(format!("the sphlab binary: {e}")))?;
     std::fs::create_dir_all(dir.join("parts")).map_err(|e| fail(format!("{}: {e}", dir.display())))?;
     let prov = provenance(&ctx, &exe, o, scale.name).map_err(fail)?;
@@ -364,11 +357,13 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
         o.budget_s,
         dir.display()
     );
-    Ok(match sig {
-        0 if blocked.is_some() => 1,
-        0 => 0,
-        s => (128 + s) as u8,
-    })
+    // The summary says what happened; the error only sets the exit code.
+    match sig {
+        0 if blocked.is_some() => Err(Error::CheckFailed(String::new())),
+        0 => Ok(()),
+        s if s == signal_hook::consts::SIGTERM as usize => Err(Error::Terminated(String::new())),
+        _ => Err(Error::Interrupted(String::new())),
+    }
 }
 
 /// The budget a part's own command is given: below its share, leaving room for its process
