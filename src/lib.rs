@@ -19,7 +19,8 @@
 //! * [`forces`]: `sphlab forces`, the pair forces of a run folder split by term and partner;
 //! * [`analytic`]: analytic drop-spread models; [`plot`]: SVG plots of the reports;
 //! * [`provenance`]: what produced a result (commit, adapter, driver, date); [`fallible`]:
-//!   allocation that reports failure instead of aborting.
+//!   allocation that reports failure instead of aborting; [`error`]: the kind of failure that
+//!   ends a command and its exit code.
 
 pub use sphlab_core::{
     backend, backend_id, cpu, exec, fields, gpu, model, neighbours, physics, plan, real, scene, stage,
@@ -27,6 +28,7 @@ pub use sphlab_core::{
 
 pub mod analytic;
 pub mod diagnostics;
+pub mod error;
 pub mod fallible;
 pub mod forces;
 pub mod output;

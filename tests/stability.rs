@@ -2,11 +2,12 @@
 //! naming the limit, `time.dt_policy = "scale"` reproduces the study's and the convergence
 //! cases' dt, and the stability map of the oscillating drop finds where it becomes unstable.
 
+use sphlab::backend_id::BackendId;
 use sphlab::run::{run, RunOptions};
 use sphlab::scene::builtin::builtin;
 use sphlab::scene::dt_policy::{apply, effective_dt};
 use sphlab::scene::overrides::apply_overrides;
-use sphlab::stability::{cases, first_unstable, sweep, Record, StabilityOptions, Target};
+use sphlab::stability::{cases, first_unstable, sweep, Record, StabilityOptions};
 
 fn drop_with(sets: &[&str]) -> sphlab::scene::Scene {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
@@ -88,7 +89,7 @@ fn the_oscillating_drop_map_is_stable_up_to_the_limit_and_finds_where_it_breaks(
         dt_factors: vec![0.5, 1.0, 4.0, 16.0],
         density_ratios: vec![],
         viscosity_ratios: vec![],
-        targets: vec![Target::Cpu { f32: false }],
+        targets: vec![BackendId::default()],
         steps: 30,
         sample: 5,
         ..StabilityOptions::default()

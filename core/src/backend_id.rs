@@ -67,7 +67,7 @@ impl FromStr for BackendId {
         let bad = || format!("unknown CPU backend `{id}`: {{cpu|cpu1}}.{{direct|cells|tracking}}.{{f64|f32}}");
         let [_, search, precision] = parts.as_slice() else { return Err(bad()) };
         let search = SearchKind::parse(search).ok_or_else(bad)?;
-        let precision = Precision::ALL.iter().copied().find(|p| p.name() == *precision).ok_or_else(bad)?;
+        let precision = Precision::parse(precision).ok_or_else(bad)?;
         Ok(BackendId::Cpu { exec, search, precision })
     }
 }
@@ -83,13 +83,14 @@ impl BackendId {
     /// id; `--variant` (a GPU variant id, default [`DEFAULT_VARIANT`]) applies only to `gpu`;
     /// `--precision` and `--search` (defaults f64, cells) only to `cpu`/`cpu1`. Each option is
     /// `Some` only when the user gave it: one that does not apply is an error, never ignored.
+    /// The variant is the id as given: whether it applies is said before whether it parses.
     pub fn from_cli(
         backend: &str,
         variant: Option<&str>,
-        precision: Option<&str>,
-        search: Option<&str>,
+        precision: Option<Precision>,
+        search: Option<SearchKind>,
     ) -> Result<Self, String> {
-        let not_cpu = |what: &str, v: &str| {
+        let not_cpu = |what: &str, v: &dyn fmt::Display| {
             format!(
                 "--{what} {v}: applies only to --backend cpu or cpu1 (a full id or a GPU variant id carries its own)"
             )
@@ -99,10 +100,10 @@ impl BackendId {
             "cpu1" => Exec::Serial,
             _ if backend == "gpu" || backend.contains('.') => {
                 if let Some(p) = precision {
-                    return Err(not_cpu("precision", p));
+                    return Err(not_cpu("precision", &p));
                 }
                 if let Some(k) = search {
-                    return Err(not_cpu("search", k));
+                    return Err(not_cpu("search", &k));
                 }
                 if backend == "gpu" {
                     let id = variant.unwrap_or(DEFAULT_VARIANT);
@@ -125,16 +126,11 @@ impl BackendId {
         if let Some(v) = variant {
             return Err(format!("--variant {v}: applies only to --backend gpu (the backend is {backend})"));
         }
-        let search = search.unwrap_or("cells");
-        let search = SearchKind::parse(search)
-            .ok_or_else(|| format!("--search: unknown search `{search}` (direct, cells, tracking)"))?;
-        let precision = precision.unwrap_or("f64");
-        let precision = Precision::ALL
-            .iter()
-            .copied()
-            .find(|p| p.name() == precision)
-            .ok_or_else(|| format!("--precision: unknown precision `{precision}` (f64, f32)"))?;
-        Ok(BackendId::Cpu { exec, search, precision })
+        Ok(BackendId::Cpu {
+            exec,
+            search: search.unwrap_or(SearchKind::Cells),
+            precision: precision.unwrap_or(Precision::F64),
+        })
     }
 
     /// `cpu`, `cpu1` or `gpu`.

@@ -13,16 +13,16 @@
 //! stops starting points after that many seconds (the rest are listed as not run).
 //! The report ([`report`]) writes `records.csv`, `summary.md` and one map per backend.
 
-pub mod args;
 pub mod map;
 pub mod report;
 
 use crate::backend::Backend;
-use crate::cpu::CpuSolver;
+use crate::backend_id::BackendId;
 use crate::exec::Exec;
-use crate::gpu::variant::VariantSpec;
+use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
+use crate::real::Precision;
 use crate::run::measure;
 use crate::scene::build::build_layout;
 use crate::scene::initial::initial_velocities;
@@ -32,38 +32,29 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// A backend and precision of the map.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Target {
-    /// The CPU reference on all threads, f64 (`false`) or f32 (`true`).
-    Cpu {
-        /// f32.
-        f32: bool,
-    },
-    /// A GPU variant.
-    Gpu(VariantSpec),
+/// The spellings of `--backend` (besides `all`, which is all of them): the CPU reference on
+/// all threads with the cell search, or the default GPU variant, in either precision.
+pub const BACKENDS: [&str; 4] = ["cpu.f64", "cpu.f32", "gpu.f32", "gpu.f64"];
+
+/// The backend a [`BACKENDS`] spelling names (`None` for any other text).
+pub fn backend(spelling: &str) -> Option<BackendId> {
+    let (kind, precision) = spelling.split_once('.')?;
+    let precision = Precision::parse(precision)?;
+    match kind {
+        "cpu" => Some(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision }),
+        "gpu" => Some(BackendId::Gpu(VariantSpec { precision, ..DEFAULT_VARIANT.parse().expect("default id parses") })),
+        _ => None,
+    }
 }
 
-impl Target {
-    /// `cpu.f64`, `cpu.f32` or `gpu.<variant id>`.
-    pub fn label(&self) -> String {
-        match self {
-            Target::Cpu { f32 } => format!("cpu.{}", if *f32 { "f32" } else { "f64" }),
-            Target::Gpu(v) => format!("gpu.{v}"),
-        }
-    }
-    /// f32 or f64.
-    pub fn precision(&self) -> &'static str {
-        match self {
-            Target::Cpu { f32 } => {
-                if *f32 {
-                    "f32"
-                } else {
-                    "f64"
-                }
-            }
-            Target::Gpu(v) => v.precision.name(),
-        }
+/// The label of a backend in the map's outputs: `cpu.f64` or `cpu.f32` for the map's CPU
+/// reference (all threads, cells), `gpu.<variant id>` for a GPU variant, the full id for any
+/// other CPU backend.
+pub fn label(id: &BackendId) -> String {
+    match id {
+        BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision } => format!("cpu.{precision}"),
+        BackendId::Cpu { .. } => id.to_string(),
+        BackendId::Gpu(v) => format!("gpu.{v}"),
     }
 }
 
@@ -103,7 +94,7 @@ pub struct StabilityOptions {
     /// Kernels as `kind:h_ratio`.
     pub kernels: Vec<(String, f64)>,
     /// Backends and precisions.
-    pub targets: Vec<Target>,
+    pub targets: Vec<BackendId>,
     /// Steps per point.
     pub steps: u64,
     /// A sampled state every this many steps (and at the end).
@@ -126,7 +117,7 @@ impl Default for StabilityOptions {
             viscosity_ratios: vec![10.0, 100.0],
             resolutions: vec![],
             kernels: vec![],
-            targets: vec![Target::Cpu { f32: false }],
+            targets: vec![BackendId::default()],
             steps: 100,
             sample: 10,
             density_cap: 0.2,
@@ -259,21 +250,16 @@ pub fn point_scene(
     Ok((s, tight))
 }
 
-fn make(target: &Target, scene: &Scene, gpu: Option<&Arc<GpuContext>>) -> Result<(Box<dyn Backend>, usize), String> {
+fn make(target: &BackendId, scene: &Scene, gpu: Option<&Arc<GpuContext>>) -> Result<(Box<dyn Backend>, usize), String> {
     let layout = build_layout(scene).map_err(|e| e.to_string())?;
     let n = layout.n_fluid;
-    let b: Box<dyn Backend> = match target {
-        Target::Cpu { f32: false } => {
-            Box::new(CpuSolver::<f64>::new(scene, &layout, Exec::Parallel, SearchKind::Cells))
-        }
-        Target::Cpu { f32: true } => Box::new(CpuSolver::<f32>::new(scene, &layout, Exec::Parallel, SearchKind::Cells)),
-        Target::Gpu(spec) => {
-            let g = gpu.ok_or("no GPU adapter")?;
-            spec.implemented().and_then(|_| spec.support(g))?;
-            crate::gpu::solver::new_backend(g.clone(), scene, &layout, *spec).map_err(|e| e.to_string())?
-        }
-    };
-    let mut b = b;
+    if let BackendId::Gpu(spec) = target {
+        // The map's reasons for a GPU point not run: no adapter (never a new one per point), or
+        // the variant's own reason.
+        let g = gpu.ok_or("no GPU adapter")?;
+        spec.implemented().and_then(|_| spec.support(g))?;
+    }
+    let mut b = target.build(scene, &layout, gpu)?;
     b.restart_with_velocities(&initial_velocities(scene, &layout, None));
     Ok((b, n))
 }
@@ -305,7 +291,7 @@ pub fn run_point(
     base: &Scene,
     case: &Case,
     factor: f64,
-    target: &Target,
+    target: &BackendId,
     o: &StabilityOptions,
     gpu: Option<&Arc<GpuContext>>,
     commit: &str,
@@ -360,8 +346,8 @@ pub fn run_point(
     Ok(Record {
         scene: base.name.clone(),
         case: case.label(),
-        target: target.label(),
-        precision: target.precision().into(),
+        target: label(target),
+        precision: target.precision().name().into(),
         nx: scene.domain.nx,
         n_fluid,
         kernel: format!("{}:{}", scene.kernel.kind.name(), scene.kernel.h_ratio),
@@ -409,7 +395,7 @@ pub fn sweep(base: &Scene, o: &StabilityOptions, gpu: Option<&Arc<GpuContext>>, 
                 if !mine {
                     continue;
                 }
-                let name = format!("{} {} dt×{f}", t.label(), c.label());
+                let name = format!("{} {} dt×{f}", label(t), c.label());
                 if o.budget_s.is_some_and(|b| start.elapsed().as_secs_f64() > b) {
                     out.not_run.push((name, "budget".into()));
                     continue;

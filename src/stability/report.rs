@@ -53,7 +53,7 @@ pub fn write(
         o.shard.1,
         o.density_cap
     );
-    let targets: Vec<String> = o.targets.iter().map(|t| t.label()).collect();
+    let targets: Vec<String> = o.targets.iter().map(super::label).collect();
     for t in &targets {
         let recs: Vec<&Record> = sweep.records.iter().filter(|r| &r.target == t).collect();
         if recs.is_empty() {

@@ -30,20 +30,24 @@ pub mod e3_subdomains;
 pub mod engine_ab;
 pub mod plan;
 pub mod preset;
+pub mod record;
 pub mod report;
 pub mod thesis_figs;
 pub mod timing;
 
 use crate::backend::Frame;
 use crate::backend_id::BackendId;
+use crate::error::Error;
+use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
+use crate::neighbours::SearchKind;
 use crate::run::measure;
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::initial::initial_velocities;
 use crate::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use crate::sweep::Shard;
 use plan::Job;
-use serde::{Deserialize, Serialize};
+pub use record::Record;
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Instant;
@@ -55,123 +59,6 @@ pub const DIRECT_MAX_N: usize = 3000;
 /// Every experiment `--experiments` accepts, in run order.
 pub const EXPERIMENTS: &[&str] = &["e1", "e2", "e3", "e4", "scaling"];
 
-/// One benchmark record (STUDY.md §5). Timing and error columns are empty unless `status` is
-/// `ok`.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-// Columns a record file of an earlier version lacks read as their defaults (`sphlab report`).
-#[serde(default)]
-pub struct Record {
-    /// Experiment (e1, e4, scaling).
-    pub experiment: String,
-    /// Backend id (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …; [`BackendId`]).
-    pub variant: String,
-    /// ok | overflow | blow-up | error | refused.
-    pub status: String,
-    /// Why the run is not a measurement (empty when ok).
-    pub reason: String,
-    /// Scene name.
-    pub scene: String,
-    /// Particles across the box.
-    pub nx: u32,
-    /// Total particles (fluid + wall).
-    pub n: usize,
-    /// Fluid particles.
-    pub n_fluid: usize,
-    /// Steps per device sync (K): the accuracy snapshot and each throughput block.
-    pub steps: u64,
-    /// Throughput blocks of K steps.
-    pub repeats: usize,
-    /// Steps the warm-up (fixed wall time) took.
-    pub warmup_steps: u64,
-    /// cpu, cpu1 or gpu.
-    pub backend: String,
-    /// Adapter name (or "CPU").
-    pub adapter: String,
-    /// Driver and driver info.
-    pub driver: String,
-    /// Device type.
-    pub device_type: String,
-    /// CPU model.
-    pub cpu_model: String,
-    /// CPU threads used.
-    pub cpu_threads: usize,
-    /// f32 or f64.
-    pub precision: String,
-    /// Throughput: median over the blocks of wall time ÷ K (ms per step).
-    pub ms_per_step_median: Option<f64>,
-    /// Fastest block (ms per step).
-    pub ms_per_step_min: Option<f64>,
-    /// Slowest block (ms per step).
-    pub ms_per_step_max: Option<f64>,
-    /// Latency: median wall time of one step followed by a device sync (ms).
-    pub latency_ms_median: Option<f64>,
-    /// `wall`, or `wall+timestamps` when the backend also reported GPU timestamps.
-    pub timing: String,
-    /// Median over the blocks of device time per step (ms) from GPU timestamps.
-    pub gpu_ms_per_step: Option<f64>,
-    /// Particle-evaluations per second: N × force evaluations per step ÷ seconds per step.
-    pub particle_evals_per_s: Option<f64>,
-    /// Relative kinetic-energy difference from the CPU f64 reference after the same K steps.
-    pub ke_rel_error: Option<f64>,
-    /// Centroid difference from the reference, in Δx.
-    pub centroid_error_dx: Option<f64>,
-    /// Speedup over `cpu1.cells.f64` (filled by the report from the records).
-    pub speedup_vs_cpu1: Option<f64>,
-    /// `measured` (same N) or `scaled from N=…` (above `--cpu-max-n`); empty without a base.
-    pub cpu_ref: String,
-    /// Shard (`i/n`) of the run that wrote the record.
-    pub shard: String,
-    /// git commit.
-    pub commit: String,
-    /// UTC date.
-    pub date: String,
-    /// Mean device ms per step of each stage over the throughput blocks (GPU timestamps;
-    /// written to `stage_times.csv`, not to `records.csv`).
-    #[serde(skip)]
-    pub stage_ms: Vec<(String, f64)>,
-    /// E2: the stage groups on the CPU (`+`-joined, `-` for none); empty otherwise.
-    pub residency_cpu: String,
-    /// E2/E3: host → device bytes per step, counted at the copy calls.
-    pub bytes_h2d_per_step: Option<f64>,
-    /// E2/E3: device → host bytes per step, counted at the copy calls.
-    pub bytes_d2h_per_step: Option<f64>,
-    /// E3: particles per subdomain (empty: the unsplit run).
-    pub budget: Option<usize>,
-    /// E3: subdomains.
-    pub subdomains: Option<usize>,
-    /// E3: halo particles per force evaluation, summed over the subdomains.
-    pub halo_particles: Option<f64>,
-    /// E3: device bytes allocated by the (subdomain) solver.
-    pub device_bytes: Option<u64>,
-    /// E3: GPU busy fraction, device time (timestamps) ÷ wall time.
-    pub gpu_busy: Option<f64>,
-    /// E2: the GPU variant of the hybrids; E3: the thesis's configuration (○ ∆ □).
-    pub config: String,
-    /// E2/E3: verification verdict (against the CPU reference / the unsplit run).
-    pub verified: String,
-    /// engine: `before` (legacy engine) or `after` (current engine) (GPU), `cpu` ([`engine_ab`]).
-    pub engine: String,
-    /// engine: modelled bytes one force evaluation moves (`gpu::bandwidth`, a lower bound).
-    pub modelled_bytes_per_eval: Option<f64>,
-    /// engine: the adapter's measured streaming bandwidth (GB/s).
-    pub bandwidth_gb_s: Option<f64>,
-    /// engine: modelled bytes per step ÷ (ms/step × bandwidth).
-    pub roofline_fraction: Option<f64>,
-    /// engine: queue submissions per step (the engine's counters).
-    pub submits_per_step: Option<f64>,
-    /// engine: blocking readbacks per step.
-    pub readbacks_per_step: Option<f64>,
-    /// engine: compute dispatches per step.
-    pub dispatches_per_step: Option<f64>,
-}
-
-impl Record {
-    /// Throughput ms per step, NaN for a record without timing (a failed run).
-    pub fn ms(&self) -> f64 {
-        self.ms_per_step_median.unwrap_or(f64::NAN)
-    }
-}
-
 /// What to run.
 #[derive(Clone, Debug)]
 pub struct StudyOptions {
@@ -182,7 +69,7 @@ pub struct StudyOptions {
     /// The timing protocol.
     pub protocol: Protocol,
     /// GPU variants (empty: every supported one).
-    pub variants: Vec<crate::gpu::variant::VariantSpec>,
+    pub variants: Vec<VariantSpec>,
     /// Extra scene overrides (`--set`), applied to every study scene.
     pub sets: Vec<String>,
     /// CPU rows only up to this many particles.
@@ -237,6 +124,11 @@ pub fn study_scene_with(nx: u32, sets: &[String]) -> Result<Scene, String> {
     let scene =
         apply_overrides(&builtin("oscillating-drop").expect("built-in"), &all).map_err(|e| format!("--set: {e}"))?;
     crate::scene::dt_policy::apply(&scene).map(|r| r.scene).map_err(|e| format!("--set: {e}"))
+}
+
+/// [`study_scene_with`] as the study's input: a scene that `--set` makes invalid is bad input.
+fn scene_at(nx: u32, sets: &[String]) -> Result<Scene, Error> {
+    study_scene_with(nx, sets).map_err(Error::Input)
 }
 
 /// The study scene at resolution nx (no extra overrides).
@@ -332,7 +224,7 @@ impl Common<'_> {
 
 const REFERENCE: BackendId = BackendId::Cpu {
     exec: crate::exec::Exec::Serial,
-    search: crate::neighbours::SearchKind::Cells,
+    search: SearchKind::Cells,
     precision: crate::real::Precision::F64,
 };
 
@@ -352,29 +244,46 @@ pub struct RunNotes {
     pub outcome: Vec<String>,
 }
 
-/// Runs the sweep experiments of `opts` (the plan first); appends records.
-fn run_sweep(
-    opts: &StudyOptions,
-    gpu: Option<&Arc<GpuContext>>,
-    t0: Instant,
-    out: &mut Vec<Record>,
-) -> Result<RunNotes, String> {
-    let (mut all, notes) = plan::jobs(opts, gpu)?;
-    // The probe's GPU variant: the default one if planned, else the first non-direct one.
-    let planned: Vec<crate::gpu::variant::VariantSpec> = all
+/// The probe's GPU variant: the default one if planned, else the first non-direct one.
+fn probe_variant(jobs: &[Job]) -> Option<VariantSpec> {
+    let planned: Vec<VariantSpec> = jobs
         .iter()
         .filter_map(|j| match j.id {
             BackendId::Gpu(s) => Some(s),
             _ => None,
         })
         .collect();
-    let first_gpu = planned
+    planned
         .iter()
-        .find(|s| **s == crate::gpu::variant::VariantSpec::default())
-        .or_else(|| planned.iter().find(|s| s.search != crate::neighbours::SearchKind::Direct))
+        .find(|s| **s == VariantSpec::default())
+        .or_else(|| planned.iter().find(|s| s.search != SearchKind::Direct))
         .or(planned.first())
-        .copied();
-    let probe = if all.is_empty() { plan::Probe::default() } else { plan::Probe::run(opts, gpu, first_gpu)? };
+        .copied()
+}
+
+/// Runs the sweep experiments of `opts` (the plan first); appends records.
+fn run_sweep(
+    opts: &StudyOptions,
+    gpu: Option<&Arc<GpuContext>>,
+    t0: Instant,
+    out: &mut Vec<Record>,
+) -> Result<RunNotes, Error> {
+    // The scenes the plan builds, checked first in its order: a bad `--set` is bad input, and
+    // what fails in the plan after that is not.
+    for e in opts.experiments.iter().filter(|e| plan::SWEEP_EXPERIMENTS.contains(&e.as_str())) {
+        for nx in plan::sizes_of(e, opts) {
+            scene_at(nx, &opts.sets)?;
+        }
+    }
+    let (mut all, notes) = plan::jobs(opts, gpu).map_err(Error::Failed)?;
+    let probe = if all.is_empty() {
+        plan::Probe::default()
+    } else {
+        for &nx in &opts.probe_sizes {
+            scene_at(nx, &opts.sets)?;
+        }
+        plan::Probe::run(opts, gpu, probe_variant(&all)).map_err(Error::Failed)?
+    };
     probe.estimate(&mut all, &opts.protocol);
     let sel = plan::select(&all, opts, t0.elapsed().as_secs_f64());
     let mut text = plan::describe(opts, &sel, &notes, probe.seconds);
@@ -417,8 +326,8 @@ fn run_sweep(
         }
         let tj = Instant::now();
         if start.as_ref().is_none_or(|(e, nx, _)| *e != job.experiment || *nx != job.nx) {
-            let scene = study_scene_with(job.nx, &opts.sets)?;
-            let layout = build_layout(&scene).map_err(|e| e.to_string())?;
+            let scene = scene_at(job.nx, &opts.sets)?;
+            let layout = build_layout(&scene).map_err(Error::failed)?;
             let vel0 = initial_velocities(&scene, &layout, None);
             start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
         }
@@ -448,48 +357,54 @@ fn run_sweep(
             ),
             Err(f) => eprintln!("{} nx={} {}: {}: {}", job.experiment, job.nx, rec.variant, f.status, f.reason),
         }
-        report::journal(&opts.out, std::slice::from_ref(&rec))?;
+        report::journal(&opts.out, std::slice::from_ref(&rec)).map_err(Error::Failed)?;
         out.push(rec);
         est_done += job.est_s;
         spent_done += tj.elapsed().as_secs_f64();
     }
-    let total = t0.elapsed().as_secs_f64();
-    if let Some(b) = opts.budget_s {
-        run_notes
-            .outcome
-            .push(format!("Budget {b:.0} s: the study took {total:.1} s ({:.0} % of the budget).", 100.0 * total / b));
+    run_notes.outcome = outcome(opts.budget_s, t0.elapsed().as_secs_f64(), &cut, &skipped);
+    Ok(run_notes)
+}
+
+/// The lines of `summary.md` on how the budget went: the time it took, the timed blocks given
+/// back (`cut`) and the jobs not run (`skipped`).
+fn outcome(budget_s: Option<f64>, total: f64, cut: &[String], skipped: &[String]) -> Vec<String> {
+    let mut lines = Vec::new();
+    if let Some(b) = budget_s {
+        lines.push(format!("Budget {b:.0} s: the study took {total:.1} s ({:.0} % of the budget).", 100.0 * total / b));
     }
     if !cut.is_empty() {
-        run_notes.outcome.push(format!(
+        lines.push(format!(
             "Timed blocks given back because the running estimate would have overrun the budget: {}.",
             cut.join("; ")
         ));
     }
     if !skipped.is_empty() {
-        run_notes.outcome.push(format!(
+        lines.push(format!(
             "Not run because the running estimate would have overrun the budget: {}.",
             skipped.join("; ")
         ));
     }
-    Ok(run_notes)
+    lines
 }
 
 /// Runs the selected experiments and writes `records.csv`, `summary.md` and plots (nothing with
-/// `dry_run`, which prints the plan only).
-pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, String> {
+/// `dry_run`, which prints the plan only). An unknown experiment or a scene that `--set` makes
+/// invalid is [`Error::Input`]; any other failure [`Error::Failed`].
+pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, Error> {
     let t0 = Instant::now();
     let gpu = GpuContext::new().map(Arc::new).map_err(|e| eprintln!("study: no GPU adapter ({e}); CPU only")).ok();
     run_study_on(opts, gpu.as_ref(), t0)
 }
 
 /// [`run_study`] on a given adapter (`None`: CPU only), the clock started at `t0`.
-pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, String> {
+pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, Error> {
     let mut recs = Vec::new();
     for e in &opts.experiments {
         // `engine` runs only when named (not in `all` nor the preset: it is not budgeted).
         if !EXPERIMENTS.contains(&e.as_str()) && e != engine_ab::EXPERIMENT {
             let known = [EXPERIMENTS, &[engine_ab::EXPERIMENT]].concat();
-            return Err(format!("--experiments: unknown experiment `{e}` ({})", known.join(", ")));
+            return Err(Error::Input(format!("--experiments: unknown experiment `{e}` ({})", known.join(", "))));
         }
     }
     if !opts.dry_run {
@@ -505,15 +420,20 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
         let before = recs.len();
         match e.as_str() {
             "e2" | "e3" => match gpu {
-                Some(g) if e == "e2" => e23::run_e2(&opts.e23, opts.protocol.steps, g, &mut recs)?,
-                Some(g) => e23::run_e3(&opts.e23, g, &mut recs)?,
+                Some(g) if e == "e2" => {
+                    e23::run_e2(&opts.e23, opts.protocol.steps, g, &mut recs).map_err(Error::Failed)?
+                }
+                Some(g) => e23::run_e3(&opts.e23, g, &mut recs).map_err(Error::Failed)?,
                 None => eprintln!("{e}: skipped: it needs a GPU adapter"),
             },
-            engine_ab::EXPERIMENT => engine_ab::run(opts, gpu, &mut recs)?,
-            other => return Err(format!("--experiments: `{other}` has no runner")),
+            engine_ab::EXPERIMENT => {
+                scene_at(opts.engine_nx, &opts.sets)?;
+                engine_ab::run(opts, gpu, &mut recs).map_err(Error::Failed)?
+            }
+            other => return Err(Error::Input(format!("--experiments: `{other}` has no runner"))),
         }
-        report::journal(&opts.out, &recs[before..])?;
+        report::journal(&opts.out, &recs[before..]).map_err(Error::Failed)?;
     }
-    report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes)?;
+    report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes).map_err(Error::Failed)?;
     Ok(recs)
 }

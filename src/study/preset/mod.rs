@@ -21,6 +21,7 @@ pub mod parts;
 pub use adapter::{adapter_slug, check_adapter, describe_adapter, fitting_sizes};
 use adapter::{provenance, variants_csv};
 
+use crate::error::Error;
 use crate::gpu::GpuContext;
 use archive::Outcome;
 use parts::{Part, Scale};
@@ -57,15 +58,6 @@ pub struct PresetOptions {
     pub dry_run: bool,
     /// Where to write `gpu-report.tar.gz` and `summary.md` after every part.
     pub archive: Option<PathBuf>,
-}
-
-/// Why the preset did not run: bad input or a refused adapter (exit 2), or a failure (exit 1).
-#[derive(Debug)]
-pub enum PresetError {
-    /// Exit 2: a CPU adapter without `--allow-cpu-adapter`, a GL backend, no adapter.
-    Refused(String),
-    /// Exit 1: something failed while running.
-    Failed(String),
 }
 
 /// How a child part ended.
@@ -139,15 +131,16 @@ fn part_share(parts: &[Part], k: usize, budget_s: f64, left_s: f64) -> f64 {
     }
 }
 
-/// Runs the preset (or prints its plan with `dry_run`); the exit code: 0, 1 when the smoke
-/// test failed, 128 + the signal when interrupted.
-pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
+/// Runs the preset (or prints its plan with `dry_run`). A refused adapter is [`Error::Input`];
+/// a failed smoke test [`Error::CheckFailed`], SIGINT [`Error::Interrupted`] and SIGTERM
+/// [`Error::Terminated`], each without a message (the summary says it).
+pub fn run(o: &PresetOptions) -> Result<(), Error> {
     let t0 = Instant::now();
-    let Some(setup) = prepare(o)? else { return Ok(0) };
+    let Some(setup) = prepare(o)? else { return Ok(()) };
     let signal = Arc::new(AtomicUsize::new(0));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize)
-            .map_err(|e| PresetError::Failed(format!("signal handler: {e}")))?;
+            .map_err(|e| Error::Failed(format!("signal handler: {e}")))?;
     }
     let report = Report {
         dir: &setup.dir,
@@ -184,7 +177,7 @@ pub fn run(o: &PresetOptions) -> Result<u8, PresetError> {
         let ending = if signal.load(Ordering::SeqCst) != 0 { "interrupted" } else { "running" };
         report.refresh(&outcomes, ending);
     }
-    Ok(finish(&mut outcomes, signal.load(Ordering::SeqCst), blocked.is_some(), o, &report))
+    finish(&mut outcomes, signal.load(Ordering::SeqCst), blocked.is_some(), o, &report)
 }
 
 /// What the preset runs with, once the adapter is accepted and the report folder written.
@@ -205,9 +198,9 @@ struct Setup {
 
 /// Accepts or refuses the adapter, prints the plan, and (unless `dry_run`: `None`) writes
 /// `provenance.json`, `plan.txt` and `variants.csv`.
-fn prepare(o: &PresetOptions) -> Result<Option<Setup>, PresetError> {
-    let ctx = GpuContext::new().map_err(|e| PresetError::Refused(format!("--preset gpu: no GPU adapter ({e})")))?;
-    check_adapter(&ctx.adapter_info, o.allow_cpu_adapter).map_err(PresetError::Refused)?;
+fn prepare(o: &PresetOptions) -> Result<Option<Setup>, Error> {
+    let ctx = GpuContext::new().map_err(|e| Error::Input(format!("--preset gpu: no GPU adapter ({e})")))?;
+    check_adapter(&ctx.adapter_info, o.allow_cpu_adapter).map_err(Error::Input)?;
     let scale = if ctx.adapter_info.device_type == wgpu::DeviceType::Cpu {
         Scale::rehearsal()
     } else {
@@ -220,7 +213,7 @@ fn prepare(o: &PresetOptions) -> Result<Option<Setup>, PresetError> {
     if o.dry_run {
         return Ok(None);
     }
-    let fail = |e: String| PresetError::Failed(e);
+    let fail = Error::Failed;
     let exe = std::env::current_exe().map_err(|e| fail(format!("the sphlab binary: {e}")))?;
     std::fs::create_dir_all(dir.join("parts")).map_err(|e| fail(format!("{}: {e}", dir.display())))?;
     let prov = provenance(&ctx, &exe, o, scale.name).map_err(fail)?;
@@ -318,8 +311,15 @@ fn run_turn(
     true
 }
 
-/// Marks the parts not reached, writes the last summary and returns the exit code.
-fn finish(outcomes: &mut [Outcome], sig: usize, blocked: bool, o: &PresetOptions, report: &Report) -> u8 {
+/// Marks the parts not reached and writes the last summary; the error sets the exit code only
+/// (the summary says what happened).
+fn finish(
+    outcomes: &mut [Outcome],
+    sig: usize,
+    blocked: bool,
+    o: &PresetOptions,
+    report: &Report,
+) -> Result<(), Error> {
     for out in outcomes.iter_mut().filter(|o| o.status == "pending") {
         out.status = "skipped".into();
         out.note = if sig != 0 { "not reached: interrupted".into() } else { "not reached".into() };
@@ -337,9 +337,10 @@ fn finish(outcomes: &mut [Outcome], sig: usize, blocked: bool, o: &PresetOptions
         report.dir.display()
     );
     match sig {
-        0 if blocked => 1,
-        0 => 0,
-        s => (128 + s) as u8,
+        0 if blocked => Err(Error::CheckFailed(String::new())),
+        0 => Ok(()),
+        s if s == signal_hook::consts::SIGTERM as usize => Err(Error::Terminated(String::new())),
+        _ => Err(Error::Interrupted(String::new())),
     }
 }
 

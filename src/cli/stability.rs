@@ -1,16 +1,17 @@
-//! The `sphlab stability` command line: its arguments, parsed into [`StabilityOptions`] (a bad
-//! value exits 2 naming the option and what it accepts), then the sweep and the report.
+//! `sphlab stability`: its arguments, parsed into [`StabilityOptions`] (a bad value is bad input
+//! naming the option and what it accepts), then the sweep and the report.
 
-use super::{StabilityOptions, Target};
-use crate::gpu::variant::{VariantSpec, DEFAULT_VARIANT};
-use crate::gpu::GpuContext;
-use crate::real::Precision;
-use crate::scene::Scene;
+use super::common::load_scene;
+use clap::Args;
+use sphlab::backend_id::BackendId;
+use sphlab::error::Error;
+use sphlab::gpu::GpuContext;
+use sphlab::stability::{backend, StabilityOptions, BACKENDS};
 use std::path::PathBuf;
 use std::sync::Arc;
 
 /// Arguments of `sphlab stability`.
-#[derive(clap::Args, Debug)]
+#[derive(Args, Debug)]
 pub struct StabilityArgs {
     /// Built-in scene name or a scene TOML file.
     #[arg(default_value = "oscillating-drop")]
@@ -56,7 +57,7 @@ pub struct StabilityArgs {
     #[arg(long, default_value = "0/1")]
     pub shard: String,
     /// Stop starting points after this long (seconds, or `90s`, `8m`, `1h`).
-    #[arg(long, value_parser = crate::sweep::parse_duration)]
+    #[arg(long, value_parser = sphlab::sweep::parse_duration)]
     pub budget: Option<f64>,
     /// Output directory.
     #[arg(long, default_value = "reports/stability")]
@@ -75,28 +76,20 @@ fn list<T: std::str::FromStr>(opt: &str, text: &str, ok: impl Fn(&T) -> bool, ra
         .collect()
 }
 
-fn with_precision(p: Precision) -> VariantSpec {
-    VariantSpec { precision: p, ..DEFAULT_VARIANT.parse().expect("default id parses") }
-}
-
 /// The options of `a` (without the scene), or the message of a bad value.
-pub fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
+fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
     let mut targets = Vec::new();
-    let backends = if a.backend == "all" { "cpu.f64,cpu.f32,gpu.f32,gpu.f64" } else { a.backend.as_str() };
+    let all = BACKENDS.join(",");
+    let backends = if a.backend == "all" { all.as_str() } else { a.backend.as_str() };
     for b in backends.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        targets.push(match b {
-            "cpu.f64" => Target::Cpu { f32: false },
-            "cpu.f32" => Target::Cpu { f32: true },
-            "gpu.f32" => Target::Gpu(with_precision(Precision::F32)),
-            "gpu.f64" => Target::Gpu(with_precision(Precision::F64)),
-            _ => return Err(format!("--backend: `{b}` is not one of cpu.f64, cpu.f32, gpu.f32, gpu.f64, all")),
-        });
+        let id = backend(b).ok_or_else(|| format!("--backend: `{b}` is not one of {}, all", BACKENDS.join(", ")))?;
+        targets.push(id);
     }
     for v in a.variants.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        targets.push(Target::Gpu(v.parse().map_err(|e: String| format!("--variants: {e}"))?));
+        targets.push(BackendId::Gpu(v.parse().map_err(|e: String| format!("--variants: {e}"))?));
     }
     if targets.is_empty() {
-        return Err("--backend: name at least one backend (cpu.f64, cpu.f32, gpu.f32, gpu.f64)".into());
+        return Err(format!("--backend: name at least one backend ({})", BACKENDS.join(", ")));
     }
     let pos = |x: &f64| x.is_finite() && *x > 0.0;
     let dt_factors = list("dt-factors", &a.dt_factors, pos, "a positive number")?;
@@ -108,12 +101,12 @@ pub fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
         for k in a.kernels.split(',') {
             let (kind, h) = k.trim().split_once(':').ok_or(format!("--kernels: `{k}` is not kind:h_ratio"))?;
             let h: f64 = h.parse().ok().filter(pos).ok_or(format!("--kernels: h_ratio in `{k}` is not positive"))?;
-            let probe: Result<crate::physics::kernel::KernelKind, _> = toml::Value::String(kind.into()).try_into();
+            let probe: Result<sphlab::physics::kernel::KernelKind, _> = toml::Value::String(kind.into()).try_into();
             probe.map_err(|_| format!("--kernels: unknown kernel `{kind}`"))?;
             kernels.push((kind.to_string(), h));
         }
     }
-    let shard = crate::sweep::Shard::parse(&a.shard)?;
+    let shard = sphlab::sweep::Shard::parse(&a.shard)?;
     if a.steps == 0 || a.steps > 1_000_000 {
         return Err(format!("--steps: {} is not in 1..=1000000", a.steps));
     }
@@ -147,16 +140,11 @@ pub fn options(a: &StabilityArgs) -> Result<StabilityOptions, String> {
     })
 }
 
-/// Runs the sweep on `scene` and writes the report; the exit code (0, 2 bad input, 1 output).
-pub fn run(a: &StabilityArgs, scene: &Scene) -> u8 {
-    let o = match options(a) {
-        Ok(o) => o,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    };
-    let wants_gpu = o.targets.iter().any(|t| matches!(t, Target::Gpu(_)));
+/// Loads the scene and checks the options (exit 2), runs the sweep and writes the report.
+pub fn run(a: StabilityArgs) -> Result<(), Error> {
+    let scene = load_scene(&a.scene, &a.sets)?;
+    let o = options(&a).map_err(Error::Input)?;
+    let wants_gpu = o.targets.iter().any(|t| matches!(t, BackendId::Gpu(_)));
     let gpu = if wants_gpu {
         GpuContext::new()
             .map(Arc::new)
@@ -165,23 +153,17 @@ pub fn run(a: &StabilityArgs, scene: &Scene) -> u8 {
     } else {
         None
     };
-    let sweep = super::sweep(scene, &o, gpu.as_ref(), a.quiet);
+    let sweep = sphlab::stability::sweep(&scene, &o, gpu.as_ref(), a.quiet);
     let command = std::env::args().collect::<Vec<_>>().join(" ");
-    match super::report::write(&a.out, scene, &o, &sweep, gpu.map(|g| g.describe()), &command) {
-        Ok(()) => {
-            if !a.quiet {
-                eprintln!(
-                    "stability: {} points, {} not run; report in {}",
-                    sweep.records.len(),
-                    sweep.not_run.len(),
-                    a.out.display()
-                );
-            }
-            0
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            1
-        }
+    sphlab::stability::report::write(&a.out, &scene, &o, &sweep, gpu.map(|g| g.describe()), &command)
+        .map_err(Error::Failed)?;
+    if !a.quiet {
+        eprintln!(
+            "stability: {} points, {} not run; report in {}",
+            sweep.records.len(),
+            sweep.not_run.len(),
+            a.out.display()
+        );
     }
+    Ok(())
 }
