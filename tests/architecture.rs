@@ -130,3 +130,165 @@ fn the_scan_sees_paths_and_groups_and_skips_comments() {
     assert_eq!(module(paths[0]), "run");
     assert_eq!(module(paths[1]), "output");
 }
+
+/// Most lines of a file in `src/` or `core/src/`.
+const MAX_FILE_LINES: usize = 500;
+/// Most lines of a function, from its `fn` line to its closing brace.
+const MAX_FN_LINES: usize = 120;
+/// Most lines of the binary's `main.rs`.
+const MAX_MAIN_LINES: usize = 100;
+
+/// The code of a line with string and char literals and comments removed; `raw` carries an
+/// open raw string's terminator and `open` an open ordinary string across lines.
+fn code_of(line: &str, raw: &mut Option<String>, open: &mut bool) -> String {
+    let b: Vec<char> = line.chars().collect();
+    let mut out = String::new();
+    let mut i = 0;
+    while i < b.len() {
+        if let Some(end) = raw.as_deref() {
+            let rest: String = b[i..].iter().collect();
+            match rest.find(end) {
+                Some(k) => {
+                    i += rest[..k].chars().count() + end.chars().count();
+                    *raw = None;
+                }
+                None => return out,
+            }
+            continue;
+        }
+        if *open {
+            match b[i] {
+                '\\' => i += 2,
+                '"' => {
+                    *open = false;
+                    i += 1;
+                }
+                _ => i += 1,
+            }
+            continue;
+        }
+        let c = b[i];
+        if c == '/' && b.get(i + 1) == Some(&'/') {
+            break;
+        }
+        if c == 'r' && (i == 0 || !b[i - 1].is_alphanumeric()) {
+            let hashes = b[i + 1..].iter().take_while(|&&h| h == '#').count();
+            if b.get(i + 1 + hashes) == Some(&'"') {
+                *raw = Some(format!("\"{}", "#".repeat(hashes)));
+                i += hashes + 2;
+                continue;
+            }
+        }
+        if c == '"' {
+            *open = true;
+            i += 1;
+            continue;
+        }
+        if c == '\'' {
+            // A char literal ('x', '\n', '{'); a lifetime has no closing quote two or three on.
+            if b.get(i + 2) == Some(&'\'') {
+                i += 3;
+                continue;
+            }
+            if b.get(i + 1) == Some(&'\\') {
+                if let Some(k) = b[i + 2..].iter().position(|&q| q == '\'') {
+                    i += k + 3;
+                    continue;
+                }
+            }
+        }
+        out.push(c);
+        i += 1;
+    }
+    out
+}
+
+/// The name of the function a line of code declares (`[pub[(…)]] [const] [async] [unsafe]
+/// [extern "C"] fn name`), if it does.
+fn fn_name(code: &str) -> Option<String> {
+    let mut rest = code.trim_start();
+    if let Some(r) = rest.strip_prefix("pub") {
+        rest = r.trim_start();
+        if rest.starts_with('(') {
+            rest = rest[rest.find(')')? + 1..].trim_start();
+        }
+    }
+    for q in ["const ", "async ", "unsafe ", "extern \"C\" "] {
+        rest = rest.strip_prefix(q).unwrap_or(rest).trim_start();
+    }
+    let name = rest.strip_prefix("fn ")?.trim_start();
+    let end = name.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(name.len());
+    (end > 0).then(|| name[..end].to_string())
+}
+
+/// (name, first line, length) of every function of `text` longer than `max` lines.
+fn long_functions(text: &str, max: usize) -> Vec<(String, usize, usize)> {
+    let (mut raw, mut open) = (None, false);
+    let mut stack: Vec<(String, usize, usize)> = Vec::new();
+    let (mut depth, mut pending, mut out) = (0usize, None::<(String, usize)>, Vec::new());
+    for (n, line) in text.lines().enumerate() {
+        let code = code_of(line, &mut raw, &mut open);
+        if let Some(name) = fn_name(&code) {
+            pending = Some((name, n + 1));
+        }
+        for ch in code.chars() {
+            match ch {
+                '{' => {
+                    depth += 1;
+                    if let Some((name, start)) = pending.take() {
+                        stack.push((name, start, depth));
+                    }
+                }
+                '}' => {
+                    if stack.last().is_some_and(|s| s.2 == depth) {
+                        let (name, start, _) = stack.pop().unwrap();
+                        let len = n + 1 - start + 1;
+                        if len > max {
+                            out.push((name, start, len));
+                        }
+                    }
+                    depth = depth.saturating_sub(1);
+                }
+                ';' => pending = None,
+                _ => {}
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn files_and_functions_are_small_enough_to_read_at_once() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files);
+    rust_files(&root.join("core/src"), &mut files);
+    let mut too_big = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let rel = f.strip_prefix(root).unwrap().display().to_string();
+        let lines = text.lines().count();
+        if lines > MAX_FILE_LINES {
+            too_big.push(format!("{rel}: {lines} lines"));
+        }
+        for (name, start, len) in long_functions(&text, MAX_FN_LINES) {
+            too_big.push(format!("{rel}:{start}: fn {name}, {len} lines"));
+        }
+        assert!(text.starts_with("//!"), "{rel} has no `//!` header");
+    }
+    assert!(too_big.is_empty(), "over {MAX_FILE_LINES} lines a file or {MAX_FN_LINES} a function: {too_big:#?}");
+    let main = std::fs::read_to_string(root.join("src/main.rs")).unwrap().lines().count();
+    assert!(main < MAX_MAIN_LINES, "src/main.rs has {main} lines");
+}
+
+#[test]
+fn the_size_scan_counts_functions_and_skips_braces_in_literals_and_comments() {
+    let body = "    let s = \"{{{\"; // }}}\n    let c = '{';\n    let r = r#\"}\"#;\n".repeat(3);
+    let text = format!("pub(crate) fn short() {{\n{body}}}\n\nfn nested() {{\n    let f = |x: u32| {{ x }};\n    fn inner() {{}}\n}}\n");
+    let all = long_functions(&text, 0);
+    let names: Vec<(&str, usize, usize)> = all.iter().map(|(n, s, l)| (n.as_str(), *s, *l)).collect();
+    assert_eq!(names, [("short", 1, 11), ("inner", 15, 1), ("nested", 13, 4)]);
+    assert_eq!(fn_name("    pub(in crate::gpu) fn record_step(&self) {").as_deref(), Some("record_step"));
+    assert_eq!(fn_name("let f = fn_name(x);"), None);
+    assert!(long_functions(&text, 11).is_empty());
+}
