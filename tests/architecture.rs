@@ -275,6 +275,11 @@ fn files_and_functions_are_small_enough_to_read_at_once() {
             too_big.push(format!("{rel}:{start}: fn {name}, {len} lines"));
         }
         assert!(text.starts_with("//!"), "{rel} has no `//!` header");
+        for (k, _) in text.match_indices("allow(") {
+            let attribute = text[..k].ends_with("#[") || text[..k].ends_with("#![");
+            let end = text[k..].find(")]").map_or(text.len(), |e| k + e);
+            assert!(!attribute || text[k..end].contains("reason = "), "{rel}: `{}` has no reason", &text[k..end]);
+        }
     }
     assert!(too_big.is_empty(), "over {MAX_FILE_LINES} lines a file or {MAX_FN_LINES} a function: {too_big:#?}");
     let main = std::fs::read_to_string(root.join("src/main.rs")).unwrap().lines().count();

@@ -50,7 +50,10 @@ impl Frame {
     pub const BYTES_PER_PARTICLE: f64 = (5 * 16 + 4 * 8 + 2 * 4) as f64;
 
     /// A frame from a solver's state and the fields of its last evaluation (CPU and GPU alike).
-    #[allow(clippy::too_many_arguments)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "a frame gathers the solver's separate state arrays, the same on CPU and GPU"
+    )]
     pub fn from_fields<T: Real>(
         step: u64,
         t: f64,

@@ -58,7 +58,7 @@ pub fn max_density_error(rho: &[f64], rho0_of_phase: &[f64], phase: &[u32]) -> f
 /// `signed`, mean γ̇ (positive = flow towards +x), count); empty bins report mean 0 with count 0.
 /// Particles outside `[0, x_max]` are ignored. The signed mean, averaged over many snapshots, is
 /// the mean flow's shear (noise cancels); the mean of |γ̇| counts the noise too.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, reason = "the particles' arrays, the band and the bins are named at every call")]
 pub fn wall_shear_profile(
     pos: &[[f64; 2]],
     vel: &[[f64; 2]],
@@ -288,7 +288,7 @@ pub fn oscillation(t: &[f64], x: &[f64]) -> Option<Oscillation> {
 
 /// Time of the maximum near sample `k`: vertex of the least-squares parabola through the
 /// samples within `±w` of `t[k]`; `t[k]` itself if the fit is not a maximum inside the window.
-#[allow(clippy::needless_range_loop)] // small dense elimination reads best with indices
+#[allow(clippy::needless_range_loop, reason = "small dense elimination reads best with indices")]
 fn refine_peak(t: &[f64], x: &[f64], k: usize, w: f64) -> f64 {
     let (mut s, mut b) = ([[0.0; 3]; 3], [0.0; 3]);
     for i in (0..t.len()).filter(|&i| (t[i] - t[k]).abs() <= w) {

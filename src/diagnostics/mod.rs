@@ -3,9 +3,6 @@
 //! inputs are plain `f64` slices with the phase convention of [`crate::scene::build`]
 //! (0 = liquid, 1 = gas, [`crate::scene::build::WALL`] = wall particle).
 
-// `!(x > 0.0)` is used on purpose: it also rejects NaN.
-#![allow(clippy::neg_cmp_op_on_partial_ord)]
-
 pub mod analytic_flows;
 pub mod contact_angle;
 pub mod flow;

@@ -13,7 +13,10 @@ use super::{msg, svg_area, Area, PlotSpec, Style, LEGEND_WIDTH, PALETTE, PLOT_SI
 use crate::output::{OutputError, Result};
 
 /// Draws `spec` on `root` in the coordinates `xc`, `yc` (linear or log).
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the drawing area, both coordinate systems and the style are named at every call"
+)]
 fn draw_lines<X, Y>(
     root: &Area<'_>,
     legend: Option<&Area<'_>>,

@@ -12,7 +12,10 @@ use super::{msg, svg_area, Area, PALETTE};
 use crate::output::{OutputError, Result};
 
 /// Draws labelled points `(x, y, label)` on `root` in the coordinates `xc`, `yc`.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the drawing area, both coordinate systems and the style are named at every call"
+)]
 fn draw_scatter<X, Y>(
     root: &Area<'_>,
     title: &str,

@@ -149,7 +149,7 @@ fn check_options(scene: &Scene, opts: &RunOptions) -> Result<(), RunError> {
 
 impl Summary {
     /// The summary of a run about to step: status `running`, nothing measured yet.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments, reason = "the summary records each of the run's inputs by name")]
     fn started(
         scene: &Scene,
         opts: &RunOptions,

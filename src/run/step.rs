@@ -18,7 +18,7 @@ use std::time::Instant;
 /// row (`rows`), snapshot (`snaps`, 0: none) and the end (`steps` if given); a time-driven run
 /// leaves its last steps to single steps so it never passes `t_end` (estimating dt as `dt_est`:
 /// up to the step before the end with a fixed dt, half the remaining steps with an adaptive one).
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, reason = "the step loop's state, outputs and limits are named at the one call")]
 pub fn batch_len(
     k_max: u64,
     step: u64,

@@ -286,7 +286,7 @@ fn error_step(e: &crate::backend::SolverError, k: u64) -> u64 {
 }
 
 /// Runs one point.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, reason = "one point of the map names its scene, target, axis and sweep settings")]
 pub fn run_point(
     base: &Scene,
     case: &Case,

@@ -124,7 +124,10 @@ fn bars(
 
 /// Lines with markers against x, dashed horizontal references (`hrefs`, coloured like the
 /// series of the same index) and an optional dashed vertical reference.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a figure's data, axes, labels and the thesis's values are named at every call"
+)]
 fn lines(
     area: &Area,
     title: &str,

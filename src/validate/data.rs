@@ -159,7 +159,7 @@ impl ShearMean {
 }
 
 /// [`ShearMean`] of the snapshots of a run with time in `[a, b]`.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, reason = "the window, the band and the wall geometry are named at every call")]
 pub fn mean_shear_profile_in(
     dir: &Path,
     rows: &[Row],

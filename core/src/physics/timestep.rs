@@ -17,7 +17,10 @@ pub struct DtLimits {
 
 impl DtLimits {
     /// Computes every limit. Infinite where the physics is absent (σ = 0, ν = 0, a = 0).
-    #[allow(clippy::too_many_arguments)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "each stability limit takes its own physical input, named at the call"
+    )]
     pub fn compute(
         h: f64,
         cfl: f64,
