@@ -29,7 +29,7 @@ pub use sphlab_core::{
 pub mod analytic;
 pub mod diagnostics;
 pub mod error;
-pub mod fallible;
+pub(crate) mod fallible;
 pub mod forces;
 pub mod output;
 pub mod plot;

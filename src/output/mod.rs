@@ -8,11 +8,11 @@
 //!
 //! Every fallible function returns [`OutputError`], which names the path involved.
 
-pub mod progress;
-pub mod series;
-pub mod snapshot;
+pub(crate) mod progress;
+pub(crate) mod series;
+pub(crate) mod snapshot;
 pub mod summary;
-pub mod vtk;
+pub(crate) mod vtk;
 
 use std::path::{Path, PathBuf};
 

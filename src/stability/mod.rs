@@ -13,7 +13,7 @@
 //! stops starting points after that many seconds (the rest are listed as not run).
 //! The report ([`report`]) writes `records.csv`, `summary.md` and one map per backend.
 
-pub mod map;
+pub(crate) mod map;
 pub mod report;
 
 use crate::backend::Backend;

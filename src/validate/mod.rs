@@ -10,10 +10,10 @@
 //! a run whose `summary.json` says `ok` with exactly the same scene and end time instead of
 //! running it again (so long runs started by hand with `sphlab run --out` can be analysed).
 
-pub mod case;
+pub(crate) mod case;
 pub mod data;
-pub mod executor;
-pub mod report;
+pub(crate) mod executor;
+pub(crate) mod report;
 
 mod convergence;
 mod impact;

@@ -376,7 +376,11 @@ pub fn write_index(
     );
     let _ = writeln!(
         m,
-        "Background pressure: the oscillating drop uses p_b = σ/(2Δx) (with the quintic at h = 1.2Δx, see oscillation/summary.md), the drop at rest sessile-90 σ/Δx (sessile-90/pb-check/README.md), the moving contact line of relax-60 and the convergence case max(11.25σ/R, 0.2314σ/Δx), fixed in capillary units (convergence/pb-check/README.md); the sweep behind that rule (spurious speed, Laplace jump, voids and period for three kernels against p_b) is [pb-sweep/summary.md](pb-sweep/summary.md) (`scripts/pb_sweep.sh`, not a `validate` case). Cross-code check against PySPH's oscillating rod: `tests/cross_code.rs` with `scenes/pysph-rod.toml`. Time to solution against the error of the drop's period and relax-60's angle across kernels × p_b × resolution × precision, with the Pareto front: [speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md) (`scripts/speed_vs_physical_error.sh`, not a `validate` case).\n"
+        "Beside the cases: the background-pressure sweep ([pb-sweep/summary.md](pb-sweep/summary.md), \
+         `examples/analysis/pb_sweep.sh`), time to solution against physical error \
+         ([speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md), \
+         `examples/analysis/speed_vs_physical_error.sh`) and the cross-code check against PySPH's oscillating rod \
+         (`tests/cross_code.rs` with `scenes/pysph-rod.toml`).\n"
     );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
     if not_full.is_empty() {
@@ -385,6 +389,13 @@ pub fn write_index(
     for (c, w) in not_full {
         let _ = writeln!(m, "* **{c}**: {w}");
     }
+    let _ = writeln!(
+        m,
+        "\n## Findings\n\nWhat these cases show, case by case, with the choices behind the scenes (kernel and h, the \
+         background-pressure rules, where p_b acts, the time-step policy) and the investigations under each case: \
+         [docs/physics-choices.md](../../docs/physics-choices.md). The equations the cases test are in \
+         [docs/PHYSICS.md](../../docs/PHYSICS.md) (§9 for the scenes, §10 for the contact-angle measures)."
+    );
     std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
     let p = opts.out.join("index.md");
     std::fs::write(&p, m).map_err(|e| io(&p, e))
