@@ -122,7 +122,18 @@ fn rehearsal_without_cargo_returns_every_part() {
     let mut gpu_sizes: Vec<&str> =
         scaling.iter().filter(|r| r["backend"] == "gpu" && r["status"] == "ok").map(|r| r["nx"].as_str()).collect();
     gpu_sizes.dedup();
-    assert!(gpu_sizes.len() >= 2, "scaling: GPU records at {gpu_sizes:?}");
+    assert!(!gpu_sizes.is_empty(), "scaling: no GPU record is ok: {scaling:?}");
+    if gpu_sizes.len() < 2 {
+        // How many sizes fit the part's share depends on the machine's speed at the time; a size
+        // not timed must be one the budget dropped (the plan) or skipped while running (the
+        // outcome), or the part was cut at the end of its share.
+        let cut = parts_json(&files).iter().any(|p| p["name"] == "02-scaling" && p["status"] == "cut");
+        let said = files
+            .iter()
+            .filter(|(k, _)| k.ends_with("parts/02-scaling/summary.md"))
+            .any(|(_, s)| s.contains("dropped for it") || s.contains("Not run because"));
+        assert!(cut || said, "scaling: GPU records at {gpu_sizes:?} only, and nothing says why");
+    }
     let e4 = rows(file(&files, "parts/03-e4/records.csv"));
     assert!(e4.iter().any(|r| r["experiment"] == "e4" && r["status"] == "ok" && r["backend"] == "gpu"), "{e4:?}");
     // Every part: done with its output, or a reason it has none.

@@ -318,7 +318,8 @@ fn guide_mapping_matches_the_cpu_reference_on_the_gpu() {
 /// Backticked repository paths in a Markdown text: `dir/…` under a top-level folder of the
 /// repository, or a file at its root; placeholders (`<…>`, `{…}`, `*`) are left out.
 fn named_paths(md: &str) -> Vec<String> {
-    const TOP: [&str; 11] = [
+    const TOP: [&str; 12] = [
+        "core/",
         "examples/",
         "src/",
         "shaders/",
@@ -485,7 +486,7 @@ fn every_relative_link_resolves_inside_the_repository() {
 /// missing anchor are caught, a good link and anchor pass; a placeholder is not taken for a path.
 #[test]
 fn the_checks_catch_what_they_are_for() {
-    let md = "[a](../outside.md) [b](nope.md) [c](#no-such-heading) [d](docs/PHYSICS.md#0-notation-and-signs) `src/<name>.rs` `tests/guide.rs` `src/nope.rs`";
+    let md = "[a](../outside.md) [b](nope.md) [c](#no-such-heading) [d](PHYSICS.md#0-notation-and-signs) `src/<name>.rs` `tests/guide.rs` `src/nope.rs`";
     assert_eq!(links(md).len(), 4);
     let file = repo().join("docs/example.md");
     assert_eq!(unresolved(&file, md), ["../outside.md", "nope.md", "#no-such-heading"]);
