@@ -1,4 +1,4 @@
-//! What several commands share: the typed `--precision` and `--search` parsers, the resource
+//! What several commands share: the backend flags, the typed `--precision` and `--search` parsers, the resource
 //! limits' flags, loading a scene with `--set`, the `--out` check, the interrupt handler, the
 //! provenance envelope, the GPU context and the `--variants` list.
 
@@ -15,6 +15,27 @@ use sphlab::real::Precision;
 use sphlab::scene::{builtin, overrides::apply_overrides, Scene};
 use std::path::Path;
 use std::sync::Arc;
+
+/// The backend flags `run` and `validate` share, turned into one [`BackendId`].
+#[derive(Args)]
+pub struct BackendArgs {
+    /// cpu (all cores), cpu1 (one thread), gpu, or a full id (cpu1.cells.f64, a GPU variant id).
+    #[arg(long, default_value = "cpu")]
+    backend: String,
+    /// GPU variant id (see `sphlab variants`); only with --backend gpu.
+    #[arg(long)]
+    variant: Option<String>,
+    /// Precision of the CPU backends (default f64); a GPU variant's is part of its id.
+    #[arg(long, value_parser = precision_parser())]
+    precision: Option<Precision>,
+}
+
+impl BackendArgs {
+    /// The backend these flags and `search` (`--search`, where the command has it) name.
+    pub fn id(&self, search: Option<SearchKind>) -> Result<BackendId, Error> {
+        BackendId::from_cli(&self.backend, self.variant.as_deref(), self.precision, search).map_err(Error::Input)
+    }
+}
 
 /// `--precision`: `f64` or `f32`, parsed into [`Precision`].
 pub fn precision_parser() -> impl TypedValueParser<Value = Precision> {

@@ -1,11 +1,9 @@
 //! `sphlab run`: one scene on one backend, writing series.csv, snapshots and summary.json.
 
-use super::common::{check_out, install_interrupt_handler, load_scene, precision_parser, search_parser, LimitArgs};
+use super::common::{check_out, install_interrupt_handler, load_scene, search_parser, BackendArgs, LimitArgs};
 use clap::Args;
-use sphlab::backend_id::BackendId;
 use sphlab::error::Error;
 use sphlab::neighbours::SearchKind;
-use sphlab::real::Precision;
 use sphlab::run::RunOptions;
 use std::path::PathBuf;
 
@@ -14,15 +12,8 @@ pub struct RunArgs {
     /// Built-in scene name (see `sphlab scene list`) or a scene TOML file.
     #[arg(default_value = "oscillating-drop")]
     scene: String,
-    /// cpu (all cores), cpu1 (one thread) or gpu.
-    #[arg(long, default_value = "cpu")]
-    backend: String,
-    /// GPU variant id (see `sphlab variants`); only with --backend gpu.
-    #[arg(long)]
-    variant: Option<String>,
-    /// Precision of the CPU backends (default f64); a GPU variant's is part of its id.
-    #[arg(long, value_parser = precision_parser())]
-    precision: Option<Precision>,
+    #[command(flatten)]
+    backend: BackendArgs,
     /// End time (overrides the scene's time.t_end).
     #[arg(long, conflicts_with = "steps")]
     t_end: Option<f64>,
@@ -58,7 +49,7 @@ pub struct RunArgs {
 pub fn run(a: RunArgs) -> Result<(), Error> {
     check_out("--out", &a.out)?;
     let limits = a.limits.limits()?;
-    let backend = BackendId::from_cli(&a.backend, a.variant.as_deref(), a.precision, a.search).map_err(Error::Input)?;
+    let backend = a.backend.id(a.search)?;
     let scene = load_scene(&a.scene, &a.sets)?;
     let opts = RunOptions {
         backend,

@@ -1,12 +1,10 @@
 //! `sphlab validate`: the validation cases against the thesis and analytic references, written
 //! under the report directory with its provenance.
 
-use super::common::{check_out, install_interrupt_handler, precision_parser};
+use super::common::{check_out, install_interrupt_handler, BackendArgs};
 use clap::{Args, ValueEnum};
-use sphlab::backend_id::BackendId;
 use sphlab::error::Error;
 use sphlab::provenance::{self, Provenance};
-use sphlab::real::Precision;
 use sphlab::validate::{self, ValidateOptions};
 use std::path::PathBuf;
 
@@ -33,15 +31,8 @@ pub struct ValidateArgs {
     /// Coarse resolution and short times (seconds per case; direction and rough size only).
     #[arg(long)]
     quick: bool,
-    /// cpu, cpu1 or gpu.
-    #[arg(long, default_value = "cpu")]
-    backend: String,
-    /// GPU variant id; only with --backend gpu.
-    #[arg(long)]
-    variant: Option<String>,
-    /// Precision of the CPU backends (default f64).
-    #[arg(long, value_parser = precision_parser())]
-    precision: Option<Precision>,
+    #[command(flatten)]
+    backend: BackendArgs,
     /// Report directory.
     #[arg(long, default_value = "reports/validation")]
     out: PathBuf,
@@ -76,7 +67,7 @@ pub fn run(a: ValidateArgs) -> Result<(), Error> {
         return Err(Error::input("--t-end: must be a positive finite time"));
     }
     check_out("--out", &a.out)?;
-    let backend = BackendId::from_cli(&a.backend, a.variant.as_deref(), a.precision, None).map_err(Error::Input)?;
+    let backend = a.backend.id(None)?;
     let opts = ValidateOptions {
         quick: a.quick,
         backend,
