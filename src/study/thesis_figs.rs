@@ -208,7 +208,7 @@ fn svg(path: &Path, size: (u32, u32), draw: impl FnOnce(&Area) -> Result<(), Str
 
 /// Fig. 6.3 from the E1 rows: ms/step of each search on one CPU thread and on the GPU (log).
 fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let e1: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e1" && r.ms().is_finite()).collect();
+    let e1: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e1" && r.is_ok()).collect();
     if e1.is_empty() {
         return Ok(());
     }
@@ -216,7 +216,9 @@ fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
     let get = |backend: &str, search: &str| {
         e1.iter()
             .find(|r| {
-                r.backend == backend && r.variant.split('.').nth(if backend == "gpu" { 0 } else { 1 }) == Some(search)
+                r.backend == backend
+                    && (backend == "gpu" || r.precision == "f64")
+                    && r.variant.split('.').nth(if backend == "gpu" { 0 } else { 1 }) == Some(search)
             })
             .map_or(f64::NAN, |r| r.ms())
     };
@@ -264,8 +266,8 @@ fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
             r.variant,
             r.residency_cpu,
             r.ms(),
-            r.ms_per_step_min.unwrap_or(f64::NAN),
-            r.ms_per_step_max.unwrap_or(f64::NAN),
+            r.ms_per_step_p10.unwrap_or(f64::NAN),
+            r.ms_per_step_p90.unwrap_or(f64::NAN),
             opt(r.bytes_h2d_per_step),
             opt(r.bytes_d2h_per_step),
             sp,
@@ -415,8 +417,10 @@ mod tests {
     use super::*;
 
     fn rec(experiment: &str, variant: &str, backend: &str, ms: f64) -> Record {
+        let precision = variant.rsplit('.').next().unwrap_or("").into();
         let (experiment, variant, backend) = (experiment.into(), variant.into(), backend.into());
         Record {
+            precision,
             experiment,
             variant,
             backend,
