@@ -94,19 +94,23 @@ fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map_or("-".into(), f)
 }
 
-/// The fastest ok GPU record at each N of `rows`, and a note for each N without one.
+/// The fastest ok GPU record at each N of `rows`, or the count of its GPU records by status.
 fn fastest_per_n<'a>(rows: &[&'a Record]) -> BTreeMap<usize, Result<&'a Record, String>> {
-    let mut out: BTreeMap<usize, Result<&Record, String>> = BTreeMap::new();
+    let mut by_n: BTreeMap<usize, Vec<&Record>> = BTreeMap::new();
     for r in rows.iter().filter(|r| r.backend == "gpu" && matches!(r.experiment.as_str(), "e1" | "e4" | "scaling")) {
-        let e = out.entry(r.n).or_insert_with(|| Err(String::new()));
-        match e {
-            Ok(b) if r.is_ok() && r.ms() < b.ms() => *e = Ok(r),
-            Err(_) if r.is_ok() => *e = Ok(r),
-            Err(why) if !r.is_ok() => {
-                let _ = write!(why, "{}`{}` {}", if why.is_empty() { "" } else { ", " }, r.variant, r.status);
+        by_n.entry(r.n).or_default().push(r);
+    }
+    let mut out = BTreeMap::new();
+    for (n, v) in by_n {
+        let best = v.iter().copied().filter(|r| r.is_ok()).min_by(|a, b| a.ms().total_cmp(&b.ms()));
+        let counts = || {
+            let mut c: BTreeMap<&str, usize> = BTreeMap::new();
+            for r in &v {
+                *c.entry(r.status.as_str()).or_default() += 1;
             }
-            _ => {}
-        }
+            c.iter().map(|(s, k)| format!("{k} {s}")).collect::<Vec<_>>().join(", ")
+        };
+        out.insert(n, best.ok_or_else(counts));
     }
     out
 }
