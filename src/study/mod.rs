@@ -34,6 +34,7 @@ pub mod e23;
 pub mod e2_residency;
 pub mod e3_subdomains;
 pub mod engine_ab;
+pub mod look;
 mod measured;
 pub mod plan;
 pub mod preset;

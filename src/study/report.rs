@@ -5,8 +5,9 @@
 //! the E4 per-stage table. [`merge`] (`sphlab report DIR... --out DIR`) reads the records of
 //! several runs (shards, adapters) and writes one report from them, adapters side by side.
 
+use super::look;
 use super::{Record, RunNotes};
-use crate::plot::{line_plot_svg, scatter_labeled_svg, PlotSpec, Series};
+use crate::plot::{line_plot_svg, PlotSpec, Series};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -213,6 +214,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
     if facets.is_empty() {
         facets.insert(("cpu".into(), "reference".into()), BTreeMap::new());
     }
+    let mut ids: BTreeMap<String, String> = BTreeMap::new();
     for ((s, m), f) in facets.iter_mut() {
         let prefix = format!("{s}.{m}.");
         for r in &ok {
@@ -224,6 +226,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
             let short = if reference { r.variant.as_str() } else { r.variant.trim_start_matches(&prefix) };
             let label =
                 if side_by_side && r.backend == "gpu" { format!("{short} @ {}", r.adapter) } else { short.into() };
+            ids.insert(label.clone(), r.variant.clone());
             f.entry(label).or_default().push((r.n as f64, ms));
         }
     }
@@ -239,11 +242,13 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
         spec.log_x = true;
         spec.log_y = true;
         spec.legend_outside = true;
+        spec.note = look::adapter_note(recs);
         spec.series = series
             .into_iter()
             .map(|(k, mut v)| {
                 v.sort_by(|a, b| a.0.total_cmp(&b.0));
-                Series::line_points(k, v)
+                let colour = look::colour_of(ids.get(&k).map_or(k.as_str(), |s| s.as_str()));
+                Series::line_points(k, v).with_colour(colour)
             })
             .collect();
         let name = format!("scaling_{s}_{m}.svg");
@@ -254,28 +259,32 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
     Ok(())
 }
 
-/// Speed against error (E4 rows): time per step against the kinetic-energy error, log-log,
+/// Speed against error (E4 rows): time per step against the kinetic-energy error, log-log, one
+/// marker per variant in its colour with the legend beside the plot (no labels over the data);
 /// errors below [`ERROR_FLOOR`] drawn at it.
 fn speed_vs_error(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let pts: Vec<(f64, f64, String)> = recs
+    let pts: Vec<(f64, f64, &str)> = recs
         .iter()
         .filter(|r| r.experiment == "e4" && r.is_ok())
-        .filter_map(|r| Some((r.ms_per_step_median?, r.ke_rel_error?.max(ERROR_FLOOR), r.variant.clone())))
+        .filter_map(|r| Some((r.ms_per_step_median?, r.ke_rel_error?.max(ERROR_FLOOR), r.variant.as_str())))
         .collect();
     if pts.is_empty() {
         return Ok(());
     }
-    let p = dir.join("speed_vs_error.svg");
-    scatter_labeled_svg(
-        &p,
+    let mut spec = PlotSpec::new(
         "Speed against error (E4)",
         "time per step (ms)",
-        &format!("kinetic-energy rel. error vs CPU f64 (floor {ERROR_FLOOR:.0e})"),
-        &pts,
-        true,
-        true,
-    )
-    .map_err(|x| e(&p, x))?;
+        format!("kinetic-energy rel. error vs CPU f64 (floor {ERROR_FLOOR:.0e})"),
+    );
+    (spec.log_x, spec.log_y, spec.legend_outside) = (true, true, true);
+    spec.note = look::adapter_note(recs);
+    let mut by_id: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
+    for (x, y, id) in pts {
+        by_id.entry(id).or_default().push((x, y));
+    }
+    spec.series = by_id.into_iter().map(|(id, v)| Series::points(id, v).with_colour(look::colour_of(id))).collect();
+    let p = dir.join("speed_vs_error.svg");
+    line_plot_svg(&p, &spec).map_err(|x| e(&p, x))?;
     let _ = writeln!(
         md,
         "![speed against error](speed_vs_error.svg)\n\nErrors below {ERROR_FLOOR:.0e} (f64 variants agree with the CPU f64 run to rounding) are drawn at {ERROR_FLOOR:.0e}.\n"
