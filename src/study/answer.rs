@@ -119,7 +119,7 @@ fn fastest_per_n<'a>(rows: &[&'a Record]) -> BTreeMap<usize, Result<&'a Record, 
 fn answer_table(md: &mut String, rows: &[&Record]) {
     let _ = writeln!(
         md,
-        "| N | fastest ok GPU variant | ms/step [95 % interval] | speedup vs one-thread CPU (baseline) | vs all cores | KE rel. error vs CPU f64 | centroid error (Δx) | device memory | largest N that fits |\n|---|---|---|---|---|---|---|---|---|"
+        "| N (fluid) | fastest ok GPU variant | ms/step [95 % interval] | speedup vs one-thread CPU (baseline) | vs all cores | KE rel. error vs CPU f64 | centroid error (Δx) | device memory | largest N that fits |\n|---|---|---|---|---|---|---|---|---|"
     );
     for (n, best) in fastest_per_n(rows) {
         let Ok(r) = best else {
@@ -129,7 +129,8 @@ fn answer_table(md: &mut String, rows: &[&Record]) {
         };
         let _ = writeln!(
             md,
-            "| {n} | `{}` | {:.3} [{}, {}] | {} | {} | {} | {} | {} | {} |",
+            "| {n} ({}) | `{}` | {:.3} [{}, {}] | {} | {} | {} | {} | {} | {} |",
+            r.n_fluid,
             r.variant,
             r.ms(),
             opt(r.ms_per_step_ci_lo, |x| format!("{x:.3}")),

@@ -1,34 +1,29 @@
 //! How the study's plots look alike: one colour per variant id across every plot (the CPU
-//! baselines in greys, each GPU variant at its place in `VariantSpec::all`, spread over 20
-//! colours so that neighbouring ids differ), and the note every plot carries: the adapter, and
+//! baselines in greys, each GPU variant a hue from its place in `VariantSpec::all`, a golden
+//! angle from its neighbour's), and the note every plot carries: the adapter, and
 //! "CPU emulation: ratios only" when the GPU adapter is a CPU.
 
 use super::Record;
 use crate::gpu::variant::VariantSpec;
 
-/// Tableau 20.
-const PALETTE: [(u8, u8, u8); 20] = [
-    (31, 119, 180),
-    (174, 199, 232),
-    (255, 127, 14),
-    (255, 187, 120),
-    (44, 160, 44),
-    (152, 223, 138),
-    (214, 39, 40),
-    (255, 152, 150),
-    (148, 103, 189),
-    (197, 176, 213),
-    (140, 86, 75),
-    (196, 156, 148),
-    (227, 119, 194),
-    (247, 182, 210),
-    (127, 127, 127),
-    (199, 199, 199),
-    (188, 189, 34),
-    (219, 219, 141),
-    (23, 190, 207),
-    (158, 218, 229),
-];
+/// A saturated colour of hue `h` (turns) and lightness `l` (HSL, saturation 0.7).
+fn hsl(h: f64, l: f64) -> (u8, u8, u8) {
+    let s = 0.7;
+    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
+    let hp = (h.rem_euclid(1.0)) * 6.0;
+    let x = c * (1.0 - (hp % 2.0 - 1.0).abs());
+    let (r, g, b) = match hp as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = l - c / 2.0;
+    let to = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    (to(r), to(g), to(b))
+}
 
 /// The colour of a backend id, the same in every plot.
 pub fn colour_of(id: &str) -> (u8, u8, u8) {
@@ -45,8 +40,9 @@ pub fn colour_of(id: &str) -> (u8, u8, u8) {
                 .iter()
                 .position(|s| s.to_string() == id)
                 .unwrap_or_else(|| id.bytes().fold(0usize, |h, b| h.wrapping_mul(31).wrapping_add(b as usize)));
-            // Stride 7 (coprime with 20): consecutive ids land far apart on the palette.
-            PALETTE[(k * 7) % PALETTE.len()]
+            // Hues a golden angle apart: every id its own hue, neighbouring ids far apart; two
+            // lightnesses, none pale.
+            hsl(k as f64 * 0.618_033_988_75, if k % 2 == 0 { 0.42 } else { 0.55 })
         }
     }
 }
@@ -72,16 +68,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_id_keeps_one_colour_and_a_facet_has_no_repeat() {
-        let ids: Vec<String> = VariantSpec::all().iter().map(|s| s.to_string()).collect();
-        assert_eq!(colour_of(&ids[3]), colour_of(&ids[3].clone()));
-        for family in ["cells.thread.", "cells.block-atomic.", "tracking.block-tree."] {
-            let mut c: Vec<(u8, u8, u8)> = ids.iter().filter(|i| i.starts_with(family)).map(|i| colour_of(i)).collect();
-            let n = c.len();
-            c.sort();
-            c.dedup();
-            assert_eq!(c.len(), n, "{family}: a colour repeats");
-        }
+    fn every_id_has_its_own_colour() {
+        let mut ids: Vec<String> = VariantSpec::all().iter().map(|s| s.to_string()).collect();
+        ids.extend(["cpu1.cells.f64", "cpu1.tracking.f32", "cpu.cells.f32"].map(String::from));
+        let mut c: Vec<(u8, u8, u8)> = ids.iter().map(|i| colour_of(i)).collect();
+        assert_eq!(colour_of(&ids[3]), c[3], "the same id, the same colour");
+        let n = c.len();
+        c.sort();
+        c.dedup();
+        assert_eq!(c.len(), n, "a colour repeats");
+        assert_eq!(hsl(0.0, 0.5), (217, 38, 38));
     }
 
     #[test]
