@@ -168,12 +168,20 @@ pub const VERIFY_UNITS: &[(&str, &str)] =
 
 /// Units of `study` records.
 pub const STUDY_UNITS: &[(&str, &str)] = &[
-    ("ms_per_step_median, ms_per_step_min, ms_per_step_max, latency_ms_median, gpu_ms_per_step", "ms"),
+    (
+        "ms_per_step_median, ms_per_step_min, ms_per_step_max, ms_per_step_p10, ms_per_step_p90, ms_per_step_ci_lo, \
+         ms_per_step_ci_hi, latency_ms_median, gpu_ms_per_step",
+        "ms",
+    ),
+    ("load_before, load_after", "1 (1-minute load average)"),
+    ("device_bytes", "B"),
     ("particle_evals_per_s", "1/s"),
     ("ke_rel_error", "1"),
     ("centroid_error_dx", "Δx"),
-    ("n, n_fluid, nx, steps, repeats, warmup_steps, cpu_threads", "1"),
-    ("speedup_vs_cpu1", "1 (cpu1.cells.f64 ms/step ÷ this row's)"),
+    ("n, n_fluid, nx, steps, repeats, warmup_steps, cpu_threads, cores, max_n_fits", "1"),
+    ("speedup_vs_baseline", "1 (ms/step of the record named in `baseline` ÷ this row's, same run)"),
+    ("speedup_vs_cpu_all", "1 (cpu.cells.<precision> ms/step ÷ this row's, same run)"),
+    ("speedup_vs_cpu1_cells_f64", "1 (cpu1.cells.f64 ms/step ÷ this row's, same run)"),
 ];
 
 /// Units of `analytic` outputs.

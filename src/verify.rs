@@ -193,7 +193,9 @@ pub fn compare_fields<T: Real>(
     out
 }
 
-fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
+/// The observables of `scene` ([`OBS_TOLERANCES`]) and the exact invariants of frame `g` against
+/// frame `c` after the same steps.
+pub fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
     let (rg, rc) = (measure(scene, g), measure(scene, c));
     let dx = scene.domain.dx();
     let mut out = Vec::new();
@@ -297,6 +299,13 @@ impl Verifier {
 
     /// The report of one variant.
     pub fn variant(&self, ctx: &Arc<GpuContext>, spec: VariantSpec) -> VariantReport {
+        self.variant_on(ctx, spec, None)
+    }
+
+    /// The report of one variant whose GPU side runs `gpu_scene` (same layout; `None`: the
+    /// verifier's scene) against the CPU reference of the verifier's scene: a variant given a
+    /// perturbed constant on purpose must fail.
+    pub fn variant_on(&self, ctx: &Arc<GpuContext>, spec: VariantSpec, gpu_scene: Option<&Scene>) -> VariantReport {
         let variant = spec.to_string();
         if let Err(reason) = spec.support(ctx) {
             return VariantReport { variant, status: "unsupported".into(), reason, checks: Vec::new() };
@@ -306,13 +315,15 @@ impl Verifier {
             Err(e) => return VariantReport { variant, status: "error".into(), reason: e.clone(), checks: Vec::new() },
         };
         let (scene, vel0, steps) = (&self.scene, &self.vel0[..], self.steps);
+        let gpu_scene = gpu_scene.map(|s| Scene { relax: None, ..s.clone() });
+        let gpu_scene = gpu_scene.as_ref();
         let r = match spec.precision {
             Precision::F32 => match self.f32.get_or_init(|| CpuReference::new(scene, layout, vel0, steps)) {
-                Ok(c) => self.typed(ctx, layout, spec, c),
+                Ok(c) => self.typed(ctx, layout, spec, c, gpu_scene.unwrap_or(scene)),
                 Err(e) => Err(e.clone()),
             },
             Precision::F64 => match self.f64.get_or_init(|| CpuReference::new(scene, layout, vel0, steps)) {
-                Ok(c) => self.typed(ctx, layout, spec, c),
+                Ok(c) => self.typed(ctx, layout, spec, c, gpu_scene.unwrap_or(scene)),
                 Err(e) => Err(e.clone()),
             },
         };
@@ -332,8 +343,9 @@ impl Verifier {
         layout: &Layout,
         spec: VariantSpec,
         cpu: &CpuReference<T>,
+        gpu_scene: &Scene,
     ) -> Result<Vec<Check>, String> {
-        let mut gpu = GpuSolver::<T>::new(ctx.clone(), &self.scene, layout, spec).map_err(|e| e.to_string())?;
+        let mut gpu = GpuSolver::<T>::new(ctx.clone(), gpu_scene, layout, spec).map_err(|e| e.to_string())?;
         gpu.restart_with_velocities(&self.vel0);
         let nf = cpu.n_fluid;
         gpu.evaluate_once().map_err(|e| e.to_string())?;

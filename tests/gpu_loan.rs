@@ -70,6 +70,11 @@ fn rows(csv_text: &str) -> Vec<BTreeMap<String, String>> {
     r.records().map(|row| head.iter().cloned().zip(row.expect("row").iter().map(String::from)).collect()).collect()
 }
 
+/// A measured record: `ok`, or `loaded` when other work raised this machine's load average.
+fn measured(r: &BTreeMap<String, String>) -> bool {
+    r["status"] == "ok" || r["status"] == "loaded"
+}
+
 fn parts_json(files: &BTreeMap<String, String>) -> Vec<serde_json::Value> {
     serde_json::from_str::<Vec<serde_json::Value>>(file(files, "parts.json")).expect("parts.json")
 }
@@ -120,7 +125,7 @@ fn rehearsal_without_cargo_returns_every_part() {
     assert_eq!(verdicts, ["pass", "pass"], "{smoke}");
     let scaling = rows(file(&files, "parts/02-scaling/records.csv"));
     let mut gpu_sizes: Vec<&str> =
-        scaling.iter().filter(|r| r["backend"] == "gpu" && r["status"] == "ok").map(|r| r["nx"].as_str()).collect();
+        scaling.iter().filter(|r| r["backend"] == "gpu" && measured(r)).map(|r| r["nx"].as_str()).collect();
     gpu_sizes.dedup();
     assert!(!gpu_sizes.is_empty(), "scaling: no GPU record is ok: {scaling:?}");
     if gpu_sizes.len() < 2 {
@@ -135,7 +140,7 @@ fn rehearsal_without_cargo_returns_every_part() {
         assert!(cut || said, "scaling: GPU records at {gpu_sizes:?} only, and nothing says why");
     }
     let e4 = rows(file(&files, "parts/03-e4/records.csv"));
-    assert!(e4.iter().any(|r| r["experiment"] == "e4" && r["status"] == "ok" && r["backend"] == "gpu"), "{e4:?}");
+    assert!(e4.iter().any(|r| r["experiment"] == "e4" && measured(r) && r["backend"] == "gpu"), "{e4:?}");
     // Every part: done with its output, or a reason it has none.
     let parts = parts_json(&files);
     assert_eq!(parts.len(), 8, "{parts:?}");

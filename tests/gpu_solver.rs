@@ -358,7 +358,7 @@ fn study_engine_experiment_writes_before_and_after_rows() {
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
     let dir = tempfile::tempdir().expect("tempdir");
-    let k = 4;
+    let k = 10; // a whole tracking-list rebuild period (the study raises K to one)
     let other: VariantSpec = "cells.block-tree.cas.recomputed.f32".parse().unwrap();
     let opts = sphlab::study::StudyOptions {
         experiments: vec!["engine".into()],
@@ -380,7 +380,9 @@ fn study_engine_experiment_writes_before_and_after_rows() {
     }
     for cpu in ["cpu1.cells.f64", "cpu1.cells.f32"] {
         let r = rows.iter().find(|r| r.variant == cpu).unwrap_or_else(|| panic!("{cpu} row"));
-        assert!(r.status == "ok" && r.ms_per_step_median.is_some() && r.engine == "cpu", "{cpu}: {}", r.reason);
+        // Measured: `ok`, or `loaded` when other work raised this machine's load average.
+        let measured = r.status == "ok" || r.status == "loaded";
+        assert!(measured && r.ms_per_step_median.is_some() && r.engine == "cpu", "{cpu}: {}", r.reason);
     }
     let after: Vec<_> = rows.iter().filter(|r| r.engine == "after").collect();
     assert_eq!(after.len(), 2, "after rows: `other` and THREAD_RECOMPUTED");
@@ -395,7 +397,7 @@ fn study_engine_experiment_writes_before_and_after_rows() {
     for v in compared {
         let get = |e: &str| {
             let r = rows.iter().find(|r| r.variant == v && r.engine == e).unwrap_or_else(|| panic!("{v} {e} row"));
-            assert_eq!(r.status, "ok", "{v} {e}: {}", r.reason);
+            assert!(r.status == "ok" || r.status == "loaded", "{v} {e}: {} {}", r.status, r.reason);
             assert!(r.ms_per_step_median.is_some() && r.n == rows[0].n && r.ke_rel_error.is_some(), "{v} {e}");
             assert!(r.modelled_bytes_per_eval.is_some_and(|b| b > 0.0) && r.device_bytes.is_some(), "{v} {e}");
             (r.submits_per_step.expect("counted"), r.readbacks_per_step.expect("counted"))

@@ -177,7 +177,9 @@ fn study_records_device_time_and_stage_table() {
         let c: Vec<&str> = l.split(',').collect();
         *shares.entry((c[1].to_string(), c[2].to_string())).or_default() += c[5].parse::<f64>().unwrap();
     }
-    assert_eq!(shares.len(), recs.iter().filter(|r| r.backend == "gpu" && r.status == "ok").count(), "{csv}");
+    // Every measured GPU record (`ok`, or `loaded` on a busy machine) has its stage times.
+    let measured = recs.iter().filter(|r| r.backend == "gpu" && r.ms_per_step_median.is_some()).count();
+    assert_eq!(shares.len(), measured, "{csv}");
     for (rec, share) in &shares {
         assert!((share - 1.0).abs() < 1e-2, "{rec:?}: shares sum to {share}");
     }

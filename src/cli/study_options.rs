@@ -103,5 +103,6 @@ pub fn options(a: StudyArgs) -> Result<StudyOptions, Error> {
         out,
         e4_sizes: a.e4_sizes,
         probe_sizes,
+        perturb: Vec::new(),
     })
 }

@@ -124,6 +124,20 @@ pub(crate) fn tick_label(v: f64, span: f64) -> String {
     }
 }
 
+/// Tick label on an axis: on a log axis the powers of ten only (every other tick unlabelled, so
+/// labels never read `31622.776602` nor repeat), else [`tick_label`].
+pub(crate) fn axis_label(v: f64, span: f64, log: bool) -> String {
+    if !log {
+        return tick_label(v, span);
+    }
+    let e = v.log10();
+    if v > 0.0 && (e - e.round()).abs() < 1e-6 {
+        fmt_tick(10f64.powi(e.round() as i32))
+    } else {
+        String::new()
+    }
+}
+
 /// A polyline or point set in data coordinates.
 pub(crate) type Points = Vec<(f64, f64)>;
 

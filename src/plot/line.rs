@@ -8,7 +8,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use super::axes::{axis_range, drawable, segments, snap_span, tick_label};
+use super::axes::{axis_label, axis_range, drawable, segments, snap_span};
 use super::{msg, svg_area, Area, PlotSpec, Style, LEGEND_WIDTH, PALETTE, PLOT_SIZE};
 use crate::output::{OutputError, Result};
 
@@ -47,8 +47,8 @@ where
         .y_desc(spec.y_label.as_str())
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&|v| tick_label(*v, xspan))
-        .y_label_formatter(&|v| tick_label(*v, yspan))
+        .x_label_formatter(&|v| axis_label(*v, xspan, spec.log_x))
+        .y_label_formatter(&|v| axis_label(*v, yspan, spec.log_y))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(msg)?;
@@ -58,7 +58,7 @@ where
     };
     let mut labelled = false;
     for (k, s) in spec.series.iter().enumerate() {
-        let color = PALETTE[k % PALETTE.len()];
+        let color = s.colour(k);
         let line_style = color.stroke_width(2);
         let (segs, pts) = segments(&s.points, inside);
         labelled |= !s.label.is_empty();
@@ -128,15 +128,18 @@ where
 fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(), String> {
     let font = ("sans-serif", 15).into_font();
     let mut y = 80;
+    // `dashed` without `dot` draws a dashed line; with `dot`, the marker alone (a point series).
     let mut row = |label: &str, color: RGBColor, dashed: bool, dot: bool| -> std::result::Result<(), String> {
         if label.is_empty() {
             return Ok(());
         }
         let style = color.stroke_width(2);
-        if dashed {
-            area.draw(&DashedPathElement::new(vec![(10, y), (40, y)], 5, 3, style)).map_err(|e| e.to_string())?;
-        } else {
-            area.draw(&PathElement::new(vec![(10, y), (40, y)], style)).map_err(|e| e.to_string())?;
+        match (dashed, dot) {
+            (true, true) => {}
+            (true, false) => {
+                area.draw(&DashedPathElement::new(vec![(10, y), (40, y)], 5, 3, style)).map_err(|e| e.to_string())?
+            }
+            _ => area.draw(&PathElement::new(vec![(10, y), (40, y)], style)).map_err(|e| e.to_string())?,
         }
         if dot {
             area.draw(&Circle::new((25, y), 4, color.filled())).map_err(|e| e.to_string())?;
@@ -146,10 +149,38 @@ fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(
         Ok(())
     };
     for (k, s) in spec.series.iter().enumerate() {
-        row(&s.label, PALETTE[k % PALETTE.len()], false, s.style != Style::Line)?;
+        row(&s.label, s.colour(k), s.style == Style::Points, s.style != Style::Line)?;
     }
     for (j, r) in spec.refs.iter().enumerate() {
         row(&r.label, PALETTE[(spec.series.len() + j) % PALETTE.len()], true, false)?;
+    }
+    Ok(())
+}
+
+/// The note of `spec`: above the legend column (wrapped to its width, at most three lines), or
+/// at the bottom left of a plot without one.
+fn draw_note(root: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(), String> {
+    if spec.note.is_empty() {
+        return Ok(());
+    }
+    let font = ("sans-serif", 14).into_font().color(&RGBColor(80, 80, 80));
+    if !spec.legend_outside {
+        let at = (10, PLOT_SIZE.1 as i32 - 18);
+        return root.draw(&Text::new(spec.note.clone(), at, font)).map_err(msg);
+    }
+    let mut lines: Vec<String> = vec![String::new()];
+    for word in spec.note.split_whitespace() {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.len() + word.len() > 36 {
+            lines.push(word.to_string());
+        } else {
+            last.push_str(if last.is_empty() { "" } else { " " });
+            last.push_str(word);
+        }
+    }
+    for (k, l) in lines.iter().take(3).enumerate() {
+        let at = (PLOT_SIZE.0 as i32 - LEGEND_WIDTH + 10, 10 + 18 * k as i32);
+        root.draw(&Text::new(l.clone(), at, font.clone())).map_err(msg)?;
     }
     Ok(())
 }
@@ -189,5 +220,6 @@ pub fn line_plot_svg(path: impl AsRef<Path>, spec: &PlotSpec) -> Result<()> {
         (true, true) => draw_lines(&plot, l, spec, log(xr), log(yr), xr, yr),
     };
     drawn.map_err(|m| OutputError::plot(path, m))?;
+    draw_note(&root, spec).map_err(|m| OutputError::plot(path, m))?;
     root.present().map_err(|e| OutputError::plot(path, msg(e)))
 }

@@ -68,12 +68,24 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Drawing style.
     pub style: Style,
+    /// Its colour `(r, g, b)`, e.g. one per variant id across plots; `None`: the palette's
+    /// colour of its position.
+    pub colour: Option<(u8, u8, u8)>,
 }
 
 impl Series {
     /// A series with the given style.
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
-        Series { label: label.into(), points, style }
+        Series { label: label.into(), points, style, colour: None }
+    }
+    /// The series in a given colour.
+    pub fn with_colour(mut self, rgb: (u8, u8, u8)) -> Self {
+        self.colour = Some(rgb);
+        self
+    }
+    /// The colour it is drawn in as the `k`-th series.
+    pub(crate) fn colour(&self, k: usize) -> RGBColor {
+        self.colour.map_or(PALETTE[k % PALETTE.len()], |(r, g, b)| RGBColor(r, g, b))
     }
     /// A connected line.
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
@@ -134,6 +146,8 @@ pub struct PlotSpec {
     pub y_range: Option<(f64, f64)>,
     /// Legend in a column right of the plot (many series) instead of over its upper right.
     pub legend_outside: bool,
+    /// A line of provenance drawn on the picture (e.g. the adapter), empty for none.
+    pub note: String,
 }
 
 impl PlotSpec {

@@ -7,7 +7,7 @@ use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::axes::{auto_range, drawable, snap_span, tick_label};
+use super::axes::{auto_range, axis_label, drawable, snap_span};
 use super::{msg, svg_area, Area, PALETTE};
 use crate::output::{OutputError, Result};
 
@@ -24,6 +24,7 @@ fn draw_scatter<X, Y>(
     pts: &[(f64, f64, String)],
     xc: X,
     yc: Y,
+    (log_x, log_y): (bool, bool),
 ) -> std::result::Result<(), String>
 where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
@@ -46,8 +47,8 @@ where
         .y_desc(y_label)
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&|v| tick_label(*v, xspan))
-        .y_label_formatter(&|v| tick_label(*v, yspan))
+        .x_label_formatter(&|v| axis_label(*v, xspan, log_x))
+        .y_label_formatter(&|v| axis_label(*v, yspan, log_y))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(msg)?;
@@ -85,10 +86,10 @@ pub fn scatter_labeled_svg(
     let log = |r: (f64, f64)| LogCoord::<f64>::from((r.0..r.1).log_scale());
     let (t, xl, yl) = (title, x_label, y_label);
     let drawn = match (log_x, log_y) {
-        (false, false) => draw_scatter(&root, t, xl, yl, &pts, lin(xr), lin(yr)),
-        (true, false) => draw_scatter(&root, t, xl, yl, &pts, log(xr), lin(yr)),
-        (false, true) => draw_scatter(&root, t, xl, yl, &pts, lin(xr), log(yr)),
-        (true, true) => draw_scatter(&root, t, xl, yl, &pts, log(xr), log(yr)),
+        (false, false) => draw_scatter(&root, t, xl, yl, &pts, lin(xr), lin(yr), (log_x, log_y)),
+        (true, false) => draw_scatter(&root, t, xl, yl, &pts, log(xr), lin(yr), (log_x, log_y)),
+        (false, true) => draw_scatter(&root, t, xl, yl, &pts, lin(xr), log(yr), (log_x, log_y)),
+        (true, true) => draw_scatter(&root, t, xl, yl, &pts, log(xr), log(yr), (log_x, log_y)),
     };
     drawn.map_err(|m| OutputError::plot(path, m))?;
     root.present().map_err(|e| OutputError::plot(path, msg(e)))

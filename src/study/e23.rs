@@ -3,7 +3,7 @@
 //! first, then timed, and becomes one [`Record`] of `records.csv` with the E2/E3 columns
 //! (residency, bytes per step, budget, subdomains, halo, device bytes, GPU busy, verification).
 //! A run that fails (error, blow-up, overflow) is reported and not recorded; a run that fails
-//! verification is recorded with its verdict and no timing (NaN).
+//! verification is recorded `inaccurate` with its verdict and no timing (NaN).
 
 use super::e2_residency::{time_hybrid, verify_hybrid, HybridSolver, HYBRIDS};
 use super::e3_subdomains::{time_split, time_unsplit, verify_split, SplitSolver, SplitTiming, CONFIGS};
@@ -66,19 +66,18 @@ fn base(experiment: &str, variant: String, scene: &Scene, layout: &Layout, ctx: 
     }
 }
 
-/// The q-quantile of sorted values (nearest rank).
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
 /// Timing of a run that finished and verified: `status = ok`, median/min/max of the sorted
 /// per-step times.
 fn set_times(r: &mut Record, ms: &[f64], evals: f64) {
-    let median = percentile(ms, 0.5);
+    let median = super::stats::percentile(ms, 0.5);
     r.status = "ok".into();
     r.ms_per_step_median = Some(median);
     r.ms_per_step_min = ms.first().copied();
     r.ms_per_step_max = ms.last().copied();
+    r.ms_per_step_p10 = Some(super::stats::percentile(ms, 0.1));
+    r.ms_per_step_p90 = Some(super::stats::percentile(ms, 0.9));
+    let (lo, hi) = super::stats::bootstrap_median_ci(ms);
+    (r.ms_per_step_ci_lo, r.ms_per_step_ci_hi) = (Some(lo), Some(hi));
     r.particle_evals_per_s = Some(r.n as f64 * evals / (median * 1e-3));
 }
 
@@ -163,7 +162,7 @@ pub fn run_e2(o: &E23Options, steps: u64, ctx: &Arc<GpuContext>, out: &mut Vec<R
             Err(e) => {
                 eprintln!("e2 {id}: verification FAILED: {e}");
                 r.verified = format!("FAIL: {e}");
-                set_failed(&mut r, "error", format!("verification failed: {e}"));
+                set_failed(&mut r, "inaccurate", format!("verification failed: {e}"));
                 out.push(r);
                 continue;
             }
@@ -185,7 +184,7 @@ pub fn run_e2(o: &E23Options, steps: u64, ctx: &Arc<GpuContext>, out: &mut Vec<R
             }
             Err(e) => {
                 eprintln!("e2 {id}: failed: {e}");
-                set_failed(&mut r, "error", e);
+                set_failed(&mut r, "failed", e);
                 out.push(r);
             }
         }
@@ -250,7 +249,7 @@ pub fn run_e3(o: &E23Options, ctx: &Arc<GpuContext>, out: &mut Vec<Record>) -> R
                 Err(e) => {
                     eprintln!("e3 {} budget {budget}: verification FAILED: {e}", c.symbol);
                     r.verified = format!("FAIL: {e}");
-                    set_failed(&mut r, "error", format!("verification failed: {e}"));
+                    set_failed(&mut r, "inaccurate", format!("verification failed: {e}"));
                     out.push(r);
                     continue;
                 }
@@ -274,7 +273,7 @@ pub fn run_e3(o: &E23Options, ctx: &Arc<GpuContext>, out: &mut Vec<Record>) -> R
                 }
                 Err(e) => {
                     eprintln!("e3 {} budget {budget}: failed: {e}", c.symbol);
-                    set_failed(&mut r, "error", e);
+                    set_failed(&mut r, "failed", e);
                     out.push(r);
                 }
             }

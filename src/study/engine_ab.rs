@@ -19,9 +19,10 @@
 //! untimed block of K steps. A failed run is a record with its status and reason, no timing.
 //! [`summary`] writes the before/after table of `summary.md`.
 
+use super::measured::{Common, Judge, References};
 use super::plan::Job;
 use super::timing::{self, Failure, Timed};
-use super::{run_job, study_scene_with, Common, Record, Start, StudyOptions, DIRECT_MAX_N, REFERENCE};
+use super::{run_job, stats, study_scene_with, Record, Start, StudyOptions, DIRECT_MAX_N};
 use crate::backend::Backend;
 use crate::backend_id::BackendId;
 use crate::exec::Exec;
@@ -96,19 +97,34 @@ struct Runs<'a> {
     start: &'a Start,
     opts: &'a StudyOptions,
     bandwidth: Option<Bandwidth>,
-    reference: Option<crate::backend::Frame>,
+    references: References,
+}
+
+/// The judge of a record of precision `p` at `s` (the engine experiment checks observables
+/// against the CPU run of the same precision; its variants' fields are `verify`'s).
+fn judge<'a>(refs: &'a References, s: &Start, p: Precision, load: (Option<f64>, Option<f64>)) -> Judge<'a> {
+    let nx = s.scene.domain.nx;
+    Judge {
+        f64_ref: refs.frame(nx, Precision::F64),
+        same_ref: refs.frame(nx, p),
+        fields: None,
+        load,
+        cores: stats::cores(),
+    }
 }
 
 impl Runs<'_> {
     /// One GPU record of `spec` in `mode`.
     fn record(&self, spec: VariantSpec, mode: EngineMode) -> Record {
         let (s, opts, bw) = (self.start, self.opts, &self.bandwidth);
+        let before = stats::load_average();
         let (res, engine) = match spec.precision {
             Precision::F32 => time_gpu::<f32>(self.ctx, s, spec, mode, opts, bw),
             Precision::F64 => time_gpu::<f64>(self.ctx, s, spec, mode, opts, bw),
         };
         let reps = self.common.protocol.repeats;
-        let mut r = self.common.record(&job(s, BackendId::Gpu(spec)), reps, s, &res, self.reference.as_ref());
+        let j = judge(&self.references, s, spec.precision, (before, stats::load_average()));
+        let mut r = self.common.record(&job(s, BackendId::Gpu(spec)), reps, s, &res, &j);
         r.engine = mode.name();
         if let Some(e) = engine {
             r.device_bytes = Some(e.traffic.device_bytes);
@@ -157,7 +173,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
     let scene = study_scene_with(opts.engine_nx, &opts.sets)?;
     let layout = build_layout(&scene).map_err(|e| e.to_string())?;
     let vel0 = initial_velocities(&scene, &layout, None);
-    let s = Start { scene, layout, vel0 };
+    let s = Start { scene, layout, vel0, verifier: Default::default() };
     let n = s.layout.pos.len();
     let c = Common {
         gpu,
@@ -167,17 +183,22 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
         shard: opts.shard.label(),
         protocol: opts.protocol,
     };
-    // (c) The single-thread CPU references; the f64 snapshot is every row's accuracy reference.
-    let mut reference = None;
+    // (c) The single-thread CPU references of each precision: the records' accuracy references.
+    let mut references = References::default();
     if opts.cpu_max_n.is_none_or(|m| n <= m) {
         for precision in [Precision::F64, Precision::F32] {
             let id = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision };
             let j = job(&s, id);
-            let res = run_job(&j, &s, None, &opts.protocol);
-            if id == REFERENCE {
-                reference = res.as_ref().ok().map(|t| t.snapshot.clone());
-            }
-            let mut r = c.record(&j, opts.protocol.repeats, &s, &res, reference.as_ref());
+            let before = stats::load_average();
+            let res = run_job(&j, &s, None, None, &opts.protocol);
+            references.note(&j, &res);
+            let mut r = c.record(
+                &j,
+                opts.protocol.repeats,
+                &s,
+                &res,
+                &judge(&references, &s, precision, (before, stats::load_average())),
+            );
             r.engine = "cpu".into();
             log(&r);
             out.push(r);
@@ -188,7 +209,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
         return Ok(());
     };
     let bandwidth = measure_bandwidth(ctx).map_err(|e| format!("engine: bandwidth probe: {e}"))?;
-    let runs = Runs { common: c, ctx, start: &s, opts, bandwidth, reference };
+    let runs = Runs { common: c, ctx, start: &s, opts, bandwidth, references };
     let mut specs = if opts.variants.is_empty() { VariantSpec::all() } else { opts.variants.clone() };
     let thread: VariantSpec = THREAD_RECOMPUTED.parse()?;
     if !specs.contains(&thread) {
@@ -305,7 +326,7 @@ pub fn summary(md: &mut String, recs: &[Record]) {
             fmt(ms(b), |x| format!("{x:.3}")),
             fmt(ms(a), |x| format!("{x:.3}")),
             fmt(ratio, |x| format!("{x:.2}×")),
-            fmt(a.and_then(|r| r.speedup_vs_cpu1), |x| format!("{x:.2}×")),
+            fmt(a.and_then(|r| r.speedup_vs_cpu1_cells_f64), |x| format!("{x:.2}×")),
             fmt(a.and_then(|r| r.roofline_fraction), |x| format!("{:.2} %", 100.0 * x)),
             counts(b),
             counts(a)

@@ -12,46 +12,56 @@
 //!
 //! The sweep is a list of jobs ([`plan`]): printed first with its estimated time, cut to
 //! `--shard i/n` and to `--budget` (largest sizes dropped first; while running, a job that would
-//! overrun gives back the budget's extra timed blocks before it is skipped). Each job runs the shared start
-//! through the protocol of [`timing`] (accuracy snapshot after K steps, warm-up for a fixed
-//! time, latency, throughput in blocks of K steps per sync); a run that overflowed, blew up or
-//! failed is a record with its `status` and `reason` and no timing. The snapshot is compared
-//! with the CPU f64 one-thread run (`cpu1.cells.f64`, whose own row is that same run) after the
-//! same K steps; above `--cpu-max-n` there is no CPU run and the report compares the GPU rows
-//! with the largest CPU size, scaled by N (marked `cpu_ref`). GPU pipelines are compiled once per
-//! variant and reused at every size (`gpu::pipeline_cache`). Absolute GPU times mean something
-//! only on a real GPU; on lavapipe read ratios and correctness only. Every backend is named by
-//! its [`BackendId`], the id the CLI, the bench and `records.csv` use. [`preset`] is the one
-//! command for a GPU loan; [`report`] writes (and merges) the outputs.
+//! overrun gives back the budget's extra timed blocks before it is skipped). Every size times the
+//! one-thread CPU with cells and tracking in f64 and f32 and the all-threads CPU: the same-run
+//! baselines of [`baseline`]. Each job runs the shared start through the protocol of [`timing`]
+//! (accuracy snapshot after K steps, K a whole number of tracking-list rebuild periods; warm-up
+//! for a fixed time; latency; throughput in R blocks of K steps per sync) with the load average
+//! read before and after; [`stats`] gives the blocks' percentiles and bootstrap interval. A run
+//! that overflowed, blew up or failed is a record with its `status` and `reason` and no timing;
+//! a measured one is gated (`measured`): `inaccurate` beyond `verify`'s tolerances against the
+//! CPU run of its precision, `loaded` above the cores, else `ok`, the only status ranked. Errors
+//! are against the CPU f64 one-thread run (`cpu1.cells.f64`) after the same K steps. GPU
+//! pipelines are compiled once per variant and reused at every size (`gpu::pipeline_cache`).
+//! Absolute GPU times mean something only on a real GPU; on lavapipe read ratios and correctness
+//! only. Every backend is named by its [`BackendId`], the id the CLI, the bench and `records.csv`
+//! use. [`preset`] is the one command for a GPU loan; [`report`] writes (and merges) the outputs,
+//! opening with the answer table.
 
+mod answer;
+pub mod baseline;
 pub mod e23;
 pub mod e2_residency;
 pub mod e3_subdomains;
 pub mod engine_ab;
+pub mod look;
+mod measured;
 pub mod plan;
 pub mod preset;
 pub mod record;
 pub mod report;
+pub mod stats;
 pub mod thesis_figs;
 pub mod timing;
 
-use crate::backend::Frame;
 use crate::backend_id::BackendId;
 use crate::error::Error;
 use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
-use crate::run::measure;
+use crate::real::Precision;
 use crate::scene::build::{build_layout, Layout};
 use crate::scene::initial::initial_velocities;
 use crate::scene::{builtin::builtin, overrides::apply_overrides, Scene};
 use crate::sweep::Shard;
+use crate::verify::Verifier;
+use measured::{Common, Judge, References};
 use plan::Job;
 pub use record::Record;
-use std::collections::HashMap;
+use std::cell::OnceCell;
 use std::sync::Arc;
 use std::time::Instant;
-use timing::{median, Failure, Protocol, Timed};
+use timing::{Failure, Protocol, Timed};
 
 /// Largest particle count at which the O(N²) `direct` GPU variants run by default.
 pub const DIRECT_MAX_N: usize = 3000;
@@ -91,6 +101,9 @@ pub struct StudyOptions {
     /// The two resolutions the cost probe times ([`plan::Probe`]); near the sweep's own sizes so
     /// the largest are not extrapolated from N ≈ 10³.
     pub probe_sizes: [u32; 2],
+    /// Scene overrides applied to one backend's run only, by id: a variant made wrong on purpose,
+    /// judged against the unperturbed references (the accuracy gate must call it `inaccurate`).
+    pub perturb: Vec<(String, Vec<String>)>,
 }
 
 impl Default for StudyOptions {
@@ -111,6 +124,7 @@ impl Default for StudyOptions {
             engine_nx: engine_ab::DEFAULT_NX,
             e4_sizes: vec![45, 100],
             probe_sizes: plan::PROBE_SIZES,
+            perturb: Vec::new(),
         }
     }
 }
@@ -136,101 +150,34 @@ pub fn study_scene(nx: u32) -> Scene {
     study_scene_with(nx, &[]).expect("valid study scene")
 }
 
-/// One size's shared start.
+/// One size's shared start, and the field check of its GPU variants (built on first use).
 struct Start {
     scene: Scene,
     layout: Layout,
     vel0: Vec<[f64; 2]>,
+    verifier: OnceCell<Verifier>,
 }
 
-/// What every record of this run shares.
-struct Common<'a> {
-    gpu: Option<&'a Arc<GpuContext>>,
-    commit: String,
-    date: String,
-    cpu_model: String,
-    shard: String,
-    protocol: Protocol,
-}
-
-impl Common<'_> {
-    /// The record of `job`, run with `repeats` timed blocks: timed (`Ok`) or failed (status,
-    /// reason, no timing).
-    fn record(
-        &self,
-        job: &Job,
-        repeats: usize,
-        s: &Start,
-        res: &Result<Timed, Failure>,
-        reference: Option<&Frame>,
-    ) -> Record {
-        let (adapter, driver, device_type) = match (job.id, self.gpu) {
-            (BackendId::Gpu(_), Some(g)) => {
-                let i = &g.adapter_info;
-                (i.name.clone(), format!("{} {}", i.driver, i.driver_info), format!("{:?}", i.device_type))
-            }
-            _ => ("CPU".into(), "-".into(), "Cpu".into()),
-        };
-        let mut r = Record {
-            experiment: job.experiment.clone(),
-            variant: job.id.to_string(),
-            scene: s.scene.name.clone(),
-            nx: s.scene.domain.nx,
-            n: s.layout.pos.len(),
-            n_fluid: s.layout.n_fluid,
-            steps: self.protocol.steps,
-            repeats,
-            backend: job.id.kind().into(),
-            adapter,
-            driver,
-            device_type,
-            cpu_model: self.cpu_model.clone(),
-            cpu_threads: job.threads,
-            precision: job.id.precision().name().into(),
-            shard: self.shard.clone(),
-            commit: self.commit.clone(),
-            date: self.date.clone(),
-            ..Default::default()
-        };
-        let t = match res {
-            Err(f) => {
-                r.status = f.status.into();
-                r.reason = f.reason.clone();
-                return r;
-            }
-            Ok(t) => t,
-        };
-        r.status = "ok".into();
-        let ms = median(&t.block_ms);
-        let evals = if s.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
-        r.warmup_steps = t.warmup_steps;
-        r.ms_per_step_median = Some(ms);
-        r.ms_per_step_min = t.block_ms.first().copied();
-        r.ms_per_step_max = t.block_ms.last().copied();
-        r.latency_ms_median = (!t.latency_ms.is_empty()).then(|| median(&t.latency_ms));
-        r.timing = if t.device_ms.is_empty() { "wall" } else { "wall+timestamps" }.into();
-        r.gpu_ms_per_step = (!t.device_ms.is_empty()).then(|| median(&t.device_ms));
-        r.particle_evals_per_s = Some(s.layout.pos.len() as f64 * evals / (ms * 1e-3));
-        if let Some(c) = reference {
-            let (a, c) = (measure(&s.scene, &t.snapshot), measure(&s.scene, c));
-            let dx = s.scene.domain.dx();
-            r.ke_rel_error = Some((a.kinetic_energy - c.kinetic_energy).abs() / c.kinetic_energy.abs().max(1e-300));
-            r.centroid_error_dx = Some((a.centroid_x - c.centroid_x).hypot(a.centroid_y - c.centroid_y) / dx);
-        }
-        r.stage_ms = t.stage_ms.clone();
-        r
+/// The scene of `job` with the overrides [`StudyOptions::perturb`] gives its id, if any.
+fn perturbed_scene(opts: &StudyOptions, job: &Job) -> Result<Option<Scene>, Error> {
+    let id = job.id.to_string();
+    let extra: Vec<String> = opts.perturb.iter().filter(|p| p.0 == id).flat_map(|p| p.1.iter().cloned()).collect();
+    if extra.is_empty() {
+        return Ok(None);
     }
+    scene_at(job.nx, &[opts.sets.clone(), extra].concat()).map(Some)
 }
 
-const REFERENCE: BackendId = BackendId::Cpu {
-    exec: crate::exec::Exec::Serial,
-    search: SearchKind::Cells,
-    precision: crate::real::Precision::F64,
-};
-
-/// Builds and times one job from the shared start.
-fn run_job(job: &Job, s: &Start, gpu: Option<&Arc<GpuContext>>, p: &Protocol) -> Result<Timed, Failure> {
-    let mut b = job.id.build(&s.scene, &s.layout, gpu).map_err(Failure::build)?;
+/// Builds and times one job from the shared start (its scene `perturbed` where a test made the
+/// job wrong on purpose).
+fn run_job(
+    job: &Job,
+    s: &Start,
+    perturbed: Option<&Scene>,
+    gpu: Option<&Arc<GpuContext>>,
+    p: &Protocol,
+) -> Result<Timed, Failure> {
+    let mut b = job.id.build(perturbed.unwrap_or(&s.scene), &s.layout, gpu).map_err(Failure::build)?;
     b.restart_with_velocities(&s.vel0);
     timing::time_backend(b.as_mut(), p)
 }
@@ -304,7 +251,7 @@ fn run_sweep(
         protocol,
     };
     let (mut est_done, mut spent_done) = (0.0f64, 0.0f64);
-    let mut references: HashMap<u32, Option<Frame>> = HashMap::new();
+    let mut references = References::default();
     let mut start: Option<(String, u32, Start)> = None;
     let (mut skipped, mut cut) = (Vec::new(), Vec::new());
     for job in &sel.jobs {
@@ -329,23 +276,34 @@ fn run_sweep(
             let scene = scene_at(job.nx, &opts.sets)?;
             let layout = build_layout(&scene).map_err(Error::failed)?;
             let vel0 = initial_velocities(&scene, &layout, None);
-            start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0 }));
+            start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0, verifier: OnceCell::new() }));
         }
         let s = &start.as_ref().expect("set above").2;
-        let res = run_job(job, s, gpu, &Protocol { repeats: blocks, ..protocol });
-        if job.id == REFERENCE {
-            references.entry(job.nx).or_insert_with(|| res.as_ref().ok().map(|t| t.snapshot.clone()));
-        }
+        let perturbed = perturbed_scene(opts, job)?;
+        let load_before = stats::load_average();
+        let res = run_job(job, s, perturbed.as_ref(), gpu, &Protocol { repeats: blocks, ..protocol });
+        let load_after = stats::load_average();
+        references.note(job, &res);
         let within_cap = opts.cpu_max_n.is_none_or(|m| s.layout.pos.len() <= m);
-        if !references.contains_key(&job.nx) && within_cap {
-            // This shard has no reference row at this size: its snapshot alone (not recorded).
-            let r = REFERENCE.build(&s.scene, &s.layout, None).map_err(Failure::build).and_then(|mut b| {
-                b.restart_with_velocities(&s.vel0);
-                timing::snapshot(b.as_mut(), opts.protocol.steps)
-            });
-            references.insert(job.nx, r.ok());
+        let precision = job.id.precision();
+        if within_cap {
+            references.ensure(job.nx, Precision::F64, s, protocol.steps);
+            references.ensure(job.nx, precision, s, protocol.steps);
         }
-        let rec = common.record(job, blocks, s, &res, references.get(&job.nx).and_then(|r| r.as_ref()));
+        let fields = match (job.id, gpu, &res) {
+            (BackendId::Gpu(spec), Some(g), Ok(_)) if within_cap => Some(
+                s.verifier.get_or_init(|| Verifier::new(&s.scene, 0, false)).variant_on(g, spec, perturbed.as_ref()),
+            ),
+            _ => None,
+        };
+        let judge = Judge {
+            f64_ref: references.frame(job.nx, Precision::F64),
+            same_ref: references.frame(job.nx, precision),
+            fields: fields.as_ref(),
+            load: (load_before, load_after),
+            cores: stats::cores(),
+        };
+        let rec = common.record(job, blocks, s, &res, &judge);
         match &res {
             Ok(_) => eprintln!(
                 "{} nx={} {:<44} {:>10.3} ms/step (latency {:.3} ms)",
@@ -388,6 +346,32 @@ fn outcome(budget_s: Option<f64>, total: f64, cut: &[String], skipped: &[String]
     lines
 }
 
+/// Steps of one tracking-list rebuild period of `scene`: `TrackingCfg::every` force evaluations,
+/// two per step with the midpoint integrator.
+pub fn rebuild_period_steps(scene: &Scene) -> u64 {
+    let evals = if scene.time.integrator == crate::scene::Integrator::Midpoint { 2 } else { 1 };
+    u64::from(crate::neighbours::TrackingCfg::default().every).div_ceil(evals)
+}
+
+/// `opts` with K raised to a whole number of rebuild periods (a block with one rebuild more than
+/// another is not a sample of the same thing), and the note saying so when it was raised.
+fn whole_rebuild_periods(opts: &StudyOptions) -> (StudyOptions, Option<String>) {
+    let mut o = opts.clone();
+    let Ok(scene) = study_scene_with(o.e4_sizes.first().copied().unwrap_or(45), &o.sets) else { return (o, None) };
+    let period = rebuild_period_steps(&scene);
+    let k = o.protocol.steps.div_ceil(period) * period;
+    if k == o.protocol.steps {
+        return (o, None);
+    }
+    let note = format!(
+        "K raised from {} to {k} steps: a whole number of tracking-list rebuild periods ({period} steps).",
+        o.protocol.steps
+    );
+    eprintln!("study: {note}");
+    o.protocol.steps = k;
+    (o, Some(note))
+}
+
 /// Runs the selected experiments and writes `records.csv`, `summary.md` and plots (nothing with
 /// `dry_run`, which prints the plan only). An unknown experiment or a scene that `--set` makes
 /// invalid is [`Error::Input`]; any other failure [`Error::Failed`].
@@ -400,6 +384,7 @@ pub fn run_study(opts: &StudyOptions) -> Result<Vec<Record>, Error> {
 /// [`run_study`] on a given adapter (`None`: CPU only), the clock started at `t0`.
 pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Instant) -> Result<Vec<Record>, Error> {
     let mut recs = Vec::new();
+    let run = format!("{} {}", crate::output::now_utc_iso8601(), opts.shard.label());
     for e in &opts.experiments {
         // `engine` runs only when named (not in `all` nor the preset: it is not budgeted).
         if !EXPERIMENTS.contains(&e.as_str()) && e != engine_ab::EXPERIMENT {
@@ -411,8 +396,11 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
         // A journal left by an earlier study in this directory is not this run's.
         let _ = std::fs::remove_file(opts.out.join(report::JOURNAL));
     }
+    let (whole, k_note) = whole_rebuild_periods(opts);
+    let opts = &whole;
     // The job sweep (e1, e4, scaling); further experiments dispatch below by name.
-    let notes = run_sweep(opts, gpu, t0, &mut recs)?;
+    let mut notes = run_sweep(opts, gpu, t0, &mut recs)?;
+    notes.outcome.extend(k_note);
     if opts.dry_run {
         return Ok(recs);
     }
@@ -434,6 +422,10 @@ pub fn run_study_on(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, t0: Inst
         }
         report::journal(&opts.out, &recs[before..]).map_err(Error::Failed)?;
     }
+    for r in recs.iter_mut() {
+        r.run = run.clone();
+    }
+    baseline::annotate(&mut recs);
     report::write(&opts.out, &mut recs, gpu.map(|g| g.describe()), &notes).map_err(Error::Failed)?;
     Ok(recs)
 }

@@ -67,8 +67,10 @@ pub fn sizes_of(experiment: &str, opts: &StudyOptions) -> Vec<u32> {
     }
 }
 
-/// Every job of the sweep experiments, in run order (per size the reference `cpu1.cells.f64`
-/// first), and notes on what was left out and why (unsupported, over a limit, `--cpu-max-n`).
+/// Every job of the sweep experiments, in run order: per size the one-thread CPU cells and
+/// tracking searches in f64 and f32 (the baselines; the reference `cpu1.cells.f64` first, E1
+/// adds the direct search), the all-threads CPU in both precisions, then the GPU variants; and
+/// notes on what was left out and why (unsupported, over a limit, `--cpu-max-n`).
 pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<Job>, Vec<String>), String> {
     let mut out = Vec::new();
     let mut notes = BTreeSet::new();
@@ -94,18 +96,18 @@ pub fn jobs(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>) -> Result<(Vec<J
                 out.push(Job { experiment: e.clone(), nx, n, id, threads, est_s: 0.0, rep_s: 0.0, extra_blocks: 0 })
             };
             if opts.cpu_max_n.is_none_or(|m| n <= m) {
-                let searches: &[SearchKind] = if e == "e1" {
-                    &[SearchKind::Cells, SearchKind::Direct, SearchKind::Tracking]
-                } else {
-                    &[SearchKind::Cells]
-                };
-                for &search in searches {
-                    push(BackendId::Cpu { exec: Exec::Serial, search, precision: Precision::F64 }, 1);
-                }
-                if e != "e1" {
-                    for precision in [Precision::F64, Precision::F32] {
-                        push(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision }, threads);
+                // The same-run baselines: one thread, cells and tracking, in both precisions.
+                for precision in [Precision::F64, Precision::F32] {
+                    for search in [SearchKind::Cells, SearchKind::Tracking] {
+                        push(BackendId::Cpu { exec: Exec::Serial, search, precision }, 1);
                     }
+                }
+                if e == "e1" {
+                    let precision = Precision::F64;
+                    push(BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Direct, precision }, 1);
+                }
+                for precision in [Precision::F64, Precision::F32] {
+                    push(BackendId::Cpu { exec: Exec::Parallel, search: SearchKind::Cells, precision }, threads);
                 }
             } else {
                 notes.insert(format!(

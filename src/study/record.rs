@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// One benchmark record (STUDY.md §5). Timing and error columns are empty unless `status` is
-/// `ok`.
+/// One benchmark record (STUDY.md §5). Timing and error columns are empty unless the run was
+/// measured (`ok`, `inaccurate`, `loaded`); only `ok` records are ranked.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 // Columns a record file of an earlier version lacks read as their defaults (`sphlab report`).
 #[serde(default)]
@@ -13,10 +13,13 @@ pub struct Record {
     pub experiment: String,
     /// Backend id (`cpu1.cells.f64`, `cells.thread.recomputed.f32`, …; [`BackendId`](crate::backend_id::BackendId)).
     pub variant: String,
-    /// ok | overflow | blow-up | error | refused.
+    /// One of [`STATUSES`].
     pub status: String,
-    /// Why the run is not a measurement (empty when ok).
+    /// Why the record is not `ok` (empty when ok).
     pub reason: String,
+    /// The run that wrote the record (its start date and shard): speedups compare records of
+    /// one run only.
+    pub run: String,
     /// Scene name.
     pub scene: String,
     /// Particles across the box.
@@ -51,6 +54,20 @@ pub struct Record {
     pub ms_per_step_min: Option<f64>,
     /// Slowest block (ms per step).
     pub ms_per_step_max: Option<f64>,
+    /// 10th percentile of the blocks (ms per step).
+    pub ms_per_step_p10: Option<f64>,
+    /// 90th percentile of the blocks (ms per step).
+    pub ms_per_step_p90: Option<f64>,
+    /// Lower end of the bootstrap 95 % interval of the median (ms per step).
+    pub ms_per_step_ci_lo: Option<f64>,
+    /// Upper end of the bootstrap 95 % interval of the median (ms per step).
+    pub ms_per_step_ci_hi: Option<f64>,
+    /// 1-minute load average before the record was measured.
+    pub load_before: Option<f64>,
+    /// 1-minute load average after it.
+    pub load_after: Option<f64>,
+    /// Cores available to the study (a record measured above this load is `loaded`).
+    pub cores: usize,
     /// Latency: median wall time of one step followed by a device sync (ms).
     pub latency_ms_median: Option<f64>,
     /// `wall`, or `wall+timestamps` when the backend also reported GPU timestamps.
@@ -63,9 +80,20 @@ pub struct Record {
     pub ke_rel_error: Option<f64>,
     /// Centroid difference from the reference, in Δx.
     pub centroid_error_dx: Option<f64>,
-    /// Speedup over `cpu1.cells.f64` (filled by the report from the records).
-    pub speedup_vs_cpu1: Option<f64>,
-    /// `measured` (same N) or `scaled from N=…` (above `--cpu-max-n`); empty without a base.
+    /// The baseline of `speedup_vs_baseline`: the fastest one-thread CPU search (`cpu1.cells` or
+    /// `cpu1.tracking`) of this record's precision at its N in the same run.
+    pub baseline: String,
+    /// The baseline's ms/step ÷ this record's.
+    pub speedup_vs_baseline: Option<f64>,
+    /// The all-threads CPU of this precision (`cpu.cells.<precision>`, same run, same N): its
+    /// ms/step ÷ this record's.
+    pub speedup_vs_cpu_all: Option<f64>,
+    /// `cpu1.cells.f64` of the same run at the same N (or scaled, see `cpu_ref`): its ms/step ÷
+    /// this record's; kept for continuity with earlier reports.
+    #[serde(alias = "speedup_vs_cpu1")]
+    pub speedup_vs_cpu1_cells_f64: Option<f64>,
+    /// `measured` (same N) or `scaled from N=…` (above `--cpu-max-n`), for
+    /// `speedup_vs_cpu1_cells_f64`; empty without a base.
     pub cpu_ref: String,
     /// Shard (`i/n`) of the run that wrote the record.
     pub shard: String,
@@ -89,7 +117,8 @@ pub struct Record {
     pub subdomains: Option<usize>,
     /// E3: halo particles per force evaluation, summed over the subdomains.
     pub halo_particles: Option<f64>,
-    /// E3: device bytes allocated by the (subdomain) solver.
+    /// E3: device bytes allocated by the (subdomain) solver; sweep GPU records: the planned
+    /// device bytes of the variant at this N.
     pub device_bytes: Option<u64>,
     /// E3: GPU busy fraction, device time (timestamps) ÷ wall time.
     pub gpu_busy: Option<f64>,
@@ -97,6 +126,8 @@ pub struct Record {
     pub config: String,
     /// E2/E3: verification verdict (against the CPU reference / the unsplit run).
     pub verified: String,
+    /// Sweep GPU records: the largest N whose planned buffers fit this adapter's limits.
+    pub max_n_fits: Option<u64>,
     /// engine: `before` (legacy engine) or `after` (current engine) (GPU), `cpu` ([`engine_ab`]).
     pub engine: String,
     /// engine: modelled bytes one force evaluation moves (`gpu::bandwidth`, a lower bound).
@@ -113,7 +144,19 @@ pub struct Record {
     pub dispatches_per_step: Option<f64>,
 }
 
+/// Every status a record may have: measured and accurate (`ok`, the only one ranked); measured
+/// but beyond `verify`'s tolerances (`inaccurate`) or while the load average exceeded the cores
+/// (`loaded`); not measured because the run overflowed a neighbour layout (`overflow`), blew up
+/// (`blown-up`), failed on the device or host (`failed`), or was not run (`skipped`: unsupported,
+/// over a limit, out of budget).
+pub const STATUSES: [&str; 7] = ["ok", "inaccurate", "loaded", "overflow", "blown-up", "failed", "skipped"];
+
 impl Record {
+    /// Ranked, plotted as a timing and eligible as "fastest": measured and accurate, unloaded.
+    pub fn is_ok(&self) -> bool {
+        self.status == "ok" && self.ms_per_step_median.is_some()
+    }
+
     /// Throughput ms per step, NaN for a record without timing (a failed run).
     pub fn ms(&self) -> f64 {
         self.ms_per_step_median.unwrap_or(f64::NAN)

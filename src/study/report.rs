@@ -5,8 +5,9 @@
 //! the E4 per-stage table. [`merge`] (`sphlab report DIR... --out DIR`) reads the records of
 //! several runs (shards, adapters) and writes one report from them, adapters side by side.
 
+use super::look;
 use super::{Record, RunNotes};
-use crate::plot::{line_plot_svg, scatter_labeled_svg, PlotSpec, Series};
+use crate::plot::{line_plot_svg, PlotSpec, Series};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -18,42 +19,11 @@ fn e<T: std::fmt::Display>(p: &Path, x: T) -> String {
     format!("{}: {x}", p.display())
 }
 
-/// The baseline of the speedups.
-pub const BASELINE: &str = "cpu1.cells.f64";
+/// The continuity baseline (`speedup_vs_cpu1_cells_f64`).
+pub use super::baseline::CPU1_CELLS_F64 as BASELINE;
 
 /// Errors below this are drawn at it on the log axis of `speed_vs_error.svg` (and said so).
 pub const ERROR_FLOOR: f64 = 1e-12;
-
-/// Fills `speedup_vs_cpu1` and `cpu_ref` of every ok record from the `cpu1.cells.f64` rows: the
-/// one at the same N (same experiment preferred), else the largest smaller N scaled by N
-/// (`scaled from N=…`; the CPU NNPS is O(N)).
-pub fn annotate(recs: &mut [Record]) {
-    let base: Vec<(String, usize, f64)> = recs
-        .iter()
-        .filter(|r| r.variant == BASELINE && r.status == "ok")
-        .filter_map(|r| Some((r.experiment.clone(), r.n, r.ms_per_step_median?)))
-        .collect();
-    for r in recs.iter_mut() {
-        r.speedup_vs_cpu1 = None;
-        r.cpu_ref.clear();
-        let Some(ms) = r.ms_per_step_median.filter(|_| r.status == "ok") else { continue };
-        let same = base
-            .iter()
-            .filter(|b| b.1 == r.n)
-            .min_by_key(|b| (b.0 != r.experiment) as u8)
-            .map(|b| (b.2, "measured".to_string()));
-        let scaled = || {
-            base.iter()
-                .filter(|b| b.1 < r.n)
-                .max_by_key(|b| (b.1, (b.0 == r.experiment) as u8))
-                .map(|b| (b.2 * r.n as f64 / b.1 as f64, format!("scaled from N={}", b.1)))
-        };
-        if let Some((b, how)) = same.or_else(scaled) {
-            r.speedup_vs_cpu1 = Some(b / ms);
-            r.cpu_ref = how;
-        }
-    }
-}
 
 fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map_or("-".into(), f)
@@ -80,9 +50,9 @@ pub fn journal(dir: &Path, recs: &[Record]) -> Result<(), String> {
     w.flush().map_err(|x| e(&p, x))
 }
 
-/// Writes every output of the study into `dir` (records annotated first).
+/// Writes every output of the study into `dir` from the records as they are: their speedups
+/// were computed by the runs that measured them ([`super::baseline::annotate`]), never here.
 pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &RunNotes) -> Result<(), String> {
-    annotate(recs);
     std::fs::create_dir_all(dir).map_err(|x| e(dir, x))?;
     let csv_path = dir.join("records.csv");
     let mut w = csv::Writer::from_path(&csv_path).map_err(|x| e(&csv_path, x))?;
@@ -91,8 +61,8 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
     }
     w.flush().map_err(|x| e(&csv_path, x))?;
     let _ = std::fs::remove_file(dir.join(JOURNAL));
-    let timed = recs.iter().any(|r| !r.stage_ms.is_empty());
-    if timed {
+    let timed = recs.iter().any(|r| r.gpu_ms_per_step.is_some());
+    if recs.iter().any(|r| !r.stage_ms.is_empty()) {
         write_stage_csv(&dir.join("stage_times.csv"), recs)?;
     }
     let mut adapters: Vec<&str> = recs.iter().filter(|r| r.backend == "gpu").map(|r| r.adapter.as_str()).collect();
@@ -125,6 +95,7 @@ fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: 
     let mut md = String::new();
     let first = recs.first();
     let _ = writeln!(md, "# sphlab study (thesis Chapter 6)\n");
+    super::answer::write(&mut md, recs);
     let mut commits: Vec<&str> = recs.iter().map(|r| r.commit.as_str()).collect();
     commits.sort();
     commits.dedup();
@@ -154,12 +125,17 @@ fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: 
     let _ = writeln!(
         md,
         "Scene: `oscillating-drop` (no relaxation, initial velocity field). **Throughput** (ms/step) = wall time of a \
-         block of K = {k} steps with one device sync at its end, ÷ K: median, fastest and slowest block over the repeats \
-         (after a warm-up of fixed wall time). **Latency** = one step followed by a device sync (median). Device \
-         ms/step = GPU timestamps of the stage passes, read once per block{}. Errors: kinetic energy (relative) and \
-         centroid (in Δx) after the first K steps, against the CPU f64 one-thread run. A run that overflowed, blew up \
-         or failed has its status and reason and no timing. Speedup = `{BASELINE}` ms/step ÷ the row's; `cpu_ref` says \
-         whether the CPU time was measured at the same N or scaled by N from the largest CPU size.\n",
+         block of K = {k} steps (a whole number of tracking-list rebuild periods) with one device sync at its end, ÷ K: \
+         median over the blocks with its bootstrap 95 % interval (fixed seed), p10 and p90 (after a warm-up of fixed \
+         wall time). **Latency** = one step followed by a device sync (median). Device ms/step = GPU timestamps of \
+         the stage passes, read once per block{}. Errors: kinetic energy (relative) and centroid (in Δx) after the \
+         first K steps, against the CPU f64 one-thread run. **Status**: `ok` (ranked), `inaccurate` (K-step \
+         observables or first-evaluation fields beyond `verify`'s tolerances against the CPU run of the same \
+         precision), `loaded` (load average above the cores), `overflow`, `blown-up`, `failed`, `skipped`; a run \
+         that was not measured has no timing. **Speedup vs baseline** = the fastest one-thread CPU search of the \
+         row's precision in the same run (named) ÷ the row's ms/step; vs all cores: `cpu.cells` of that precision; \
+         vs `{BASELINE}` is kept for continuity, `cpu_ref` saying whether that CPU time was measured at the same N \
+         or scaled by N from the largest CPU size.\n",
         if timed { " (`stage_times.csv`)" } else { "" }
     );
     md
@@ -175,60 +151,47 @@ fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&st
     }
     let title = match exp {
         "e1" => "E1 — neighbour search × backend (Fig. 6.3; 2,025 fluid particles)",
-        "e4" => "E4 — every GPU variant against the single-thread CPU NNPS (§6.5; 10,000 fluid particles)",
+        "e4" => "E4 — every GPU variant against the single-thread CPU NNPS (§6.5; 2,025 and 10,000 fluid particles)",
         _ => "Scaling — time per step against N",
     };
     let _ = writeln!(md, "## {title}\n");
     let ad = if side_by_side { " adapter |" } else { "" };
     let _ = writeln!(
         md,
-        "| variant |{ad} N | status | ms/step (median) | fastest | slowest | latency ms | particle-evals/s | speedup vs {BASELINE} | KE rel. error | centroid error (Δx) | device ms/step |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|",
+        "| variant |{ad} N | status | ms/step median [95 % interval] | p10–p90 | latency ms | particle-evals/s | speedup vs baseline | vs all cores | vs `{BASELINE}` | KE rel. error | centroid error (Δx) | device ms/step | load before/after |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|---|---|",
         if side_by_side { "---|" } else { "" }
     );
     for r in &rows {
-        let sp = opt(r.speedup_vs_cpu1, |s| {
+        let sp = opt(r.speedup_vs_cpu1_cells_f64, |s| {
             if r.cpu_ref == "measured" {
                 format!("{s:.2}×")
             } else {
                 format!("{s:.2}× ({})", r.cpu_ref)
             }
         });
-        let status = if r.status == "ok" { "ok".into() } else { format!("**{}**: {}", r.status, r.reason) };
+        let status = if r.reason.is_empty() { r.status.clone() } else { format!("**{}**: {}", r.status, r.reason) };
         let ad = if side_by_side { format!(" {} |", r.adapter) } else { String::new() };
+        let f3 = |x: Option<f64>| opt(x, |x| format!("{x:.3}"));
         let _ = writeln!(
             md,
-            "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.variant,
             r.n,
             status,
-            opt(r.ms_per_step_median, |x| format!("{x:.3}")),
-            opt(r.ms_per_step_min, |x| format!("{x:.3}")),
-            opt(r.ms_per_step_max, |x| format!("{x:.3}")),
-            opt(r.latency_ms_median, |x| format!("{x:.3}")),
+            opt(r.ms_per_step_median, |x| format!("{x:.3} [{}, {}]", f3(r.ms_per_step_ci_lo), f3(r.ms_per_step_ci_hi))),
+            opt(r.ms_per_step_p10, |x| format!("{x:.3}–{}", f3(r.ms_per_step_p90))),
+            f3(r.latency_ms_median),
             opt(r.particle_evals_per_s, |x| format!("{x:.3e}")),
+            opt(r.speedup_vs_baseline, |x| format!("{x:.2}× (`{}`)", r.baseline)),
+            opt(r.speedup_vs_cpu_all, |x| format!("{x:.2}×")),
             sp,
             opt(r.ke_rel_error, |x| format!("{x:.1e}")),
             opt(r.centroid_error_dx, |x| format!("{x:.1e}")),
-            opt(r.gpu_ms_per_step, |x| format!("{x:.3}"))
+            f3(r.gpu_ms_per_step),
+            opt(r.load_before, |x| format!("{x:.2}/{}", opt(r.load_after, |y| format!("{y:.2}"))))
         );
     }
     if exp == "e4" {
-        for a in adapters.iter() {
-            let best = rows
-                .iter()
-                .filter(|r| r.backend == "gpu" && r.adapter == *a && r.speedup_vs_cpu1.is_some())
-                .max_by(|x, y| x.speedup_vs_cpu1.unwrap_or(0.0).total_cmp(&y.speedup_vs_cpu1.unwrap_or(0.0)));
-            if let Some(b) = best {
-                let _ = writeln!(
-                    md,
-                    "\nBest GPU variant on {a}: `{}` at {:.3} ms/step, {:.2}× the single-thread CPU NNPS ({}; thesis: 120× on a 2012 GPU against a 2012 CPU core).",
-                    b.variant,
-                    b.ms_per_step_median.unwrap_or(f64::NAN),
-                    b.speedup_vs_cpu1.unwrap_or(f64::NAN),
-                    b.cpu_ref
-                );
-            }
-        }
         stage_table(md, &rows);
     }
     let _ = writeln!(md);
@@ -239,7 +202,7 @@ fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&st
 /// adapter when several, so the 10 colours do not repeat within a facet) and the CPU one-thread
 /// and all-thread f64 references in every facet.
 fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut String) -> Result<(), String> {
-    let ok: Vec<&Record> = recs.iter().filter(|r| r.experiment == "scaling" && r.status == "ok").collect();
+    let ok: Vec<&Record> = recs.iter().filter(|r| r.experiment == "scaling" && r.is_ok()).collect();
     let facet_of = |variant: &str| {
         let mut it = variant.split('.');
         (it.next().unwrap_or("").to_string(), it.next().unwrap_or("").to_string())
@@ -251,6 +214,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
     if facets.is_empty() {
         facets.insert(("cpu".into(), "reference".into()), BTreeMap::new());
     }
+    let mut ids: BTreeMap<String, String> = BTreeMap::new();
     for ((s, m), f) in facets.iter_mut() {
         let prefix = format!("{s}.{m}.");
         for r in &ok {
@@ -262,6 +226,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
             let short = if reference { r.variant.as_str() } else { r.variant.trim_start_matches(&prefix) };
             let label =
                 if side_by_side && r.backend == "gpu" { format!("{short} @ {}", r.adapter) } else { short.into() };
+            ids.insert(label.clone(), r.variant.clone());
             f.entry(label).or_default().push((r.n as f64, ms));
         }
     }
@@ -277,11 +242,13 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
         spec.log_x = true;
         spec.log_y = true;
         spec.legend_outside = true;
+        spec.note = look::adapter_note(recs);
         spec.series = series
             .into_iter()
             .map(|(k, mut v)| {
                 v.sort_by(|a, b| a.0.total_cmp(&b.0));
-                Series::line_points(k, v)
+                let colour = look::colour_of(ids.get(&k).map_or(k.as_str(), |s| s.as_str()));
+                Series::line_points(k, v).with_colour(colour)
             })
             .collect();
         let name = format!("scaling_{s}_{m}.svg");
@@ -292,28 +259,32 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
     Ok(())
 }
 
-/// Speed against error (E4 rows): time per step against the kinetic-energy error, log-log,
+/// Speed against error (E4 rows): time per step against the kinetic-energy error, log-log, one
+/// marker per variant in its colour with the legend beside the plot (no labels over the data);
 /// errors below [`ERROR_FLOOR`] drawn at it.
 fn speed_vs_error(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let pts: Vec<(f64, f64, String)> = recs
+    let pts: Vec<(f64, f64, &str)> = recs
         .iter()
-        .filter(|r| r.experiment == "e4" && r.status == "ok")
-        .filter_map(|r| Some((r.ms_per_step_median?, r.ke_rel_error?.max(ERROR_FLOOR), r.variant.clone())))
+        .filter(|r| r.experiment == "e4" && r.is_ok())
+        .filter_map(|r| Some((r.ms_per_step_median?, r.ke_rel_error?.max(ERROR_FLOOR), r.variant.as_str())))
         .collect();
     if pts.is_empty() {
         return Ok(());
     }
-    let p = dir.join("speed_vs_error.svg");
-    scatter_labeled_svg(
-        &p,
+    let mut spec = PlotSpec::new(
         "Speed against error (E4)",
         "time per step (ms)",
-        &format!("kinetic-energy rel. error vs CPU f64 (floor {ERROR_FLOOR:.0e})"),
-        &pts,
-        true,
-        true,
-    )
-    .map_err(|x| e(&p, x))?;
+        format!("kinetic-energy rel. error vs CPU f64 (floor {ERROR_FLOOR:.0e})"),
+    );
+    (spec.log_x, spec.log_y, spec.legend_outside) = (true, true, true);
+    spec.note = look::adapter_note(recs);
+    let mut by_id: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
+    for (x, y, id) in pts {
+        by_id.entry(id).or_default().push((x, y));
+    }
+    spec.series = by_id.into_iter().map(|(id, v)| Series::points(id, v).with_colour(look::colour_of(id))).collect();
+    let p = dir.join("speed_vs_error.svg");
+    line_plot_svg(&p, &spec).map_err(|x| e(&p, x))?;
     let _ = writeln!(
         md,
         "![speed against error](speed_vs_error.svg)\n\nErrors below {ERROR_FLOOR:.0e} (f64 variants agree with the CPU f64 run to rounding) are drawn at {ERROR_FLOOR:.0e}.\n"
@@ -337,7 +308,12 @@ pub fn read_records(dir: &Path) -> Result<Vec<Record>, String> {
 pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<Vec<Record>, String> {
     let mut recs = Vec::new();
     for d in inputs {
-        recs.extend(read_records(d)?);
+        // Records of a version without the `run` column (or a journal) are named by their folder.
+        let mut rs = read_records(d)?;
+        for r in rs.iter_mut().filter(|r| r.run.is_empty()) {
+            r.run = d.display().to_string();
+        }
+        recs.extend(rs);
     }
     let list: Vec<String> = inputs.iter().map(|d| format!("`{}`", d.display())).collect();
     let notes =

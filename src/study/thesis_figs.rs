@@ -87,7 +87,12 @@ fn bars(
                 String::new()
             }
         })
-        .y_label_formatter(&|y| if log { crate::plot::fmt_tick(10f64.powf(*y)) } else { crate::plot::fmt_tick(*y) })
+        // A log axis is labelled at its decades only.
+        .y_label_formatter(&|y| match (log, (y - y.round()).abs() < 1e-6) {
+            (true, true) => crate::plot::fmt_tick(10f64.powi(y.round() as i32)),
+            (true, false) => String::new(),
+            (false, _) => crate::plot::fmt_tick(*y),
+        })
         .y_desc(y_label)
         .label_style(("sans-serif", 13))
         .axis_desc_style(("sans-serif", 15))
@@ -144,7 +149,8 @@ fn lines(
     let ys = pts.iter().map(|p| p.1).chain(hrefs.iter().map(|h| h.2).filter(|v| v.is_finite()));
     let y1 = ys.fold(0.0f64, f64::max);
     let (x0, x1) = if x0 < x1 { (x0 - 0.05 * (x1 - x0), x1 + 0.05 * (x1 - x0)) } else { (0.0, 1.0) };
-    let y1 = if y1 > 0.0 { y1 * 1.2 } else { 1.0 };
+    // Headroom above the data for the legend (upper right), so that it never covers a curve.
+    let y1 = if y1 > 0.0 { y1 * 1.45 } else { 1.0 };
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 18))
         .margin(12)
@@ -198,17 +204,25 @@ fn lines(
         .map_err(m)
 }
 
-fn svg(path: &Path, size: (u32, u32), draw: impl FnOnce(&Area) -> Result<(), String>) -> Result<(), String> {
+/// A figure of `size` at `path`, drawn by `draw`, with `note` (the adapter) at its bottom left.
+fn svg(
+    path: &Path,
+    size: (u32, u32),
+    note: &str,
+    draw: impl FnOnce(&Area) -> Result<(), String>,
+) -> Result<(), String> {
     let p = path.display().to_string();
     let root = SVGBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(|e| format!("{p}: {e:?}"))?;
     draw(&root).map_err(|e| format!("{p}: {e}"))?;
+    let font = ("sans-serif", 12).into_font().color(&RGBColor(80, 80, 80));
+    root.draw(&Text::new(note.to_string(), (8, size.1 as i32 - 16), font)).map_err(|e| format!("{p}: {e:?}"))?;
     root.present().map_err(|e| format!("{p}: {e:?}"))
 }
 
 /// Fig. 6.3 from the E1 rows: ms/step of each search on one CPU thread and on the GPU (log).
 fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let e1: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e1" && r.ms().is_finite()).collect();
+    let e1: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e1" && r.is_ok()).collect();
     if e1.is_empty() {
         return Ok(());
     }
@@ -216,7 +230,9 @@ fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
     let get = |backend: &str, search: &str| {
         e1.iter()
             .find(|r| {
-                r.backend == backend && r.variant.split('.').nth(if backend == "gpu" { 0 } else { 1 }) == Some(search)
+                r.backend == backend
+                    && (backend == "gpu" || r.precision == "f64")
+                    && r.variant.split('.').nth(if backend == "gpu" { 0 } else { 1 }) == Some(search)
             })
             .map_or(f64::NAN, |r| r.ms())
     };
@@ -227,7 +243,7 @@ fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
             cats.iter().map(|c| get("gpu", c)).collect(),
         ),
     ];
-    svg(&dir.join("fig6_3_search.svg"), (900, 560), |a| {
+    svg(&dir.join("fig6_3_search.svg"), (900, 560), &super::look::adapter_note(recs), |a| {
         bars(
             a,
             "Fig. 6.3 — neighbour search on CPU and GPU (2,025 fluid particles)",
@@ -264,8 +280,8 @@ fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
             r.variant,
             r.residency_cpu,
             r.ms(),
-            r.ms_per_step_min.unwrap_or(f64::NAN),
-            r.ms_per_step_max.unwrap_or(f64::NAN),
+            r.ms_per_step_p10.unwrap_or(f64::NAN),
+            r.ms_per_step_p90.unwrap_or(f64::NAN),
             opt(r.bytes_h2d_per_step),
             opt(r.bytes_d2h_per_step),
             sp,
@@ -284,7 +300,7 @@ fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
         ),
         ("device → host".to_string(), e2.iter().map(|r| r.bytes_d2h_per_step.unwrap_or(f64::NAN) / 1024.0).collect()),
     ];
-    svg(&dir.join("fig6_8_residency.svg"), (1100, 820), |a| {
+    svg(&dir.join("fig6_8_residency.svg"), (1100, 820), &super::look::adapter_note(recs), |a| {
         let (top, bottom) = a.split_vertically(410);
         let title = "Fig. 6.8 — runtime as stage groups move to the GPU (thesis: caption only, seed l. 400)";
         bars(&top, title, "time per step (ms)", &cats, &t, false)?;
@@ -350,7 +366,7 @@ fn fig_6_9(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
     let time = |r: &Record| Some(r.ms() * steps as f64 * 1e-3);
     let kink = Some(("thesis: ∆, □ bend near 4,500 (seed l. 3800)", THESIS_KINK_BUDGET));
     let x = "particles per subdomain";
-    svg(&dir.join("fig6_9_subdomains.svg"), (1500, 560), |a| {
+    svg(&dir.join("fig6_9_subdomains.svg"), (1500, 560), &super::look::adapter_note(recs), |a| {
         let p = a.split_evenly((1, 3));
         lines(&p[0], "(a) device memory", x, "MiB", &line(&mem), &unsplit(&mem), None)?;
         lines(&p[1], "(b) GPU busy (device ÷ wall time)", x, "%", &line(&busy), &unsplit(&busy), None)?;
@@ -415,8 +431,10 @@ mod tests {
     use super::*;
 
     fn rec(experiment: &str, variant: &str, backend: &str, ms: f64) -> Record {
+        let precision = variant.rsplit('.').next().unwrap_or("").into();
         let (experiment, variant, backend) = (experiment.into(), variant.into(), backend.into());
         Record {
+            precision,
             experiment,
             variant,
             backend,

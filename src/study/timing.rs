@@ -44,10 +44,10 @@ impl Protocol {
     }
 }
 
-/// Why a run is not a measurement: `status` is `overflow`, `blow-up`, `error` or `refused`.
+/// Why a run is not a measurement: `status` is `overflow`, `blown-up`, `failed` or `skipped`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Failure {
-    /// overflow | blow-up | error | refused.
+    /// overflow | blown-up | failed | skipped.
     pub status: &'static str,
     /// The solver's or builder's message.
     pub reason: String,
@@ -57,18 +57,18 @@ impl Failure {
     /// The failure of a solver error.
     pub fn of(e: &SolverError) -> Failure {
         let status = match e {
-            SolverError::BlowUp { .. } => "blow-up",
+            SolverError::BlowUp { .. } => "blown-up",
             SolverError::NeighbourOverflow { .. } | SolverError::ContactOverflow { .. } => "overflow",
-            SolverError::Gpu(_) => "error",
+            SolverError::Gpu(_) => "failed",
         };
         Failure { status, reason: e.to_string() }
     }
 
-    /// A backend that could not be built: `refused` when the adapter or the plan says no
-    /// (unsupported feature, over a limit), else `error`.
+    /// A backend that could not be built: `skipped` when the adapter or the plan says no
+    /// (unsupported feature, over a limit), else `failed`.
     pub fn build(msg: String) -> Failure {
         let refused = msg.contains("unsupported") || msg.contains("resource plan") || msg.contains("limit");
-        Failure { status: if refused { "refused" } else { "error" }, reason: msg }
+        Failure { status: if refused { "skipped" } else { "failed" }, reason: msg }
     }
 }
 

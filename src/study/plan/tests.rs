@@ -8,7 +8,7 @@ fn job(nx: u32, est_s: f64, rep_s: f64) -> Job {
         experiment: "scaling".into(),
         nx,
         n: (nx * nx) as usize,
-        id: crate::study::REFERENCE,
+        id: crate::study::measured::reference(Precision::F64),
         threads: 1,
         est_s,
         rep_s,
@@ -55,7 +55,7 @@ fn stated_probe_costs_give_the_planned_drops_blocks_and_total() {
     let gpu = BackendId::Gpu(VariantSpec::default());
     let mut all = Vec::new();
     for nx in [16, 32, 64, 128] {
-        for id in [crate::study::REFERENCE, gpu] {
+        for id in [crate::study::measured::reference(Precision::F64), gpu] {
             all.push(Job { id, ..job(nx, 0.0, 0.0) });
         }
     }

@@ -1,0 +1,95 @@
+//! How the study's plots look alike: one colour per variant id across every plot (the CPU
+//! baselines in greys, each GPU variant a hue from its place in `VariantSpec::all`, a golden
+//! angle from its neighbour's), and the note every plot carries: the adapter, and
+//! "CPU emulation: ratios only" when the GPU adapter is a CPU.
+
+use super::Record;
+use crate::gpu::variant::VariantSpec;
+
+/// A saturated colour of hue `h` (turns) and lightness `l` (HSL, saturation 0.7).
+fn hsl(h: f64, l: f64) -> (u8, u8, u8) {
+    let s = 0.7;
+    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
+    let hp = (h.rem_euclid(1.0)) * 6.0;
+    let x = c * (1.0 - (hp % 2.0 - 1.0).abs());
+    let (r, g, b) = match hp as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = l - c / 2.0;
+    let to = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    (to(r), to(g), to(b))
+}
+
+/// The colour of a backend id, the same in every plot.
+pub fn colour_of(id: &str) -> (u8, u8, u8) {
+    match id {
+        "cpu1.cells.f64" => (0, 0, 0),
+        "cpu1.tracking.f64" => (70, 70, 70),
+        "cpu1.cells.f32" => (100, 100, 100),
+        "cpu1.tracking.f32" => (130, 130, 130),
+        "cpu1.direct.f64" => (160, 160, 160),
+        "cpu.cells.f64" => (90, 60, 40),
+        "cpu.cells.f32" => (150, 110, 80),
+        _ => {
+            let k = VariantSpec::all()
+                .iter()
+                .position(|s| s.to_string() == id)
+                .unwrap_or_else(|| id.bytes().fold(0usize, |h, b| h.wrapping_mul(31).wrapping_add(b as usize)));
+            // Hues a golden angle apart: every id its own hue, neighbouring ids far apart; two
+            // lightnesses, none pale.
+            hsl(k as f64 * 0.618_033_988_75, if k % 2 == 0 { 0.42 } else { 0.55 })
+        }
+    }
+}
+
+/// The plots' note: the GPU adapter(s) of `recs` (or "CPU only"), and "CPU emulation: ratios
+/// only" when one is a CPU.
+pub fn adapter_note(recs: &[Record]) -> String {
+    let mut names: Vec<&str> = recs.iter().filter(|r| r.backend == "gpu").map(|r| r.adapter.as_str()).collect();
+    names.sort();
+    names.dedup();
+    let emulated = recs.iter().any(|r| r.backend == "gpu" && r.device_type == "Cpu");
+    let head =
+        if names.is_empty() { "adapter: CPU only".to_string() } else { format!("adapter: {}", names.join("; ")) };
+    if emulated {
+        format!("{head} — CPU emulation: ratios only")
+    } else {
+        head
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_id_has_its_own_colour() {
+        let mut ids: Vec<String> = VariantSpec::all().iter().map(|s| s.to_string()).collect();
+        ids.extend(["cpu1.cells.f64", "cpu1.tracking.f32", "cpu.cells.f32"].map(String::from));
+        let mut c: Vec<(u8, u8, u8)> = ids.iter().map(|i| colour_of(i)).collect();
+        assert_eq!(colour_of(&ids[3]), c[3], "the same id, the same colour");
+        let n = c.len();
+        c.sort();
+        c.dedup();
+        assert_eq!(c.len(), n, "a colour repeats");
+        assert_eq!(hsl(0.0, 0.5), (217, 38, 38));
+    }
+
+    #[test]
+    fn a_cpu_adapter_says_ratios_only() {
+        let gpu = Record {
+            backend: "gpu".into(),
+            adapter: "llvmpipe".into(),
+            device_type: "Cpu".into(),
+            ..Default::default()
+        };
+        assert_eq!(adapter_note(std::slice::from_ref(&gpu)), "adapter: llvmpipe — CPU emulation: ratios only");
+        let real = Record { device_type: "DiscreteGpu".into(), adapter: "H200".into(), ..gpu };
+        assert_eq!(adapter_note(&[real]), "adapter: H200");
+    }
+}
