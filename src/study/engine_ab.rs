@@ -102,13 +102,15 @@ struct Runs<'a> {
 
 /// The judge of a record of precision `p` at `s` (the engine experiment checks observables
 /// against the CPU run of the same precision; its variants' fields are `verify`'s).
-fn judge<'a>(refs: &'a References, s: &Start, p: Precision, load: (Option<f64>, Option<f64>)) -> Judge<'a> {
+fn judge<'a>(refs: &'a References, s: &Start, p: Precision, watch: stats::Watch) -> Judge<'a> {
+    let (load, others) = watch.stop();
     let nx = s.scene.domain.nx;
     Judge {
         f64_ref: refs.frame(nx, Precision::F64),
         same_ref: refs.frame(nx, p),
         fields: None,
         load,
+        others,
         cores: stats::cores(),
     }
 }
@@ -117,13 +119,13 @@ impl Runs<'_> {
     /// One GPU record of `spec` in `mode`.
     fn record(&self, spec: VariantSpec, mode: EngineMode) -> Record {
         let (s, opts, bw) = (self.start, self.opts, &self.bandwidth);
-        let before = stats::load_average();
+        let watch = stats::Watch::start();
         let (res, engine) = match spec.precision {
             Precision::F32 => time_gpu::<f32>(self.ctx, s, spec, mode, opts, bw),
             Precision::F64 => time_gpu::<f64>(self.ctx, s, spec, mode, opts, bw),
         };
         let reps = self.common.protocol.repeats;
-        let j = judge(&self.references, s, spec.precision, (before, stats::load_average()));
+        let j = judge(&self.references, s, spec.precision, watch);
         let mut r = self.common.record(&job(s, BackendId::Gpu(spec)), reps, s, &res, &j);
         r.engine = mode.name();
         if let Some(e) = engine {
@@ -189,16 +191,10 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
         for precision in [Precision::F64, Precision::F32] {
             let id = BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, precision };
             let j = job(&s, id);
-            let before = stats::load_average();
+            let watch = stats::Watch::start();
             let res = run_job(&j, &s, None, None, &opts.protocol);
             references.note(&j, &res);
-            let mut r = c.record(
-                &j,
-                opts.protocol.repeats,
-                &s,
-                &res,
-                &judge(&references, &s, precision, (before, stats::load_average())),
-            );
+            let mut r = c.record(&j, opts.protocol.repeats, &s, &res, &judge(&references, &s, precision, watch));
             r.engine = "cpu".into();
             log(&r);
             out.push(r);

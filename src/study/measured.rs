@@ -41,6 +41,8 @@ pub(super) struct Judge<'a> {
     pub fields: Option<&'a VariantReport>,
     /// Load average before and after the job.
     pub load: (Option<f64>, Option<f64>),
+    /// Cores' worth of CPU other processes used while the job ran (`None`: not measurable).
+    pub others: Option<f64>,
     /// Cores available to the study.
     pub cores: usize,
 }
@@ -77,6 +79,7 @@ impl Common<'_> {
             date: self.date.clone(),
             load_before: j.load.0,
             load_after: j.load.1,
+            others_cores: j.others,
             cores: j.cores,
             ..Default::default()
         };
@@ -130,9 +133,14 @@ pub(super) fn fill_timing(r: &mut Record, t: &Timed, evals: f64) {
     r.stage_ms = t.stage_ms.clone();
 }
 
+/// A record is `loaded` when other processes used more than this fraction of the cores on
+/// average while it was measured (this process's own threads, a CPU-emulated GPU's included,
+/// do not count).
+pub const LOADED_CORES: f64 = 0.25;
+
 /// The status of a measured run and its reason: `failed` when the field check could not run,
-/// `inaccurate` when a check is beyond its tolerance, `loaded` when the load average exceeded
-/// the cores, else `ok` (with a note when no reference was there to check against).
+/// `inaccurate` when a check is beyond its tolerance, `loaded` when other processes used more
+/// than [`LOADED_CORES`] of the cores, else `ok` (with a note when no reference was there to check against).
 fn judge(scene: &crate::scene::Scene, snapshot: &Frame, precision: &str, j: &Judge) -> (&'static str, String) {
     let mut beyond = Vec::new();
     if let Some(c) = j.same_ref {
@@ -155,9 +163,9 @@ fn judge(scene: &crate::scene::Scene, snapshot: &Frame, precision: &str, j: &Jud
         let what = "beyond verify's tolerances against the CPU run of the same precision";
         return ("inaccurate", format!("{what} ({precision}): {}", beyond.join("; ")));
     }
-    let load = j.load.0.into_iter().chain(j.load.1).fold(f64::NAN, f64::max);
-    if load > j.cores as f64 {
-        return ("loaded", format!("load average {load:.2} above the {} cores available", j.cores));
+    if let Some(o) = j.others.filter(|&o| o > LOADED_CORES * j.cores as f64) {
+        let share = 100.0 * LOADED_CORES;
+        return ("loaded", format!("other processes used {o:.2} of the {} cores (above {share:.0} %)", j.cores));
     }
     if j.same_ref.is_none() {
         return ("ok", "accuracy not checked: no CPU run of this precision at this N".into());

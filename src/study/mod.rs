@@ -280,9 +280,9 @@ fn run_sweep(
         }
         let s = &start.as_ref().expect("set above").2;
         let perturbed = perturbed_scene(opts, job)?;
-        let load_before = stats::load_average();
+        let watch = stats::Watch::start();
         let res = run_job(job, s, perturbed.as_ref(), gpu, &Protocol { repeats: blocks, ..protocol });
-        let load_after = stats::load_average();
+        let (load, others) = watch.stop();
         references.note(job, &res);
         let within_cap = opts.cpu_max_n.is_none_or(|m| s.layout.pos.len() <= m);
         let precision = job.id.precision();
@@ -300,7 +300,8 @@ fn run_sweep(
             f64_ref: references.frame(job.nx, Precision::F64),
             same_ref: references.frame(job.nx, precision),
             fields: fields.as_ref(),
-            load: (load_before, load_after),
+            load,
+            others,
             cores: stats::cores(),
         };
         let rec = common.record(job, blocks, s, &res, &judge);

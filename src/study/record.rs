@@ -66,8 +66,11 @@ pub struct Record {
     pub load_before: Option<f64>,
     /// 1-minute load average after it.
     pub load_after: Option<f64>,
-    /// Cores available to the study (a record measured above this load is `loaded`).
+    /// Cores available to the study.
     pub cores: usize,
+    /// Cores' worth of CPU other processes used on average while the record was measured (from
+    /// `/proc/stat` less this process's own time); above a quarter of `cores` it is `loaded`.
+    pub others_cores: Option<f64>,
     /// Latency: median wall time of one step followed by a device sync (ms).
     pub latency_ms_median: Option<f64>,
     /// `wall`, or `wall+timestamps` when the backend also reported GPU timestamps.
