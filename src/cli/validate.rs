@@ -21,6 +21,7 @@ enum Case {
     Convergence,
     Impact,
     Spurious,
+    CrossCode,
     SpeedVsError,
     All,
 }
