@@ -14,6 +14,7 @@
 //!   drop; successive differences must shrink ≈ 4× per halving (observed order ≥ 1.7).
 
 use sphlab::cpu::CpuSolver;
+use sphlab::diagnostics::rod::{pysph_rod_reference, rms_over_amplitude, rod_measures, ROD_CURVES};
 use sphlab::exec::Exec;
 use sphlab::neighbours::SearchKind;
 use sphlab::scene::build::build_layout;
@@ -28,46 +29,8 @@ fn rod_scene() -> Scene {
     Scene::from_toml(&std::fs::read_to_string(path).expect("scenes/pysph-rod.toml")).expect("valid scene")
 }
 
-/// The compared curves, in the order of [`rod_measures`].
-const NAMES: [&str; 6] = ["a_x", "b_y", "mean_abs_x", "mean_abs_y", "cx_quarter", "cy_quarter"];
-
-/// (step, the [`NAMES`] values) rows of the committed PySPH curve.
-fn reference() -> Vec<(u64, [f64; 6])> {
-    let text = include_str!("../data/reference/pysph-oscillating-rod.csv");
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let col = |n: &str| head.iter().position(|h| *h == n).unwrap_or_else(|| panic!("column {n}"));
-    let (s, cols) = (col("step"), NAMES.map(col));
-    lines
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let v: Vec<&str> = l.split(',').collect();
-            (v[s].parse().expect("step"), cols.map(|c| v[c].parse::<f64>().expect("number")))
-        })
-        .collect()
-}
-
-/// The [`NAMES`] estimators on the liquid (phase 0) of the first `n_fluid` particles.
-fn rod_measures(pos: &[[f64; 2]], phase: &[u32], n_fluid: usize) -> [f64; 6] {
-    let (mut lo, mut hi, mut abs) = ([f64::MAX; 2], [f64::MIN; 2], [0.0; 2]);
-    let (mut sx, mut sy, mut nq, mut n) = (0.0, 0.0, 0.0, 0.0);
-    for (p, _) in pos[..n_fluid].iter().zip(&phase[..n_fluid]).filter(|(_, &ph)| ph == 0) {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-            abs[k] += p[k].abs();
-        }
-        n += 1.0;
-        if p[0] > 0.0 && p[1] > 0.0 {
-            sx += p[0];
-            sy += p[1];
-            nq += 1.0;
-        }
-    }
-    [0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]), abs[0] / n, abs[1] / n, sx / nq, sy / nq]
-}
-
-/// rms(sphlab − PySPH) / amplitude for each of the four curves, rows up to `ROD_STEPS`.
+/// rms(sphlab − PySPH) / amplitude for each curve, rows up to `ROD_STEPS`
+/// ([`sphlab::diagnostics::rod`], shared with `sphlab validate cross-code`).
 fn rod_errors(gradient: ColourGradient) -> [f64; 6] {
     let mut scene = rod_scene();
     scene.surface_tension.as_mut().expect("surface tension").colour_gradient = gradient;
@@ -75,23 +38,18 @@ fn rod_errors(gradient: ColourGradient) -> [f64; 6] {
     let v = initial_velocities(&scene, &layout, None);
     layout.vel[..layout.n_fluid].copy_from_slice(&v);
     let mut s = CpuSolver::<f64>::new(&scene, &layout, Exec::Parallel, SearchKind::Cells);
-    let rows: Vec<_> = reference().into_iter().filter(|r| r.0 <= ROD_STEPS).collect();
-    assert!(rows.len() >= 15 && rows.last().expect("rows").0 == ROD_STEPS, "reference rows up to step {ROD_STEPS}");
-    let mut sq = [0.0; 6];
-    let (mut lo, mut hi) = ([f64::MAX; 6], [f64::MIN; 6]);
-    for (step, r) in &rows {
-        while s.step < *step {
+    let rows: Vec<_> = pysph_rod_reference().into_iter().filter(|r| r.step <= ROD_STEPS).collect();
+    assert!(rows.len() >= 15 && rows.last().expect("rows").step == ROD_STEPS, "reference rows up to step {ROD_STEPS}");
+    let mut sim = Vec::new();
+    for r in &rows {
+        while s.step < r.step {
             s.advance().unwrap_or_else(|e| panic!("pysph-rod: {e}"));
         }
-        let pos: Vec<[f64; 2]> = s.pos.iter().map(|p| [p.x, p.y]).collect();
-        let m = rod_measures(&pos, &s.phase, s.n_fluid);
-        for k in 0..6 {
-            sq[k] += (m[k] - r[k]).powi(2);
-            lo[k] = lo[k].min(r[k]);
-            hi[k] = hi[k].max(r[k]);
-        }
+        let pos: Vec<[f64; 2]> = s.pos[..s.n_fluid].iter().map(|p| [p.x, p.y]).collect();
+        sim.push(rod_measures(&pos, &s.phase[..s.n_fluid]));
     }
-    std::array::from_fn(|k| (sq[k] / rows.len() as f64).sqrt() / (0.5 * (hi[k] - lo[k])))
+    let reference: Vec<[f64; 6]> = rows.iter().map(|r| r.v).collect();
+    rms_over_amplitude(&sim, &reference)
 }
 
 /// PySPH's single-field colour gradient: every curve within 0.5 % of its amplitude (measured:
@@ -102,7 +60,7 @@ fn pysph_rod_single_field_matches_pysph() {
     let e = rod_errors(ColourGradient::SingleField);
     eprintln!("single-field rms/amplitude {e:?}");
     for (k, e) in e.iter().enumerate() {
-        assert!(*e < 0.005, "{}: rms {:.4} of the amplitude ≥ 0.5 %", NAMES[k], e);
+        assert!(*e < 0.005, "{}: rms {:.4} of the amplitude ≥ 0.5 %", ROD_CURVES[k], e);
     }
 }
 
@@ -116,7 +74,7 @@ fn pysph_rod_thesis_gradient_close_to_pysph() {
     let e = rod_errors(ColourGradient::Thesis);
     eprintln!("thesis rms/amplitude {e:?}");
     for (k, e) in e.iter().enumerate().take(4) {
-        assert!(*e < 0.03, "{}: rms {:.4} of the amplitude ≥ 3 %", NAMES[k], e);
+        assert!(*e < 0.03, "{}: rms {:.4} of the amplitude ≥ 3 %", ROD_CURVES[k], e);
     }
     assert!(e[0] > 0.005 && e[1] > 0.005, "thesis form indistinguishable from single-field: {e:?}");
 }

@@ -75,7 +75,7 @@ fn impact_spreads_more_when_hydrophilic_and_conserves_mass() {
     assert!(diff > 0.1, "D/D0(50°) − D/D0(160°) = {diff} ≤ 0.1");
     for th in [50, 160] {
         let v = verdict(&rep, &format!("θ = {th}°: max relative drift"));
-        assert!(v.starts_with("pass"), "θ = {th}°: {v}");
+        assert!(v.starts_with("invariant"), "θ = {th}°: {v}");
     }
     assert!(rep.runs.iter().all(|r| r.status == "ok"), "a run blew up");
 }
@@ -144,4 +144,26 @@ fn oscillating_drop_matches_thesis_with_every_kernel() {
         );
         assert!((late - circle).abs() <= osc::LATE_TOL, "{id}: centroid {late} not back on the circle's {circle:.4}");
     }
+}
+
+/// PySPH's oscillating rod to t = 0.08 (`--quick`) with both colour-gradient forms: a_x, b_y and
+/// the folded centroid within the stated bounds of the PySPH curve (0.5 % of the amplitude
+/// single-field, 3 % thesis form), the single-field form closer on a_x than the thesis form.
+#[test]
+fn cross_code_quick_matches_pysph() {
+    let (rep, _d) = quick("cross-code");
+    let rms = |curve: &str, form: &str| {
+        rep.rows
+            .iter()
+            .find(|r| r.quantity.starts_with(&format!("rms/amplitude of {curve} ")) && r.quantity.contains(form))
+            .unwrap_or_else(|| panic!("no row for {curve}, {form}"))
+    };
+    for form in ["single-field", "thesis colour"] {
+        for curve in ["a_x", "b_y", "mean_abs_x", "mean_abs_y"] {
+            let r = rms(curve, form);
+            assert!(r.verdict.starts_with("pass"), "{curve}, {form}: {} {}", r.sphlab, r.verdict);
+        }
+    }
+    let (single, thesis) = (rms("a_x", "single-field").value, rms("a_x", "thesis colour").value);
+    assert!(single < thesis, "a_x rms: single-field {single} not below thesis form {thesis}");
 }

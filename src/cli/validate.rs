@@ -19,6 +19,7 @@ enum Case {
     Convergence,
     Impact,
     Spurious,
+    CrossCode,
     SpeedVsError,
     All,
 }

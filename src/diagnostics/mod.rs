@@ -7,6 +7,7 @@ pub mod analytic_flows;
 pub mod contact_angle;
 pub mod flow;
 mod gas_grid;
+pub mod rod;
 
 pub use analytic_flows::{drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap};
 pub use contact_angle::{

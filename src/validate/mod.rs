@@ -16,6 +16,7 @@ pub(crate) mod executor;
 pub(crate) mod report;
 
 mod convergence;
+mod cross_code;
 mod impact;
 pub mod oscillation;
 mod relax;
@@ -32,8 +33,12 @@ pub use relax::start_sets as relax_start_sets;
 pub use report::{CaseReport, Row, RunRecord};
 
 /// The cases, in the order `all` runs them (speed-vs-error reuses oscillation and convergence).
-pub const CASES: [&str; 7] =
-    ["oscillation", "sessile-90", "relax-60", "convergence", "impact", "spurious", "speed-vs-error"];
+pub const CASES: [&str; 8] =
+    ["oscillation", "sessile-90", "relax-60", "convergence", "impact", "spurious", "cross-code", "speed-vs-error"];
+
+/// The repository's scene files that cases run (by path, as `sphlab run` takes them), embedded
+/// so that `validate` runs from any directory.
+const SCENE_FILES: [(&str, &str); 1] = [(cross_code::SCENE, include_str!("../../scenes/pysph-rod.toml"))];
 
 /// Options of `sphlab validate`.
 #[derive(Clone, Debug)]
@@ -130,12 +135,12 @@ pub enum ValidateError {
     Io(String),
 }
 
-/// One run of a case: a built-in scene with `--set` overrides (and optionally an edit that
+/// One run of a case: a built-in scene (or one of the scene files the cases run) with `--set` overrides (and optionally an edit that
 /// overrides cannot express), its end time and snapshot cadence.
 pub struct RunSpec<'a> {
     /// Run id (directory under `runs/`).
     pub id: String,
-    /// Built-in scene name.
+    /// Built-in scene name, or the path of a scene file the cases run (`scenes/*.toml`).
     pub base: &'a str,
     /// `KEY=VALUE` overrides.
     pub sets: Vec<String>,
@@ -158,8 +163,17 @@ impl<'a> RunSpec<'a> {
 
     /// The scene this spec runs.
     pub fn scene(&self) -> Result<Scene, ValidateError> {
-        let base =
-            builtin::builtin(self.base).ok_or_else(|| ValidateError::Input(format!("no scene {}", self.base)))?;
+        let base = match builtin::builtin(self.base) {
+            Some(s) => s,
+            None => {
+                let text = SCENE_FILES
+                    .iter()
+                    .find(|f| f.0 == self.base)
+                    .ok_or_else(|| ValidateError::Input(format!("no scene {}", self.base)))?
+                    .1;
+                Scene::from_toml(text).map_err(|e| ValidateError::Input(format!("{}: {e}", self.base)))?
+            }
+        };
         let mut s = apply_overrides(&base, &self.sets).map_err(|e| ValidateError::Input(e.to_string()))?;
         if let Some(f) = self.edit {
             f(&mut s);
@@ -271,6 +285,7 @@ pub fn run_case(name: &str, opts: &ValidateOptions) -> Result<CaseReport, Valida
         "convergence" => convergence::run(&ctx)?,
         "impact" => impact::run(&ctx)?,
         "spurious" => spurious::run(&ctx)?,
+        "cross-code" => cross_code::run(&ctx)?,
         "speed-vs-error" => speed::run(&ctx)?,
         other => return Err(ValidateError::Input(format!("unknown case `{other}` ({}, all)", CASES.join(", ")))),
     };

@@ -20,7 +20,7 @@ pub struct Row {
     pub analytic: String,
     /// The difference to the analytic value and/or to the thesis.
     pub difference: String,
-    /// pass / fail / info, with the criterion.
+    /// pass / FAIL / invariant / info, with the criterion.
     pub verdict: String,
     /// The value as a number (for tests; NaN if none).
     pub value: f64,
@@ -77,6 +77,15 @@ impl Row {
     /// Verdict from a test: "pass (criterion)" or "FAIL (criterion)".
     pub fn check(mut self, ok: bool, criterion: &str) -> Row {
         self.verdict = format!("{} ({criterion})", if ok { "pass" } else { "FAIL" });
+        self
+    }
+
+    /// Verdict of a check true by construction (e.g. mass with fixed particle masses): "invariant
+    /// (criterion)", or "FAIL (invariant broken: criterion)". Not counted as a pass in `index.md`:
+    /// it guards the code, it does not validate the physics.
+    pub fn invariant(mut self, ok: bool, criterion: &str) -> Row {
+        self.verdict =
+            if ok { format!("invariant ({criterion})") } else { format!("FAIL (invariant broken: {criterion})") };
         self
     }
 }
@@ -356,20 +365,26 @@ pub fn write_index(
             not_full.push((c.to_string(), why));
             continue;
         };
-        let pass = rep.rows.iter().filter(|r| r.verdict.starts_with("pass")).count();
-        let fail = rep.rows.iter().filter(|r| r.verdict.starts_with("FAIL")).count();
+        let count = |v: &str| rep.rows.iter().filter(|r| r.verdict.starts_with(v)).count();
+        let (pass, fail, inv) = (count("pass"), count("FAIL"), count("invariant"));
         let _ = writeln!(
             m,
-            "| [{c}]({c}/summary.md) | {} | {} | {pass} pass, {fail} FAIL, {} info | {:.0} |",
+            "| [{c}]({c}/summary.md) | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
             rep.reference.lines().next().unwrap_or(""),
             if rep.not_full.is_none() { "yes" } else { "no" },
-            rep.rows.len() - pass - fail,
+            rep.rows.len() - pass - fail - inv,
             rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
         );
         if let Some(w) = rep.not_full {
             not_full.push((c.to_string(), w));
         }
     }
+    let _ = writeln!(
+        m,
+        "\nVerdicts: pass and FAIL judge a result against a bound stated before measuring; invariant rows hold by \
+         construction (e.g. mass with fixed particle masses) and guard the code, so they are counted apart and not as \
+         passes; info rows carry no bound."
+    );
     let _ = writeln!(
         m,
         "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them.\n"
@@ -379,8 +394,8 @@ pub fn write_index(
         "Beside the cases: the background-pressure sweep ([pb-sweep/summary.md](pb-sweep/summary.md), \
          `examples/analysis/pb_sweep.sh`), time to solution against physical error \
          ([speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md), \
-         `examples/analysis/speed_vs_physical_error.sh`) and the cross-code check against PySPH's oscillating rod \
-         (`tests/cross_code.rs` with `scenes/pysph-rod.toml`).\n"
+         `examples/analysis/speed_vs_physical_error.sh`) and the cross-code check's \
+         short-time test (`tests/cross_code.rs`; the whole record is the `cross-code` case).\n"
     );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
     if not_full.is_empty() {

@@ -3,8 +3,8 @@
 //! per run the period, first-cycle amplitude and late centroid against the thesis and theory.
 
 use super::{
-    kernel_sets, measure, spec, KERNEL_PERIOD_TOL, LATE_T, LATE_TOL, PERIOD_BAND, THESIS_AMPLITUDE,
-    THESIS_AMPLITUDE_TOL, THESIS_PERIOD, THESIS_PERIOD_TOL, VISCOUS_BAND,
+    kernel_sets, measure, spec, KERNEL_PERIOD_TOL, LATE_T, PERIOD_BAND, THESIS_AMPLITUDE, THESIS_AMPLITUDE_TOL,
+    THESIS_PERIOD, THESIS_PERIOD_TOL, VISCOUS_BAND,
 };
 use crate::diagnostics::drop_mode2_period;
 use crate::plot::{PlotSpec, RefLine, Series};
@@ -174,6 +174,10 @@ impl Case for Oscillation {
                      viscous damping puts it at ≈ 0.31 (inner fluid) to ≈ 0.35 (both fluids). The thesis's 0.37 is ~25 % \
                      above inviscid theory."
                 ),
+                format!(
+                    "The mean centroid over t ≥ {LATE_T} is info, with no verdict: it tests that the drop ends near a \
+                     circle, which a drop that never oscillates also does, so it does not validate the oscillation."
+                ),
                 "Period = weighted least-squares spacing of the centroid maxima; amplitude = ½(max − min) over the first full cycle (diagnostics::oscillation). Where fewer than two maxima stand out above the record mean (strongly damped coarse runs), period = 2 × (first minimum − first maximum) and amplitude = ½(first max − first min) instead.".into(),
             ],
         }
@@ -227,13 +231,8 @@ impl Case for Oscillation {
         let late_mean = late.iter().sum::<f64>() / late.len().max(1) as f64;
         let late_row =
             Row::new(&format!("mean centroid t ≥ {LATE_T}, {what}"), late_mean, 4, None, Some(CIRCLE_CENTROID));
-        let judged = id == "quintic" || kernel_sets().iter().any(|s| s.0 == id);
-        rep.rows.push(if judged && !quick {
-            late_row
-                .check((late_mean - CIRCLE_CENTROID).abs() <= LATE_TOL, &format!("within {LATE_TOL} of the circle's"))
-        } else {
-            late_row
-        });
+        // Info, not a pass: a drop that never oscillates (p_b = 0) also sits on the circle's centroid.
+        rep.rows.push(late_row);
         self.periods.push((id.to_string(), period, amp));
         Ok(())
     }
