@@ -54,6 +54,9 @@ pub struct GpuSolver<T: Real> {
     pub(super) rbg: wgpu::BindGroup,
     /// Renumber the particles in cell order every this many steps (0: never).
     pub(super) reorder_every: u64,
+    /// Evaluations recorded since the last renumbering was recorded (the host's cadence: the
+    /// reorder kernels are recorded only in the evaluations they are due).
+    pub(super) reorder_since: std::cell::Cell<u64>,
     pub(super) n: usize,
     pub(super) n_fluid: usize,
     pub(super) phase: Vec<u32>,
@@ -202,6 +205,7 @@ impl<T: Real> GpuSolver<T> {
             vbg,
             rbg,
             reorder_every: DEFAULT_REORDER_EVERY,
+            reorder_since: std::cell::Cell::new(u64::MAX),
             n,
             n_fluid,
             phase: layout.phase.clone(),
@@ -239,13 +243,27 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Renumbers the fluid particles in cell order on the device every `k` steps from the next
-    /// evaluation on (0: never; the `direct` search never does). Tracking variants renumber
-    /// exactly when their candidate lists are rebuilt (the lists hold indices), whenever `k > 0`.
+    /// evaluation on (0: never; the `direct` search never does). Tracking variants renumber on
+    /// the same cadence and rebuild their candidate lists then (the lists hold indices).
     pub fn set_reorder_every(&mut self, k: u64) -> Result<(), GpuError> {
         let every = k.saturating_mul(Self::evaluations_per_step(self.integrator)).min(u32::MAX as u64);
         self.rb.set_every(&self.ctx, every as u32)?;
         self.reorder_every = k;
+        self.reorder_since.set(u64::MAX);
         Ok(())
+    }
+
+    /// True when the evaluation being recorded renumbers (the host's cadence, every
+    /// `reorder_every` steps' evaluations from the first recorded after
+    /// [`Self::set_reorder_every`]); advances the count of recorded evaluations.
+    pub(super) fn reorder_due(&self) -> bool {
+        if self.reorder_every == 0 || self.spec.search == crate::neighbours::SearchKind::Direct {
+            return false;
+        }
+        let every = self.reorder_every.saturating_mul(Self::evaluations_per_step(self.integrator));
+        let due = self.reorder_since.get() >= every;
+        self.reorder_since.set(if due { 1 } else { self.reorder_since.get() + 1 });
+        due
     }
 
     /// Drives the device as `mode` says from the next step on (renumbering period, steps per

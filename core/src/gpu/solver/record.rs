@@ -42,6 +42,8 @@ impl<T: Real> GpuSolver<T> {
         if kernels.is_empty() {
             return;
         }
+        // The reorder kernels only in the evaluations they are due (the host knows the cadence).
+        let renumber = stage == Stage::NeighbourSearch && self.reorder_due();
         for clear in stage.def().clears {
             let (buffer, offset, size) = match clear {
                 Clear::CellCounts => (&self.b.cell_count.buffer, 0, None),
@@ -59,11 +61,11 @@ impl<T: Real> GpuSolver<T> {
         let mut pass = enc.begin_compute_pass(&desc);
         pass.set_bind_group(0, &self.bg, &[]);
         pass.set_bind_group(1, &self.vbg, &[]);
-        if kernels.iter().any(|(kd, _)| kd.file == reorder::FILE) {
+        if renumber {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
         for (kd, p) in kernels {
-            if kd.file == reorder::FILE && self.reorder_every == 0 {
+            if kd.file == reorder::FILE && !renumber {
                 continue;
             }
             let [gx, gy, gz] = self.groups(kd.domain);
