@@ -34,6 +34,9 @@ pub enum Domain {
     ScanBlocks,
     /// One workgroup (its own size).
     Group,
+    /// One workgroup when the cell scan has more than `plan::SCAN_BLOCK` blocks, else none
+    /// (`scan_add` sums the block sums itself then).
+    BlockSums,
     /// The 16 × 32 block layout: N/32 workgroups in x, 4 in y (64 slots).
     Block,
     /// One subgroup per particle: N / (64 / the adapter's largest subgroup) workgroups of 64.
@@ -58,8 +61,7 @@ const fn k(entry: &'static str, file: &'static str, domain: Domain) -> KernelDef
 /// Kernels of the `cells` neighbour search, in dispatch order.
 pub const CELLS_SEARCH: &[KernelDef] = &[
     k("cell_count", "search/cell_count.wgsl", Domain::All),
-    k("scan_reduce", "search/cell_scan.wgsl", Domain::ScanBlocks),
-    k("scan_blocks", "search/cell_scan.wgsl", Domain::Group),
+    k("scan_blocks", "search/cell_scan.wgsl", Domain::BlockSums),
     k("scan_add", "search/cell_scan.wgsl", Domain::ScanBlocks),
     k("cell_scatter", "search/cell_scatter.wgsl", Domain::All),
     k("cell_sort", "search/cell_scatter.wgsl", Domain::Cells),

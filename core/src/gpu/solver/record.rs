@@ -16,6 +16,10 @@ impl<T: Real> GpuSolver<T> {
             Domain::Fluid => self.n_fluid,
             Domain::Wall => self.n - self.n_fluid,
             Domain::One | Domain::Group => return [1, 1, 1],
+            Domain::BlockSums => {
+                let many = crate::gpu::plan::scan_blocks(self.grid.cells()) > crate::gpu::plan::SCAN_BLOCK;
+                return [u32::from(many), 1, 1];
+            }
             Domain::Cells => self.grid.cells(),
             Domain::ScanBlocks => {
                 let (gx, gy) = spread(crate::gpu::plan::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
