@@ -99,6 +99,11 @@ pub struct StageDef {
     pub writes: &'static [Write],
     /// Control words reset before it runs.
     pub clears: &'static [Clear],
+    /// The neighbour pass this per-particle stage may run at the end of, in the thread that has
+    /// just written the particle's output, when it follows that pass in the evaluation (every
+    /// stage in between fused too): it reads only the particle's own fields, so the fused pass
+    /// computes what the two passes compute ([`ActiveStages::evaluation_passes`]).
+    pub epilogue_of: Option<Stage>,
 }
 
 use Field as F;
@@ -111,7 +116,12 @@ const fn def(
     writes: &'static [Write],
     clears: &'static [Clear],
 ) -> StageDef {
-    StageDef { stage, name, reads, writes, clears }
+    StageDef { stage, name, reads, writes, clears, epilogue_of: None }
+}
+
+/// `d` as an epilogue of the neighbour pass `head`.
+const fn epilogue(d: StageDef, head: Stage) -> StageDef {
+    StageDef { epilogue_of: Some(head), ..d }
 }
 
 /// The table, in [`Stage`] order.
@@ -120,11 +130,26 @@ pub static TABLE: [StageDef; 17] = [
     def(Stage::NumberDensity, "number_density", &[], &[All(F::Sigma), All(F::Chi)], &[]),
     def(Stage::ContactLine, "contact_line", &[], &[All(F::Contacts)], &[Clear::ContactsFound]),
     def(Stage::WallTyping, "wall_typing", &[F::Contacts], &[Part(F::Colour), Part(F::Mass)], &[]),
-    def(Stage::EquationOfState, "equation_of_state", &[F::Sigma, F::Mass, F::Colour], &[All(F::Rho), All(F::P)], &[]),
+    epilogue(
+        def(
+            Stage::EquationOfState,
+            "equation_of_state",
+            &[F::Sigma, F::Mass, F::Colour],
+            &[All(F::Rho), All(F::P)],
+            &[],
+        ),
+        Stage::NumberDensity,
+    ),
     def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]),
     def(Stage::ColourGradient, "colour_gradient", &[F::Sigma, F::Colour], &[All(F::Grad)], &[]),
-    def(Stage::NormalCorrection, "normal_correction", &[F::Grad, F::Colour, F::Contacts], &[Part(F::Grad)], &[]),
-    def(Stage::SurfaceStress, "surface_stress", &[F::Grad, F::Colour], &[All(F::Pi)], &[]),
+    epilogue(
+        def(Stage::NormalCorrection, "normal_correction", &[F::Grad, F::Colour, F::Contacts], &[Part(F::Grad)], &[]),
+        Stage::ColourGradient,
+    ),
+    epilogue(
+        def(Stage::SurfaceStress, "surface_stress", &[F::Grad, F::Colour], &[All(F::Pi)], &[]),
+        Stage::ColourGradient,
+    ),
     def(Stage::Acceleration, "acceleration", &[F::Sigma, F::Chi, F::Mass, F::P, F::Pi], &[Fluid(F::Acc)], &[]),
     def(Stage::Xsph, "xsph", &[F::Mass, F::Rho], &[Fluid(F::Vt)], &[]),
     def(Stage::MidpointPredict, "midpoint_predict", &[F::Acc, F::Vt], &[], &[]),
@@ -227,6 +252,29 @@ impl ActiveStages {
     pub fn names(&self) -> Vec<&'static str> {
         self.evaluation().into_iter().map(Stage::name).collect()
     }
+
+    /// The evaluation as passes: each stage starts a pass unless it is an epilogue of the pass
+    /// being built (its [`StageDef::epilogue_of`] is that pass's first stage), then it joins it.
+    pub fn evaluation_passes(&self) -> Vec<Vec<Stage>> {
+        passes(&self.evaluation())
+    }
+}
+
+/// `stages` (in order) grouped into passes by the table's [`StageDef::epilogue_of`].
+pub fn passes(stages: &[Stage]) -> Vec<Vec<Stage>> {
+    let mut out: Vec<Vec<Stage>> = Vec::new();
+    for &s in stages {
+        match out.last_mut() {
+            Some(pass) if s.def().epilogue_of == Some(pass[0]) => pass.push(s),
+            _ => out.push(vec![s]),
+        }
+    }
+    out
+}
+
+/// The label of a pass: its stages' names joined by `+`.
+pub fn pass_label(pass: &[Stage]) -> String {
+    pass.iter().map(|s| s.name()).collect::<Vec<_>>().join("+")
 }
 
 #[cfg(test)]
@@ -240,5 +288,27 @@ mod tests {
             assert_eq!(Stage::from_name(d.name), Some(d.stage));
         }
         assert!(Stage::EVALUATION.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[test]
+    fn epilogues_join_the_pass_they_follow() {
+        use Stage::*;
+        let drop = [NeighbourSearch, NumberDensity, EquationOfState, ColourGradient, SurfaceStress, Acceleration];
+        let p = passes(&drop);
+        assert_eq!(
+            p,
+            vec![
+                vec![NeighbourSearch],
+                vec![NumberDensity, EquationOfState],
+                vec![ColourGradient, SurfaceStress],
+                vec![Acceleration]
+            ]
+        );
+        assert_eq!(pass_label(&p[1]), "number_density+equation_of_state");
+        // Mode B: wall typing (it writes colours and masses) between σ and the EOS keeps them apart.
+        let mode_b =
+            [NumberDensity, ContactLine, WallTyping, EquationOfState, ColourGradient, NormalCorrection, SurfaceStress];
+        assert_eq!(passes(&mode_b).len(), 5);
+        assert_eq!(passes(&mode_b)[4], vec![ColourGradient, NormalCorrection, SurfaceStress]);
     }
 }

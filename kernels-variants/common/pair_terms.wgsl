@@ -8,11 +8,17 @@
 // `thread` kernels of kernels-variants/thread/ do (twins of `cpu::stages`).
 // Kernel values: `CACHED` defined = W_ij and F'(r_ij) read from the cache written by
 // search/nbr_list.wgsl; otherwise recomputed on demand (the thesis's two policies, §6.5).
+// With `FUSED` (a fused evaluation, core/src/gpu/stages.rs) the output functions also run the
+// per-particle epilogues the stage table fuses into their pass (`FUSE_<STAGE>`,
+// common/epilogues.wgsl) in the same thread, right after the output is written.
 // Library module (needs common/variant_bindings); no entry points.
 
 #import common/variant_bindings
 #import pair
 #import wall
+#ifdef FUSED
+#import common/epilogues
+#endif
 
 // One list entry of particle i: neighbour, image code, slot, image position, x_ij, r.
 struct Pair {
@@ -95,6 +101,9 @@ fn density_pair(i: u32, kp: KernelParams, p: Pair) -> real2 {
 fn density_out(i: u32, s: real2) {
     sigma[i] = s.x;
     chi[i] = select(real(0.0), s.y / s.x, params_has(params, STAGE_HOLMES));
+#ifdef FUSE_EQUATION_OF_STATE
+    equation_of_state_at(i);
+#endif
 }
 
 // colour_gradient: ∇_iW_ij/σ_j² in the slot of colour l = colour[j] (T71), for colour k of i.
@@ -126,6 +135,12 @@ fn grad_pair(k: i32, kp: KernelParams, p: Pair) -> Grad2 {
 fn grad_out(i: u32, g: Grad2) {
     grad0[i] = g.g0 * sigma[i];
     grad1[i] = g.g1 * sigma[i];
+#ifdef FUSE_NORMAL_CORRECTION
+    normal_correction_at(i);
+#endif
+#ifdef FUSE_SURFACE_STRESS
+    surface_stress_at(i);
+#endif
 }
 
 // acceleration: what the pair terms need to know about particle i.

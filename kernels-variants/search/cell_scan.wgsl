@@ -1,11 +1,13 @@
 // cell_scan.wgsl: exclusive prefix sum of the cell counts into `cell_start` (n_cells + 1
-// entries), reduce-then-scan over blocks of SCAN_BLOCK cells, one workgroup per block, in three
-// dispatches (no workgroup waits for another, so no forward-progress assumption):
-// `scan_reduce` sums each block's counts into its block sum (kept after the counts, at
-// cell_counts[n_cells + b]); `scan_blocks` (one workgroup) scans the block sums in place and
-// writes the total to cell_start[n_cells]; `scan_add` scans each block in workgroup memory
-// (Hillis–Steele) and adds its block's offset. It also resets the counts to zero: they are the
-// scatter cursors next. Twin of `SCAN_BLOCK` / `scan_blocks` in src/plan/gpu.rs.
+// entries) over blocks of SCAN_BLOCK cells, one workgroup per block (no workgroup waits for
+// another, so no forward-progress assumption). The block sums are counted by
+// search/cell_count.wgsl itself (kept after the counts, at cell_counts[n_cells + b]).
+// `scan_blocks` (one workgroup, dispatched only when there are more than SCAN_BLOCK blocks)
+// scans the block sums in place and writes the total to cell_start[n_cells]; with at most
+// SCAN_BLOCK blocks `scan_add` sums the block sums before its own in workgroup memory instead
+// (the last block writes the total). `scan_add` scans each block (Hillis–Steele) and adds its
+// block's offset. It also resets the counts to zero: they are the scatter cursors next. Twin
+// of `SCAN_BLOCK` / `scan_blocks` in core/src/gpu/plan.rs.
 
 #import common/bindings
 
@@ -22,23 +24,6 @@ fn count_or_zero(c: u32, cells: u32) -> u32 {
         return atomicLoad(&cell_counts[c]);
     }
     return 0u;
-}
-
-@compute @workgroup_size(256)
-fn scan_reduce(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
-    let cells = scan_cells();
-    let b = linear_group_xy(wg, nwg);
-    part[t] = count_or_zero(b * SCAN_BLOCK + t, cells);
-    workgroupBarrier();
-    for (var s = SCAN_BLOCK / 2u; s > 0u; s >>= 1u) {
-        if t < s {
-            part[t] += part[t + s];
-        }
-        workgroupBarrier();
-    }
-    if t == 0u && b * SCAN_BLOCK < cells {
-        atomicStore(&cell_counts[cells + b], part[0]);
-    }
 }
 
 @compute @workgroup_size(256)
@@ -77,6 +62,24 @@ fn scan_add(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: 
     let cells = scan_cells();
     let b = linear_group_xy(wg, nwg);
     let c = b * SCAN_BLOCK + t;
+    let blocks = (cells + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    // This block's offset with at most SCAN_BLOCK blocks: the block sums before it, summed in
+    // workgroup memory (computed by every workgroup, used only then: the barriers stay uniform).
+    part[t] = select(0u, atomicLoad(&cell_counts[cells + min(t, blocks - 1u)]), t < b);
+    workgroupBarrier();
+    for (var s = SCAN_BLOCK / 2u; s > 0u; s >>= 1u) {
+        if t < s {
+            part[t] += part[t + s];
+        }
+        workgroupBarrier();
+    }
+    var offset = part[0];
+    workgroupBarrier();
+    if blocks > SCAN_BLOCK {
+        offset = atomicLoad(&cell_counts[cells + b]);
+    } else if t == 0u && b + 1u == blocks {
+        cell_start[cells] = offset + atomicLoad(&cell_counts[cells + b]);
+    }
     let v = count_or_zero(c, cells);
     part[t] = v;
     workgroupBarrier();
@@ -90,7 +93,7 @@ fn scan_add(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: 
         workgroupBarrier();
     }
     if c < cells {
-        cell_start[c] = atomicLoad(&cell_counts[cells + b]) + part[t] - v;
+        cell_start[c] = offset + part[t] - v;
         atomicStore(&cell_counts[c], 0u);
     }
 }

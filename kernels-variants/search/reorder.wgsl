@@ -1,7 +1,7 @@
 // reorder.wgsl: cell-ordered particles. Right after the counting sort of search/cell_*.wgsl
-// (so `sorted` and `cell_of` describe the current positions), every `EVERY` evaluations (and,
-// with `TRACKING`, exactly when the tracking lists are rebuilt, which they are next in this
-// stage) the fluid particles are renumbered in cell order and every per-particle array that
+// (so `sorted` and `cell_of` describe the current positions), every `EVERY` evaluations (the
+// host records these kernels only then; with `TRACKING` the lists are rebuilt then too, next
+// in this stage) the fluid particles are renumbered in cell order and every per-particle array that
 // persists across stages (pos, vel, phase, colour, mass, vt, acc, the step's start r⁰ and v⁰) is
 // gathered into scratch and put back, two vec2 per particle at a time. Fluids stay in
 // 0..n_fluid among themselves; walls are static and keep their indices. Within a cell `sorted`
@@ -48,14 +48,14 @@ fn now() -> bool {
     return atomicLoad(&rctl[R_NOW]) != 0u;
 }
 
+// The host records the reorder kernels only in the evaluations they are due (its cadence of
+// `EVERY` evaluations), so the decision here is only the veto of a halted device; with
+// `TRACKING` a renumbering also rebuilds the candidate lists (counted as a build, as
+// `track_every` counts one), which `track_build` does next in this stage.
 @compute @workgroup_size(1)
 fn reorder_decide() {
     let every = atomicLoad(&rctl[R_EVERY]);
-#ifdef TRACKING
-    var due = every > 0u && atomicLoad(&vctl[V_REBUILD]) != 0u;
-#else
-    var due = every > 0u && atomicLoad(&rctl[R_SINCE]) >= every;
-#endif
+    var due = every > 0u;
     // A halted device (a failed step, kernels-variants/thread/integrate.wgsl) keeps its numbering,
     // so the failing particle and the state read back map through the permutation of that step.
     // Nor does one with an overflowing particle noted and not yet read (a midpoint step's second
@@ -68,6 +68,14 @@ fn reorder_decide() {
     if due {
         atomicStore(&rctl[R_SINCE], 0u);
         atomicAdd(&rctl[R_COUNT], 1u);
+#ifdef TRACKING
+        if atomicLoad(&vctl[V_REBUILD]) == 0u {
+            atomicStore(&vctl[V_REBUILD], 1u);
+            atomicStore(&vctl[V_SINCE], 1u);
+            atomicStore(&vctl[V_CAND_STALE], 0u);
+            atomicAdd(&vctl[V_REBUILDS], 1u);
+        }
+#endif
     }
     atomicAdd(&rctl[R_SINCE], 1u);
 }

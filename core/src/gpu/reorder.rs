@@ -5,8 +5,9 @@
 //! `grad1`, free at that point of an evaluation), plus the host side of the permutation. The
 //! direct search never renumbers: it allocates the control words alone and its permutation is
 //! the identity. The device renumbers the fluid particles in cell order every
-//! [`RBufs::set_every`] evaluations (tracking variants: whenever their lists are rebuilt) inside
-//! `neighbour_search`; walls keep their indices. Everything the host reads or writes goes
+//! [`RBufs::set_every`] evaluations inside `neighbour_search` (the host records the reorder
+//! kernels only in those evaluations; tracking variants rebuild their lists then); walls keep
+//! their indices. Everything the host reads or writes goes
 //! through [`to_original`] / [`to_device`], so outputs, snapshots, `verify` and the CPU
 //! comparison see particles in their original order.
 

@@ -15,6 +15,7 @@ use crate::neighbours::SearchKind;
 use crate::real::Precision;
 use crate::stage::Stage;
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// The index range a kernel is dispatched over (64 threads per workgroup unless noted).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,6 +34,9 @@ pub enum Domain {
     ScanBlocks,
     /// One workgroup (its own size).
     Group,
+    /// One workgroup when the cell scan has more than `plan::SCAN_BLOCK` blocks, else none
+    /// (`scan_add` sums the block sums itself then).
+    BlockSums,
     /// The 16 × 32 block layout: N/32 workgroups in x, 4 in y (64 slots).
     Block,
     /// One subgroup per particle: N / (64 / the adapter's largest subgroup) workgroups of 64.
@@ -57,8 +61,7 @@ const fn k(entry: &'static str, file: &'static str, domain: Domain) -> KernelDef
 /// Kernels of the `cells` neighbour search, in dispatch order.
 pub const CELLS_SEARCH: &[KernelDef] = &[
     k("cell_count", "search/cell_count.wgsl", Domain::All),
-    k("scan_reduce", "search/cell_scan.wgsl", Domain::ScanBlocks),
-    k("scan_blocks", "search/cell_scan.wgsl", Domain::Group),
+    k("scan_blocks", "search/cell_scan.wgsl", Domain::BlockSums),
     k("scan_add", "search/cell_scan.wgsl", Domain::ScanBlocks),
     k("cell_scatter", "search/cell_scatter.wgsl", Domain::All),
     k("cell_sort", "search/cell_scatter.wgsl", Domain::Cells),
@@ -201,60 +204,115 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     d
 }
 
-/// The compiled pipelines of a variant, by stage.
+/// Kernels and their pipelines, in dispatch order.
+pub type Compiled = Vec<(KernelDef, wgpu::ComputePipeline)>;
+
+/// The compiled pipelines of a variant, by stage, and its fused passes (compiled on first use).
 pub struct Pipelines {
     /// Stage → (kernel, pipeline) in dispatch order.
-    pub stages: HashMap<Stage, Vec<(KernelDef, wgpu::ComputePipeline)>>,
+    pub stages: HashMap<Stage, Compiled>,
+    spec: VariantSpec,
+    layout: wgpu::PipelineLayout,
+    fused: Mutex<HashMap<Vec<Stage>, Arc<Compiled>>>,
+}
+
+/// The define that runs epilogue stage `s` at the end of its pass (common/pair_terms.wgsl).
+pub fn fuse_define(s: Stage) -> String {
+    format!("FUSE_{}", s.name().to_uppercase())
+}
+
+/// Modules by file, composed with one define set.
+type Modules = HashMap<&'static str, wgpu::ShaderModule>;
+
+/// Composes (into `modules`, once per file) and compiles `kernels` with `defs`, each pipeline
+/// labelled by `label(kernel)`, against `layouts.0` (the reorder kernels against `layouts.1`).
+fn compile(
+    ctx: &GpuContext,
+    spec: &VariantSpec,
+    (kernels, defs): (&[KernelDef], &[&str]),
+    modules: &mut Modules,
+    layouts: (&wgpu::PipelineLayout, &wgpu::PipelineLayout),
+    label: impl Fn(&KernelDef) -> String,
+) -> Result<Compiled, GpuError> {
+    let mut v = Vec::new();
+    for kd in kernels {
+        if !modules.contains_key(kd.file) {
+            let src = compose_variant(kd.file, defs)?;
+            let label = format!("sphlab.{spec}.{}", kd.file);
+            let m = ctx.scoped(|d| {
+                d.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&label),
+                    source: wgpu::ShaderSource::Wgsl(src.into()),
+                })
+            })?;
+            modules.insert(kd.file, m);
+        }
+        let label = label(kd);
+        let p = ctx
+            .scoped(|d| {
+                d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&label),
+                    layout: Some(if kd.file == super::reorder::FILE { layouts.1 } else { layouts.0 }),
+                    module: &modules[kd.file],
+                    entry_point: Some(kd.entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            })
+            .map_err(|e| GpuError::Validation(format!("{label}: {e}")))?;
+        v.push((*kd, p));
+    }
+    Ok(v)
 }
 
 impl Pipelines {
     /// Composes and compiles every kernel of `spec` against `layout` (the reorder kernels against
-    /// `reorder_layout`, which adds group 2), one module per file.
+    /// `reorder_layout`, which adds group 2), one module per file and stage.
     pub fn build(
         ctx: &GpuContext,
         spec: &VariantSpec,
         layout: &wgpu::PipelineLayout,
         reorder_layout: &wgpu::PipelineLayout,
     ) -> Result<Self, GpuError> {
-        let table = kernel_table(spec);
         let defs = defines(spec);
-        let mut modules: HashMap<&'static str, wgpu::ShaderModule> = HashMap::new();
+        let mut modules = Modules::new();
         let mut stages = HashMap::new();
-        for (stage, kernels) in table {
-            let mut v = Vec::new();
-            for kd in kernels {
-                if !modules.contains_key(kd.file) {
-                    let src = compose_variant(kd.file, &defs)?;
-                    let label = format!("sphlab.{spec}.{}", kd.file);
-                    let m = ctx.scoped(|d| {
-                        d.create_shader_module(wgpu::ShaderModuleDescriptor {
-                            label: Some(&label),
-                            source: wgpu::ShaderSource::Wgsl(src.into()),
-                        })
-                    })?;
-                    modules.insert(kd.file, m);
-                }
-                let label = if kd.entry == stage.name() {
+        for (stage, kernels) in kernel_table(spec) {
+            let label = |kd: &KernelDef| {
+                if kd.entry == stage.name() {
                     format!("sphlab.{spec}.{stage}")
                 } else {
                     format!("sphlab.{spec}.{stage}.{}", kd.entry)
-                };
-                let p = ctx
-                    .scoped(|d| {
-                        d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                            label: Some(&label),
-                            layout: Some(if kd.file == super::reorder::FILE { reorder_layout } else { layout }),
-                            module: &modules[kd.file],
-                            entry_point: Some(kd.entry),
-                            compilation_options: Default::default(),
-                            cache: None,
-                        })
-                    })
-                    .map_err(|e| GpuError::Validation(format!("{label}: {e}")))?;
-                v.push((kd, p));
-            }
-            stages.insert(stage, v);
+                }
+            };
+            let both = (layout, reorder_layout);
+            stages.insert(stage, compile(ctx, spec, (&kernels, &defs), &mut modules, both, label)?);
         }
-        Ok(Self { stages })
+        Ok(Self { stages, spec: *spec, layout: layout.clone(), fused: Mutex::new(HashMap::new()) })
+    }
+
+    /// The kernels of a fused pass (its first stage's, composed with `FUSED` and the
+    /// [`fuse_define`] of each later stage, `stage::passes`), compiled on first use; a pass of
+    /// one stage is that stage's own kernels.
+    pub fn fused(&self, ctx: &GpuContext, pass: &[Stage]) -> Result<Arc<Compiled>, GpuError> {
+        if let Some(c) = self.fused.lock().unwrap_or_else(|p| p.into_inner()).get(pass) {
+            return Ok(c.clone());
+        }
+        let head = pass[0];
+        let kernels =
+            kernel_table(&self.spec).into_iter().find(|(s, _)| *s == head).map(|(_, k)| k).unwrap_or_default();
+        let extra: Vec<String> = pass[1..].iter().map(|s| fuse_define(*s)).collect();
+        let mut defs = defines(&self.spec);
+        if pass.len() > 1 {
+            defs.push("FUSED");
+        }
+        defs.extend(extra.iter().map(String::as_str));
+        let name = crate::stage::pass_label(pass);
+        let spec = self.spec;
+        let label = |kd: &KernelDef| format!("sphlab.{spec}.{name}.{}", kd.entry);
+        let layouts = (&self.layout, &self.layout);
+        let c = Arc::new(compile(ctx, &spec, (&kernels, &defs), &mut Modules::new(), layouts, label)?);
+        self.fused.lock().unwrap_or_else(|p| p.into_inner()).insert(pass.to_vec(), c.clone());
+        Ok(c)
     }
 }

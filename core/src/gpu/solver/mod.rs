@@ -19,7 +19,7 @@ use super::clock::{write_clock, Control, ControlReader};
 use super::params::Params;
 use super::reorder::{self, RBufs};
 use super::solver_buffers::{ctl, Bufs};
-use super::stages::{Domain, Pipelines};
+use super::stages::{Compiled, Domain, Pipelines};
 use super::timing::Timestamps;
 use super::variant::VariantSpec;
 use super::variant_buffers::{self as vbufs, VBufs};
@@ -52,8 +52,16 @@ pub struct GpuSolver<T: Real> {
     pub(super) bg: wgpu::BindGroup,
     pub(super) vbg: wgpu::BindGroup,
     pub(super) rbg: wgpu::BindGroup,
+    /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
+    /// epilogues.
+    pub(super) passes: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
+    /// Record the fused passes (false: every stage its own pass, the debug mode).
+    pub(super) fused: bool,
     /// Renumber the particles in cell order every this many steps (0: never).
     pub(super) reorder_every: u64,
+    /// Evaluations recorded since the last renumbering was recorded (the host's cadence: the
+    /// reorder kernels are recorded only in the evaluations they are due).
+    pub(super) reorder_since: std::cell::Cell<u64>,
     pub(super) n: usize,
     pub(super) n_fluid: usize,
     pub(super) phase: Vec<u32>,
@@ -90,22 +98,31 @@ pub struct EngineMode {
     /// Most steps per submission, each followed by its blocking control readback (0: all the
     /// steps of an `advance(k)` in one submission).
     pub max_steps_per_submit: u64,
+    /// Fused passes (each neighbour pass with its per-particle epilogues, `stage::passes`);
+    /// false: every stage its own pass.
+    pub fused: bool,
 }
 
 impl EngineMode {
     /// The legacy engine, without `advance(k)` and renumbering: lattice order, one step per
     /// submission with a blocking control readback after every step.
-    pub const BEFORE: EngineMode = EngineMode { reorder_every: 0, max_steps_per_submit: 1 };
+    pub const BEFORE: EngineMode = EngineMode { reorder_every: 0, max_steps_per_submit: 1, fused: false };
     /// The current engine (the solver's default): renumbering every [`DEFAULT_REORDER_EVERY`]
-    /// steps, k steps per submission and one readback per `advance(k)`.
-    pub const AFTER: EngineMode = EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0 };
+    /// steps, k steps per submission and one readback per `advance(k)`, fused passes.
+    pub const AFTER: EngineMode =
+        EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0, fused: true };
 
     /// `before`, `after`, or the settings.
     pub fn name(&self) -> String {
         match *self {
             Self::BEFORE => "before".into(),
             Self::AFTER => "after".into(),
-            m => format!("reorder {} / {} steps per submit", m.reorder_every, m.max_steps_per_submit),
+            m => format!(
+                "reorder {} / {} steps per submit / {}",
+                m.reorder_every,
+                m.max_steps_per_submit,
+                if m.fused { "fused" } else { "unfused" }
+            ),
         }
     }
 }
@@ -179,6 +196,11 @@ impl<T: Real> GpuSolver<T> {
         let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
         let compiled = ctx.pipelines.get(&ctx, &spec)?;
         let pipes = compiled.pipes.clone();
+        let mut passes = Vec::new();
+        for pass in model.stages.evaluation_passes() {
+            let fused = if pass.len() > 1 { Some(pipes.fused(&ctx, &pass)?) } else { None };
+            passes.push((pass, fused));
+        }
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
         let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
         let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
@@ -201,7 +223,10 @@ impl<T: Real> GpuSolver<T> {
             bg,
             vbg,
             rbg,
+            passes,
+            fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,
+            reorder_since: std::cell::Cell::new(u64::MAX),
             n,
             n_fluid,
             phase: layout.phase.clone(),
@@ -239,13 +264,27 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Renumbers the fluid particles in cell order on the device every `k` steps from the next
-    /// evaluation on (0: never; the `direct` search never does). Tracking variants renumber
-    /// exactly when their candidate lists are rebuilt (the lists hold indices), whenever `k > 0`.
+    /// evaluation on (0: never; the `direct` search never does). Tracking variants renumber on
+    /// the same cadence and rebuild their candidate lists then (the lists hold indices).
     pub fn set_reorder_every(&mut self, k: u64) -> Result<(), GpuError> {
         let every = k.saturating_mul(Self::evaluations_per_step(self.integrator)).min(u32::MAX as u64);
         self.rb.set_every(&self.ctx, every as u32)?;
         self.reorder_every = k;
+        self.reorder_since.set(u64::MAX);
         Ok(())
+    }
+
+    /// True when the evaluation being recorded renumbers (the host's cadence, every
+    /// `reorder_every` steps' evaluations from the first recorded after
+    /// [`Self::set_reorder_every`]); advances the count of recorded evaluations.
+    pub(super) fn reorder_due(&self) -> bool {
+        if self.reorder_every == 0 || self.spec.search == crate::neighbours::SearchKind::Direct {
+            return false;
+        }
+        let every = self.reorder_every.saturating_mul(Self::evaluations_per_step(self.integrator));
+        let due = self.reorder_since.get() >= every;
+        self.reorder_since.set(if due { 1 } else { self.reorder_since.get() + 1 });
+        due
     }
 
     /// Drives the device as `mode` says from the next step on (renumbering period, steps per
@@ -253,7 +292,15 @@ impl<T: Real> GpuSolver<T> {
     pub fn set_engine_mode(&mut self, mode: EngineMode) -> Result<(), GpuError> {
         self.set_reorder_every(mode.reorder_every)?;
         self.max_steps_per_submit = mode.max_steps_per_submit;
+        self.fused = mode.fused;
         Ok(())
+    }
+
+    /// Records each neighbour pass with its per-particle epilogues in one kernel (`true`, the
+    /// default; unfused while stage timestamps are on) or every stage as its own pass (the debug
+    /// mode; `stage::passes`).
+    pub fn set_fused(&mut self, on: bool) {
+        self.fused = on;
     }
 
     /// The renumbering period in steps (0: off).

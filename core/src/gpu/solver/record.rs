@@ -16,6 +16,10 @@ impl<T: Real> GpuSolver<T> {
             Domain::Fluid => self.n_fluid,
             Domain::Wall => self.n - self.n_fluid,
             Domain::One | Domain::Group => return [1, 1, 1],
+            Domain::BlockSums => {
+                let many = crate::gpu::plan::scan_blocks(self.grid.cells()) > crate::gpu::plan::SCAN_BLOCK;
+                return [u32::from(many), 1, 1];
+            }
             Domain::Cells => self.grid.cells(),
             Domain::ScanBlocks => {
                 let (gx, gy) = spread(crate::gpu::plan::scan_blocks(self.grid.cells()), self.max_groups_per_dim);
@@ -35,14 +39,24 @@ impl<T: Real> GpuSolver<T> {
         [gx, gy, 1]
     }
 
-    /// Records the kernels of one stage into `enc`: the table's clears (when the stage has
-    /// kernels), the block accumulator clear (block kernels), then one compute pass.
+    /// Records the kernels of one stage into `enc` (the unfused path: `verify --per-stage` and
+    /// the debug mode of [`Self::set_fused`]).
     pub(in crate::gpu) fn record(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
-        let Some(kernels) = self.pipes.stages.get(&stage) else { return };
+        if let Some(kernels) = self.pipes.stages.get(&stage) {
+            self.record_pass(enc, &[stage], kernels);
+        }
+    }
+
+    /// Records one pass of `stages` (a stage, or a neighbour pass with its fused epilogues,
+    /// `stage::passes`) running `kernels`: the table's clears of every stage (when there are
+    /// kernels), the block accumulator clear (block kernels), then one compute pass; the reorder
+    /// kernels only when the host's cadence says they are due.
+    fn record_pass(&self, enc: &mut wgpu::CommandEncoder, stages: &[Stage], kernels: &Compiled) {
         if kernels.is_empty() {
             return;
         }
-        for clear in stage.def().clears {
+        let renumber = stages[0] == Stage::NeighbourSearch && self.reorder_due();
+        for clear in stages.iter().flat_map(|s| s.def().clears) {
             let (buffer, offset, size) = match clear {
                 Clear::CellCounts => (&self.b.cell_count.buffer, 0, None),
                 Clear::ContactsFound => (&self.b.ctl.buffer, 4 * ctl::CONTACTS_FOUND as u64, Some(4)),
@@ -53,17 +67,18 @@ impl<T: Real> GpuSolver<T> {
         if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
             enc.clear_buffer(&self.vb.accum.buffer, 0, None);
         }
+        let label = crate::stage::pass_label(stages);
         let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain)[0] > 0);
-        let timestamp_writes = if dispatches { self.ts.writes(stage.name()) } else { None };
-        let desc = wgpu::ComputePassDescriptor { label: Some(stage.name()), timestamp_writes };
+        let timestamp_writes = if dispatches { self.ts.writes(&label) } else { None };
+        let desc = wgpu::ComputePassDescriptor { label: Some(&label), timestamp_writes };
         let mut pass = enc.begin_compute_pass(&desc);
         pass.set_bind_group(0, &self.bg, &[]);
         pass.set_bind_group(1, &self.vbg, &[]);
-        if kernels.iter().any(|(kd, _)| kd.file == reorder::FILE) {
+        if renumber {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
         for (kd, p) in kernels {
-            if kd.file == reorder::FILE && self.reorder_every == 0 {
+            if kd.file == reorder::FILE && !renumber {
                 continue;
             }
             let [gx, gy, gz] = self.groups(kd.domain);
@@ -75,10 +90,16 @@ impl<T: Real> GpuSolver<T> {
         }
     }
 
-    /// Records one force evaluation: every active stage in the CPU order, then ṽ.
+    /// Records one force evaluation: every active stage in the CPU order (fused: the table's
+    /// passes, each neighbour pass with its epilogues; unfused while stage timestamps are on,
+    /// so that every stage has its own time), then ṽ.
     pub(super) fn record_evaluate(&self, enc: &mut wgpu::CommandEncoder) {
-        for stage in self.model.stages.evaluation() {
-            self.record(enc, stage);
+        let fused = self.fused && !self.ts.is_on();
+        for (stages, kernels) in &self.passes {
+            match kernels {
+                Some(kernels) if fused => self.record_pass(enc, stages, kernels),
+                _ => stages.iter().for_each(|s| self.record(enc, *s)),
+            }
         }
         if !self.model.stages.xsph {
             let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
