@@ -1,11 +1,12 @@
-//! The study's `engine` experiment the legacy GPU engine and the current one,
+//! The study's `engine` experiment: the legacy GPU engine and the current one,
 //! side by side in ONE run at the E4 size (nx = 100: 11,236 particles; `--engine-nx`).
 //!
-//! * **before** ([`EngineMode::BEFORE`]): particles stay in lattice order (no renumbering) and
-//!   every step is its own submission followed by a blocking control readback, as the engine
-//!   ran before `advance(k)`;
+//! * **before** ([`EngineMode::BEFORE`]): particles stay in lattice order (no renumbering),
+//!   every stage is its own kernel, and every step is its own submission followed by a
+//!   blocking control readback, as the engine ran before `advance(k)`;
 //! * **after** ([`EngineMode::AFTER`], the solver's default): cell-order renumbering every 16
-//!   steps, the K steps of a block in one submission with one readback.
+//!   steps, the per-particle stages fused into the neighbour passes the stage table allows,
+//!   the K steps of a block in one submission with one readback.
 //!
 //! Runs, in order: the single-thread CPU references (`cpu1.cells.f64`, whose snapshot is the
 //! accuracy reference, and `cpu1.cells.f32`); (a) every GPU variant (`--variants`, else all;
