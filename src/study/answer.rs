@@ -198,7 +198,7 @@ pub fn write(md: &mut String, recs: &[Record]) {
     let _ = writeln!(
         md,
         "Only `ok` records are ranked: measured, within `verify`'s tolerances against the CPU run of the same precision, \
-         and measured while the load average stayed within the cores. Speedups compare records of one run only. A time \
+         and measured while other processes used at most a quarter of the cores. Speedups compare records of one run only. A time \
          ratio above 1 means the first value is faster; its interval combines the two medians' bootstrap 95 % \
          intervals (conservative).\n"
     );

@@ -3,7 +3,8 @@
 //! reference, and its status. The status is gated: a measured run whose K-step observables
 //! (against the one-thread CPU cells run of its precision) or whose first evaluation's fields
 //! (GPU variants, `verify::Verifier`) are beyond `verify`'s tolerances is `inaccurate`; one
-//! measured while the load average exceeded the cores is `loaded`; neither is ranked.
+//! measured while other processes used more than a quarter of the cores is `loaded`; neither
+//! is ranked.
 
 use super::plan::Job;
 use super::stats::{bootstrap_median_ci, percentile};

@@ -17,10 +17,10 @@
 //! baselines of [`baseline`]. Each job runs the shared start through the protocol of [`timing`]
 //! (accuracy snapshot after K steps, K a whole number of tracking-list rebuild periods; warm-up
 //! for a fixed time; latency; throughput in R blocks of K steps per sync) with the load average
-//! read before and after; [`stats`] gives the blocks' percentiles and bootstrap interval. A run
+//! and the other processes' CPU use read around it; [`stats`] gives the blocks' percentiles and bootstrap interval. A run
 //! that overflowed, blew up or failed is a record with its `status` and `reason` and no timing;
 //! a measured one is gated (`measured`): `inaccurate` beyond `verify`'s tolerances against the
-//! CPU run of its precision, `loaded` above the cores, else `ok`, the only status ranked. Errors
+//! CPU run of its precision, `loaded` when other processes used more than a quarter of the cores, else `ok`, the only status ranked. Errors
 //! are against the CPU f64 one-thread run (`cpu1.cells.f64`) after the same K steps. GPU
 //! pipelines are compiled once per variant and reused at every size (`gpu::pipeline_cache`).
 //! Absolute GPU times mean something only on a real GPU; on lavapipe read ratios and correctness

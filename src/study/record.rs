@@ -148,8 +148,8 @@ pub struct Record {
 }
 
 /// Every status a record may have: measured and accurate (`ok`, the only one ranked); measured
-/// but beyond `verify`'s tolerances (`inaccurate`) or while the load average exceeded the cores
-/// (`loaded`); not measured because the run overflowed a neighbour layout (`overflow`), blew up
+/// but beyond `verify`'s tolerances (`inaccurate`) or while other processes used more than a quarter of
+/// the cores (`loaded`); not measured because the run overflowed a neighbour layout (`overflow`), blew up
 /// (`blown-up`), failed on the device or host (`failed`), or was not run (`skipped`: unsupported,
 /// over a limit, out of budget).
 pub const STATUSES: [&str; 7] = ["ok", "inaccurate", "loaded", "overflow", "blown-up", "failed", "skipped"];

@@ -131,7 +131,7 @@ fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: 
          the stage passes, read once per block{}. Errors: kinetic energy (relative) and centroid (in Δx) after the \
          first K steps, against the CPU f64 one-thread run. **Status**: `ok` (ranked), `inaccurate` (K-step \
          observables or first-evaluation fields beyond `verify`'s tolerances against the CPU run of the same \
-         precision), `loaded` (load average above the cores), `overflow`, `blown-up`, `failed`, `skipped`; a run \
+         precision), `loaded` (other processes used more than a quarter of the cores), `overflow`, `blown-up`, `failed`, `skipped`; a run \
          that was not measured has no timing. **Speedup vs baseline** = the fastest one-thread CPU search of the \
          row's precision in the same run (named) ÷ the row's ms/step; vs all cores: `cpu.cells` of that precision; \
          vs `{BASELINE}` is kept for continuity, `cpu_ref` saying whether that CPU time was measured at the same N \
