@@ -240,6 +240,13 @@ fn baselines_are_same_run_and_a_wrong_variant_is_never_the_answer() {
         for c in ["ms_per_step_p10", "ms_per_step_p90", "ms_per_step_ci_lo", "ms_per_step_ci_hi", "load_before"] {
             assert!(r[c].parse::<f64>().is_ok(), "{} has no {c}: {r:?}", r["variant"]);
         }
+        // Pair interactions: the particle evaluations times the mean neighbour-list length, which
+        // for the quintic at h = 1.2Δx (support 3.6Δx) is near π·3.6² ≈ 41 inside the fluid and
+        // fewer at the walls' outer layers.
+        let f = |c: &str| r[c].parse::<f64>().unwrap_or_else(|_| panic!("{} has no {c}: {r:?}", r["variant"]));
+        let k = f("mean_neighbours");
+        assert!((20.0..45.0).contains(&k), "mean neighbours {k}: {r:?}");
+        assert!((f("pair_interactions_per_s") / (f("particle_evals_per_s") * k) - 1.0).abs() < 1e-9, "{r:?}");
     }
     let ms = |r: &std::collections::HashMap<String, String>| r["ms_per_step_median"].parse::<f64>().unwrap();
     for g in rows.iter().filter(|r| r["backend"] == "gpu") {

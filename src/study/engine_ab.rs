@@ -176,7 +176,7 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
     let scene = study_scene_with(opts.engine_nx, &opts.sets)?;
     let layout = build_layout(&scene).map_err(|e| e.to_string())?;
     let vel0 = initial_velocities(&scene, &layout, None);
-    let s = Start { scene, layout, vel0, verifier: Default::default() };
+    let s = Start::new(scene, layout, vel0);
     let n = s.layout.pos.len();
     let c = Common {
         gpu,

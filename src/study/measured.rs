@@ -101,6 +101,8 @@ impl Common<'_> {
         };
         let evals = if s.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
         fill_timing(&mut r, t, evals);
+        r.mean_neighbours = Some(s.mean_neighbours);
+        r.pair_interactions_per_s = r.particle_evals_per_s.map(|e| e * s.mean_neighbours);
         if let Some(c) = j.f64_ref {
             let (a, c) = (measure(&s.scene, &t.snapshot), measure(&s.scene, c));
             let dx = s.scene.domain.dx();

@@ -156,6 +156,20 @@ struct Start {
     layout: Layout,
     vel0: Vec<[f64; 2]>,
     verifier: OnceCell<Verifier>,
+    /// Neighbour-list entries per particle on the initial layout (the particle itself included,
+    /// as the kernel sums include it): the pair interactions of one particle's evaluation.
+    mean_neighbours: f64,
+}
+
+impl Start {
+    /// The start of a size: `scene`, its layout and initial velocities, and its mean neighbour
+    /// count (one cell search on the CPU, all threads).
+    fn new(scene: Scene, layout: Layout, vel0: Vec<[f64; 2]>) -> Start {
+        let model = crate::model::Model::<f64>::new(&scene);
+        let pos: Vec<crate::real::V2<f64>> = layout.pos.iter().map(|p| crate::real::V2::new(p[0], p[1])).collect();
+        let list = crate::neighbours::cells(crate::exec::Exec::Parallel, &model.images, &pos, model.support());
+        Start { scene, layout, vel0, verifier: OnceCell::new(), mean_neighbours: list.mean_count() }
+    }
 }
 
 /// The scene of `job` with the overrides [`StudyOptions::perturb`] gives its id, if any.
@@ -276,7 +290,7 @@ fn run_sweep(
             let scene = scene_at(job.nx, &opts.sets)?;
             let layout = build_layout(&scene).map_err(Error::failed)?;
             let vel0 = initial_velocities(&scene, &layout, None);
-            start = Some((job.experiment.clone(), job.nx, Start { scene, layout, vel0, verifier: OnceCell::new() }));
+            start = Some((job.experiment.clone(), job.nx, Start::new(scene, layout, vel0)));
         }
         let s = &start.as_ref().expect("set above").2;
         let perturbed = perturbed_scene(opts, job)?;

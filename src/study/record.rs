@@ -79,6 +79,11 @@ pub struct Record {
     pub gpu_ms_per_step: Option<f64>,
     /// Particle-evaluations per second: N × force evaluations per step ÷ seconds per step.
     pub particle_evals_per_s: Option<f64>,
+    /// Neighbour-list entries per particle on the initial layout (the particle itself included).
+    pub mean_neighbours: Option<f64>,
+    /// Pair interactions per second: `particle_evals_per_s` × `mean_neighbours` (the figure
+    /// DualSPHysics and SPHinXsys report as interactions per second).
+    pub pair_interactions_per_s: Option<f64>,
     /// Relative kinetic-energy difference from the CPU f64 reference after the same K steps.
     pub ke_rel_error: Option<f64>,
     /// Centroid difference from the reference, in Δx.
