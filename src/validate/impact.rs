@@ -6,7 +6,8 @@
 //! The full resolution (100×100, dt ≈ 1e-8 s, 1.65 ms) costs hours per angle on a CPU: unless
 //! `--full-impact` is given, the case measures ms/step at full resolution over 100 steps,
 //! states the projected time, and runs all nine angles to the full 1.65 ms at `CPU_NX` (the
-//! finest resolution whose nine runs fit in one session on this 2-core machine) and again at
+//! finest resolution whose nine runs fit in one session on the machine the committed report
+//! names) and again at
 //! `CHECK_NX`, so that the report shows how far the answer moves with the resolution.
 
 use super::data::{col, read_series};

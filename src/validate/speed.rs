@@ -105,6 +105,6 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
         &conv,
     )?;
     write_csv(ctx, &mut rep, "speed_vs_error.csv", "study,index,wall_time_s,ms_per_step,period,rel_error", &csv)?;
-    rep.notes.push("Study 0 = kernels on the oscillating drop (error of the period against the thesis's 0.37); study 1 = resolutions 0.5/nx of relax-60 (error of the end D/D0 against the analytic 1.385). Wall times are on a shared 2-core machine: compare within a study only.".into());
+    rep.notes.push("Study 0 = kernels on the oscillating drop (error of the period against the thesis's 0.37); study 1 = resolutions 0.5/nx of relax-60 (error of the end D/D0 against the analytic 1.385). Wall times are of the machine each run names (its provenance): compare within a study only.".into());
     Ok(rep)
 }

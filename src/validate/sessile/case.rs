@@ -354,7 +354,7 @@ impl Sessile {
         let (quick, nx, t_end) = (self.quick, self.nx, self.t_end);
         if !quick && nx != 65 {
             rep.not_full_because(format!(
-                "nx = {nx} instead of the thesis's 65 (CPU time on a shared 2-core machine), p_b = σ/Δx = {} (a drop at rest: pb-check/README.md)",
+                "nx = {nx} instead of the thesis's 65 (CPU time), p_b = σ/Δx = {} (a drop at rest: pb-check/README.md)",
                 crate::scene::builtin::at_rest_background_pressure(1.0, 0.5 / nx as f64)
             ));
         }
@@ -362,7 +362,7 @@ impl Sessile {
             let ms: Vec<f64> = rep.runs.iter().map(|r| r.ms_per_step).filter(|m| m.is_finite()).collect();
             let mean = ms.iter().sum::<f64>() / ms.len().max(1) as f64;
             rep.not_full_because(format!(
-                "t_end = {t_end} instead of the thesis's 5 (CPU time: 71,429 steps to t = 5 at the {mean:.1} ms/step measured here on a shared 2-core machine ≈ {:.0} min per run); the shear profile is averaged over the last 10 % instead of near t = 4.4",
+                "t_end = {t_end} instead of the thesis's 5 (CPU time: 71,429 steps to t = 5 at the {mean:.1} ms/step measured in this run ≈ {:.0} min per run); the shear profile is averaged over the last 10 % instead of near t = 4.4",
                 mean * 5.0 / 7e-5 / 6e4
             ));
         }
@@ -406,7 +406,7 @@ impl Sessile {
         }
         if ratio.is_finite() && ratio < 10.0 {
             rep.notes.push(format!(
-                "The thesis's ~160× higher peak wall shear for Mode A is not reproduced: peak |γ̇| Mode A {:.3} vs Mode B {:.3} (ratio {ratio:.2}) in the same window, and over {ftext} the mean flow's {:.3} vs {:.3} (ratio {flow_ratio:.1}). In a window of a few snapshots Mode A's peak can sit anywhere its particle noise is largest (where, in the rows); the mean flow peaks at {:.3} of the wall in Mode A and {:.3} in Mode B (the drop's edge is at 0.5, the right wall at 1; the profile per bin is in wall_shear_profile.csv). Both modes hold the bulk 90° by the circle fit; Mode A's deviation shows in the two-point angle near the wall (rows 1–2) instead.",
+                "The thesis's ~160× higher peak wall shear for Mode A is not reproduced: peak |γ̇| Mode A {:.3} vs Mode B {:.3} (ratio {ratio:.2}) in the same window, and over {ftext} the mean flow's {:.3} vs {:.3} (ratio {flow_ratio:.1}). In a window of a few snapshots Mode A's peak can sit anywhere its particle noise is largest (where, in the rows); the mean flow peaks at {:.3} of the wall in Mode A and {:.3} in Mode B (the drop's edge is at 0.5, the right wall at 1; the profile per bin is in wall_shear_profile.csv). The circle-fit and two-point angles of both modes are in the rows above.",
                 a.shear, b.shear, a.flow, b.flow, a.flow_x, b.flow_x
             ));
         }
