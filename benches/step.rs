@@ -7,8 +7,8 @@
 //!   search} at nx = 45 (2,025 fluid particles);
 //! * `e4`: every GPU variant and the CPU one thread / all threads at nx = 100;
 //! * `scaling`: the CPU (one thread, all threads; f64, f32) and every GPU variant at a few sizes;
-//! * `e4_device`: the GPU cases of `e4` timed by GPU timestamps (`Backend::device_time`), where
-//!   the adapter has `TIMESTAMP_QUERY`;
+//! * `e4_device`: the GPU cases of `e4` timed by one GPU timestamp pair around each submission
+//!   (`DeviceTiming::Batch`, the engine as it runs), where the adapter has `TIMESTAMP_QUERY`;
 //! * `reorder`: the GPU variants of `e4` with cell-ordered particles on (every 16 steps) and off,
 //!   from the lattice order and from a shuffled fluid order, as `"{variant}.{lattice|shuffled}.reorder{k}"`.
 //!
@@ -20,7 +20,7 @@
 //! skips the GPU). `cargo bench --bench step -- --test` runs each case once (smoke test).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use sphlab::backend::Backend;
+use sphlab::backend::{Backend, DeviceTiming};
 use sphlab::backend_id::BackendId;
 use sphlab::exec::Exec;
 use sphlab::gpu::variant::VariantSpec;
@@ -96,7 +96,7 @@ fn build(id: BackendId, nx: u32, device_time: bool) -> Box<dyn Backend> {
     let layout = build_layout(&s).expect("layout");
     let mut b = id.build(&s, &layout, gpu()).unwrap_or_else(|e| panic!("{id} at nx={nx}: {e}"));
     if device_time {
-        assert!(b.enable_device_time(true), "{id}: device timing did not switch on");
+        assert!(b.enable_device_time(DeviceTiming::Batch), "{id}: device timing did not switch on");
     }
     b.step().unwrap_or_else(|e| panic!("{id} at nx={nx}: first step failed: {e}"));
     b.sync();
@@ -138,7 +138,7 @@ fn register_with(
                 panic!("{id} at N={n}: the run failed, not a measurement: {e}");
             }
             if device_time {
-                Duration::from_secs_f64(b.device_time().expect("device timing is on").total_ms * 1e-3)
+                Duration::from_secs_f64(b.device_time().expect("device timing is on").batch_ms * 1e-3)
             } else {
                 wall
             }

@@ -170,7 +170,7 @@ pub const VERIFY_UNITS: &[(&str, &str)] =
 pub const STUDY_UNITS: &[(&str, &str)] = &[
     (
         "ms_per_step_median, ms_per_step_min, ms_per_step_max, ms_per_step_p10, ms_per_step_p90, ms_per_step_ci_lo, \
-         ms_per_step_ci_hi, latency_ms_median, gpu_ms_per_step",
+         ms_per_step_ci_hi, latency_ms_median, gpu_ms_per_step, stage_sum_ms_per_step",
         "ms",
     ),
     ("load_before, load_after", "1 (1-minute load average)"),

@@ -1,12 +1,13 @@
-//! GPU stage timing (`gpu::timing`): with timestamps on, every dispatched stage has a positive
-//! device time, only the stages the scene activates appear, and the device total fits in the
-//! wall clock of the same steps; with them off nothing is reported; and timing never changes
-//! the physics (bit-identical states).
+//! GPU device timing (`gpu::timing`): with stage timing on, every dispatched stage has a positive
+//! device time, only the stages the scene activates appear, and the stage sum fits inside the
+//! batch time, which fits in the wall clock of the same steps; batch timing keeps the fused
+//! engine (the dispatches of an untimed run) and reports no stages; with timing off nothing is
+//! reported; and timing never changes the physics (bit-identical states).
 
 mod common;
 
 use common::{gpu_or_skip, scene, serial};
-use sphlab::backend::Backend;
+use sphlab::backend::{Backend, DeviceTiming};
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
@@ -57,7 +58,7 @@ fn stage_times_are_positive_scene_specific_and_within_wall_clock() {
         let (s, l) = scene(name, sets);
         let spec: VariantSpec = id.parse().unwrap();
         let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
-        assert!(g.enable_timestamps(true), "adapter has TIMESTAMP_QUERY");
+        assert!(g.enable_timestamps(DeviceTiming::Stages), "adapter has TIMESTAMP_QUERY");
         g.step().unwrap();
         g.sync();
         let _ = g.device_time().expect("device time while enabled");
@@ -69,7 +70,10 @@ fn stage_times_are_positive_scene_specific_and_within_wall_clock() {
         g.sync();
         let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         let d = g.device_time().expect("device time while enabled");
-        println!("{name} {id}: device {:.3} ms, wall {wall_ms:.3} ms over {steps} steps", d.total_ms);
+        println!(
+            "{name} {id}: stages {:.3} ms, batches {:.3} ms, wall {wall_ms:.3} ms over {steps} steps",
+            d.stage_sum_ms, d.batch_ms
+        );
         for (stage, ms) in &d.stages {
             println!("  {stage:<20} {ms:>9.4} ms");
         }
@@ -90,13 +94,51 @@ fn stage_times_are_positive_scene_specific_and_within_wall_clock() {
         let colour = Stage::ColourGradient.name();
         assert_eq!(reported.contains(&colour), two_phase, "{name}: {colour} {reported:?}");
         let sum: f64 = d.stages.iter().map(|s| s.1).sum();
-        assert!((sum - d.total_ms).abs() <= 1e-9 * sum.max(1.0));
-        // Device work cannot exceed the wall clock; slack for the two clock domains.
-        assert!(d.total_ms <= wall_ms * 1.05 + 0.5, "{name} {id}: device {} ms > wall {wall_ms} ms", d.total_ms);
+        assert!((sum - d.stage_sum_ms).abs() <= 1e-9 * sum.max(1.0));
+        // The batches bracket every stage pass; device work cannot exceed the wall clock (slack
+        // for the two clock domains).
+        assert!(d.batch_ms >= 0.99 * d.stage_sum_ms, "{name} {id}: batches {} < stages {sum} ms", d.batch_ms);
+        assert!(d.batch_ms <= wall_ms * 1.05 + 0.5, "{name} {id}: device {} ms > wall {wall_ms} ms", d.batch_ms);
         // A second call covers only what ran since the first.
         let again = g.device_time().expect("still enabled");
-        assert!(again.stages.is_empty() && again.steps == 0 && again.total_ms == 0.0);
+        assert!(again.stages.is_empty() && again.steps == 0 && again.stage_sum_ms == 0.0 && again.batch_ms == 0.0);
     }
+}
+
+#[test]
+fn batch_timing_keeps_the_fused_engine_and_fits_the_wall_clock() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    if !has_timestamps(&ctx) {
+        return;
+    }
+    let ctx = Arc::new(ctx);
+    let (s, l) = scene("oscillating-drop", &[]);
+    // Dispatches of 8 steps in one submission, and the device time reported for them.
+    let run = |what: DeviceTiming| {
+        let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+        g.enable_timestamps(what);
+        g.advance(8).unwrap();
+        g.sync();
+        let _ = g.device_time();
+        let c0 = g.engine_counters();
+        let t0 = Instant::now();
+        g.advance(8).unwrap();
+        g.sync();
+        let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let dispatches = g.engine_counters().since(&c0).dispatches;
+        (dispatches, g.device_time(), wall_ms)
+    };
+    let (untimed, none, _) = run(DeviceTiming::Off);
+    let (batch, d, wall_ms) = run(DeviceTiming::Batch);
+    let (unfused, _, _) = run(DeviceTiming::Stages);
+    assert!(none.is_none());
+    assert_eq!(batch, untimed, "batch timing changed the dispatches (the fused engine)");
+    assert!(unfused > batch, "stage timing records every stage its own pass: {unfused} vs {batch} dispatches");
+    let d = d.expect("device time while enabled");
+    assert!(d.stages.is_empty() && d.stage_sum_ms == 0.0, "batch timing times no stage: {:?}", d.stages);
+    assert_eq!(d.steps, 8);
+    assert!(d.batch_ms > 0.0 && d.batch_ms <= wall_ms * 1.05 + 0.5, "batches {} ms, wall {wall_ms} ms", d.batch_ms);
 }
 
 #[test]
@@ -105,9 +147,10 @@ fn timing_off_reports_nothing_and_does_not_change_results() {
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
     let (s, l) = scene("sessile-90", &["contact.mode=a", "domain.nx=33"]);
-    let run = |on: bool| {
+    let run = |what: DeviceTiming| {
         let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
-        let enabled = g.enable_timestamps(on);
+        let enabled = g.enable_timestamps(what);
+        let on = what != DeviceTiming::Off;
         assert_eq!(enabled, on && ctx.has(wgpu::Features::TIMESTAMP_QUERY));
         for _ in 0..12 {
             g.step().unwrap();
@@ -120,13 +163,13 @@ fn timing_off_reports_nothing_and_does_not_change_results() {
         let f = g.frame();
         (f.pos, f.vel, f.acc, f.rho, f.contacts)
     };
-    let off = run(false);
-    let on = run(true);
-    assert!(off == on, "timestamps changed the results");
+    let off = run(DeviceTiming::Off);
+    assert!(off == run(DeviceTiming::Batch), "batch timestamps changed the results");
+    assert!(off == run(DeviceTiming::Stages), "stage timestamps changed the results");
     // Switching off again drops the pool.
     let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
-    g.enable_timestamps(true);
-    assert!(!g.enable_timestamps(false));
+    g.enable_timestamps(DeviceTiming::Stages);
+    assert!(!g.enable_timestamps(DeviceTiming::Off));
     g.step().unwrap();
     assert!(g.device_time().is_none() && !g.timestamps_enabled());
 }
@@ -136,7 +179,7 @@ fn cpu_backend_has_no_device_time() {
     let (s, l) = scene("poiseuille", &[]);
     let mut c =
         sphlab::cpu::CpuSolver::<f64>::new(&s, &l, sphlab::exec::Exec::Serial, sphlab::neighbours::SearchKind::Cells);
-    assert!(!c.enable_device_time(true));
+    assert!(!c.enable_device_time(DeviceTiming::Batch));
     c.step().unwrap();
     assert!(c.device_time().is_none());
 }
@@ -169,6 +212,7 @@ fn study_records_device_time_and_stage_table() {
     let d = gpu.gpu_ms_per_step.expect("device ms");
     let slowest = gpu.ms_per_step_max.expect("timed");
     assert!(d > 0.0 && d <= slowest * 1.05 + 0.5, "device {d} ms, slowest block {slowest} ms");
+    assert!(gpu.stage_sum_ms_per_step.is_some_and(|x| x > 0.0), "the stage-timed block's sum");
     let csv = std::fs::read_to_string(stages).expect("stage_times.csv");
     assert!(csv.starts_with("experiment,variant,n,stage,device_ms_per_step,share"), "{csv}");
     // Each GPU record's stage shares (one record per E4 size) sum to 1.

@@ -137,11 +137,27 @@ pub enum SolverError {
     Gpu(String),
 }
 
+/// What device timing records (GPU timestamp queries).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DeviceTiming {
+    /// Nothing is timed (the default).
+    #[default]
+    Off,
+    /// One timestamp pair around the steps of each submission: the device time of the engine as
+    /// it runs (fused passes), gaps between passes included.
+    Batch,
+    /// The batch pairs, and every stage in a pass of its own with its own pair (the unfused
+    /// debug mode of the stage table): where the time goes, at the cost of more passes.
+    Stages,
+}
+
 /// Device time measured by GPU timestamps since the last [`Backend::device_time`] call.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct DeviceTimes {
-    /// Sum of the stage times (ms).
-    pub total_ms: f64,
+    /// Device time of the submitted steps from one timestamp pair around each batch (ms).
+    pub batch_ms: f64,
+    /// Sum of the stage pass times (ms); 0 unless stage timing ([`DeviceTiming::Stages`]) was on.
+    pub stage_sum_ms: f64,
     /// (stage name, ms) in order of first appearance: `neighbour_search`, …, `midpoint_predict`, ….
     pub stages: Vec<(String, f64)>,
     /// Solver steps taken in the interval.
@@ -251,10 +267,10 @@ pub trait Backend {
     fn take_error(&mut self) -> Option<SolverError> {
         None
     }
-    /// Switches device timing (GPU timestamp queries) on or off; true when it is on. The default
-    /// (CPU, adapters without timestamps) is false: nothing is timed.
-    fn enable_device_time(&mut self, on: bool) -> bool {
-        let _ = on;
+    /// Sets what device timing records (GPU timestamp queries); true when something is timed.
+    /// The default (CPU, adapters without timestamps) is false: nothing is timed.
+    fn enable_device_time(&mut self, what: DeviceTiming) -> bool {
+        let _ = what;
         false
     }
     /// Device time since the last call when device timing is on; `None` otherwise (never an

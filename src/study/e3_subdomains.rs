@@ -18,7 +18,7 @@
 //! `verify::compare_fields` (the one tolerance table).
 
 use super::e23::gpu_err;
-use crate::backend::Backend;
+use crate::backend::{Backend, DeviceTiming};
 use crate::cpu::{boundary_axis, CpuSolver};
 use crate::fields::{Field, Fields};
 use crate::gpu::residency::Part;
@@ -211,7 +211,7 @@ impl SplitSolver {
 
     /// Switches GPU timestamps on; false when the adapter has none.
     pub fn enable_timestamps(&mut self) -> bool {
-        self.gpu.enable_timestamps(true)
+        self.gpu.enable_timestamps(DeviceTiming::Stages)
     }
 
     /// Device ms since the last call (timestamps), `None` without them.
@@ -354,7 +354,7 @@ pub fn time_split(s: &mut SplitSolver, steps: u64) -> Result<SplitTiming, String
 pub fn time_unsplit(g: &mut GpuSolver<f32>, steps: u64) -> Result<SplitTiming, String> {
     g.step().map_err(gpu_err)?;
     g.sync();
-    let timed = g.enable_timestamps(true);
+    let timed = g.enable_timestamps(DeviceTiming::Stages);
     let (mut ms, mut dev) = (Vec::new(), 0.0);
     for _ in 0..steps {
         let t = Instant::now();

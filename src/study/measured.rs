@@ -132,6 +132,7 @@ pub(super) fn fill_timing(r: &mut Record, t: &Timed, evals: f64) {
     r.latency_ms_median = (!t.latency_ms.is_empty()).then(|| median(&t.latency_ms));
     r.timing = if t.device_ms.is_empty() { "wall" } else { "wall+timestamps" }.into();
     r.gpu_ms_per_step = (!t.device_ms.is_empty()).then(|| median(&t.device_ms));
+    r.stage_sum_ms_per_step = t.stage_sum_ms;
     r.particle_evals_per_s = Some(r.n as f64 * evals / (ms * 1e-3));
     r.stage_ms = t.stage_ms.clone();
 }

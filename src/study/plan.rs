@@ -277,7 +277,7 @@ impl Probe {
             } else {
                 0.0
             };
-            let steps = proto.steps_besides_warmup() as f64 * ms * 1e-3;
+            let steps = proto.steps_besides_warmup(matches!(j.id, BackendId::Gpu(_))) as f64 * ms * 1e-3;
             let warm = proto.warmup_s.max(proto.steps as f64 * ms * 1e-3);
             j.est_s = build + layout + steps + warm;
             j.rep_s = proto.steps as f64 * ms * 1e-3;

@@ -75,8 +75,12 @@ pub struct Record {
     pub latency_ms_median: Option<f64>,
     /// `wall`, or `wall+timestamps` when the backend also reported GPU timestamps.
     pub timing: String,
-    /// Median over the blocks of device time per step (ms) from GPU timestamps.
+    /// Median over the blocks of device time per step (ms): one GPU timestamp pair around each
+    /// submission's steps (the engine as it runs, gaps between passes included).
     pub gpu_ms_per_step: Option<f64>,
+    /// Sum of the per-stage device times per step (ms) in the stage-timed block, where every
+    /// stage runs in a pass of its own (the unfused debug mode; `stage_times.csv` has the stages).
+    pub stage_sum_ms_per_step: Option<f64>,
     /// Particle-evaluations per second: N × force evaluations per step ÷ seconds per step.
     pub particle_evals_per_s: Option<f64>,
     /// Neighbour-list entries per particle on the initial layout (the particle itself included).
@@ -109,7 +113,7 @@ pub struct Record {
     pub commit: String,
     /// UTC date.
     pub date: String,
-    /// Mean device ms per step of each stage over the throughput blocks (GPU timestamps;
+    /// Device ms per step of each stage in the stage-timed block (GPU timestamps, unfused;
     /// written to `stage_times.csv`, not to `records.csv`).
     #[serde(skip)]
     pub stage_ms: Vec<(String, f64)>,

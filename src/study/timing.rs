@@ -8,14 +8,18 @@
 //! 3. **Latency**: `latency_samples` single steps, each followed by a device sync (what one step
 //!    costs when the host waits for it).
 //! 4. **Throughput**: `repeats` blocks of `K` steps with one device sync per block; ms/step of a
-//!    block = its wall time ÷ `K`. Device timestamps are taken once per block. The record gives
-//!    the median, min and max over the blocks (with few repeats there are no honest p10/p90).
+//!    block = its wall time ÷ `K`. Where the adapter has timestamps, each submission's steps are
+//!    bracketed by one timestamp pair ([`DeviceTiming::Batch`]: the engine as it runs, fused, gaps
+//!    between passes included), read once per block: the device ms/step of the block.
+//! 5. **Where the time goes** (GPU with timestamps): one more block of `K` steps with every stage
+//!    in a pass of its own ([`DeviceTiming::Stages`], the stage table's unfused debug mode), whose
+//!    per-stage times and their sum are reported beside (never instead of) the fused times.
 //!
 //! The solver's error flags ([`Backend::take_error`]) are read after the snapshot, after the
 //! warm-up and after timing: a run that overflowed, blew up or failed on the device is a
 //! [`Failure`], never a measurement.
 
-use crate::backend::{Backend, Frame, SolverError};
+use crate::backend::{Backend, DeviceTiming, Frame, SolverError};
 use std::time::Instant;
 
 /// The timing protocol.
@@ -38,9 +42,10 @@ impl Default for Protocol {
 }
 
 impl Protocol {
-    /// Steps one timed backend takes besides the warm-up.
-    pub fn steps_besides_warmup(&self) -> u64 {
-        self.steps * (1 + self.repeats as u64) + self.latency_samples as u64
+    /// Steps one timed backend takes besides the warm-up (a GPU backend one block more: the
+    /// stage-timed block).
+    pub fn steps_besides_warmup(&self, gpu: bool) -> u64 {
+        self.steps * (1 + self.repeats as u64 + u64::from(gpu)) + self.latency_samples as u64
     }
 }
 
@@ -80,10 +85,13 @@ pub struct Timed {
     pub block_ms: Vec<f64>,
     /// ms of each synced single step, sorted.
     pub latency_ms: Vec<f64>,
-    /// Device ms per step of each block (GPU timestamps), sorted; empty without them.
+    /// Device ms per step of each block (one GPU timestamp pair per submission), sorted; empty
+    /// without timestamps.
     pub device_ms: Vec<f64>,
-    /// Mean device ms per step of each stage over the throughput blocks.
+    /// Device ms per step of each stage in the stage-timed (unfused) block.
     pub stage_ms: Vec<(String, f64)>,
+    /// Their sum (ms per step); `None` without timestamps.
+    pub stage_sum_ms: Option<f64>,
     /// Steps the warm-up took.
     pub warmup_steps: u64,
 }
@@ -130,7 +138,7 @@ pub fn snapshot(b: &mut dyn Backend, k: u64) -> Result<Frame, Failure> {
 /// The whole protocol on `b` (built and restarted by the caller).
 pub fn time_backend(b: &mut dyn Backend, p: &Protocol) -> Result<Timed, Failure> {
     let snapshot = snapshot(b, p.steps)?;
-    let device = b.enable_device_time(true);
+    let device = b.enable_device_time(DeviceTiming::Batch);
     let t0 = Instant::now();
     let mut warmup_steps = 0;
     while warmup_steps == 0 || t0.elapsed().as_secs_f64() < p.warmup_s {
@@ -144,29 +152,31 @@ pub fn time_backend(b: &mut dyn Backend, p: &Protocol) -> Result<Timed, Failure>
         latency_ms.push(t.elapsed().as_secs_f64() * 1e3);
     }
     let _ = b.device_time();
-    let (mut block_ms, mut device_ms, mut stage_ms) = (Vec::new(), Vec::new(), Vec::<(String, f64)>::new());
-    let blocks = (p.repeats.max(1) as u64 * p.steps) as f64;
+    let (mut block_ms, mut device_ms) = (Vec::new(), Vec::new());
     for _ in 0..p.repeats.max(1) {
         let t = Instant::now();
         advance(b, p.steps).map_err(|e| Failure::of(&e))?;
         b.sync();
         block_ms.push(t.elapsed().as_secs_f64() * 1e3 / p.steps as f64);
         if let Some(d) = device.then(|| b.device_time()).flatten() {
-            device_ms.push(d.total_ms / d.steps.max(1) as f64);
-            for (stage, x) in d.stages {
-                match stage_ms.iter_mut().find(|(s, _)| *s == stage) {
-                    Some(e) => e.1 += x / blocks,
-                    None => stage_ms.push((stage, x / blocks)),
-                }
-            }
+            device_ms.push(d.batch_ms / d.steps.max(1) as f64);
         }
     }
     check(b)?;
-    b.enable_device_time(false);
+    let (mut stage_ms, mut stage_sum_ms) = (Vec::new(), None);
+    if device && b.enable_device_time(DeviceTiming::Stages) {
+        run(b, p.steps)?;
+        if let Some(d) = b.device_time() {
+            let per_step = |ms: f64| ms / d.steps.max(1) as f64;
+            stage_ms = d.stages.iter().map(|(s, ms)| (s.clone(), per_step(*ms))).collect();
+            stage_sum_ms = Some(per_step(d.stage_sum_ms));
+        }
+    }
+    b.enable_device_time(DeviceTiming::Off);
     for v in [&mut block_ms, &mut latency_ms, &mut device_ms] {
         v.sort_by(f64::total_cmp);
     }
-    Ok(Timed { snapshot, block_ms, latency_ms, device_ms, stage_ms, warmup_steps })
+    Ok(Timed { snapshot, block_ms, latency_ms, device_ms, stage_ms, stage_sum_ms, warmup_steps })
 }
 
 /// The median of a sorted, non-empty slice.

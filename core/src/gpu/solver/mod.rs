@@ -24,7 +24,7 @@ use super::timing::Timestamps;
 use super::variant::VariantSpec;
 use super::variant_buffers::{self as vbufs, VBufs};
 use super::{GpuContext, GpuError};
-use crate::backend::{Backend, DeviceTimes, EngineCounters, Frame, SolverError};
+use crate::backend::{Backend, DeviceTimes, DeviceTiming, EngineCounters, Frame, SolverError};
 use crate::fields::Fields;
 use crate::gpu::plan::{DeviceLimits, GpuPlan};
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
@@ -297,7 +297,7 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Records each neighbour pass with its per-particle epilogues in one kernel (`true`, the
-    /// default; unfused while stage timestamps are on) or every stage as its own pass (the debug
+    /// default; unfused while stage timing is on) or every stage as its own pass (the debug
     /// mode; `stage::passes`).
     pub fn set_fused(&mut self, on: bool) {
         self.fused = on;

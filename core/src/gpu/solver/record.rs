@@ -91,10 +91,10 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Records one force evaluation: every active stage in the CPU order (fused: the table's
-    /// passes, each neighbour pass with its epilogues; unfused while stage timestamps are on,
-    /// so that every stage has its own time), then ṽ.
+    /// passes, each neighbour pass with its epilogues; unfused while stage timing is on, so
+    /// that every stage has its own time), then ṽ.
     pub(super) fn record_evaluate(&self, enc: &mut wgpu::CommandEncoder) {
-        let fused = self.fused && !self.ts.is_on();
+        let fused = self.fused && !self.ts.stages_on();
         for (stages, kernels) in &self.passes {
             match kernels {
                 Some(kernels) if fused => self.record_pass(enc, stages, kernels),

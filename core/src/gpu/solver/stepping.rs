@@ -68,8 +68,20 @@ impl<T: Real> GpuSolver<T> {
         let midpoint = self.integrator == Integrator::Midpoint;
         let have_acc = self.have_acc;
         self.submit(|enc| {
+            // The batch's timestamp pair (timing on): an empty pass before the steps, one after.
+            let [open, close] = self.ts.batch().map_or([None, None], |[a, b]| [Some(a), Some(b)]);
+            let bracket = |enc: &mut wgpu::CommandEncoder, w| {
+                let label = Some("sphlab.batch");
+                drop(enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label, timestamp_writes: Some(w) }));
+            };
+            if let Some(w) = open {
+                bracket(enc, w);
+            }
             for s in 0..k {
                 self.record_step(enc, midpoint || (s == 0 && !have_acc));
+            }
+            if let Some(w) = close {
+                bracket(enc, w);
             }
             if read {
                 self.control.record(enc, &self.b, &self.vb);
@@ -173,8 +185,8 @@ impl<T: Real> Backend for GpuSolver<T> {
         }
         self.pending.take()
     }
-    fn enable_device_time(&mut self, on: bool) -> bool {
-        self.enable_timestamps(on)
+    fn enable_device_time(&mut self, what: DeviceTiming) -> bool {
+        self.enable_timestamps(what)
     }
     fn device_time(&mut self) -> Option<DeviceTimes> {
         self.ts.device_times(&self.ctx, self.step)
@@ -182,15 +194,15 @@ impl<T: Real> Backend for GpuSolver<T> {
 }
 
 impl<T: Real> GpuSolver<T> {
-    /// Switches stage timing on or off; returns whether it is on (false when the device lacks
-    /// `TIMESTAMP_QUERY`: then nothing is timed and [`Self::take_stage_times`] returns `None`).
-    /// Switching on (again) starts from empty sums.
-    pub fn enable_timestamps(&mut self, on: bool) -> bool {
-        self.ts = if on { Timestamps::new(&self.ctx, self.step) } else { Timestamps::default() };
+    /// Sets what is timed ([`DeviceTiming`]); returns whether timing is on (false for `Off` or
+    /// when the device lacks `TIMESTAMP_QUERY`: then nothing is timed and
+    /// [`Self::take_stage_times`] returns `None`). Switching on (again) starts from empty sums.
+    pub fn enable_timestamps(&mut self, what: DeviceTiming) -> bool {
+        self.ts = Timestamps::new(&self.ctx, self.step, what);
         self.ts.is_on()
     }
 
-    /// True while stage timing is on.
+    /// True while timing (batch or stage) is on.
     pub fn timestamps_enabled(&self) -> bool {
         self.ts.is_on()
     }
