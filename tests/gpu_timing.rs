@@ -213,6 +213,12 @@ fn study_records_device_time_and_stage_table() {
     let slowest = gpu.ms_per_step_max.expect("timed");
     assert!(d > 0.0 && d <= slowest * 1.05 + 0.5, "device {d} ms, slowest block {slowest} ms");
     assert!(gpu.stage_sum_ms_per_step.is_some_and(|x| x > 0.0), "the stage-timed block's sum");
+    // Every measured GPU record carries its modelled bytes and the run's measured bandwidth.
+    let (bytes, bw) = (gpu.modelled_bytes_per_step.expect("bytes"), gpu.bandwidth_gb_s.expect("bandwidth"));
+    let achieved = bytes / (gpu.ms_per_step_median.expect("timed") * 1e-3) * 1e-9;
+    assert!(bytes > 0.0 && bw > 0.0 && (gpu.achieved_gb_s.expect("achieved") - achieved).abs() <= 1e-9 * achieved);
+    assert!((gpu.roofline_fraction.expect("fraction") - achieved / bw).abs() <= 1e-9 * achieved / bw);
+    assert!(recs.iter().filter(|r| r.backend != "gpu").all(|r| r.modelled_bytes_per_step.is_none()));
     let csv = std::fs::read_to_string(stages).expect("stage_times.csv");
     assert!(csv.starts_with("experiment,variant,n,stage,device_ms_per_step,share"), "{csv}");
     // Each GPU record's stage shares (one record per E4 size) sum to 1.

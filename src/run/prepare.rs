@@ -52,7 +52,8 @@ pub fn make_gpu_backend(
     if let Some(p) = plan {
         let lim = crate::gpu::plan::DeviceLimits::of(&ctx, opts.limits.gpu_memory);
         p.check_gpu(&lim).map_err(RunError::Input)?;
-        let bw = crate::gpu::bandwidth::measure_bandwidth(&ctx).map_err(|e| input(e.to_string()))?;
+        let bw = crate::gpu::bandwidth::measure_bandwidth(&ctx, crate::gpu::bandwidth::QUICK_PROBE_BYTES)
+            .map_err(|e| input(e.to_string()))?;
         let bytes = p.gpu.as_ref().map_or(0, |g| g.total_bytes);
         traffic = Some(EngineTraffic::new(&spec, scene, layout.pos.len(), layout.n_fluid, bytes, bw));
     }

@@ -13,6 +13,7 @@ use super::{Record, Start};
 use crate::backend::Frame;
 use crate::backend_id::BackendId;
 use crate::exec::Exec;
+use crate::gpu::bandwidth::{Bandwidth, EngineTraffic};
 use crate::gpu::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::real::Precision;
@@ -29,6 +30,8 @@ pub(super) struct Common<'a> {
     pub cpu_model: String,
     pub shard: String,
     pub protocol: Protocol,
+    /// The adapter's streaming bandwidth, measured once per run (`gpu::bandwidth`).
+    pub bandwidth: Option<Bandwidth>,
 }
 
 /// What a job's record is judged against.
@@ -91,6 +94,18 @@ impl Common<'_> {
             let lim = crate::gpu::plan::DeviceLimits::of(g, None);
             r.max_n_fits = Some(crate::gpu::plan::max_particles(&spec, cpp, &lim, crate::plan::HARD_MAX_PARTICLES));
         }
+        let traffic = match job.id {
+            BackendId::Gpu(spec) => {
+                let (n, nf, bytes) = (s.layout.pos.len(), s.layout.n_fluid, r.device_bytes.unwrap_or(0));
+                Some(EngineTraffic::new(&spec, &s.scene, n, nf, bytes, self.bandwidth.clone()))
+            }
+            _ => None,
+        };
+        if let Some(t) = &traffic {
+            r.modelled_bytes_per_eval = Some(t.modelled_bytes_per_evaluation);
+            r.modelled_bytes_per_step = Some(t.modelled_bytes_per_evaluation * t.evaluations_per_step);
+            r.bandwidth_gb_s = t.bandwidth.as_ref().map(|b| b.gb_per_s);
+        }
         let t = match res {
             Err(f) => {
                 r.status = f.status.into();
@@ -101,6 +116,10 @@ impl Common<'_> {
         };
         let evals = if s.scene.time.integrator == crate::scene::Integrator::Midpoint { 2.0 } else { 1.0 };
         fill_timing(&mut r, t, evals);
+        if let (Some(tr), Some(ms)) = (&traffic, r.ms_per_step_median) {
+            r.roofline_fraction = tr.fraction(ms * 1e-3);
+            r.achieved_gb_s = r.modelled_bytes_per_step.map(|b| b / (ms * 1e-3) * 1e-9);
+        }
         r.mean_neighbours = Some(s.mean_neighbours);
         r.pair_interactions_per_s = r.particle_evals_per_s.map(|e| e * s.mean_neighbours);
         if let Some(c) = j.f64_ref {

@@ -246,9 +246,21 @@ fn run_sweep(
         plan::Probe::run(opts, gpu, probe_variant(&all)).map_err(Error::Failed)?
     };
     probe.estimate(&mut all, &opts.protocol);
+    // The adapter's streaming bandwidth, once per run, before the budget is shared out.
+    let bandwidth = match gpu {
+        Some(g) if !opts.dry_run && all.iter().any(|j| matches!(j.id, BackendId::Gpu(_))) => {
+            let bytes = crate::gpu::bandwidth::PROBE_BYTES;
+            let b = crate::gpu::bandwidth::measure_bandwidth(g, bytes);
+            b.map_err(|e| Error::Failed(format!("bandwidth probe: {e}")))?
+        }
+        _ => None,
+    };
     let sel = plan::select(&all, opts, t0.elapsed().as_secs_f64());
     let mut text = plan::describe(opts, &sel, &notes, probe.seconds);
     text.push_str(&format!("* {}\n", probe.describe()));
+    if let Some(b) = &bandwidth {
+        text.push_str(&format!("* measured streaming bandwidth {:.2} GB/s ({})\n", b.gb_per_s, b.method));
+    }
     eprintln!("study plan:\n{text}");
     let mut run_notes = RunNotes { plan: text, outcome: Vec::new() };
     if opts.dry_run {
@@ -263,6 +275,7 @@ fn run_sweep(
         cpu_model: crate::provenance::cpu_model(),
         shard: opts.shard.label(),
         protocol,
+        bandwidth,
     };
     let (mut est_done, mut spent_done) = (0.0f64, 0.0f64);
     let mut references = References::default();

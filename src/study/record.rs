@@ -142,11 +142,15 @@ pub struct Record {
     pub max_n_fits: Option<u64>,
     /// engine: `before` (legacy engine) or `after` (current engine) (GPU), `cpu` ([`engine_ab`]).
     pub engine: String,
-    /// engine: modelled bytes one force evaluation moves (`gpu::bandwidth`, a lower bound).
+    /// GPU records: modelled bytes one force evaluation moves (`gpu::bandwidth`, a lower bound).
     pub modelled_bytes_per_eval: Option<f64>,
-    /// engine: the adapter's measured streaming bandwidth (GB/s).
+    /// GPU records: modelled bytes per step (per evaluation × evaluations per step).
+    pub modelled_bytes_per_step: Option<f64>,
+    /// GPU records: the adapter's streaming bandwidth measured once in this run (GB/s).
     pub bandwidth_gb_s: Option<f64>,
-    /// engine: modelled bytes per step ÷ (ms/step × bandwidth).
+    /// GPU records: modelled bytes per step ÷ ms/step (GB/s): the bandwidth the step at least used.
+    pub achieved_gb_s: Option<f64>,
+    /// GPU records: `achieved_gb_s` ÷ `bandwidth_gb_s`, the fraction of the memory roofline.
     pub roofline_fraction: Option<f64>,
     /// engine: queue submissions per step (the engine's counters).
     pub submits_per_step: Option<f64>,

@@ -127,8 +127,12 @@ fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: 
         "Scene: `oscillating-drop` (no relaxation, initial velocity field). **Throughput** (ms/step) = wall time of a \
          block of K = {k} steps (a whole number of tracking-list rebuild periods) with one device sync at its end, ÷ K: \
          median over the blocks with its bootstrap 95 % interval (fixed seed), p10 and p90 (after a warm-up of fixed \
-         wall time). **Latency** = one step followed by a device sync (median). Device ms/step = GPU timestamps of \
-         the stage passes, read once per block{}. Errors: kinetic energy (relative) and centroid (in Δx) after the \
+         wall time). **Latency** = one step followed by a device sync (median). Device ms/step = one GPU timestamp \
+         pair around each submission's steps (the fused engine as it runs, gaps between passes included), median over \
+         the blocks; beside it the sum of the stage passes of one more block with every stage in a pass of its own (the \
+         unfused debug mode{}). **Modelled GB/s** = the bytes a step must move at least (`gpu::bandwidth`'s model, \
+         a lower bound) ÷ ms/step, and its share of the streaming bandwidth this run measured once (copy kernel over \
+         2 × {}, timestamps). Errors: kinetic energy (relative) and centroid (in Δx) after the \
          first K steps, against the CPU f64 one-thread run. **Status**: `ok` (ranked), `inaccurate` (K-step \
          observables or first-evaluation fields beyond `verify`'s tolerances against the CPU run of the same \
          precision), `loaded` (other processes used more than a quarter of the cores), `overflow`, `blown-up`, `failed`, `skipped`; a run \
@@ -136,7 +140,8 @@ fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: 
          row's precision in the same run (named) ÷ the row's ms/step; vs all cores: `cpu.cells` of that precision; \
          vs `{BASELINE}` is kept for continuity, `cpu_ref` saying whether that CPU time was measured at the same N \
          or scaled by N from the largest CPU size.\n",
-        if timed { " (`stage_times.csv`)" } else { "" }
+        if timed { "; per stage in `stage_times.csv`" } else { "" },
+        crate::plan::fmt_bytes(crate::gpu::bandwidth::PROBE_BYTES as f64)
     );
     md
 }
@@ -158,7 +163,7 @@ fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&st
     let ad = if side_by_side { " adapter |" } else { "" };
     let _ = writeln!(
         md,
-        "| variant |{ad} N | status | ms/step median [95 % interval] | p10–p90 | latency ms | particle-evals/s | speedup vs baseline | vs all cores | vs `{BASELINE}` | KE rel. error | centroid error (Δx) | device ms/step | load before/after |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| variant |{ad} N | status | ms/step median [95 % interval] | p10–p90 | latency ms | particle-evals/s | modelled GB/s (% of measured bandwidth) | speedup vs baseline | vs all cores | vs `{BASELINE}` | KE rel. error | centroid error (Δx) | device ms/step (fused / sum of stages, unfused) | load before/after |\n|---|{}---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
         if side_by_side { "---|" } else { "" }
     );
     for r in &rows {
@@ -174,7 +179,7 @@ fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&st
         let f3 = |x: Option<f64>| opt(x, |x| format!("{x:.3}"));
         let _ = writeln!(
             md,
-            "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` |{ad} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.variant,
             r.n,
             status,
@@ -182,12 +187,16 @@ fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&st
             opt(r.ms_per_step_p10, |x| format!("{x:.3}–{}", f3(r.ms_per_step_p90))),
             f3(r.latency_ms_median),
             opt(r.particle_evals_per_s, |x| format!("{x:.3e}")),
+            opt(r.achieved_gb_s, |x| format!(
+                "{x:.3}{}",
+                opt(r.roofline_fraction, |f| format!(" ({:.1} %)", 100.0 * f))
+            )),
             opt(r.speedup_vs_baseline, |x| format!("{x:.2}× (`{}`)", r.baseline)),
             opt(r.speedup_vs_cpu_all, |x| format!("{x:.2}×")),
             sp,
             opt(r.ke_rel_error, |x| format!("{x:.1e}")),
             opt(r.centroid_error_dx, |x| format!("{x:.1e}")),
-            f3(r.gpu_ms_per_step),
+            opt(r.gpu_ms_per_step, |x| format!("{x:.3} / {}", f3(r.stage_sum_ms_per_step))),
             opt(r.load_before, |x| format!("{x:.2}/{}", opt(r.load_after, |y| format!("{y:.2}"))))
         );
     }

@@ -3,11 +3,14 @@
 //! modelled count of the bytes one force evaluation moves ([`modelled_bytes_per_evaluation`]),
 //! whose ratio to the measured time gives the fraction of the memory roofline.
 //!
-//! **Measured bandwidth.** `copy` reads one `vec4<u32>` and writes one per thread over two
-//! buffers of [`PROBE_BYTES`] (capped by the binding limit), dispatched over x and y like the
-//! solver's kernels; one warm-up pass, then [`PROBE_REPEATS`] passes each bracketed by
-//! beginning/end-of-pass timestamps; the best pass gives 2 × bytes / time (read + write). Only
-//! with `TIMESTAMP_QUERY`: otherwise `None` (never estimated from wall time).
+//! **Measured bandwidth.** `copy` reads one `vec4<u32>` and writes one per thread from one
+//! buffer to another of the requested size ([`PROBE_BYTES`] for the study, far above any
+//! last-level cache, so caches cannot inflate it; [`QUICK_PROBE_BYTES`] for a single run's
+//! summary), capped by the adapter's buffer size; the buffers are bound in chunks of at most the
+//! binding limit, one dispatch per chunk (over x and y like the solver's kernels), all in one
+//! pass. One warm-up pass, then [`PROBE_REPEATS`] passes each bracketed by beginning/end-of-pass
+//! timestamps; the best pass gives 2 × bytes / time (read + write). Only with
+//! `TIMESTAMP_QUERY`: otherwise `None` (never estimated from wall time).
 //!
 //! **Modelled bytes per evaluation** (the compulsory traffic, a lower bound): every
 //! per-particle array a kernel touches moves once per kernel (reads + writes, by
@@ -30,7 +33,10 @@ use crate::stage::Stage;
 use serde::Serialize;
 
 /// Bytes of each probe buffer (before the binding cap).
-pub const PROBE_BYTES: u64 = 64 << 20;
+pub const PROBE_BYTES: u64 = 1 << 30;
+/// Bytes of each buffer of the quick probe behind `sphlab run`'s summary (above the last-level
+/// cache of current GPUs, but not by much; its method string says the size).
+pub const QUICK_PROBE_BYTES: u64 = 64 << 20;
 /// Timed passes of the probe (the best counts).
 pub const PROBE_REPEATS: u32 = 4;
 
@@ -59,13 +65,15 @@ pub struct Bandwidth {
     pub method: String,
 }
 
-/// Times the copy kernel on `ctx`; `None` without `TIMESTAMP_QUERY`.
-pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError> {
+/// Times the copy kernel on `ctx` over two buffers of `bytes` each (capped by the adapter's
+/// buffer size); `None` without `TIMESTAMP_QUERY`.
+pub fn measure_bandwidth(ctx: &GpuContext, bytes: u64) -> Result<Option<Bandwidth>, GpuError> {
     if !ctx.has(wgpu::Features::TIMESTAMP_QUERY) {
         return Ok(None);
     }
-    let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
-    let bytes = PROBE_BYTES.min(cap) / 16 * 16;
+    let align = u64::from(ctx.limits.min_storage_buffer_offset_alignment).max(16);
+    let chunk = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size) / align * align;
+    let bytes = bytes.min(ctx.limits.max_buffer_size) / 16 * 16;
     let pipeline = ctx.compute_pipeline("sphlab.bandwidth", COPY_WGSL, "copy")?;
     let buffer = |label| {
         ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -76,7 +84,25 @@ pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError
         })
     };
     let (src, dst) = (buffer("sphlab.bandwidth.src"), buffer("sphlab.bandwidth.dst"));
-    let bg = ctx.bind_group(&pipeline, &[&src, &dst])?;
+    // One bind group and grid per chunk of at most the binding limit.
+    let mut chunks = Vec::new();
+    let mut offset = 0;
+    while offset < bytes {
+        let size = chunk.min(bytes - offset);
+        let part = |buffer| wgpu::BufferBinding { buffer, offset, size: std::num::NonZeroU64::new(size) };
+        let bg = ctx.scoped(|d| {
+            d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sphlab.bandwidth"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::Buffer(part(&src)) },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Buffer(part(&dst)) },
+                ],
+            })
+        })?;
+        chunks.push((bg, spread((size / 16).div_ceil(64) as usize, ctx.limits.max_compute_workgroups_per_dimension)));
+        offset += size;
+    }
     let passes = PROBE_REPEATS + 1;
     let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
         label: Some("sphlab.bandwidth"),
@@ -91,7 +117,6 @@ pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError
         mapped_at_creation: false,
     });
     let staging = super::staging::staging_buffer(ctx, "sphlab.bandwidth.staging", qbytes);
-    let (gx, gy) = spread((bytes / 16).div_ceil(64) as usize, ctx.limits.max_compute_workgroups_per_dimension);
     ctx.scoped(|d| {
         let mut enc = d.create_command_encoder(&Default::default());
         for k in 0..passes {
@@ -105,8 +130,10 @@ pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError
                 timestamp_writes: Some(writes),
             });
             pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bg, &[]);
-            pass.dispatch_workgroups(gx, gy, 1);
+            for (bg, (gx, gy)) in &chunks {
+                pass.set_bind_group(0, bg, &[]);
+                pass.dispatch_workgroups(*gx, *gy, 1);
+            }
         }
         enc.resolve_query_set(&set, 0..2 * passes, &resolve, 0);
         enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, qbytes);
@@ -126,7 +153,11 @@ pub fn measure_bandwidth(ctx: &GpuContext) -> Result<Option<Bandwidth>, GpuError
         gb_per_s: 2.0 * bytes as f64 / best_ns,
         buffer_bytes: bytes,
         best_ns,
-        method: format!("copy kernel over 2 × {bytes} B, best of {PROBE_REPEATS} timestamped passes (read + write)"),
+        method: format!(
+            "copy kernel over 2 × {} (dispatches per pass: {}), best of {PROBE_REPEATS} timestamped passes (read + write)",
+            crate::plan::fmt_bytes(bytes as f64),
+            chunks.len()
+        ),
     }))
 }
 
