@@ -9,7 +9,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::axes::{axis_label, axis_range, drawable, segments, snap_span};
-use super::{msg, svg_area, Area, PlotSpec, Style, LEGEND_WIDTH, PALETTE, PLOT_SIZE};
+use super::{msg, svg_area, Area, Marker, PlotSpec, Style, LEGEND_WIDTH, PALETTE, PLOT_SIZE};
 use crate::output::{OutputError, Result};
 
 /// Draws `spec` on `root` in the coordinates `xc`, `yc` (linear or log).
@@ -71,23 +71,21 @@ where
                     .legend(move |(x, y)| PathElement::new(vec![(x - 12, y), (x + 12, y)], line_style));
             }
             Style::Points => {
+                let mk = s.marker;
                 chart
-                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled())))
+                    .draw_series(pts.into_iter().map(|p| mk.at(p, color, false)))
                     .map_err(msg)?
                     .label(s.label.as_str())
-                    .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+                    .legend(move |p| mk.at(p, color, false));
             }
             Style::LinePoints => {
+                let mk = s.marker;
                 chart
                     .draw_series(segs.into_iter().map(|seg| PathElement::new(seg, line_style)))
                     .map_err(msg)?
                     .label(s.label.as_str())
-                    .legend(move |(x, y)| {
-                        EmptyElement::at((x, y))
-                            + PathElement::new(vec![(-12, 0), (12, 0)], line_style)
-                            + Circle::new((0, 0), 4, color.filled())
-                    });
-                chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled()))).map_err(msg)?;
+                    .legend(move |p| mk.at(p, color, true));
+                chart.draw_series(pts.into_iter().map(|p| mk.at(p, color, false))).map_err(msg)?;
             }
         }
     }
@@ -129,30 +127,31 @@ fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(
     let font = ("sans-serif", 15).into_font();
     let mut y = 80;
     // `dashed` without `dot` draws a dashed line; with `dot`, the marker alone (a point series).
-    let mut row = |label: &str, color: RGBColor, dashed: bool, dot: bool| -> std::result::Result<(), String> {
-        if label.is_empty() {
-            return Ok(());
-        }
-        let style = color.stroke_width(2);
-        match (dashed, dot) {
-            (true, true) => {}
-            (true, false) => {
-                area.draw(&DashedPathElement::new(vec![(10, y), (40, y)], 5, 3, style)).map_err(|e| e.to_string())?
+    let mut row =
+        |label: &str, color: RGBColor, dashed: bool, dot: Option<Marker>| -> std::result::Result<(), String> {
+            if label.is_empty() {
+                return Ok(());
             }
-            _ => area.draw(&PathElement::new(vec![(10, y), (40, y)], style)).map_err(|e| e.to_string())?,
-        }
-        if dot {
-            area.draw(&Circle::new((25, y), 4, color.filled())).map_err(|e| e.to_string())?;
-        }
-        area.draw(&Text::new(label.to_string(), (48, y - 8), font.clone())).map_err(|e| e.to_string())?;
-        y += 24;
-        Ok(())
-    };
+            let style = color.stroke_width(2);
+            match (dashed, dot.is_some()) {
+                (true, true) => {}
+                (true, false) => area
+                    .draw(&DashedPathElement::new(vec![(10, y), (40, y)], 5, 3, style))
+                    .map_err(|e| e.to_string())?,
+                _ => area.draw(&PathElement::new(vec![(10, y), (40, y)], style)).map_err(|e| e.to_string())?,
+            }
+            if let Some(mk) = dot {
+                area.draw(&mk.at((25, y), color, false)).map_err(|e| e.to_string())?;
+            }
+            area.draw(&Text::new(label.to_string(), (48, y - 8), font.clone())).map_err(|e| e.to_string())?;
+            y += 24;
+            Ok(())
+        };
     for (k, s) in spec.series.iter().enumerate() {
-        row(&s.label, s.colour(k), s.style == Style::Points, s.style != Style::Line)?;
+        row(&s.label, s.colour(k), s.style == Style::Points, (s.style != Style::Line).then_some(s.marker))?;
     }
     for (j, r) in spec.refs.iter().enumerate() {
-        row(&r.label, PALETTE[(spec.series.len() + j) % PALETTE.len()], true, false)?;
+        row(&r.label, PALETTE[(spec.series.len() + j) % PALETTE.len()], true, None)?;
     }
     Ok(())
 }

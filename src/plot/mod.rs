@@ -16,7 +16,9 @@
 use std::path::Path;
 
 use plotters::coord::Shift;
+use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
+use plotters_backend::{BackendCoord, DrawingErrorKind};
 
 use crate::output::{ensure_parent, OutputError, Result};
 
@@ -47,6 +49,75 @@ pub(crate) const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
+/// The shape of a series' points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Marker {
+    /// ○ (filled).
+    #[default]
+    Circle,
+    /// △ (filled).
+    Triangle,
+    /// □ (filled).
+    Square,
+    /// ◇ (filled).
+    Diamond,
+    /// ▽ (filled).
+    TriangleDown,
+    /// ×.
+    Cross,
+}
+
+impl Marker {
+    /// The marker centred at `at` (data or pixel coordinates) in `color`; with `line`, on a short
+    /// horizontal line of that colour (a legend entry of a line with points).
+    pub(crate) fn at<C>(self, at: C, color: RGBColor, line: bool) -> Mark<C> {
+        Mark { at, marker: self, color, line }
+    }
+}
+
+/// A drawn [`Marker`]: a plotters element of one point.
+pub(crate) struct Mark<C> {
+    at: C,
+    marker: Marker,
+    color: RGBColor,
+    line: bool,
+}
+
+impl<'a, C> PointCollection<'a, C> for &'a Mark<C> {
+    type Point = &'a C;
+    type IntoIter = std::iter::Once<&'a C>;
+    fn point_iter(self) -> Self::IntoIter {
+        std::iter::once(&self.at)
+    }
+}
+
+impl<C, DB: DrawingBackend> Drawable<DB> for Mark<C> {
+    fn draw<I: Iterator<Item = BackendCoord>>(
+        &self,
+        mut pos: I,
+        b: &mut DB,
+        _: (u32, u32),
+    ) -> std::result::Result<(), DrawingErrorKind<DB::ErrorType>> {
+        let Some((x, y)) = pos.next() else { return Ok(()) };
+        let (fill, stroke) = (self.color.filled(), self.color.stroke_width(2));
+        if self.line {
+            b.draw_line((x - 12, y), (x + 12, y), &stroke)?;
+        }
+        let poly = |v: [(i32, i32); 4]| v.map(|(dx, dy)| (x + dx, y + dy));
+        match self.marker {
+            Marker::Circle => b.draw_circle((x, y), 4, &fill, true),
+            Marker::Triangle => b.fill_polygon(poly([(0, -6), (5, 4), (-5, 4), (0, -6)]), &fill),
+            Marker::Square => b.draw_rect((x - 4, y - 4), (x + 4, y + 4), &fill, true),
+            Marker::Diamond => b.fill_polygon(poly([(0, -6), (5, 0), (0, 6), (-5, 0)]), &fill),
+            Marker::TriangleDown => b.fill_polygon(poly([(0, 6), (5, -4), (-5, -4), (0, 6)]), &fill),
+            Marker::Cross => {
+                b.draw_line((x - 4, y - 4), (x + 4, y + 4), &stroke)?;
+                b.draw_line((x - 4, y + 4), (x + 4, y - 4), &stroke)
+            }
+        }
+    }
+}
+
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Style {
@@ -71,12 +142,19 @@ pub struct Series {
     /// Its colour `(r, g, b)`, e.g. one per variant id across plots; `None`: the palette's
     /// colour of its position.
     pub colour: Option<(u8, u8, u8)>,
+    /// The shape of its points (styles with points).
+    pub marker: Marker,
 }
 
 impl Series {
     /// A series with the given style.
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
-        Series { label: label.into(), points, style, colour: None }
+        Series { label: label.into(), points, style, colour: None, marker: Marker::Circle }
+    }
+    /// The series' points drawn as `marker`.
+    pub fn with_marker(mut self, marker: Marker) -> Self {
+        self.marker = marker;
+        self
     }
     /// The series in a given colour.
     pub fn with_colour(mut self, rgb: (u8, u8, u8)) -> Self {

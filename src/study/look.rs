@@ -1,10 +1,13 @@
-//! How the study's plots look alike: one colour per variant id across every plot (the CPU
-//! baselines in greys, each GPU variant a hue from its place in `VariantSpec::all`, a golden
-//! angle from its neighbour's), and the note every plot carries: the adapter, and
-//! "CPU emulation: ratios only" when the GPU adapter is a CPU.
+//! How the study's plots look alike: one colour and one marker per variant id across every plot
+//! (the CPU baselines in greys with ×, each GPU variant a hue from its place in
+//! `VariantSpec::all`, a golden angle from its neighbour's, and a marker per thread mapping:
+//! thread ○, block-atomic △, block-tree □, subgroup ◇), the thesis's ○ ∆ □ in Fig. 6.9, and the
+//! note every plot carries: the adapter, and "CPU emulation: ratios only" when the GPU adapter is
+//! a CPU.
 
 use super::Record;
 use crate::gpu::variant::VariantSpec;
+use crate::plot::{Marker, Series};
 
 /// A saturated colour of hue `h` (turns) and lightness `l` (HSL, saturation 0.7).
 fn hsl(h: f64, l: f64) -> (u8, u8, u8) {
@@ -47,6 +50,35 @@ pub fn colour_of(id: &str) -> (u8, u8, u8) {
     }
 }
 
+/// The marker of a backend id, the same in every plot: × for the CPU, else by thread mapping.
+pub fn marker_of(id: &str) -> Marker {
+    if id.starts_with("cpu") {
+        return Marker::Cross;
+    }
+    match id.split('.').nth(1) {
+        Some("thread") => Marker::Circle,
+        Some("block-atomic") => Marker::Triangle,
+        Some("block-tree") => Marker::Square,
+        Some("subgroup") => Marker::Diamond,
+        _ => Marker::TriangleDown,
+    }
+}
+
+/// `s` in the colour and marker of backend id `id`.
+pub fn styled(s: Series, id: &str) -> Series {
+    s.with_colour(colour_of(id)).with_marker(marker_of(id))
+}
+
+/// The thesis's marker of a label starting with ○, ∆ or □ (its E3 configurations); circles
+/// otherwise.
+pub fn thesis_marker(label: &str) -> Marker {
+    match label.chars().next() {
+        Some('∆') => Marker::Triangle,
+        Some('□') => Marker::Square,
+        _ => Marker::Circle,
+    }
+}
+
 /// The plots' note: the GPU adapter(s) of `recs` (or "CPU only"), and "CPU emulation: ratios
 /// only" when one is a CPU.
 pub fn adapter_note(recs: &[Record]) -> String {
@@ -78,6 +110,24 @@ mod tests {
         c.dedup();
         assert_eq!(c.len(), n, "a colour repeats");
         assert_eq!(hsl(0.0, 0.5), (217, 38, 38));
+    }
+
+    #[test]
+    fn markers_follow_the_mapping_and_the_thesis() {
+        assert_eq!(marker_of("cpu1.tracking.f32"), Marker::Cross);
+        assert_eq!(marker_of("cells.thread.recomputed.f32"), Marker::Circle);
+        assert_eq!(marker_of("tracking.block-atomic.cas.cached.f32"), Marker::Triangle);
+        assert_eq!(marker_of("cells.block-tree.fixed.recomputed.f64"), Marker::Square);
+        assert_eq!(marker_of("direct.subgroup.recomputed.f32"), Marker::Diamond);
+        assert_eq!(thesis_marker("∆ no atomics"), Marker::Triangle);
+        assert_eq!(thesis_marker("□ tree"), Marker::Square);
+        assert_eq!(thesis_marker("○ cached"), Marker::Circle);
+        // Colour and marker together name an id: no two ids share both.
+        let ids: Vec<String> = VariantSpec::all().iter().map(|s| s.to_string()).collect();
+        let mut looks: Vec<_> = ids.iter().map(|i| (colour_of(i), marker_of(i) as u8)).collect();
+        looks.sort();
+        looks.dedup();
+        assert_eq!(looks.len(), ids.len());
     }
 
     #[test]

@@ -36,6 +36,7 @@ pub mod e3_subdomains;
 pub mod engine_ab;
 pub mod look;
 mod measured;
+mod overview_plots;
 pub mod plan;
 pub mod preset;
 pub mod record;
@@ -222,6 +223,22 @@ fn probe_variant(jobs: &[Job]) -> Option<VariantSpec> {
         .copied()
 }
 
+/// The adapter's streaming bandwidth, measured once per run (when GPU jobs will run), before the
+/// budget is shared out.
+fn run_bandwidth(
+    opts: &StudyOptions,
+    gpu: Option<&Arc<GpuContext>>,
+    jobs: &[Job],
+) -> Result<Option<crate::gpu::bandwidth::Bandwidth>, Error> {
+    match gpu {
+        Some(g) if !opts.dry_run && jobs.iter().any(|j| matches!(j.id, BackendId::Gpu(_))) => {
+            let b = crate::gpu::bandwidth::measure_bandwidth(g, crate::gpu::bandwidth::PROBE_BYTES);
+            b.map_err(|e| Error::Failed(format!("bandwidth probe: {e}")))
+        }
+        _ => Ok(None),
+    }
+}
+
 /// Runs the sweep experiments of `opts` (the plan first); appends records.
 fn run_sweep(
     opts: &StudyOptions,
@@ -246,15 +263,7 @@ fn run_sweep(
         plan::Probe::run(opts, gpu, probe_variant(&all)).map_err(Error::Failed)?
     };
     probe.estimate(&mut all, &opts.protocol);
-    // The adapter's streaming bandwidth, once per run, before the budget is shared out.
-    let bandwidth = match gpu {
-        Some(g) if !opts.dry_run && all.iter().any(|j| matches!(j.id, BackendId::Gpu(_))) => {
-            let bytes = crate::gpu::bandwidth::PROBE_BYTES;
-            let b = crate::gpu::bandwidth::measure_bandwidth(g, bytes);
-            b.map_err(|e| Error::Failed(format!("bandwidth probe: {e}")))?
-        }
-        _ => None,
-    };
+    let bandwidth = run_bandwidth(opts, gpu, &all)?;
     let sel = plan::select(&all, opts, t0.elapsed().as_secs_f64());
     let mut text = plan::describe(opts, &sel, &notes, probe.seconds);
     text.push_str(&format!("* {}\n", probe.describe()));

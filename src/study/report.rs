@@ -76,6 +76,7 @@ pub fn write(dir: &Path, recs: &mut [Record], adapter: Option<String>, notes: &R
     }
     super::engine_ab::summary(&mut md, recs);
     scaling_plots(dir, recs, side_by_side, &mut md)?;
+    super::overview_plots::write(dir, recs, &mut md)?;
     speed_vs_error(dir, recs, &mut md)?;
     super::thesis_figs::write(dir, recs, &mut md)?;
     if !timed {
@@ -256,8 +257,8 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
             .into_iter()
             .map(|(k, mut v)| {
                 v.sort_by(|a, b| a.0.total_cmp(&b.0));
-                let colour = look::colour_of(ids.get(&k).map_or(k.as_str(), |s| s.as_str()));
-                Series::line_points(k, v).with_colour(colour)
+                let id = ids.get(&k).cloned().unwrap_or_else(|| k.clone());
+                look::styled(Series::line_points(k, v), &id)
             })
             .collect();
         let name = format!("scaling_{s}_{m}.svg");
@@ -291,7 +292,7 @@ fn speed_vs_error(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), St
     for (x, y, id) in pts {
         by_id.entry(id).or_default().push((x, y));
     }
-    spec.series = by_id.into_iter().map(|(id, v)| Series::points(id, v).with_colour(look::colour_of(id))).collect();
+    spec.series = by_id.into_iter().map(|(id, v)| look::styled(Series::points(id, v), id)).collect();
     let p = dir.join("speed_vs_error.svg");
     line_plot_svg(&p, &spec).map_err(|x| e(&p, x))?;
     let _ = writeln!(
@@ -310,7 +311,34 @@ pub fn read_records(dir: &Path) -> Result<Vec<Record>, String> {
         p = dir.join(JOURNAL);
     }
     let mut r = csv::Reader::from_path(&p).map_err(|x| e(&p, x))?;
-    r.deserialize().map(|x| x.map_err(|err| e(&p, err))).collect()
+    let mut recs: Vec<Record> = r.deserialize().map(|x| x.map_err(|err| e(&p, err))).collect::<Result<_, _>>()?;
+    read_stage_csv(&dir.join("stage_times.csv"), &mut recs)?;
+    Ok(recs)
+}
+
+/// Gives back each record its per-stage times from `stage_times.csv` (written beside
+/// `records.csv`), matched by experiment, variant and N; nothing when the file is missing.
+fn read_stage_csv(p: &Path, recs: &mut [Record]) -> Result<(), String> {
+    if !p.exists() {
+        return Ok(());
+    }
+    let mut r = csv::Reader::from_path(p).map_err(|x| e(p, x))?;
+    for row in r.records() {
+        let row = row.map_err(|x| e(p, x))?;
+        let (Some(exp), Some(variant), Some(n), Some(stage), Some(ms)) =
+            (row.get(0), row.get(1), row.get(2), row.get(3), row.get(4))
+        else {
+            return Err(format!("{}: a row without its five columns", p.display()));
+        };
+        let (n, ms): (usize, f64) = match (n.parse(), ms.parse()) {
+            (Ok(n), Ok(ms)) => (n, ms),
+            _ => return Err(format!("{}: `{n}`, `{ms}` are not N and ms", p.display())),
+        };
+        if let Some(rec) = recs.iter_mut().find(|q| q.experiment == exp && q.variant == variant && q.n == n) {
+            rec.stage_ms.push((stage.to_string(), ms));
+        }
+    }
+    Ok(())
 }
 
 /// `sphlab report DIR... --out DIR`: the records of every input directory in one report.

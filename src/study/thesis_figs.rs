@@ -172,12 +172,14 @@ fn lines(
     for (k, (label, p)) in series.iter().enumerate() {
         let c = PALETTE[k % PALETTE.len()];
         let p: Vec<(f64, f64)> = p.iter().copied().filter(|q| q.0.is_finite() && q.1.is_finite()).collect();
+        // The thesis's ○ ∆ □ where a label starts with one (Fig. 6.9), else circles.
+        let mk = super::look::thesis_marker(label);
         chart
             .draw_series(LineSeries::new(p.clone(), c.stroke_width(2)))
             .map_err(m)?
             .label(label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
-        chart.draw_series(p.iter().map(|q| Circle::new(*q, 4, c.filled()))).map_err(m)?;
+            .legend(move |(x, y)| mk.at((x + 9, y), c, true));
+        chart.draw_series(p.iter().map(|q| mk.at(*q, c, false))).map_err(m)?;
     }
     for (label, k, v) in hrefs.iter().filter(|h| h.2.is_finite()) {
         let c = PALETTE[k % PALETTE.len()];
