@@ -14,6 +14,12 @@ fn grad_w_ij(dwdr: real, x_ij: real2, r: real) -> real2 {
     return real2(real(0.0), real(0.0));
 }
 
+// 1/σ² of a particle's number density, the factor every pair term of (T68), (T70), (T71), (T76)
+// takes from each side (once per particle: stored next to σ).
+fn inv_sigma2(sigma: real) -> real {
+    return real(1.0) / (sigma * sigma);
+}
+
 // Pressure term of (T68): −(p_i/σ_i² + p_j/σ_j²) ∇_iW_ij. Sum over j, then × 1/m_i.
 fn pressure_acc_ij(p_i: real, inv_s2_i: real, p_j: real, inv_s2_j: real, grad_w: real2) -> real2 {
     return -(grad_w * (p_i * inv_s2_i + p_j * inv_s2_j));

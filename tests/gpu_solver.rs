@@ -319,7 +319,8 @@ fn adaptive_dt_on_the_device_matches_cpu() {
 
 /// A blow-up found on the device inside a batch is reported with the same step and particle
 /// as single checked steps, and the device halts there: the state read back is the failing
-/// step's, bit for bit.
+/// step's, bit for bit. The unfused engine (the check and the clock tick as their own kernels
+/// after the closing stage, not fused into it) halts at the same step, particle and state.
 #[test]
 fn a_blow_up_inside_a_batch_reports_and_keeps_the_failing_step() {
     let _g = serial();
@@ -344,7 +345,15 @@ fn a_blow_up_inside_a_batch_reports_and_keeps_the_failing_step() {
     assert_eq!((a.steps(), b.steps()), (*sa, *sb), "the solvers stop at the failing step");
     assert!((ta - tb).abs() <= 1e-6 * tb.abs(), "t {ta} vs {tb}");
     let (fa, fb) = (a.frame(), b.frame());
-    assert!((fa.pos, fa.vel) == (fb.pos, fb.vel), "the halted state is the failing step's");
+    assert!((&fa.pos, &fa.vel) == (&fb.pos, &fb.vel), "the halted state is the failing step's");
+    let mut c = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+    c.set_fused(false);
+    let ec = c.advance(200).expect_err("unfused: the same blow-up");
+    let SolverError::BlowUp { step: sc, particle: pc, .. } = &ec else { panic!("expected a blow-up: {ec}") };
+    assert_eq!((sc, pc), (sa, pa), "unfused: same failing step and particle");
+    assert_eq!(c.steps(), *sa, "unfused: stops at the failing step");
+    let fc = c.frame();
+    assert!((fc.pos, fc.vel) == (fa.pos, fa.vel), "unfused: the same halted state");
 }
 
 /// The study's `engine` experiment at a small N writes, in one run, the CPU single-thread rows,

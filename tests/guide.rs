@@ -173,7 +173,7 @@ impl<T: Real> Device<T> {
     /// NaN in the stage's outputs.
     fn load(&self, ctx: &GpuContext, f: &Fields<T>, stage: Stage) {
         let b = &self.b;
-        b.sigma.upload(ctx, &f.sigma).unwrap();
+        b.sigma.upload(ctx, &solver_buffers::sigma_pairs(&f.sigma)).unwrap();
         b.chi.upload(ctx, &f.chi).unwrap();
         b.mass.upload(ctx, &f.mass).unwrap();
         b.colour.upload(ctx, &f.colour).unwrap();
@@ -186,7 +186,7 @@ impl<T: Real> Device<T> {
         let (nan, nan2) = (T::nan(), V2::new(T::nan(), T::nan()));
         for field in stage.pure_outputs() {
             match field {
-                Field::Sigma => b.sigma.fill(ctx, nan).unwrap(),
+                Field::Sigma => b.sigma.fill(ctx, nan2).unwrap(),
                 Field::Chi => b.chi.fill(ctx, nan).unwrap(),
                 Field::Grad => {
                     b.grad0.fill(ctx, nan2).unwrap();
@@ -203,7 +203,7 @@ impl<T: Real> Device<T> {
         let mut g = f.clone();
         for field in stage.outputs() {
             match field {
-                Field::Sigma => g.sigma = self.b.sigma.read_back(ctx).unwrap(),
+                Field::Sigma => g.sigma = solver_buffers::sigma_of(self.b.sigma.read_back(ctx).unwrap()),
                 Field::Chi => g.chi = self.b.chi.read_back(ctx).unwrap(),
                 Field::Grad => {
                     let (a, c) = (self.b.grad0.read_back(ctx).unwrap(), self.b.grad1.read_back(ctx).unwrap());

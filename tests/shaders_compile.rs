@@ -182,6 +182,7 @@ fn wgsl_constants_equal_rust_values() {
         ("CTL_CONTACTS_MAX", ctl::CONTACTS_MAX as i64),
         ("CTL_STEP", ctl::STEP as i64),
         ("CTL_OVER_STEP", ctl::OVER_STEP as i64),
+        ("CTL_DONE", ctl::DONE as i64),
         ("NBR_SLOTS", NBR_SLOTS as i64),
         ("CAND_SLOTS", CAND_SLOTS as i64),
         ("PACK_SHIFT", IMAGE_SHIFT as i64),
@@ -207,7 +208,11 @@ fn wgsl_constants_equal_rust_values() {
     for name in w.keys().filter(|n| n.starts_with("STAGE_") || n.starts_with("CTL_") || n.starts_with("V_")) {
         assert!(rust.iter().any(|(r, _)| r == name), "WGSL `{name}` has no Rust twin in this test");
     }
-    assert!((ctl::CONTACTS_MAX as i64) < ctl::LEN as i64 && (vctl::NBR_EVAL as i64) < vctl::LEN as i64);
+    assert!(
+        (ctl::DONE as i64) < ctl::LEN as i64
+            && (ctl::CONTACTS_MAX as i64) < ctl::LEN as i64
+            && (vctl::NBR_EVAL as i64) < vctl::LEN as i64
+    );
     // The direct search's candidates per loop iteration: the WGSL chunk and the plan's bound.
     let nb = wgsl_constants("#import common/neighbours\n");
     assert_eq!(

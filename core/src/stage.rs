@@ -99,11 +99,12 @@ pub struct StageDef {
     pub writes: &'static [Write],
     /// Control words reset before it runs.
     pub clears: &'static [Clear],
-    /// The neighbour pass this per-particle stage may run at the end of, in the thread that has
-    /// just written the particle's output, when it follows that pass in the evaluation (every
+    /// The passes (by their first stage) this per-particle stage may run at the end of, in the
+    /// thread that has just written the particle's output, when it follows that pass (every
     /// stage in between fused too): it reads only the particle's own fields, so the fused pass
-    /// computes what the two passes compute ([`ActiveStages::evaluation_passes`]).
-    pub epilogue_of: Option<Stage>,
+    /// computes what the two passes compute ([`ActiveStages::evaluation_passes`],
+    /// [`Stage::closing_passes`]).
+    pub epilogue_of: &'static [Stage],
 }
 
 use Field as F;
@@ -116,12 +117,12 @@ const fn def(
     writes: &'static [Write],
     clears: &'static [Clear],
 ) -> StageDef {
-    StageDef { stage, name, reads, writes, clears, epilogue_of: None }
+    StageDef { stage, name, reads, writes, clears, epilogue_of: &[] }
 }
 
-/// `d` as an epilogue of the neighbour pass `head`.
-const fn epilogue(d: StageDef, head: Stage) -> StageDef {
-    StageDef { epilogue_of: Some(head), ..d }
+/// `d` as an epilogue of the passes that start with one of `heads`.
+const fn epilogue(d: StageDef, heads: &'static [Stage]) -> StageDef {
+    StageDef { epilogue_of: heads, ..d }
 }
 
 /// The table, in [`Stage`] order.
@@ -138,17 +139,17 @@ pub static TABLE: [StageDef; 17] = [
             &[All(F::Rho), All(F::P)],
             &[],
         ),
-        Stage::NumberDensity,
+        &[Stage::NumberDensity],
     ),
     def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]),
     def(Stage::ColourGradient, "colour_gradient", &[F::Sigma, F::Colour], &[All(F::Grad)], &[]),
     epilogue(
         def(Stage::NormalCorrection, "normal_correction", &[F::Grad, F::Colour, F::Contacts], &[Part(F::Grad)], &[]),
-        Stage::ColourGradient,
+        &[Stage::ColourGradient],
     ),
     epilogue(
         def(Stage::SurfaceStress, "surface_stress", &[F::Grad, F::Colour], &[All(F::Pi)], &[]),
-        Stage::ColourGradient,
+        &[Stage::ColourGradient],
     ),
     def(Stage::Acceleration, "acceleration", &[F::Sigma, F::Chi, F::Mass, F::P, F::Pi], &[Fluid(F::Acc)], &[]),
     def(Stage::Xsph, "xsph", &[F::Mass, F::Rho], &[Fluid(F::Vt)], &[]),
@@ -156,7 +157,9 @@ pub static TABLE: [StageDef; 17] = [
     def(Stage::MidpointCorrect, "midpoint_correct", &[F::Acc, F::Vt], &[], &[]),
     def(Stage::VerletDrift, "verlet_drift", &[F::Acc, F::Vt], &[], &[]),
     def(Stage::VerletKick, "verlet_kick", &[F::Acc], &[Part(F::Vt)], &[]),
-    def(Stage::Check, "check", &[F::Acc], &[], &[]),
+    // The blow-up check of each particle right after its closing integration (the step number
+    // it records is the one being completed; the clock ticks once every particle is done).
+    epilogue(def(Stage::Check, "check", &[F::Acc], &[], &[]), &[Stage::MidpointCorrect, Stage::VerletKick]),
     def(Stage::ReduceMax, "reduce_max", &[F::Acc], &[], &[Clear::Maxima]),
 ];
 
@@ -225,6 +228,12 @@ impl Stage {
         }
     }
 
+    /// The end of a step of `integrator` as passes: its closing stage, then `check` (one pass:
+    /// the check is an epilogue of the closing stage).
+    pub fn closing_passes(integrator: Integrator) -> Vec<Vec<Stage>> {
+        passes(&[Stage::step_pair(integrator).1, Stage::Check])
+    }
+
     /// Fields written to every element (poisoned before a lone GPU run).
     pub fn pure_outputs(self) -> impl Iterator<Item = Field> {
         self.def().writes.iter().filter(|w| w.is_pure()).map(|w| w.field())
@@ -254,7 +263,7 @@ impl ActiveStages {
     }
 
     /// The evaluation as passes: each stage starts a pass unless it is an epilogue of the pass
-    /// being built (its [`StageDef::epilogue_of`] is that pass's first stage), then it joins it.
+    /// being built (its [`StageDef::epilogue_of`] names that pass's first stage), then it joins it.
     pub fn evaluation_passes(&self) -> Vec<Vec<Stage>> {
         passes(&self.evaluation())
     }
@@ -265,7 +274,7 @@ pub fn passes(stages: &[Stage]) -> Vec<Vec<Stage>> {
     let mut out: Vec<Vec<Stage>> = Vec::new();
     for &s in stages {
         match out.last_mut() {
-            Some(pass) if s.def().epilogue_of == Some(pass[0]) => pass.push(s),
+            Some(pass) if s.def().epilogue_of.contains(&pass[0]) => pass.push(s),
             _ => out.push(vec![s]),
         }
     }
@@ -310,5 +319,9 @@ mod tests {
             [NumberDensity, ContactLine, WallTyping, EquationOfState, ColourGradient, NormalCorrection, SurfaceStress];
         assert_eq!(passes(&mode_b).len(), 5);
         assert_eq!(passes(&mode_b)[4], vec![ColourGradient, NormalCorrection, SurfaceStress]);
+        // The check ends the closing integrator stage, never the opening one.
+        assert_eq!(Stage::closing_passes(Integrator::Midpoint), vec![vec![MidpointCorrect, Check]]);
+        assert_eq!(Stage::closing_passes(Integrator::Verlet), vec![vec![VerletKick, Check]]);
+        assert_eq!(passes(&[MidpointPredict, Check]).len(), 2);
     }
 }

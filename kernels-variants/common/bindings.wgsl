@@ -15,7 +15,7 @@
 @group(0) @binding(3) var<storage, read_write> phase: array<u32>;
 @group(0) @binding(4) var<storage, read_write> pos0: array<real2>;    // r⁰ of the midpoint step
 @group(0) @binding(5) var<storage, read_write> vel0: array<real2>;    // v⁰ (midpoint), v_{n+½} (Verlet)
-@group(0) @binding(6) var<storage, read_write> sigma: array<real>;
+@group(0) @binding(6) var<storage, read_write> sigma: array<real2>;  // (σ, 1/σ²)
 @group(0) @binding(7) var<storage, read_write> chi: array<real>;
 @group(0) @binding(8) var<storage, read_write> mass: array<real>;
 @group(0) @binding(9) var<storage, read_write> colour: array<i32>;
@@ -43,6 +43,7 @@ const CTL_AMAX: u32 = 5u;           // f32 bits of max |a| (fluids)
 const CTL_CONTACTS_MAX: u32 = 6u;   // largest contact count seen since the last read
 const CTL_STEP: u32 = 7u;           // device clock: steps completed (src/gpu/clock.rs)
 const CTL_OVER_STEP: u32 = 8u;      // first step whose evaluations overflowed (0xFFFFFFFF: none)
+const CTL_DONE: u32 = 9u;           // workgroups done in the fused closing stage (thread/integrate.wgsl)
 
 // Colour-gradient slot s (0 or 1) of particle i: one binding per slot, so neither passes the
 // storage-binding cap before the per-particle vec2 arrays do (src/plan/gpu.rs).

@@ -19,7 +19,7 @@ fn equation_of_state_at(i: u32) {
     } else if colour[i] == 0 || colour[i] == 1 {
         ph = u32(colour[i]);
     }
-    let r = mass[i] * sigma[i];
+    let r = mass[i] * sigma[i].x;
     rho[i] = r;
     pres[i] = eos_pressure(r, params.rho0[ph], params.stiffness[ph], params.gamma[ph], params.p_b[ph]);
 }

@@ -99,7 +99,8 @@ fn density_pair(i: u32, kp: KernelParams, p: Pair) -> real2 {
 }
 
 fn density_out(i: u32, s: real2) {
-    sigma[i] = s.x;
+    // 1/σ² once per particle, next to σ (every pair term reads it from both sides).
+    sigma[i] = real2(s.x, inv_sigma2(s.x));
     chi[i] = select(real(0.0), s.y / s.x, params_has(params, STAGE_HOLMES));
 #ifdef FUSE_EQUATION_OF_STATE
     equation_of_state_at(i);
@@ -122,7 +123,7 @@ fn grad_pair(k: i32, kp: KernelParams, p: Pair) -> Grad2 {
         return g;
     }
     let gw = grad_w_ij(pair_dwdr(kp, p), p.x_ij, p.r);
-    let t = colour_gradient_ij(real(1.0) / (sigma[p.j] * sigma[p.j]), gw);
+    let t = colour_gradient_ij(sigma[p.j].y, gw);
     let first = (l < k && l == 0) || (l > k && l == 1);
     if first {
         g.g0 = t;
@@ -133,8 +134,8 @@ fn grad_pair(k: i32, kp: KernelParams, p: Pair) -> Grad2 {
 }
 
 fn grad_out(i: u32, g: Grad2) {
-    grad0[i] = g.g0 * sigma[i];
-    grad1[i] = g.g1 * sigma[i];
+    grad0[i] = g.g0 * sigma[i].x;
+    grad1[i] = g.g1 * sigma[i].x;
 #ifdef FUSE_NORMAL_CORRECTION
     normal_correction_at(i);
 #endif
@@ -160,7 +161,7 @@ fn acc_ctx(i: u32) -> AccI {
     c.xi = pos[i];
     c.vi = vel[i];
     c.p_i = pres[i];
-    c.inv_s2_i = real(1.0) / (sigma[i] * sigma[i]);
+    c.inv_s2_i = sigma[i].y;
     c.eta_i = params.eta[phase[i]];
     c.pi_i = Sym2(pi[i].x, pi[i].y);
     c.wall = nearest_wall(params, c.xi);
@@ -180,7 +181,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
     let j = p.j;
     let dwdr = pair_dwdr(kp, p);
     let gw = grad_w_ij(dwdr, p.x_ij, p.r);
-    let inv_s2_j = real(1.0) / (sigma[j] * sigma[j]);
+    let inv_s2_j = sigma[j].y;
     var sum = pressure_acc_ij(c.p_i, c.inv_s2_i, pres[j], inv_s2_j, gw);
     if params_has(params, STAGE_VISCOSITY) {
         let fac = viscous_fac_ij(dwdr, p.r, kp.h);

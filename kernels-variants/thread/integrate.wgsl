@@ -9,7 +9,7 @@
 // (a compensated sum t + t_lo) are `vparams[VP_DT]`, `vparams[VP_T]`, `vparams[VP_T_LO]`, so many
 // steps run in one submission with no host write in between. `dt_compute` (one thread, after
 // `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
-// step. Once a step has failed (NaN, escape, neighbour or fixed-point overflow) the device is
+// step, or, with the check fused into the closing stage, the last workgroup of that stage does. Once a step has failed (NaN, escape, neighbour or fixed-point overflow) the device is
 // halted: the integrators and the clock stop, so positions, velocities, step and t stay those of
 // the failing step until the host reads the flags.
 
@@ -52,14 +52,19 @@ fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     store_fixed(i, s.r, s.v);
 }
 
+// The closing stages (`midpoint_correct`, `verlet_kick`) have no early return: with
+// `FUSE_CHECK` (the stage table's `check` as their epilogue, core/src/stage.rs) every thread
+// checks its particle right after integrating it and the last workgroup to finish ticks the
+// clock (`end_step`), which needs the whole workgroup at its barrier.
 @compute @workgroup_size(64)
-fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid || halted() {
-        return;
+    if i < params.n_fluid && !closing_halted() {
+        let s = integrate_correct(pos0[i], vel0[i], vt[i], acc[i], clock_dt());
+        store_fixed(i, s.r, s.v);
+        closing_check(i);
     }
-    let s = integrate_correct(pos0[i], vel0[i], vt[i], acc[i], clock_dt());
-    store_fixed(i, s.r, s.v);
+    closing_end(t, nwg);
 }
 
 @compute @workgroup_size(64)
@@ -84,16 +89,17 @@ fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
 }
 
 @compute @workgroup_size(64)
-fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid || halted() {
-        return;
+    if i < params.n_fluid && !closing_halted() {
+        // The transport velocity follows the kick (ṽ − v keeps the evaluation's XSPH correction
+        // for the next drift), as in the CPU reference's Verlet.
+        let vn = integrate_kick(vel0[i], acc[i], clock_dt());
+        vt[i] = vt[i] + (vn - vel[i]);
+        store_fixed(i, pos[i], vn);
+        closing_check(i);
     }
-    // The transport velocity follows the kick (ṽ − v keeps the evaluation's XSPH correction for
-    // the next drift), as in the CPU reference's Verlet.
-    let vn = integrate_kick(vel0[i], acc[i], clock_dt());
-    vt[i] = vt[i] + (vn - vel[i]);
-    store_fixed(i, pos[i], vn);
+    closing_end(t, nwg);
 }
 
 // Non-finite test on the f32 bits (NaN/inf comparisons may be folded away by the compiler);
@@ -106,15 +112,9 @@ fn bad_vec(v: real2) -> bool {
     return bad_real(v.x) || bad_real(v.y);
 }
 
-// Blow-up check after a step (step number = ctl[CTL_STEP], just advanced by clock_tick): the
-// first step with a bad particle wins; within it the smallest 2·i + kind (kind 0 non-finite,
-// 1 left the domain by > Δx/2).
-@compute @workgroup_size(64)
-fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = linear_id(gid, nwg);
-    if i >= params.n_fluid {
-        return;
-    }
+// Blow-up check of fluid particle i after step `step`: the first step with a bad particle
+// wins; within it the smallest 2·i + kind (kind 0 non-finite, 1 left the domain by > Δx/2).
+fn check_at(i: u32, step: u32) {
     let p = pos[i];
     let tol = real(0.5) * params.dx;
     var kind = 2u;
@@ -127,11 +127,63 @@ fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups)
     if kind == 2u {
         return;
     }
-    let step = atomicLoad(&ctl[CTL_STEP]);
     let prev = atomicMin(&ctl[CTL_BAD_STEP], step);
     if prev >= step {
         atomicMin(&ctl[CTL_BAD], 2u * i + kind);
     }
+}
+
+// The check as its own stage, after a step (step number = ctl[CTL_STEP], just advanced by
+// clock_tick).
+@compute @workgroup_size(64)
+fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
+    if i < params.n_fluid {
+        check_at(i, atomicLoad(&ctl[CTL_STEP]));
+    }
+}
+
+// True once a step before the one being completed failed (a failure recorded in this step's
+// closing kernel, by `check_at` or the tick, does not stop the particles not yet integrated).
+// A failure is recorded with the step it happens in, which the clock then reaches, so before
+// the check and the tick of a step this is `halted()`.
+fn failed_before() -> bool {
+    let now = atomicLoad(&ctl[CTL_STEP]);
+    return atomicLoad(&ctl[CTL_BAD_STEP]) <= now || atomicLoad(&ctl[CTL_OVER_STEP]) <= now;
+}
+
+fn closing_halted() -> bool {
+#ifdef FUSE_CHECK
+    return failed_before();
+#else
+    return halted();
+#endif
+}
+
+// The fused check of particle i, with the number of the step being completed (the clock ticks
+// at the end of this kernel).
+fn closing_check(i: u32) {
+#ifdef FUSE_CHECK
+    check_at(i, atomicLoad(&ctl[CTL_STEP]) + 1u);
+#endif
+}
+
+// End of the fused closing kernel: each workgroup, once all its threads are done (the barrier),
+// counts itself in ctl[CTL_DONE]; the last one resets the count and ticks the clock, after
+// every thread of the dispatch has read it.
+fn closing_end(t: u32, nwg: vec3<u32>) {
+#ifdef FUSE_CHECK
+    storageBarrier();
+    if t == 0u {
+        let groups = nwg.x * nwg.y * nwg.z;
+        if atomicAdd(&ctl[CTL_DONE], 1u) + 1u == groups {
+            atomicStore(&ctl[CTL_DONE], 0u);
+            if !failed_before() {
+                tick();
+            }
+        }
+    }
+#endif
 }
 
 // max |v| and max |a| over the fluids (non-negative f32 bits order like the floats): a tree
@@ -184,9 +236,12 @@ fn dt_compute() {
 // range is recorded in ctl[CTL_OVER_STEP]. Nothing moves once halted.
 @compute @workgroup_size(1)
 fn clock_tick() {
-    if halted() {
-        return;
+    if !halted() {
+        tick();
     }
+}
+
+fn tick() {
     let step = atomicLoad(&ctl[CTL_STEP]) + 1u;
     atomicStore(&ctl[CTL_STEP], step);
     let t = vparams[VP_T];

@@ -68,6 +68,13 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
         |c| vec![m(pair::harmonic_viscosity(c.args[0], c.args[1]))],
     );
 
+    // inv_sigma2(σ): number densities from a coarse to a fine lattice (1/Δx² for Δx in
+    // [1e-4, 1]), where 1/σ² stays a normal float.
+    let cases: Vec<Case<T>> = (0..N).map(|_| Case::new(vec![rng.signed_log::<T>(1.0, 1e8).abs()], vec![])).collect();
+    check(ctx, pair("inv_sigma2", "put(i, 0u, inv_sigma2(a(i, 0u)));", 1), &cases, tol, |c| {
+        vec![m(pair::inv_sigma2(c.args[0]))]
+    });
+
     // viscous_fac_ij(dwdr, r, h): r in [0, 3h], edge r = 0.
     let cases: Vec<Case<T>> = (0..N)
         .map(|k| {

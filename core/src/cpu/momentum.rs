@@ -65,7 +65,7 @@ pub fn acceleration_pairs<T: Real>(
     let st = m.stages;
     let xi = c.pos[i];
     let vi = c.vel[i];
-    let inv_s2_i = T::one() / (fr.sigma[i] * fr.sigma[i]);
+    let inv_s2_i = inv_sigma2(fr.sigma[i]);
     let eta_i = m.phases[c.phase[i] as usize].eta;
     let wall = m.nearest_wall(xi);
     let d_i = wall.map_or(T::zero(), |w| w.wall_distance(xi));
@@ -83,7 +83,7 @@ pub fn acceleration_pairs<T: Real>(
         let r = r2.sqrt();
         let dwdr = kernel_dwdr(&kp, r);
         let gw = grad_w_ij(dwdr, x_ij, r);
-        let inv_s2_j = T::one() / (fr.sigma[j] * fr.sigma[j]);
+        let inv_s2_j = inv_sigma2(fr.sigma[j]);
         sink(j, xj, PairTerm::Pressure, pressure_acc_ij(fr.p[i], inv_s2_i, fr.p[j], inv_s2_j, gw));
         if p_b != T::zero() {
             sink(j, xj, PairTerm::TransportShift, pressure_acc_ij(p_b, inv_s2_i, p_b, inv_s2_j, gw));

@@ -286,7 +286,7 @@ pub fn colour_gradient<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             let x_ij = c.pos[i] - m.images.image_pos(code, c.pos[j]);
             let r = x_ij.norm();
             let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
-            g[colour_slot(k, l)] += colour_gradient_ij(T::one() / (sigma[j] * sigma[j]), gw);
+            g[colour_slot(k, l)] += colour_gradient_ij(inv_sigma2(sigma[j]), gw);
         }
         [g[0] * sigma[i], g[1] * sigma[i]]
     });
@@ -300,14 +300,14 @@ pub fn colour_gradient<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
 fn single_field_gradient<T: Real>(c: &Ctx<T>, colour: &[i32], sigma: &[T], i: usize) -> [V2<T>; 2] {
     let kp = c.m.kernel;
     let col = |k: i32| if k == 0 { T::one() } else { T::zero() };
-    let (c_i, inv_s2_i) = (col(colour[i]), T::one() / (sigma[i] * sigma[i]));
+    let (c_i, inv_s2_i) = (col(colour[i]), inv_sigma2(sigma[i]));
     let mut g = V2::zero();
     for &e in c.nbrs.of(i) {
         let (j, code) = unpack(e);
         let x_ij = c.pos[i] - c.m.images.image_pos(code, c.pos[j]);
         let r = x_ij.norm();
         let gw = grad_w_ij(kernel_dwdr(&kp, r), x_ij, r);
-        g += colour_gradient_single_ij(c_i, inv_s2_i, col(colour[j]), T::one() / (sigma[j] * sigma[j]), gw);
+        g += colour_gradient_single_ij(c_i, inv_s2_i, col(colour[j]), inv_sigma2(sigma[j]), gw);
     }
     [g * sigma[i], V2::zero()]
 }

@@ -153,7 +153,7 @@ impl GpuPlan {
             ("phase", n, 4),
             ("pos0", n, v2),
             ("vel0", n, v2),
-            ("sigma", n, r),
+            ("sigma", n, v2),
             ("chi", n, r),
             ("mass", n, r),
             ("colour", n, 4),

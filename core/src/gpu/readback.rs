@@ -6,7 +6,7 @@
 
 use super::reorder::{to_device, to_original};
 use super::solver::GpuSolver;
-use super::solver_buffers::ctl;
+use super::solver_buffers::{ctl, sigma_of, sigma_pairs};
 use super::variant::SumLayout;
 use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
@@ -47,7 +47,7 @@ impl<T: Real> GpuSolver<T> {
         let o = self.device_order()?;
         b.pos.upload(ctx, &to_device(pos, 1, &o))?;
         b.vel.upload(ctx, &to_device(vel, 1, &o))?;
-        b.sigma.upload(ctx, &to_device(&f.sigma, 1, &o))?;
+        b.sigma.upload(ctx, &to_device(&sigma_pairs(&f.sigma), 1, &o))?;
         b.chi.upload(ctx, &to_device(&f.chi, 1, &o))?;
         b.mass.upload(ctx, &to_device(&f.mass, 1, &o))?;
         b.colour.upload(ctx, &to_device(&f.colour, 1, &o))?;
@@ -66,7 +66,7 @@ impl<T: Real> GpuSolver<T> {
         let nan2 = V2::new(nan, nan);
         for field in stage.pure_outputs() {
             match field {
-                Field::Sigma => b.sigma.fill(ctx, nan)?,
+                Field::Sigma => b.sigma.fill(ctx, nan2)?,
                 Field::Chi => b.chi.fill(ctx, nan)?,
                 Field::Mass => b.mass.fill(ctx, nan)?,
                 Field::Rho => b.rho.fill(ctx, nan)?,
@@ -123,7 +123,7 @@ impl<T: Real> GpuSolver<T> {
         let o = self.device_order()?;
         let (g0, g1) = (to_original(b.grad0.read_back(ctx)?, 1, &o), to_original(b.grad1.read_back(ctx)?, 1, &o));
         Ok(Fields {
-            sigma: to_original(b.sigma.read_back(ctx)?, 1, &o),
+            sigma: to_original(sigma_of(b.sigma.read_back(ctx)?), 1, &o),
             chi: to_original(b.chi.read_back(ctx)?, 1, &o),
             mass: to_original(b.mass.read_back(ctx)?, 1, &o),
             colour: to_original(b.colour.read_back(ctx)?, 1, &o),

@@ -8,7 +8,7 @@
 
 use super::buffers::GpuVec;
 use super::solver::GpuSolver;
-use super::solver_buffers::ctl;
+use super::solver_buffers::{ctl, sigma_of, sigma_pairs};
 use super::{GpuContext, GpuError};
 use crate::fields::{Field, Fields};
 use crate::model::{COLOUR_WALL, NO_COLOUR};
@@ -100,7 +100,7 @@ impl<T: Real> GpuSolver<T> {
             Part::Pos => write_prefix(ctx, &b.pos, &pos[..r]),
             Part::Vel => write_prefix(ctx, &b.vel, &vel[..r]),
             Part::Field(field) => match field {
-                Field::Sigma => write_prefix(ctx, &b.sigma, &f.sigma[..r]),
+                Field::Sigma => write_prefix(ctx, &b.sigma, &sigma_pairs(&f.sigma[..r])),
                 Field::Chi => write_prefix(ctx, &b.chi, &f.chi[..r]),
                 Field::Mass => write_prefix(ctx, &b.mass, &f.mass[..r]),
                 Field::Colour => write_prefix(ctx, &b.colour, &f.colour[..r]),
@@ -143,7 +143,13 @@ impl<T: Real> GpuSolver<T> {
             Part::Pos => put(&mut pos[..r], read_prefix(ctx, &b.pos, r)?),
             Part::Vel => put(&mut vel[..r], read_prefix(ctx, &b.vel, r)?),
             Part::Field(field) => match field {
-                Field::Sigma => put(&mut f.sigma[..r], read_prefix(ctx, &b.sigma, r)?),
+                Field::Sigma => {
+                    // The bytes moved are the records' (σ, 1/σ²).
+                    let records = read_prefix(ctx, &b.sigma, r)?;
+                    let bytes = (records.len() * size_of::<V2<T>>()) as u64;
+                    put(&mut f.sigma[..r], sigma_of(records));
+                    bytes
+                }
                 Field::Chi => put(&mut f.chi[..r], read_prefix(ctx, &b.chi, r)?),
                 Field::Mass => put(&mut f.mass[..r], read_prefix(ctx, &b.mass, r)?),
                 Field::Colour => put(&mut f.colour[..r], read_prefix(ctx, &b.colour, r)?),

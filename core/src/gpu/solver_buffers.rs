@@ -29,6 +29,8 @@ pub mod ctl {
     pub const STEP: usize = 7;
     /// First step whose evaluations overflowed a list or the fixed-point range (`u32::MAX`: none).
     pub const OVER_STEP: usize = 8;
+    /// Workgroups done in the fused closing stage (the last one ticks the clock; back to 0 then).
+    pub const DONE: usize = 9;
     /// Words in the buffer.
     pub const LEN: usize = 12;
 }
@@ -36,6 +38,17 @@ pub mod ctl {
 /// Number of storage bindings after the uniform (with the variant group's 9 and the reorder
 /// group's 1, 32: lavapipe's per-stage maximum).
 pub const N_STORAGE: u32 = 22;
+
+/// The device's σ records of the number densities `sigma`: (σ, 1/σ²) each
+/// (`physics::pair::inv_sigma2`).
+pub fn sigma_pairs<T: Real>(sigma: &[T]) -> Vec<V2<T>> {
+    sigma.iter().map(|&s| V2::new(s, crate::physics::pair::inv_sigma2(s))).collect()
+}
+
+/// The number densities of the device's σ records.
+pub fn sigma_of<T: Real>(records: Vec<V2<T>>) -> Vec<T> {
+    records.into_iter().map(|r| r.x).collect()
+}
 
 /// The buffers (fluids first, then walls).
 pub struct Bufs<T: Real> {
@@ -47,7 +60,9 @@ pub struct Bufs<T: Real> {
     pub pos0: GpuVec<V2<T>>,
     /// v⁰ of the midpoint step, v_{n+½} of Verlet's.
     pub vel0: GpuVec<V2<T>>,
-    pub sigma: GpuVec<T>,
+    /// (σ, 1/σ²) of each particle: the number-density pass writes both, so the pair sums read
+    /// 1/σ_j² instead of dividing per pair ([`sigma_pairs`], [`sigma_of`]).
+    pub sigma: GpuVec<V2<T>>,
     pub chi: GpuVec<T>,
     pub mass: GpuVec<T>,
     pub colour: GpuVec<i32>,
@@ -81,7 +96,7 @@ impl<T: Real> Bufs<T> {
             phase: u("phase", n)?,
             pos0: v2("pos0", n)?,
             vel0: v2("vel0", n)?,
-            sigma: s("sigma", n)?,
+            sigma: v2("sigma", n)?,
             chi: s("chi", n)?,
             mass: s("mass", n)?,
             colour: GpuVec::new(ctx, "sphlab.colour", n)?,

@@ -16,6 +16,13 @@ pub fn grad_w_ij<T: Real>(dwdr: T, x_ij: V2<T>, r: T) -> V2<T> {
     }
 }
 
+/// `1/σ²` of a particle's number density, the factor every pair term of (T68), (T70), (T71),
+/// (T76) takes from each side (once per particle: the GPU stores it next to σ).
+#[inline(always)]
+pub fn inv_sigma2<T: Real>(sigma: T) -> T {
+    T::one() / (sigma * sigma)
+}
+
 /// Pressure term of (T68): `−(p_i/σ_i² + p_j/σ_j²) ∇_iW_ij`. Sum over j, then × 1/m_i.
 #[inline(always)]
 pub fn pressure_acc_ij<T: Real>(p_i: T, inv_s2_i: T, p_j: T, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {

@@ -55,6 +55,9 @@ pub struct GpuSolver<T: Real> {
     /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
     /// epilogues.
     pub(super) passes: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
+    /// The end of a step (`Stage::closing_passes`: the closing integrator stage with the check),
+    /// each pass with its fused kernels when it has epilogues.
+    pub(super) closing: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
     pub(super) fused: bool,
     /// Renumber the particles in cell order every this many steps (0: never).
@@ -196,11 +199,16 @@ impl<T: Real> GpuSolver<T> {
         let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
         let compiled = ctx.pipelines.get(&ctx, &spec)?;
         let pipes = compiled.pipes.clone();
-        let mut passes = Vec::new();
-        for pass in model.stages.evaluation_passes() {
-            let fused = if pass.len() > 1 { Some(pipes.fused(&ctx, &pass)?) } else { None };
-            passes.push((pass, fused));
-        }
+        let with_kernels = |list: Vec<Vec<Stage>>| -> Result<Vec<_>, GpuError> {
+            let mut out = Vec::new();
+            for pass in list {
+                let fused = if pass.len() > 1 { Some(pipes.fused(&ctx, &pass)?) } else { None };
+                out.push((pass, fused));
+            }
+            Ok(out)
+        };
+        let passes = with_kernels(model.stages.evaluation_passes())?;
+        let closing = with_kernels(Stage::closing_passes(scene.time.integrator))?;
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
         let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
         let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
@@ -224,6 +232,7 @@ impl<T: Real> GpuSolver<T> {
             vbg,
             rbg,
             passes,
+            closing,
             fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,
             reorder_since: std::cell::Cell::new(u64::MAX),

@@ -94,17 +94,23 @@ impl<T: Real> GpuSolver<T> {
     /// passes, each neighbour pass with its epilogues; unfused while stage timing is on, so
     /// that every stage has its own time), then ṽ.
     pub(super) fn record_evaluate(&self, enc: &mut wgpu::CommandEncoder) {
-        let fused = self.fused && !self.ts.stages_on();
-        for (stages, kernels) in &self.passes {
-            match kernels {
-                Some(kernels) if fused => self.record_pass(enc, stages, kernels),
-                _ => stages.iter().for_each(|s| self.record(enc, *s)),
-            }
-        }
+        self.record_passes(enc, &self.passes);
         if !self.model.stages.xsph {
             let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
             if bytes > 0 {
                 enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes);
+            }
+        }
+    }
+
+    /// Records `passes` (fused: each pass as one, its epilogues in its kernels; unfused while
+    /// stage timing is on, so that every stage has its own time: stage by stage).
+    fn record_passes(&self, enc: &mut wgpu::CommandEncoder, passes: &[(Vec<Stage>, Option<Arc<Compiled>>)]) {
+        let fused = self.fused && !self.ts.stages_on();
+        for (stages, kernels) in passes {
+            match kernels {
+                Some(kernels) if fused => self.record_pass(enc, stages, kernels),
+                _ => stages.iter().for_each(|s| self.record(enc, *s)),
             }
         }
     }
@@ -140,8 +146,9 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
-    /// `dt_compute`, the integrator's opening stage, the evaluation, its closing stage, then
-    /// `check` (`clock_tick` first). Reads nothing from the host: dt and the step number come from
+    /// `dt_compute`, the integrator's opening stage, the evaluation, its closing stage with
+    /// `check` (`Stage::closing_passes`: fused, the check and the clock tick run in the closing
+    /// kernel; unfused, `clock_tick` then `check` after it). Reads nothing from the host: dt and the step number come from
     /// the device clock.
     pub(super) fn record_step(&self, enc: &mut wgpu::CommandEncoder, first_eval: bool) {
         if first_eval {
@@ -150,10 +157,8 @@ impl<T: Real> GpuSolver<T> {
         if self.model.dt_fixed <= 0.0 {
             self.record(enc, Stage::ReduceMax);
         }
-        let (pre, post) = Stage::step_pair(self.integrator);
-        self.record(enc, pre);
+        self.record(enc, Stage::step_pair(self.integrator).0);
         self.record_evaluate(enc);
-        self.record(enc, post);
-        self.record(enc, Stage::Check);
+        self.record_passes(enc, &self.closing);
     }
 }
