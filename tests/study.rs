@@ -160,10 +160,18 @@ fn budget_is_kept() {
     );
     let rows = records(&out);
     assert!(!rows.is_empty());
-    for r in &rows {
+    for r in rows.iter().filter(|r| r["status"] != "skipped") {
         // A job running late gives back the fill's blocks, never those `--repeats` asked for.
         let reps: usize = r["repeats"].parse().expect("repeats");
         assert!(reps >= 2, "{} nx={} ran {reps} timed blocks (--repeats 2)", r["variant"], r["nx"]);
+    }
+    // A job the budget left out is a `skipped` row saying so, never a missing one.
+    for r in rows.iter().filter(|r| r["status"] == "skipped") {
+        assert!(r["reason"].contains("budget") && r["ms_per_step_median"].is_empty(), "{r:?}");
+    }
+    if !md.contains("dropped for it (largest first): nothing") {
+        let dropped = |v: &str| rows.iter().any(|r| r["nx"] == "128" && r["variant"] == v && r["status"] == "skipped");
+        assert!(dropped("cpu1.cells.f64") && dropped("cells.thread.recomputed.f32"), "nx=128 dropped, its rows kept");
     }
     assert!(!out.join("records.partial.csv").exists(), "a finished study removes its journal");
 }

@@ -52,6 +52,37 @@ pub(super) struct Judge<'a> {
 }
 
 impl Common<'_> {
+    /// The record of a job that was not run (the budget dropped it): `skipped`, with `reason`.
+    pub fn skipped(&self, job: &Job, reason: &str) -> Record {
+        let (adapter, driver, device_type) = match (job.id, self.gpu) {
+            (BackendId::Gpu(_), Some(g)) => {
+                let i = &g.adapter_info;
+                (i.name.clone(), format!("{} {}", i.driver, i.driver_info), format!("{:?}", i.device_type))
+            }
+            _ => ("CPU".into(), "-".into(), "Cpu".into()),
+        };
+        Record {
+            experiment: job.experiment.clone(),
+            variant: job.id.to_string(),
+            nx: job.nx,
+            n: job.n,
+            steps: self.protocol.steps,
+            backend: job.id.kind().into(),
+            adapter,
+            driver,
+            device_type,
+            cpu_model: self.cpu_model.clone(),
+            cpu_threads: job.threads,
+            precision: job.id.precision().name().into(),
+            shard: self.shard.clone(),
+            commit: self.commit.clone(),
+            date: self.date.clone(),
+            status: "skipped".into(),
+            reason: reason.into(),
+            ..Default::default()
+        }
+    }
+
     /// The record of `job`, run with `repeats` timed blocks: timed and judged (`Ok`), or failed
     /// (status, reason, no timing).
     pub fn record(&self, job: &Job, repeats: usize, s: &Start, res: &Result<Timed, Failure>, j: &Judge) -> Record {

@@ -290,6 +290,11 @@ fn run_sweep(
     let mut references = References::default();
     let mut start: Option<(String, u32, Start)> = None;
     let (mut skipped, mut cut) = (Vec::new(), Vec::new());
+    // Jobs the plan dropped for the budget are `skipped` records, so no table loses its row.
+    let kept = |j: &Job| sel.jobs.iter().any(|k| k.experiment == j.experiment && k.nx == j.nx && k.id == j.id);
+    for job in all.iter().filter(|j| !kept(j)) {
+        out.push(common.skipped(job, "dropped by the plan: over the --budget"));
+    }
     for job in &sel.jobs {
         let elapsed = t0.elapsed().as_secs_f64();
         let correction = if est_done > 0.0 { (spent_done / est_done).clamp(0.2, 10.0) } else { 1.0 };
@@ -300,6 +305,9 @@ fn run_sweep(
                 Some(n) => n,
                 None => {
                     skipped.push(format!("{} nx={} {}", job.experiment, job.nx, job.id));
+                    let rec = common.skipped(job, "not run: the running estimate would have overrun the budget");
+                    report::journal(&opts.out, std::slice::from_ref(&rec)).map_err(Error::Failed)?;
+                    out.push(rec);
                     continue;
                 }
             },
@@ -341,17 +349,7 @@ fn run_sweep(
             cores: stats::cores(),
         };
         let rec = common.record(job, blocks, s, &res, &judge);
-        match &res {
-            Ok(_) => eprintln!(
-                "{} nx={} {:<44} {:>10.3} ms/step (latency {:.3} ms)",
-                job.experiment,
-                job.nx,
-                rec.variant,
-                rec.ms_per_step_median.unwrap_or(f64::NAN),
-                rec.latency_ms_median.unwrap_or(f64::NAN)
-            ),
-            Err(f) => eprintln!("{} nx={} {}: {}: {}", job.experiment, job.nx, rec.variant, f.status, f.reason),
-        }
+        print_outcome(job, &rec, &res);
         report::journal(&opts.out, std::slice::from_ref(&rec)).map_err(Error::Failed)?;
         out.push(rec);
         est_done += job.est_s;
@@ -359,6 +357,21 @@ fn run_sweep(
     }
     run_notes.outcome = outcome(opts.budget_s, t0.elapsed().as_secs_f64(), &cut, &skipped);
     Ok(run_notes)
+}
+
+/// One line on stderr per job: its time per step, or why it was not measured.
+fn print_outcome(job: &Job, rec: &Record, res: &Result<Timed, Failure>) {
+    match res {
+        Ok(_) => eprintln!(
+            "{} nx={} {:<44} {:>10.3} ms/step (latency {:.3} ms)",
+            job.experiment,
+            job.nx,
+            rec.variant,
+            rec.ms_per_step_median.unwrap_or(f64::NAN),
+            rec.latency_ms_median.unwrap_or(f64::NAN)
+        ),
+        Err(f) => eprintln!("{} nx={} {}: {}: {}", job.experiment, job.nx, rec.variant, f.status, f.reason),
+    }
 }
 
 /// The lines of `summary.md` on how the budget went: the time it took, the timed blocks given
