@@ -52,8 +52,8 @@ pub(super) struct Judge<'a> {
 }
 
 impl Common<'_> {
-    /// The record of a job that was not run (the budget dropped it): `skipped`, with `reason`.
-    pub fn skipped(&self, job: &Job, reason: &str) -> Record {
+    /// What every record of `job` says of where and what ran, before any measurement.
+    fn base(&self, job: &Job) -> Record {
         let (adapter, driver, device_type) = match (job.id, self.gpu) {
             (BackendId::Gpu(_), Some(g)) => {
                 let i = &g.adapter_info;
@@ -77,46 +77,29 @@ impl Common<'_> {
             shard: self.shard.clone(),
             commit: self.commit.clone(),
             date: self.date.clone(),
-            status: "skipped".into(),
-            reason: reason.into(),
             ..Default::default()
         }
+    }
+
+    /// The record of a job that was not run (the budget dropped it): `skipped`, with `reason`.
+    pub fn skipped(&self, job: &Job, reason: &str) -> Record {
+        Record { status: "skipped".into(), reason: reason.into(), ..self.base(job) }
     }
 
     /// The record of `job`, run with `repeats` timed blocks: timed and judged (`Ok`), or failed
     /// (status, reason, no timing).
     pub fn record(&self, job: &Job, repeats: usize, s: &Start, res: &Result<Timed, Failure>, j: &Judge) -> Record {
-        let (adapter, driver, device_type) = match (job.id, self.gpu) {
-            (BackendId::Gpu(_), Some(g)) => {
-                let i = &g.adapter_info;
-                (i.name.clone(), format!("{} {}", i.driver, i.driver_info), format!("{:?}", i.device_type))
-            }
-            _ => ("CPU".into(), "-".into(), "Cpu".into()),
-        };
         let mut r = Record {
-            experiment: job.experiment.clone(),
-            variant: job.id.to_string(),
             scene: s.scene.name.clone(),
             nx: s.scene.domain.nx,
             n: s.layout.pos.len(),
             n_fluid: s.layout.n_fluid,
-            steps: self.protocol.steps,
             repeats,
-            backend: job.id.kind().into(),
-            adapter,
-            driver,
-            device_type,
-            cpu_model: self.cpu_model.clone(),
-            cpu_threads: job.threads,
-            precision: job.id.precision().name().into(),
-            shard: self.shard.clone(),
-            commit: self.commit.clone(),
-            date: self.date.clone(),
             load_before: j.load.0,
             load_after: j.load.1,
             others_cores: j.others,
             cores: j.cores,
-            ..Default::default()
+            ..self.base(job)
         };
         if let (BackendId::Gpu(spec), Some(g)) = (job.id, self.gpu) {
             let plan = crate::resources::run_plan(&s.scene, 4, true);
