@@ -1,5 +1,5 @@
 //! The standing capillary wave (docs/PHYSICS.md §9(f), §14): its amplitude from particle data,
-//! and the period and damping of a sampled amplitude history.
+//! and the period and damping of a sampled amplitude history (a damped-cosine fit).
 //!
 //! The amplitude is the first Fourier mode of the lower fluid's region. For an interface
 //! `y = y0 + a cos(k(x − x0))` over a whole number of wavelengths W,
@@ -28,63 +28,56 @@ pub fn wave_amplitude(pos: &[[f64; 2]], phase: &[u32], dx: f64, x0: f64, width: 
     dx * dx / width * s
 }
 
-/// Period and damping of a sampled oscillation.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WaveFit {
-    /// The zero crossings found (linearly interpolated).
-    pub crossings: Vec<f64>,
-    /// Twice the mean spacing of successive crossings.
-    pub period: f64,
-    /// The half-cycle peaks (time, |a|): the largest |a| between successive crossings.
-    pub peaks: Vec<(f64, f64)>,
-    /// Decay rate γ: minus the least-squares slope of ln|peak| against t.
-    pub damping: f64,
-}
-
-/// The zero crossings, half-cycle peaks, period and damping of `(t, a)` samples (t
-/// increasing) up to `t_max`. A crossing counts once |a| has exceeded `threshold` on the
-/// other side since the last one, so noise around a zero is not a crossing. Period needs two
-/// crossings, damping two peaks (NaN otherwise); the first peak (before the first crossing)
-/// is the start, not a peak, and is left out.
-pub fn period_and_damping(pts: &[(f64, f64)], t_max: f64, threshold: f64) -> WaveFit {
+/// The damped cosine `A e^{−γt} cos(ωt + φ)` closest in least squares to the samples with
+/// t ≤ `t_max`: (ω, γ) by a grid over ω ∈ [0.3, 2]·`omega_guess`, γ ∈ [−0.5, 1.5]·`omega_guess`
+/// (A and φ linear at each point), refined twice on a 10× finer grid around the best. Robust
+/// to noise that crossings and peaks are not; NaN with fewer than 8 samples.
+pub fn damped_cosine_fit(pts: &[(f64, f64)], t_max: f64, omega_guess: f64) -> (f64, f64) {
     let pts: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.0 <= t_max && p.1.is_finite()).collect();
-    let mut crossings = Vec::new();
-    let mut state = 0.0f64;
-    let mut last_change = None;
-    for w in pts.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        if a.1.signum() != b.1.signum() {
-            last_change = Some(if b.1 == a.1 { a.0 } else { a.0 + (b.0 - a.0) * a.1 / (a.1 - b.1) });
-        }
-        if b.1.abs() > threshold && b.1.signum() != state {
-            if state != 0.0 {
-                crossings.extend(last_change);
-            }
-            state = b.1.signum();
-        }
+    if pts.len() < 8 || !(omega_guess > 0.0) {
+        return (f64::NAN, f64::NAN);
     }
-    let period = if crossings.len() >= 2 {
-        2.0 * (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64
-    } else {
-        f64::NAN
+    // Residual after the best A cos + B sin at (ω, γ).
+    let resid = |w: f64, g: f64| {
+        let (mut cc, mut cs, mut ss, mut yc, mut ys, mut yy) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        for &(t, y) in &pts {
+            let e = (-g * t).exp();
+            let (c, s) = (e * (w * t).cos(), e * (w * t).sin());
+            cc += c * c;
+            cs += c * s;
+            ss += s * s;
+            yc += y * c;
+            ys += y * s;
+            yy += y * y;
+        }
+        let det = cc * ss - cs * cs;
+        if det.abs() < 1e-300 {
+            return f64::INFINITY;
+        }
+        let (a, b) = ((yc * ss - ys * cs) / det, (ys * cc - yc * cs) / det);
+        yy - a * yc - b * ys
     };
-    let peaks: Vec<(f64, f64)> = crossings
-        .windows(2)
-        .filter_map(|c| {
-            pts.iter().filter(|p| p.0 > c[0] && p.0 < c[1]).map(|p| (p.0, p.1.abs())).max_by(|x, y| x.1.total_cmp(&y.1))
-        })
-        .collect();
-    let damping = if peaks.len() >= 2 {
-        let n = peaks.len() as f64;
-        let mt = peaks.iter().map(|p| p.0).sum::<f64>() / n;
-        let ml = peaks.iter().map(|p| p.1.ln()).sum::<f64>() / n;
-        let cov: f64 = peaks.iter().map(|p| (p.0 - mt) * (p.1.ln() - ml)).sum();
-        let var: f64 = peaks.iter().map(|p| (p.0 - mt).powi(2)).sum();
-        -cov / var
-    } else {
-        f64::NAN
-    };
-    WaveFit { crossings, period, peaks, damping }
+    let (mut w_lo, mut w_hi, mut g_lo, mut g_hi) =
+        (0.3 * omega_guess, 2.0 * omega_guess, -0.5 * omega_guess, 1.5 * omega_guess);
+    let mut best = (f64::NAN, f64::NAN);
+    for _ in 0..3 {
+        let n = 60;
+        let mut r_best = f64::INFINITY;
+        for i in 0..=n {
+            let w = w_lo + (w_hi - w_lo) * i as f64 / n as f64;
+            for j in 0..=n {
+                let g = g_lo + (g_hi - g_lo) * j as f64 / n as f64;
+                let r = resid(w, g);
+                if r < r_best {
+                    r_best = r;
+                    best = (w, g);
+                }
+            }
+        }
+        let (dw, dg) = ((w_hi - w_lo) / n as f64, (g_hi - g_lo) / n as f64);
+        (w_lo, w_hi, g_lo, g_hi) = (best.0 - 3.0 * dw, best.0 + 3.0 * dw, best.1 - 3.0 * dg, best.1 + 3.0 * dg);
+    }
+    best
 }
 
 /// Root-mean-square of `f(t) − g(t)` over the samples of `f` with t ≤ `t_max`.
@@ -102,21 +95,15 @@ mod tests {
     use std::f64::consts::PI;
 
     #[test]
-    fn a_damped_cosine_gives_its_period_and_damping_and_noise_no_extra_crossings() {
-        let (w, g) = (2.0 * PI / 0.5, 1.3);
-        let mut pts: Vec<(f64, f64)> =
-            (0..=2000).map(|i| i as f64 * 1e-3).map(|t| (t, (-g * t).exp() * (w * t).cos())).collect();
-        let f = period_and_damping(&pts, 2.0, 0.02);
-        assert!((f.period - 0.5).abs() < 1e-3, "{f:?}");
-        // Peaks of e^{−γt}cos(ωt) sit slightly before the cosine's; the slope is still −γ.
-        assert!((f.damping - g).abs() < 0.01, "{f:?}");
-        assert_eq!(f.crossings.len(), 8);
-        // ±0.01 jitter around each zero adds no crossing at threshold 0.02.
-        for (i, p) in pts.iter_mut().enumerate() {
-            p.1 += if i % 2 == 0 { 0.01 } else { -0.01 };
-        }
-        assert_eq!(period_and_damping(&pts, 2.0, 0.02).crossings.len(), 8);
-        assert!(period_and_damping(&pts[..10], 2.0, 0.02).period.is_nan());
+    fn the_fit_finds_a_damped_cosine_under_noise() {
+        let (w, g) = (11.0, 1.2);
+        let pts: Vec<(f64, f64)> = (0..=400)
+            .map(|i| i as f64 * 0.005)
+            .map(|t| (t, 0.9 * (-g * t).exp() * (w * t + 0.2).cos() + 0.1 * (173.0 * t).sin()))
+            .collect();
+        let (fw, fg) = damped_cosine_fit(&pts, 2.0, 10.0);
+        assert!((fw / w - 1.0).abs() < 0.01 && (fg / g - 1.0).abs() < 0.05, "ω {fw} γ {fg}");
+        assert!(damped_cosine_fit(&pts[..5], 2.0, 10.0).0.is_nan());
     }
 
     #[test]

@@ -11,7 +11,7 @@ use super::data::{col, read_series};
 use super::report::{Row, RunRecord};
 use super::{Ctx, RunSpec, ValidateError};
 use crate::analytic::capillary_wave::{Prosperetti, WaveParams};
-use crate::diagnostics::wave::{period_and_damping, rms_difference};
+use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
 use crate::plot::{PlotSpec, RefLine, Series};
 use crate::scene::{builtin::capillary_background_pressure, Scene};
 
@@ -21,8 +21,6 @@ pub const RMS_TOL: f64 = 0.05;
 pub const ACCEPT_PERIODS: f64 = 3.0;
 /// Quick mode's rough bound on the same rms (coarse lattice, short record).
 pub const QUICK_RMS_TOL: f64 = 0.2;
-/// A zero crossing counts once |a/a0| has passed this on the other side (noise near a zero).
-pub const CROSSING_THRESHOLD: f64 = 0.05;
 /// Quick mode's resolution.
 const QUICK_NX: u32 = 24;
 const TABLE: &str = "amplitude.csv";
@@ -110,10 +108,9 @@ impl Case for CapillaryWave {
                      (diagnostics::wave), every series row; a0 = the scene's amplitude. rms = root mean square of \
                      a/a0 − Prosperetti over the series rows with t ≤ {ACCEPT_PERIODS}·2π/ω0 (the acceptance window, fixed \
                      after the first equal-density run) and over the whole record (at equal densities the classical \
-                     test's window ω0t ≤ 25; same bound). Period = twice the mean \
-                     spacing of zero crossings (a crossing counts once |a/a0| > {CROSSING_THRESHOLD} on the other side), \
-                     damping = minus the slope of ln|a| over the half-cycle peaks, both in the acceptance window and the \
-                     same estimator on the analytic curve at the same times."
+                     test's window ω0t ≤ 25; same bound). Period 2π/ω and damping γ of the damped cosine \
+                     A e^(−γt) cos(ωt + φ) closest in least squares over the acceptance window \
+                     (diagnostics::wave::damped_cosine_fit), on the sphlab curve and on the analytic one at the same times."
                 ),
                 "The analytic solution is for infinitely deep layers; each layer here is λ/2 deep to a mirror, which \
                  lowers the inviscid frequency by 1 − (coth kH)^{-1/2} = 0.19 % (docs/PHYSICS.md §9(f))."
@@ -184,23 +181,22 @@ impl Case for CapillaryWave {
             } else {
                 whole.check(ok && rms_all <= RMS_TOL, &format!("≤ {RMS_TOL} over the whole record"))
             });
-            let (fs, fa) = (
-                period_and_damping(&sph, window, CROSSING_THRESHOLD),
-                period_and_damping(&ana, window, CROSSING_THRESHOLD),
-            );
+            let w0 = p.params.omega0();
+            let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));
+            let tau = 2.0 * std::f64::consts::PI;
             out.rep.rows.push(Row::new(
-                &format!("period (zero crossings, t ≤ {window:.3}), {label}"),
-                fs.period,
+                &format!("period 2π/ω (damped-cosine fit, t ≤ {window:.3}), {label}"),
+                tau / fs.0,
                 4,
                 None,
-                Some(fa.period),
+                Some(tau / fa.0),
             ));
             out.rep.rows.push(Row::new(
-                &format!("damping rate (half-cycle peaks, t ≤ {window:.3}), {label}"),
-                fs.damping,
+                &format!("damping rate γ (damped-cosine fit, t ≤ {window:.3}), {label}"),
+                fs.1,
                 3,
                 None,
-                Some(fa.damping),
+                Some(fa.1),
             ));
             out.rep.rows.push(Row::new(
                 &format!("a(0)/a0 of the displaced lattice, {label}"),
