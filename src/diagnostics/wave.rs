@@ -92,7 +92,6 @@ pub fn rms_difference(f: &[(f64, f64)], g: impl Fn(f64) -> f64, t_max: f64) -> f
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::PI;
 
     #[test]
     fn the_fit_finds_a_damped_cosine_under_noise() {
