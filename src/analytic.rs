@@ -16,6 +16,12 @@
 //!
 //! [`table1`] is Table 1 of the thesis (`data/table1.csv`, embedded) and
 //! [`table1_comparison`] recomputes it.
+//!
+//! [`capillary_wave`]: Prosperetti's (1981) initial-value solution of a standing capillary
+//! wave (docs/PHYSICS.md §14), on the complex functions of [`complex`].
+
+pub mod capillary_wave;
+pub mod complex;
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, SQRT_2};

@@ -155,6 +155,7 @@ pub const RUN_UNITS: &[(&str, &str)] = &[
     ("theta_area", "deg"),
     ("x_tp", "L"),
     ("spread_factor", "1 (D/D0)"),
+    ("wave_amplitude", "L"),
     ("dt_last", "T"),
     ("t_final", "T"),
     ("wall_time_s", "s (wall clock)"),

@@ -87,6 +87,7 @@ pub const OBS_TOLERANCES: &[(&str, f64, &str)] = &[
     ("centroid_y", 1e-3, "Δx"),
     ("theta_circle_fit", 0.5, "degrees"),
     ("spread_factor", 5e-3, "absolute"),
+    ("wave_amplitude", 1e-3, "Δx"),
 ];
 
 /// One compared quantity.
@@ -205,6 +206,7 @@ pub fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
             "centroid_x" => (Some(rg.centroid_x), Some(rc.centroid_x)),
             "centroid_y" => (Some(rg.centroid_y), Some(rc.centroid_y)),
             "theta_circle_fit" => (rg.theta_circle_fit, rc.theta_circle_fit),
+            "wave_amplitude" => (rg.wave_amplitude, rc.wave_amplitude),
             _ => (rg.spread_factor, rc.spread_factor),
         };
         let (Some(a), Some(b)) = (a, b) else { continue };
@@ -213,7 +215,7 @@ pub fn observables(scene: &Scene, g: &Frame, c: &Frame) -> Vec<Check> {
         }
         let d = match name {
             "kinetic_energy" => (a - b).abs() / b.abs().max(1e-300),
-            "centroid_x" | "centroid_y" => (a - b).abs() / dx,
+            "centroid_x" | "centroid_y" | "wave_amplitude" => (a - b).abs() / dx,
             _ => (a - b).abs(),
         };
         out.push(Check {

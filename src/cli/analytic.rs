@@ -1,5 +1,6 @@
-//! `sphlab analytic`: the analytic drop-spread models (thesis §5.1) for one impact, and the
-//! thesis's Table 1 beside sphlab's values.
+//! `sphlab analytic`: the analytic drop-spread models (thesis §5.1) for one impact, the
+//! thesis's Table 1 beside sphlab's values, and Prosperetti's capillary-wave amplitude a(t)/a0
+//! (docs/PHYSICS.md §14).
 
 use super::common::{print_json, with_provenance};
 use clap::{Subcommand, ValueEnum};
@@ -46,6 +47,31 @@ pub enum AnalyticCmd {
         #[arg(long)]
         json: bool,
     },
+    /// Prosperetti's (1981) standing capillary wave: a(t)/a0 as CSV (`t,a_over_a0`), after
+    /// comment lines with ω0, β and the slowest oscillatory root.
+    CapillaryWave {
+        /// Density of the lower fluid.
+        #[arg(long, default_value_t = 1.0)]
+        rho_lower: f64,
+        /// Density of the upper fluid (0: a free surface).
+        #[arg(long, default_value_t = 1.0)]
+        rho_upper: f64,
+        /// Kinematic viscosity, the same in both fluids (default: La = σρλ/μ² = 3000 at ρ = σ = λ = 1).
+        #[arg(long, default_value_t = (1.0f64 / 3000.0).sqrt())]
+        nu: f64,
+        /// Surface tension σ.
+        #[arg(long, default_value_t = 1.0)]
+        sigma: f64,
+        /// Wavelength λ.
+        #[arg(long, default_value_t = 1.0)]
+        wavelength: f64,
+        /// End time (default: four inviscid periods).
+        #[arg(long)]
+        t_end: Option<f64>,
+        /// Number of intervals between 0 and the end time.
+        #[arg(long, default_value_t = 200)]
+        samples: u32,
+    },
 }
 
 /// Runs the analytic subcommand; numbers outside a model's range are bad input.
@@ -80,6 +106,27 @@ pub fn run(cmd: AnalyticCmd) -> Result<(), Error> {
                 print_json(&with_provenance(serde_json::json!({ "rows": rows }), &prov()));
             } else {
                 print!("{}", analytic::format_table1(&rows));
+            }
+        }
+        AnalyticCmd::CapillaryWave { rho_lower, rho_upper, nu, sigma, wavelength, t_end, samples } => {
+            use analytic::capillary_wave::{Prosperetti, WaveParams};
+            let p =
+                Prosperetti::new(WaveParams { rho_lower, rho_upper, nu, sigma, wavelength }).map_err(Error::input)?;
+            let t_end = t_end.unwrap_or(4.0 * p.params.period0());
+            if !(t_end.is_finite() && t_end > 0.0) {
+                return Err(Error::input(format!("--t-end: must be a finite number > 0, got {t_end}")));
+            }
+            if samples == 0 || samples > 10_000_000 {
+                return Err(Error::input(format!("--samples: must be in [1, 10000000], got {samples}")));
+            }
+            println!("# omega0 = {}, period0 = {}, beta = {}", p.params.omega0(), p.params.period0(), p.params.beta());
+            if let Some((w, g)) = p.dominant_mode() {
+                println!("# slowest oscillatory root: angular frequency {w}, decay rate {g}");
+            }
+            println!("t,a_over_a0");
+            for i in 0..=samples {
+                let t = t_end * i as f64 / samples as f64;
+                println!("{t},{}", p.amplitude(t));
             }
         }
     }

@@ -21,6 +21,7 @@ enum Case {
     Spurious,
     CrossCode,
     SpeedVsError,
+    CapillaryWave,
     All,
 }
 

@@ -1,6 +1,6 @@
 //! The series row of `sphlab run` (`series.csv`, read back by `validate`): what is measured on
 //! a frame (energy, centroid, masses, density error, speed, the binding dt limit, contact
-//! angles and spread).
+//! angles and spread, the interface wave's amplitude).
 
 use crate::backend::Frame;
 use crate::diagnostics::{contact_angle, flow};
@@ -49,6 +49,9 @@ pub struct SeriesRow {
     pub x_tp: Option<f64>,
     /// Spread factor D/D0.
     pub spread_factor: Option<f64>,
+    /// Interface wave amplitude a (scenes with `[interface_wave]`; `diagnostics::wave`).
+    #[serde(default)]
+    pub wave_amplitude: Option<f64>,
 }
 
 /// Measures one series row from a frame (the circle fit empty where its buffers cannot be
@@ -101,6 +104,11 @@ fn measure_with<E>(
         dt_over_limit: fr.dt / tight,
         ..Default::default()
     };
+    if let Some(w) = &scene.interface_wave {
+        let d = &scene.domain;
+        row.wave_amplitude =
+            Some(crate::diagnostics::wave::wave_amplitude(pos, phase, d.dx(), d.x[0], d.x[1] - d.x[0], w.k()));
+    }
     if scene.contact.mode != ContactMode::None {
         let dx = scene.domain.dx();
         let y_w = scene.domain.y[0];

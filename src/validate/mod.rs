@@ -15,6 +15,7 @@ pub mod data;
 pub(crate) mod executor;
 pub(crate) mod report;
 
+mod capillary_wave;
 mod convergence;
 mod cross_code;
 mod impact;
@@ -33,8 +34,17 @@ pub use relax::start_sets as relax_start_sets;
 pub use report::{CaseReport, Row, RunRecord};
 
 /// The cases, in the order `all` runs them (speed-vs-error reuses oscillation and convergence).
-pub const CASES: [&str; 8] =
-    ["oscillation", "sessile-90", "relax-60", "convergence", "impact", "spurious", "cross-code", "speed-vs-error"];
+pub const CASES: [&str; 9] = [
+    "oscillation",
+    "sessile-90",
+    "relax-60",
+    "convergence",
+    "impact",
+    "spurious",
+    "cross-code",
+    "speed-vs-error",
+    "capillary-wave",
+];
 
 /// The repository's scene files that cases run (by path, as `sphlab run` takes them), embedded
 /// so that `validate` runs from any directory.
@@ -287,6 +297,7 @@ pub fn run_case(name: &str, opts: &ValidateOptions) -> Result<CaseReport, Valida
         "spurious" => spurious::run(&ctx)?,
         "cross-code" => cross_code::run(&ctx)?,
         "speed-vs-error" => speed::run(&ctx)?,
+        "capillary-wave" => capillary_wave::run(&ctx)?,
         other => return Err(ValidateError::Input(format!("unknown case `{other}` ({}, all)", CASES.join(", ")))),
     };
     rep.wall_time_s = start.elapsed().as_secs_f64();

@@ -1,11 +1,12 @@
 //! Built-in scenes, exactly as docs/PHYSICS.md §9 sets them up, plus a single-phase Poiseuille flow
-//! with an analytic answer. `sphlab scene show NAME` prints any of them as editable TOML.
+//! and Prosperetti's capillary wave (§9(f)), both with analytic answers. `sphlab scene show NAME` prints any of them as editable TOML.
 
 use super::*;
 use crate::physics::kernel::KernelKind;
 
 /// Names of the built-in scenes.
-pub const BUILTIN: [&str; 5] = ["oscillating-drop", "sessile-90", "relax-60", "impact", "poiseuille"];
+pub const BUILTIN: [&str; 7] =
+    ["oscillating-drop", "sessile-90", "relax-60", "impact", "poiseuille", "capillary-wave", "capillary-wave-1000"];
 
 /// A built-in scene by name.
 pub fn builtin(name: &str) -> Option<Scene> {
@@ -15,6 +16,8 @@ pub fn builtin(name: &str) -> Option<Scene> {
         "relax-60" => relax_60(),
         "impact" => impact(90.0),
         "poiseuille" => poiseuille(),
+        "capillary-wave" => capillary_wave(1.0),
+        "capillary-wave-1000" => capillary_wave(1000.0),
         _ => return None,
     })
 }
@@ -130,6 +133,7 @@ pub fn oscillating_drop() -> Scene {
             centre: [0.0, 0.0],
             phase: "*".into(),
         }),
+        interface_wave: None,
         output: Output { every: 20 },
     }
 }
@@ -180,6 +184,7 @@ pub fn sessile(theta_deg: f64) -> Scene {
         },
         relax: None,
         initial_velocity: None,
+        interface_wave: None,
         output: Output { every: 500 },
     }
 }
@@ -253,6 +258,7 @@ pub fn impact(theta_deg: f64) -> Scene {
         },
         relax: None,
         initial_velocity: None,
+        interface_wave: None,
         output: Output { every: 2000 },
     }
 }
@@ -294,7 +300,89 @@ pub fn poiseuille() -> Scene {
         },
         relax: None,
         initial_velocity: None,
+        interface_wave: None,
         output: Output { every: 100 },
+    }
+}
+
+/// Wavelength of the capillary-wave scenes.
+pub const WAVE_LAMBDA: f64 = 1.0;
+/// Initial amplitude of the capillary-wave scenes, a0 = 0.01λ (ka0 = 0.063).
+pub const WAVE_A0: f64 = 0.01;
+/// Laplace number σρ_Lλ/μ_L² of the capillary-wave scenes (Popinet's 2009 capillary-wave test).
+pub const WAVE_LAPLACE: f64 = 3000.0;
+
+/// §9(f): Prosperetti's standing capillary wave, one wavelength λ = 1 periodic in x, the lower
+/// fluid ("liquid", ρ = 1) and the upper ("gas", ρ = 1/`density_ratio`) each λ/2 deep to a
+/// mirror (coth(kH) − 1 = 0.0075: ω0 0.19 % below deep water). σ = 1, equal kinematic
+/// viscosities with La = 3000; interface y = 0.01 cos(2πx) at rest; 44 × 44 particles
+/// (Δx = λ/44). Equal densities: c0 = 20, γ = 7 in both. Density ratio 1000: one stiffness B
+/// in both phases (docs/PHYSICS.md §3), the light phase air-like, γ = 1.4,
+/// c = (1.4B/ρ_G)^{1/2}. p_b = σ/(2Δx) in both (the two-phase rule,
+/// [`capillary_background_pressure`]). Runs 4 inviscid periods (density ratio 1000: 3).
+pub fn capillary_wave(density_ratio: f64) -> Scene {
+    let nx = 44;
+    let dx = WAVE_LAMBDA / nx as f64;
+    let (rho_g, c_l, gamma_l) = (1.0 / density_ratio, 20.0, 7.0);
+    let mu_l = (WAVE_LAMBDA / WAVE_LAPLACE).sqrt();
+    let b = 1.0 * c_l * c_l / gamma_l;
+    let gamma_g = if density_ratio == 1.0 { gamma_l } else { 1.4 };
+    let p_b = capillary_background_pressure(1.0, dx);
+    let omega0 = ((2.0 * std::f64::consts::PI / WAVE_LAMBDA).powi(3) / (1.0 + rho_g)).sqrt();
+    let periods = if density_ratio == 1.0 { 4.0 } else { 3.0 };
+    let t_end = (periods * 2.0 * std::f64::consts::PI / omega0 * 100.0).ceil() / 100.0;
+    let (name, what) = if density_ratio == 1.0 {
+        ("capillary-wave".to_string(), "equal densities".to_string())
+    } else {
+        (format!("capillary-wave-{density_ratio}"), format!("density ratio {density_ratio}"))
+    };
+    Scene {
+        name,
+        description: format!(
+            "Prosperetti 1981: standing capillary wave, {what}, equal kinematic viscosities (La = 3000), a0 = 0.01λ"
+        ),
+        domain: Domain {
+            x: [0.0, WAVE_LAMBDA],
+            y: [-0.5 * WAVE_LAMBDA, 0.5 * WAVE_LAMBDA],
+            nx,
+            left: Side::Periodic,
+            right: Side::Periodic,
+            bottom: Side::Mirror,
+            top: Side::Mirror,
+        },
+        kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.2 },
+        phases: vec![
+            Phase { p_b, ..fluid("liquid", 1.0, mu_l, c_l, gamma_l) },
+            Phase { p_b, ..fluid("gas", rho_g, mu_l * rho_g, (gamma_g * b / rho_g).sqrt(), gamma_g) },
+        ],
+        fill: "gas".into(),
+        shapes: vec![Shape {
+            kind: ShapeKind::Rect,
+            centre: None,
+            radius: None,
+            min: Some([0.0, -0.5 * WAVE_LAMBDA]),
+            max: Some([WAVE_LAMBDA, 0.0]),
+            phase: "liquid".into(),
+            velocity: [0.0, 0.0],
+        }],
+        surface_tension: Some(SurfaceTension::thesis(1.0)),
+        contact: Contact::default(),
+        walls: Walls::default(),
+        gravity: [0.0, 0.0],
+        time: Time {
+            integrator: Integrator::Midpoint,
+            dt: 0.0,
+            cfl: 0.25,
+            t_end,
+            xsph: 0.0,
+            dt_policy: DtPolicy::Strict,
+            dt_nx: 0,
+            background: Background::Momentum,
+        },
+        relax: None,
+        initial_velocity: None,
+        interface_wave: Some(InterfaceWave { y0: 0.0, amplitude: WAVE_A0, wavelength: WAVE_LAMBDA }),
+        output: Output { every: if density_ratio == 1.0 { 20 } else { 200 } },
     }
 }
 

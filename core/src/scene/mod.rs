@@ -11,8 +11,10 @@ pub(crate) mod lattice;
 pub mod overrides;
 pub mod validate;
 mod walls;
+pub mod wave;
 
 pub use walls::{Contact, ContactMode, WallPressure, WallVelocity, Walls};
+pub use wave::InterfaceWave;
 
 use crate::physics::kernel::KernelKind;
 use serde::{Deserialize, Serialize};
@@ -60,6 +62,10 @@ pub struct Scene {
     /// Optional analytic initial velocity field applied at t = 0.
     #[serde(default)]
     pub initial_velocity: Option<InitialVelocity>,
+    /// Optional standing wave on the interface `y = y0`: the lattice is displaced at build
+    /// ([`wave`]). Not written when absent, so summaries of earlier runs still match.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interface_wave: Option<InterfaceWave>,
     /// Output cadence.
     #[serde(default)]
     pub output: Output,

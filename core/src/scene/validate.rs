@@ -79,6 +79,7 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
     phases(s)?;
     shapes(s)?;
     interfaces(s)?;
+    interface_wave(s)?;
     time(s)?;
     if s.output.every == 0 {
         return Err(err("output.every", "must be ≥ 1 (a series.csv row every N steps)"));
@@ -313,5 +314,57 @@ fn time(s: &Scene) -> Result<(), SceneError> {
         in_range("initial_velocity.r0", *r0, (MIN_EXTENT, MAX_COORD), "r0")?;
         finite_within("initial_velocity.centre", centre, MAX_COORD, "both coordinates")?;
     }
+    Ok(())
+}
+
+/// `[interface_wave]`: the wavelength fits the box (a whole number of wavelengths between
+/// periodic sides, of half-wavelengths between any others, where the displacement's
+/// horizontal part vanishes), bottom and top are impermeable, y0 is an inner lattice line,
+/// k|a0|·coth(kH) ≤ [`MAX_KA`].
+fn interface_wave(s: &Scene) -> Result<(), SceneError> {
+    let Some(w) = &s.interface_wave else { return Ok(()) };
+    let d = &s.domain;
+    let width = d.x[1] - d.x[0];
+    in_range("interface_wave.wavelength", w.wavelength, (MIN_EXTENT, MAX_COORD), "λ")?;
+    let unit = if d.left == Side::Periodic { w.wavelength } else { 0.5 * w.wavelength };
+    let fits = width / unit;
+    if (fits - fits.round()).abs() > 1e-6 * fits.max(1.0) || fits.round() < 1.0 {
+        let what = if d.left == Side::Periodic { "wavelengths (periodic sides)" } else { "half-wavelengths" };
+        return Err(err(
+            "interface_wave.wavelength",
+            format!(
+                "the domain width {} must be a whole number (≥ 1) of {what}, got λ = {}",
+                num(width),
+                num(w.wavelength)
+            ),
+        ));
+    }
+    if d.bottom == Side::Periodic {
+        return Err(err(
+            "interface_wave",
+            "needs impermeable bottom and top sides (mirror, no-slip or free-slip), not periodic ones",
+        ));
+    }
+    let dx = d.dx();
+    let rows = (w.y0 - d.y[0]) / dx;
+    if !(rows.is_finite() && (rows - rows.round()).abs() <= 1e-6 * rows.abs().max(1.0))
+        || rows.round() < 1.0
+        || rows.round() >= d.ny() as f64
+    {
+        return Err(err(
+            "interface_wave.y0",
+            format!(
+                "must be an inner lattice line y[0] + jΔx (0 < j < {}, Δx = {}) in ({}, {}), got {}",
+                d.ny(),
+                num(dx),
+                num(d.y[0]),
+                num(d.y[1]),
+                num(w.y0)
+            ),
+        ));
+    }
+    let depth = (w.y0 - d.y[0]).min(d.y[1] - w.y0);
+    let max_a = super::wave::MAX_KA / w.k() * (w.k() * depth).tanh();
+    in_range("interface_wave.amplitude", w.amplitude, (-max_a, max_a), "the amplitude (k|a0|·coth(kH) ≤ 0.5)")?;
     Ok(())
 }
