@@ -124,7 +124,8 @@ where
 /// The legend of `spec` as a column in `area` (right of the plot): one row per labelled series
 /// and reference line, in the colours and styles [`draw_lines`] gives them.
 fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(), String> {
-    let font = ("sans-serif", 15).into_font();
+    // 13 px: a 42-character variant id fits the column.
+    let font = ("sans-serif", 13).into_font();
     let mut y = 80;
     // `dashed` without `dot` draws a dashed line; with `dot`, the marker alone (a point series).
     let mut row =

@@ -33,7 +33,7 @@ pub use scatter::scatter_labeled_svg;
 /// Picture size of every plot (pixels).
 pub const PLOT_SIZE: (u32, u32) = (1024, 720);
 /// Width (px) of the legend column of a plot with [`PlotSpec::legend_outside`].
-pub(crate) const LEGEND_WIDTH: i32 = 300;
+pub(crate) const LEGEND_WIDTH: i32 = 330;
 
 /// Colours of the series, in order (Tableau 10), then reused.
 pub(crate) const PALETTE: [RGBColor; 10] = [
