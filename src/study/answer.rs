@@ -3,7 +3,8 @@
 //! precision and against all cores (both of its own run), its error against the CPU f64 run,
 //! its device memory and the largest N it fits on this adapter; then one ratio per strategy
 //! axis over the matched `ok` pairs of one run, with the thesis's figure beside it where it
-//! gave one. Records of runs whose baselines disagree are answered run by run
+//! gave one, and the residency (E2) and subdomain (E3) comparisons the same way. Records of runs
+//! whose baselines disagree are answered run by run
 //! ([`super::baseline::rank_groups`]).
 
 use super::baseline::{disagreements, rank_groups};
@@ -85,6 +86,31 @@ fn pairs(ax: &Axis, rows: &[&Record]) -> Vec<(f64, f64, f64)> {
     out
 }
 
+/// The residency (E2) and subdomain (E3) comparisons: per run and GPU configuration, the
+/// record `whole` picks (everything resident / the unsplit run) against the fastest of the
+/// others (the hybrids, E2's all-CPU row left out / the splits), as the time ratio other ÷
+/// whole with its interval.
+fn whole_against_parts(rows: &[&Record], experiment: &str, whole: fn(&Record) -> bool) -> Vec<(f64, f64, f64)> {
+    let mut by: BTreeMap<(String, String), (Option<&Record>, Option<&Record>)> = BTreeMap::new();
+    // E2's all-CPU row is no hybrid: it is the CPU baseline of that experiment.
+    for r in rows.iter().filter(|r| r.experiment == experiment && r.is_ok() && r.variant != "hybrid.cpu-all") {
+        let e = by.entry((r.run.clone(), r.config.clone())).or_default();
+        if whole(r) {
+            e.0 = Some(r);
+        } else if e.1.is_none_or(|b| r.ms() < b.ms()) {
+            e.1 = Some(r);
+        }
+    }
+    let ci = |r: &Record| (r.ms_per_step_ci_lo.unwrap_or(r.ms()), r.ms_per_step_ci_hi.unwrap_or(r.ms()));
+    by.values()
+        .filter_map(|(a, b)| {
+            let (a, b) = (a.as_ref()?, b.as_ref()?);
+            let ((alo, ahi), (blo, bhi)) = (ci(a), ci(b));
+            Some((b.ms() / a.ms(), blo / ahi, bhi / alo))
+        })
+        .collect()
+}
+
 fn geo_mean(v: impl Iterator<Item = f64>) -> f64 {
     let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x.ln(), n + 1));
     (s / n.max(1) as f64).exp()
@@ -151,24 +177,26 @@ fn axis_table(md: &mut String, rows: &[&Record]) {
         md,
         "\n| axis | comparison | time ratio (geometric mean) [interval] | matched ok pairs | thesis |\n|---|---|---|---|---|"
     );
+    let ratio = |p: &[(f64, f64, f64)]| {
+        if p.is_empty() {
+            return "no matched ok pair".to_string();
+        }
+        let (m, lo, hi) =
+            (geo_mean(p.iter().map(|x| x.0)), geo_mean(p.iter().map(|x| x.1)), geo_mean(p.iter().map(|x| x.2)));
+        format!("{m:.2}× [{lo:.2}, {hi:.2}]")
+    };
     for ax in AXES {
         let p = pairs(ax, rows);
-        let ratio = if p.is_empty() {
-            "no matched ok pair".to_string()
-        } else {
-            let (m, lo, hi) =
-                (geo_mean(p.iter().map(|x| x.0)), geo_mean(p.iter().map(|x| x.1)), geo_mean(p.iter().map(|x| x.2)));
-            format!("{m:.2}× [{lo:.2}, {hi:.2}]")
-        };
-        let _ = writeln!(
-            md,
-            "| {} | `{}` over `{}` | {ratio} | {} | {} |",
-            ax.axis,
-            ax.a,
-            ax.b,
-            p.len(),
-            ax.thesis.unwrap_or("-")
-        );
+        let thesis = ax.thesis.unwrap_or("-");
+        let _ = writeln!(md, "| {} | `{}` over `{}` | {} | {} | {thesis} |", ax.axis, ax.a, ax.b, ratio(&p), p.len());
+    }
+    let resident = whole_against_parts(rows, "e2", |r| r.residency_cpu == "-" || r.residency_cpu.is_empty());
+    let unsplit = whole_against_parts(rows, "e3", |r| r.budget.is_none());
+    for (axis, what, p) in [
+        ("residency", "everything on the GPU over the fastest CPU/GPU hybrid (E2)", resident),
+        ("subdomains", "the unsplit run over the fastest subdomain split (E3)", unsplit),
+    ] {
+        let _ = writeln!(md, "| {axis} | {what} | {} | {} | - |", ratio(&p), p.len());
     }
     let _ = writeln!(
         md,
@@ -202,4 +230,56 @@ pub fn write(md: &mut String, recs: &[Record]) {
          ratio above 1 means the first value is faster; its interval combines the two medians' bootstrap 95 % \
          intervals (conservative).\n"
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rec(experiment: &str, variant: &str, ms: f64) -> Record {
+        Record {
+            experiment: experiment.into(),
+            variant: variant.into(),
+            status: "ok".into(),
+            ms_per_step_median: Some(ms),
+            config: "cells.thread.recomputed.f32".into(),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn residency_and_subdomain_rows_compare_the_whole_with_its_fastest_part() {
+        let mut rows = vec![
+            Record { residency_cpu: "-".into(), ..rec("e2", "hybrid.gpu-all", 10.0) },
+            Record { residency_cpu: "integration".into(), ..rec("e2", "hybrid.gpu-evaluation", 12.0) },
+            Record { residency_cpu: "search+integration".into(), ..rec("e2", "hybrid.gpu-forces", 30.0) },
+            // The all-CPU row is faster here but no hybrid: never the comparison.
+            Record {
+                residency_cpu: "search+density+surface+forces+integration".into(),
+                ..rec("e2", "hybrid.cpu-all", 5.0)
+            },
+            rec("e3", "cells.thread.recomputed.f32", 20.0),
+            Record { budget: Some(1500), ..rec("e3", "cells.thread.recomputed.f32", 50.0) },
+            Record { budget: Some(4500), ..rec("e3", "cells.thread.recomputed.f32", 30.0) },
+        ];
+        rows.push(Record {
+            status: "inaccurate".into(),
+            budget: Some(3000),
+            ..rec("e3", "cells.thread.recomputed.f32", 1.0)
+        });
+        let refs: Vec<&Record> = rows.iter().collect();
+        let e2 = whole_against_parts(&refs, "e2", |r| r.residency_cpu == "-");
+        assert_eq!(e2, vec![(1.2, 1.2, 1.2)]);
+        let e3 = whole_against_parts(&refs, "e3", |r| r.budget.is_none());
+        assert_eq!(e3, vec![(1.5, 1.5, 1.5)], "the fastest ok split, never an inaccurate one");
+        let mut md = String::new();
+        axis_table(&mut md, &refs);
+        assert!(md.contains("| residency | everything on the GPU over the fastest CPU/GPU hybrid (E2) | 1.20× [1.20, 1.20] | 1 | - |"), "{md}");
+        assert!(
+            md.contains(
+                "| subdomains | the unsplit run over the fastest subdomain split (E3) | 1.50× [1.50, 1.50] | 1 | - |"
+            ),
+            "{md}"
+        );
+    }
 }
