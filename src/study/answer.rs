@@ -91,7 +91,9 @@ fn pairs(ax: &Axis, rows: &[&Record]) -> Vec<(f64, f64, f64)> {
 /// others (the hybrids, E2's all-CPU row left out / the splits), as the time ratio other ÷
 /// whole with its interval.
 fn whole_against_parts(rows: &[&Record], experiment: &str, whole: fn(&Record) -> bool) -> Vec<(f64, f64, f64)> {
-    let mut by: BTreeMap<(String, String), (Option<&Record>, Option<&Record>)> = BTreeMap::new();
+    // Per (run, configuration): the whole, and the fastest part so far.
+    type WholeAndPart<'a> = (Option<&'a Record>, Option<&'a Record>);
+    let mut by: BTreeMap<(String, String), WholeAndPart> = BTreeMap::new();
     // E2's all-CPU row is no hybrid: it is the CPU baseline of that experiment.
     for r in rows.iter().filter(|r| r.experiment == experiment && r.is_ok() && r.variant != "hybrid.cpu-all") {
         let e = by.entry((r.run.clone(), r.config.clone())).or_default();
