@@ -13,7 +13,7 @@ use std::fmt::Write;
 use std::path::Path;
 
 /// The family of a backend id: `cpu1`, `cpu` or the GPU variant's search and mapping.
-fn family(id: &str) -> String {
+pub(super) fn family(id: &str) -> String {
     let p: Vec<&str> = id.split('.').collect();
     match p[0] {
         "cpu1" | "cpu" => p[0].to_string(),

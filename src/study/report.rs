@@ -385,8 +385,7 @@ fn write_stage_csv(p: &Path, recs: &[Record]) -> Result<(), String> {
 fn stage_table(md: &mut String, rows: &[&Record]) {
     let mut fams: BTreeMap<String, Vec<&Record>> = BTreeMap::new();
     for r in rows.iter().filter(|r| !r.stage_ms.is_empty()) {
-        let fam: Vec<&str> = r.variant.split('.').take(2).collect();
-        fams.entry(fam.join(".")).or_default().push(r);
+        fams.entry(super::overview_plots::family(&r.variant)).or_default().push(r);
     }
     if fams.is_empty() {
         return;

@@ -22,6 +22,21 @@ pub fn builtin(name: &str) -> Option<Scene> {
     })
 }
 
+/// Midpoint stepping with automatic dt (CFL 0.25, strict policy, no XSPH) to `t_end`: the time
+/// set-up of the built-ins without a fixed thesis dt.
+fn adaptive_time(t_end: f64) -> Time {
+    Time {
+        integrator: Integrator::Midpoint,
+        dt: 0.0,
+        cfl: 0.25,
+        t_end,
+        xsph: 0.0,
+        dt_policy: DtPolicy::Strict,
+        dt_nx: 0,
+        background: Background::Momentum,
+    }
+}
+
 fn fluid(name: &str, rho0: f64, mu: f64, c0: f64, gamma: f64) -> Phase {
     Phase { name: name.into(), rho0, mu, c0, gamma, p_b: 0.0 }
 }
@@ -246,16 +261,7 @@ pub fn impact(theta_deg: f64) -> Scene {
         },
         walls: Walls { pressure: WallPressure::RWall, ..Walls::default() },
         gravity: [0.0, -9.8],
-        time: Time {
-            integrator: Integrator::Midpoint,
-            dt: 0.0,
-            cfl: 0.25,
-            t_end: 1.65e-3,
-            xsph: 0.0,
-            dt_policy: DtPolicy::Strict,
-            dt_nx: 0,
-            background: Background::Momentum,
-        },
+        time: adaptive_time(1.65e-3),
         relax: None,
         initial_velocity: None,
         interface_wave: None,
@@ -288,16 +294,7 @@ pub fn poiseuille() -> Scene {
         contact: Contact::default(),
         walls: Walls::default(),
         gravity: [8.0, 0.0],
-        time: Time {
-            integrator: Integrator::Midpoint,
-            dt: 0.0,
-            cfl: 0.25,
-            t_end: 1.0,
-            xsph: 0.0,
-            dt_policy: DtPolicy::Strict,
-            dt_nx: 0,
-            background: Background::Momentum,
-        },
+        time: adaptive_time(1.0),
         relax: None,
         initial_velocity: None,
         interface_wave: None,
@@ -369,16 +366,7 @@ pub fn capillary_wave(density_ratio: f64) -> Scene {
         contact: Contact::default(),
         walls: Walls::default(),
         gravity: [0.0, 0.0],
-        time: Time {
-            integrator: Integrator::Midpoint,
-            dt: 0.0,
-            cfl: 0.25,
-            t_end,
-            xsph: 0.0,
-            dt_policy: DtPolicy::Strict,
-            dt_nx: 0,
-            background: Background::Momentum,
-        },
+        time: adaptive_time(t_end),
         relax: None,
         initial_velocity: None,
         interface_wave: Some(InterfaceWave { y0: 0.0, amplitude: WAVE_A0, wavelength: WAVE_LAMBDA }),
