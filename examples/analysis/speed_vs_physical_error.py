@@ -11,6 +11,12 @@ sys.path.insert(0, os.path.dirname(__file__))
 from pb_sweep import osc  # noqa: E402  (the sweep's period estimator, same set-up)
 
 THESIS_PERIOD, TARGET_ANGLE = 0.37, 60.0
+# Resolution floors: an error below them is not told apart from zero, so it is drawn on the
+# floor and ties there on the Pareto front. drop: the thesis quotes T = 0.37 to two digits
+# (±0.005, coarser than the 0.002 series sampling of the period estimator); relax-60: one
+# 0.2-wide window of one run scatters by up to 2.96° (reports/validation/relax-60/nx45, dt check).
+FLOOR = {"drop": max(0.005, 0.002) / THESIS_PERIOD, "relax-60": 2.96 / TARGET_ANGLE}
+FLOOR_WHY = {"drop": "thesis T = 0.37 ± 0.005", "relax-60": "one run's window scatter, 2.96°"}
 
 
 def summary(d):
@@ -130,31 +136,62 @@ def gpu_section(drop):
     return md + [""]
 
 
+def floored(p):
+    """The error as the plot and the front read it: at least the case's resolution floor."""
+    return max(p["error"], FLOOR[p["case"]])
+
+
 def pareto(pts, x, flag):
     ok = [p for p in pts if math.isfinite(p["error"]) and math.isfinite(p[x])]
     for p in pts:
+        p["error_floor"] = FLOOR[p["case"]]
+        p["below_floor"] = math.isfinite(p["error"]) and p["error"] < p["error_floor"]
         p[flag] = p in ok and not any(
-            q is not p and q[x] <= p[x] and q["error"] <= p["error"]
-            and (q[x] < p[x] or q["error"] < p["error"]) for q in ok)
+            q is not p and q[x] <= p[x] and floored(q) <= floored(p)
+            and (q[x] < p[x] or floored(q) < floored(p)) for q in ok)
 
 
-COLOURS = {"quintic": "#1f77b4", "cubic-spline": "#d62728", "wendland-c2": "#2ca02c"}
+COLOURS = {"quintic": "#1f77b4", "cubic-spline": "#d62728", "wendland-c2": "#2ca02c", "gaussian": "#9467bd",
+           "johnson": "#ff7f0e"}
+
+
+def where(pts):
+    """The machines the points ran on, for the plot's subtitle."""
+    cpus = sorted({p["adapter"].split(" (")[0] for p in pts if not p["gpu"]})
+    if "CPU" in cpus and len(cpus) > 1:  # older summaries name no host
+        cpus = [c for c in cpus if c != "CPU"] + ["older runs' host not recorded"]
+    gpus = sorted({p["adapter"].split(" / ")[0] for p in pts if p["gpu"]})
+    text = "CPU: " + ", ".join(cpus)
+    if gpus:
+        text += "; GPU rows: " + ", ".join(gpus)
+        if any("llvmpipe" in g for g in gpus):
+            text += " (a CPU emulation of Vulkan: ratios only)"
+    return text
 
 
 def svg(pts, path, title, ylabel, x="wall_time_s", flag="pareto", xlabel="time to solution: wall time (s), one thread, shared 2-core machine (log)"):
-    ok = [p for p in pts if math.isfinite(p["error"]) and p["error"] > 0 and p[x] > 0]
+    ok = [p for p in pts if math.isfinite(p["error"]) and p[x] > 0]
     if not ok:
         return
-    W, H, L, R, T, B = 760, 520, 80, 220, 40, 60
+    floor = FLOOR[ok[0]["case"]]
+    W, H, L, R, T, B = 860, 560, 80, 300, 66, 60
     lx = [math.log10(p[x]) for p in ok]
-    ly = [math.log10(p["error"]) for p in ok]
+    ly = [math.log10(floored(p)) for p in ok]
     x0, x1 = math.floor(min(lx)), math.ceil(max(lx))
-    y0, y1 = math.floor(min(ly)), math.ceil(max(ly))
+    y0, y1 = math.floor(math.log10(floor)) - 1, max(math.ceil(max(ly)), math.floor(math.log10(floor)) + 1)
     Xv = lambda v: L + (math.log10(v) - x0) / (x1 - x0) * (W - L - R)
     Y = lambda v: H - B - (math.log10(v) - y0) / (y1 - y0) * (H - T - B)
     o = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" font-family="sans-serif" font-size="11">',
          f'<rect width="{W}" height="{H}" fill="white"/>',
-         f'<text x="{W / 2}" y="20" text-anchor="middle" font-size="14">{title}</text>',
+         f'<text x="{(L + W - R) / 2}" y="20" text-anchor="middle" font-size="14">{title}</text>',
+         *(f'<text x="{(L + W - R) / 2}" y="{34 + 12 * i}" text-anchor="middle" font-size="10" fill="#444">{line}</text>'
+           for i, line in enumerate(where(ok).split("; "))),
+         f'<rect x="{L}" y="{Y(floor):.1f}" width="{W - L - R}" height="{H - B - Y(floor):.1f}" fill="#eee"/>',
+         f'<line x1="{L}" y1="{Y(floor):.1f}" x2="{W - R}" y2="{Y(floor):.1f}" stroke="#888" stroke-dasharray="2,2"/>',
+         f'<text x="{W - R - 6}" y="{H - B - 22}" text-anchor="end" font-size="10" fill="#444">'
+         f'below the dotted line: under the resolution floor {floor:.3g}</text>',
+         f'<text x="{W - R - 6}" y="{H - B - 8}" text-anchor="end" font-size="10" fill="#444">'
+         f'({FLOOR_WHY[ok[0]["case"]]}); such points are drawn on it, ▾</text>',
          f'<rect x="{L}" y="{T}" width="{W - L - R}" height="{H - T - B}" fill="none" stroke="black"/>']
     for e in range(x0, x1 + 1):
         for m in range(1, 10):
@@ -167,24 +204,19 @@ def svg(pts, path, title, ylabel, x="wall_time_s", flag="pareto", xlabel="time t
                 o.append(f'<line x1="{xp:.1f}" y1="{T}" x2="{xp:.1f}" y2="{H - B}" stroke="#ddd"/>')
                 o.append(f'<text x="{xp:.1f}" y="{H - B + 18}" text-anchor="middle">{v:g}</text>')
     for e in range(y0, y1 + 1):
-        for m in range(1, 10):
-            v = m * 10 ** e
-            if e == y1 and m > 1:
-                break
-            y = Y(v)
-            o.append(f'<line x1="{L - (6 if m == 1 else 3)}" y1="{y:.1f}" x2="{L}" y2="{y:.1f}" stroke="black"/>')
-            if m == 1:
-                o.append(f'<line x1="{L}" y1="{y:.1f}" x2="{W - R}" y2="{y:.1f}" stroke="#ddd"/>')
-                o.append(f'<text x="{L - 8}" y="{y + 4:.1f}" text-anchor="end">{v:g}</text>')
+        y = Y(10 ** e)
+        o.append(f'<line x1="{L - 6}" y1="{y:.1f}" x2="{L}" y2="{y:.1f}" stroke="black"/>')
+        o.append(f'<line x1="{L}" y1="{y:.1f}" x2="{W - R}" y2="{y:.1f}" stroke="#ddd"/>')
+        o.append(f'<text x="{L - 8}" y="{y + 4:.1f}" text-anchor="end">{10 ** e:g}</text>')
     o.append(f'<text x="{(L + W - R) / 2}" y="{H - 15}" text-anchor="middle">{xlabel}</text>')
     o.append(f'<text transform="translate(18,{(T + H - B) / 2}) rotate(-90)" text-anchor="middle">{ylabel} (log)</text>')
     front = sorted([p for p in ok if p[flag]], key=lambda p: p[x])
     if len(front) > 1:
         o.append('<polyline fill="none" stroke="black" stroke-dasharray="4,3" points="' +
-                 " ".join(f'{Xv(p[x]):.1f},{Y(p["error"]):.1f}' for p in front) + '"/>')
+                 " ".join(f'{Xv(p[x]):.1f},{Y(floored(p)):.1f}' for p in front) + '"/>')
     for p in ok:
         kind = p["kernel"].split()[0]
-        xp, y, c = Xv(p[x]), Y(p["error"]), COLOURS.get(kind, "black")
+        xp, y, c = Xv(p[x]), Y(floored(p)), COLOURS.get(kind, "black")
         r = 3 + 1.5 * (p["nx"] - 20) / 10
         if p["gpu"]:  # a GPU variant: a triangle (filled f64, open f32)
             pts_ = f"{xp:.1f},{y - r - 1:.1f} {xp - r - 1:.1f},{y + r:.1f} {xp + r + 1:.1f},{y + r:.1f}"
@@ -194,17 +226,31 @@ def svg(pts, path, title, ylabel, x="wall_time_s", flag="pareto", xlabel="time t
             o.append(f'<rect x="{xp - r:.1f}" y="{y - r:.1f}" width="{2 * r:.1f}" height="{2 * r:.1f}" fill="none" stroke="{c}" stroke-width="1.5"/>')
         else:
             o.append(f'<circle cx="{xp:.1f}" cy="{y:.1f}" r="{r:.1f}" fill="{c}" fill-opacity="0.5" stroke="{c}"/>')
-        if p[flag]:
-            o.append(f'<circle cx="{xp:.1f}" cy="{y:.1f}" r="{r + 4:.1f}" fill="none" stroke="black"/>')
-            o.append(f'<text x="{xp + r + 6:.1f}" y="{y - 4:.1f}" font-size="9">{p["kernel"].split()[0][:7]} h{p["kernel"].split("=")[1]}, nx {p["nx"]}, p_b {p["p_b"]:g}, {p["precision"]}</text>')
-    ly0 = T + 10
-    for i, (k, c) in enumerate(COLOURS.items()):
-        o.append(f'<circle cx="{W - R + 20}" cy="{ly0 + 16 * i}" r="5" fill="{c}" fill-opacity="0.5" stroke="{c}"/>')
-        o.append(f'<text x="{W - R + 30}" y="{ly0 + 16 * i + 4}">{k}</text>')
-    o.append(f'<circle cx="{W - R + 20}" cy="{ly0 + 56}" r="5" fill="gray"/><text x="{W - R + 30}" y="{ly0 + 60}">f64 (size: nx)</text>')
-    o.append(f'<rect x="{W - R + 15}" y="{ly0 + 67}" width="10" height="10" fill="none" stroke="gray"/><text x="{W - R + 30}" y="{ly0 + 76}">f32</text>')
-    o.append(f'<circle cx="{W - R + 20}" cy="{ly0 + 92}" r="8" fill="none" stroke="black"/><text x="{W - R + 32}" y="{ly0 + 96}">Pareto front (dashed)</text>')
-    o.append(f'<polygon points="{W - R + 20},{ly0 + 106} {W - R + 14},{ly0 + 117} {W - R + 26},{ly0 + 117}" fill="none" stroke="gray"/><text x="{W - R + 32}" y="{ly0 + 116}">GPU variant (lavapipe)</text>')
+        if p["below_floor"]:
+            o.append(f'<text x="{xp:.1f}" y="{y + r + 10:.1f}" text-anchor="middle" font-size="10" fill="{c}">▾</text>')
+    # The front's points are numbered on the plot and named in the legend column, so no label overprints.
+    lx0, ly0 = W - R + 16, T + 6
+    for i, p in enumerate(front, 1):
+        xp, y = Xv(p[x]), Y(floored(p))
+        r = 3 + 1.5 * (p["nx"] - 20) / 10
+        o.append(f'<circle cx="{xp:.1f}" cy="{y:.1f}" r="{r + 4:.1f}" fill="none" stroke="black"/>')
+        ty = y - r - 2 if i % 2 else y + r + 10  # alternate above and below, so close neighbours stay apart
+        o.append(f'<text x="{xp + r + 5:.1f}" y="{ty:.1f}" font-size="10" font-weight="bold">{i}</text>')
+    kinds = {p["kernel"].split()[0] for p in ok}
+    for i, (k, c) in enumerate((k, c) for k, c in COLOURS.items() if k in kinds):
+        o.append(f'<circle cx="{lx0 + 4}" cy="{ly0 + 16 * i}" r="5" fill="{c}" fill-opacity="0.5" stroke="{c}"/>')
+        o.append(f'<text x="{lx0 + 14}" y="{ly0 + 16 * i + 4}">{k}</text>')
+    yy = ly0 + 16 * len(kinds & COLOURS.keys())
+    o.append(f'<circle cx="{lx0 + 4}" cy="{yy}" r="5" fill="gray"/><text x="{lx0 + 14}" y="{yy + 4}">CPU f64 (size: nx)</text>')
+    o.append(f'<rect x="{lx0 - 1}" y="{yy + 11}" width="10" height="10" fill="none" stroke="gray"/><text x="{lx0 + 14}" y="{yy + 20}">CPU f32</text>')
+    o.append(f'<polygon points="{lx0 + 4},{yy + 26} {lx0 - 2},{yy + 37} {lx0 + 10},{yy + 37}" fill="none" stroke="gray"/>'
+             f'<text x="{lx0 + 14}" y="{yy + 36}">GPU variant (open f32, filled f64)</text>')
+    o.append(f'<circle cx="{lx0 + 4}" cy="{yy + 50}" r="8" fill="none" stroke="black"/><text x="{lx0 + 16}" y="{yy + 54}">Pareto front (dashed), numbered:</text>')
+    for i, p in enumerate(front, 1):
+        k = p["kernel"].split()
+        name = f'{k[0]} {k[1].replace("h=", "h ")}, nx {p["nx"]}, p_b {p["p_b"]:g}, {p["precision"]}'
+        o.append(f'<text x="{lx0}" y="{yy + 60 + 26 * i}" font-size="10">{i}. {name}</text>')
+        o.append(f'<text x="{lx0 + 12}" y="{yy + 72 + 26 * i}" font-size="10" fill="#444">{p["backend"] if p["gpu"] else "CPU " + p["backend"]}</text>')
     o.append("</svg>")
     open(path, "w").write("\n".join(o))
 
@@ -225,7 +271,7 @@ def main():
         pareto(pts, "pair_work_1e9", "pareto")
         pareto(pts, "wall_time_s", "pareto_wall")
     keys = ["case", "backend", "kernel", "nx", "p_b", "p_b_dx_over_sigma", "precision", "steps", "pair_work_1e9", "wall_time_s",
-            "ms_per_step", "quantity", "error", "pareto", "pareto_wall", "status", "adapter", "commit", "date", "run"]
+            "ms_per_step", "quantity", "error", "error_floor", "below_floor", "pareto", "pareto_wall", "status", "adapter", "commit", "date", "run"]
     with open(f"{out}/speed_vs_physical_error.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
@@ -260,7 +306,11 @@ def main():
           "from git); error = |θ − 60°|/60° with θ the circle-fit angle averaged over t ∈ [4.3, 4.5]. The kernel × p_b × "
           "precision runs at nx = 26 (`relax` in the script) were stopped for CPU time and are not in the table.",
           "* Pareto front: runs that no other run of the same case beats in both work and error (ringed and joined in "
-          "the work plots, `pareto` in the CSV; `pareto_wall` is the same on wall time). Axes are log-log.", ""]
+          "the work plots, `pareto` in the CSV; `pareto_wall` is the same on wall time). Axes are log-log.",
+          f"* Resolution floor: an error below it is not told apart from zero (drop: {FLOOR['drop']:.4f}, the thesis "
+          f"quotes T = 0.37 to two digits, ±0.005, coarser than the estimator's 0.002 sampling; relax-60: {FLOOR['relax-60']:.4f}, "
+          "one 0.2-wide window of one run scatters by up to 2.96°, relax-60/nx45's dt check). Such points are drawn on the "
+          "floor (▾, `below_floor` in the CSV) and tie there on the front: the cheaper one is on it.", ""]
     for name, pts, q in [("drop", drop, "period"), ("relax-60", relax, "θ (deg)")]:
         md += [f"## {name}", "", f"| backend | kernel | nx | p_b (p_bΔx/σ) | precision | work (1e9 pairs) | wall time (s) | ms/step | {q} | rel. error | Pareto (work / wall) | adapter / driver | commit | date |",
                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
