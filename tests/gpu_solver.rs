@@ -11,7 +11,7 @@ use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::gpu::compose::{compose_mapped, compose_variant_mapped, validate, F64, VARIANT_FILES};
 use sphlab::gpu::params::{field_offsets, Params};
-use sphlab::gpu::solver::GpuSolver;
+use sphlab::gpu::solver::{EngineMode, GpuSolver};
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::gpu::GpuContext;
 use sphlab::neighbours::SearchKind;
@@ -353,7 +353,46 @@ fn a_blow_up_inside_a_batch_reports_and_keeps_the_failing_step() {
     assert_eq!((sc, pc), (sa, pa), "unfused: same failing step and particle");
     assert_eq!(c.steps(), *sa, "unfused: stops at the failing step");
     let fc = c.frame();
-    assert!((fc.pos, fc.vel) == (fa.pos, fa.vel), "unfused: the same halted state");
+    assert!((&fc.pos, &fc.vel) == (&fa.pos, &fa.vel), "unfused: the same halted state");
+    // Batches of 7 steps kept in flight, each read one batch late: the batches after the
+    // failing one do nothing, and the report is the same.
+    let mut d = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+    Backend::set_steps_per_submit(&mut d, 7);
+    let ed = d.advance(200).expect_err("in flight: the same blow-up");
+    let SolverError::BlowUp { step: sd, particle: pd, .. } = &ed else { panic!("expected a blow-up: {ed}") };
+    assert_eq!((sd, pd, d.steps()), (sa, pa, *sa), "in flight: same failing step, particle and stop");
+    let fd = d.frame();
+    assert!((fd.pos, fd.vel) == (fa.pos, fa.vel), "in flight: the same halted state");
+}
+
+/// A long `advance` split into submissions of k steps keeps batches in flight: one submission
+/// and one readback per batch, never a host write, and the same bits (and, adaptive dt, the
+/// same clock) as the batches read one at a time.
+#[test]
+fn batches_in_flight_match_batches_read_one_at_a_time() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    for (name, sets) in [("oscillating-drop", &[][..]), ("poiseuille", &[][..])] {
+        let (s, l) = scene(name, sets);
+        let run = |in_flight: bool| {
+            let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+            let mode = EngineMode { max_steps_per_submit: 3, in_flight, ..EngineMode::AFTER };
+            g.set_engine_mode(mode).unwrap();
+            let c0 = g.engine_counters();
+            g.advance(20).unwrap();
+            let c = g.engine_counters().since(&c0);
+            let fr = g.frame();
+            (c, fr.step, fr.t, fr.dt, fr.pos, fr.vel)
+        };
+        let (ca, sa, ta, da, pa, va) = run(true);
+        let (cb, sb, tb, db, pb, vb) = run(false);
+        println!("{name}: in flight {ca:?}; one at a time {cb:?}");
+        assert_eq!((ca.steps, ca.submits, ca.readbacks, ca.writes), (20, 7, 7, 0), "{name}: {ca:?}");
+        assert_eq!((cb.submits, cb.readbacks), (7, 7), "{name}: {cb:?}");
+        assert_eq!((sa, ta, da), (sb, tb, db), "{name}: the clock");
+        assert!((pa, va) == (pb, vb), "{name}: the same bits");
+    }
 }
 
 /// The study's `engine` experiment at a small N writes, in one run, the CPU single-thread rows,

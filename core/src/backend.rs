@@ -238,14 +238,19 @@ pub trait Backend {
     /// One time step.
     fn step(&mut self) -> Result<(), SolverError>;
     /// `k` time steps. The GPU records them into one submission with no host write in between
-    /// and reads its flags and clock back once at the end; the default (CPU) is `k` × `step()`.
-    /// An error names the failing step; [`Backend::steps`] is then that step.
+    /// and reads its flags and clock back once at the end (or, past
+    /// [`Backend::set_steps_per_submit`], in several submissions kept in flight, each read back
+    /// one batch late); the default (CPU) is `k` × `step()`. An error names the failing step;
+    /// [`Backend::steps`] is then that step.
     fn advance(&mut self, k: u64) -> Result<(), SolverError> {
         for _ in 0..k {
             self.step()?;
         }
         Ok(())
     }
+    /// Most steps one submission of [`Backend::advance`] records (0: all of them); the CPU has
+    /// no submissions and ignores it.
+    fn set_steps_per_submit(&mut self, _k: u64) {}
     /// Submissions, readbacks, dispatches and writes since the backend was built (GPU); `None`
     /// on the CPU.
     fn engine_counters(&self) -> Option<EngineCounters> {

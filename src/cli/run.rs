@@ -32,7 +32,8 @@ pub struct RunArgs {
     /// Also write VTK (.vtu + .pvd) snapshots (binary from 20,000 particles).
     #[arg(long)]
     vtk: bool,
-    /// At most N steps per GPU submission (one readback each), cut at output steps; 0: 64.
+    /// At most N steps per GPU submission (one readback each, read one batch late while the
+    /// next batches run), cut at output steps; 0: 64.
     #[arg(long, default_value_t = 0)]
     steps_per_submit: u64,
     /// CPU neighbour search (default cells); a GPU variant's is part of its id.

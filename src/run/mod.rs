@@ -133,13 +133,17 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Particle and memory limits of the resource plan.
     pub limits: Limits,
-    /// At most this many steps per `Backend::advance` (one GPU submission and one readback),
-    /// cut at output rows, snapshots and the end; 0: [`DEFAULT_STEPS_PER_SUBMIT`].
+    /// At most this many steps per GPU submission (one readback each); the driver hands the
+    /// backend [`BATCHES_PER_ADVANCE`] of them per `Backend::advance`, cut at output rows,
+    /// snapshots and the end, so that a GPU keeps them in flight; 0: [`DEFAULT_STEPS_PER_SUBMIT`].
     pub steps_per_submit: u64,
 }
 
 /// Steps per submission when `--steps-per-submit` is 0 (output steps cut batches shorter).
 pub const DEFAULT_STEPS_PER_SUBMIT: u64 = 64;
+/// Submissions' worth of steps the driver hands the backend in one `Backend::advance` (the GPU
+/// keeps them in flight, reading each one's control words one batch late).
+pub const BATCHES_PER_ADVANCE: u64 = 4;
 /// Largest accepted `--steps-per-submit` (a submission records ≈ 20 dispatches per step).
 pub const MAX_STEPS_PER_SUBMIT: u64 = 4096;
 

@@ -4,7 +4,10 @@
 //! interrupt) is [`super::finish`].
 
 use super::finish::Stepped;
-use super::{interrupt_requested, try_measure, RunError, RunOptions, SeriesRow, Summary, DEFAULT_STEPS_PER_SUBMIT};
+use super::{
+    interrupt_requested, try_measure, RunError, RunOptions, SeriesRow, Summary, BATCHES_PER_ADVANCE,
+    DEFAULT_STEPS_PER_SUBMIT,
+};
 use crate::backend::{Backend, EngineCounters, Frame};
 use crate::output::{self, PvdWriter, SeriesWriter};
 use crate::physics::timestep::StabilityNumbers;
@@ -68,6 +71,7 @@ impl<'a> Stepping<'a> {
         summary_path: &'a Path,
     ) -> Self {
         let k_max = if opts.steps_per_submit == 0 { DEFAULT_STEPS_PER_SUBMIT } else { opts.steps_per_submit };
+        backend.set_steps_per_submit(k_max);
         Stepping { scene, opts, backend, summary, summary_path, numbers: StabilityNumbers::default(), pvd: None, k_max }
     }
 
@@ -102,7 +106,16 @@ impl<'a> Stepping<'a> {
             let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
             while self.backend.time() < r.t * (1.0 - 1e-12) {
                 let (step0, t0) = (self.backend.steps(), self.backend.time());
-                if let Err(e) = self.backend.advance(batch_len(self.k_max, step0, 0, 0, None, t0, r.t, dt_est)) {
+                if let Err(e) = self.backend.advance(batch_len(
+                    self.k_max * BATCHES_PER_ADVANCE,
+                    step0,
+                    0,
+                    0,
+                    None,
+                    t0,
+                    r.t,
+                    dt_est,
+                )) {
                     return Err(self.fail(e, started.elapsed().as_secs_f64()));
                 }
                 if interrupt_requested() {
@@ -155,7 +168,16 @@ impl<'a> Stepping<'a> {
         let mut dt_est = (scene.time.dt > 0.0).then_some((scene.time.dt, true));
         while !done(self.backend.as_ref()) {
             let (step0, t0) = (self.backend.steps(), self.backend.time());
-            let k = batch_len(self.k_max, step0, scene.output.every, opts.every, opts.steps, t0, t_end, dt_est);
+            let k = batch_len(
+                self.k_max * BATCHES_PER_ADVANCE,
+                step0,
+                scene.output.every,
+                opts.every,
+                opts.steps,
+                t0,
+                t_end,
+                dt_est,
+            );
             let before = self.backend.engine_counters();
             if let Err(e) = self.backend.advance(k) {
                 return Err(self.fail(e, start.elapsed().as_secs_f64()));

@@ -9,8 +9,11 @@
 //! t by counting (fixed dt) or takes them from the readback (adaptive dt).
 //!
 //! **Readback.** At the end of a batch the control words (`ctl`, `vctl`) and the clock are
-//! copied into one persistent staging buffer inside the same submission ([`ControlReader::record`])
-//! and mapped once ([`ControlReader::read`]): one submit and one readback per batch.
+//! copied into a persistent staging buffer inside the same submission ([`ControlReader::record`])
+//! and mapped once ([`ControlReader::read`]): one submit and one readback per batch. The reader
+//! keeps a ring of [`BATCHES_IN_FLIGHT`] such buffers, so that a long `advance` can submit the
+//! next batches before the oldest one's words are read ([`ControlReader::send`],
+//! [`ControlReader::take`]): the device is never idle while the host encodes.
 
 use super::solver_buffers::{ctl, Bufs};
 use super::variant_buffers::{vctl, vparam, VBufs};
@@ -44,40 +47,77 @@ impl Control {
     }
 }
 
-/// The persistent staging buffer of the control readback.
+/// Batches a long `advance` keeps submitted before it reads the oldest one's control words.
+pub const BATCHES_IN_FLIGHT: usize = 3;
+
+/// The ring of persistent staging buffers of the control readback.
 pub struct ControlReader {
-    staging: wgpu::Buffer,
+    staging: Vec<wgpu::Buffer>,
     real: u64,
 }
 
+/// A batch whose control words are on their way back: its staging slot, the mapping started
+/// right after its submission, and that submission.
+pub struct InFlight {
+    slot: usize,
+    mapping: super::staging::Mapping,
+    index: wgpu::SubmissionIndex,
+}
+
 impl ControlReader {
-    /// A staging buffer for a solver in precision `T`.
+    /// [`BATCHES_IN_FLIGHT`] staging buffers for a solver in precision `T`.
     pub fn new<T: Real>(ctx: &GpuContext) -> Self {
         let real = size_of::<T>() as u64;
-        let staging = super::staging::staging_buffer(ctx, "sphlab.control.staging", CLOCK_AT + CLOCK_LEN as u64 * real);
+        let bytes = CLOCK_AT + CLOCK_LEN as u64 * real;
+        let staging = (0..BATCHES_IN_FLIGHT)
+            .map(|_| super::staging::staging_buffer(ctx, "sphlab.control.staging", bytes))
+            .collect();
         Self { staging, real }
     }
 
-    /// Records the copies of `ctl`, `vctl` and the clock into the staging buffer (end of a batch).
-    pub fn record<T: Real>(&self, enc: &mut wgpu::CommandEncoder, b: &Bufs<T>, vb: &VBufs<T>) {
-        enc.copy_buffer_to_buffer(&b.ctl.buffer, 0, &self.staging, 0, CTL_BYTES);
-        enc.copy_buffer_to_buffer(&vb.vctl.buffer, 0, &self.staging, CTL_BYTES, VCTL_BYTES);
-        let clock = vparam::DT as u64 * self.real;
-        enc.copy_buffer_to_buffer(&vb.vparams.buffer, clock, &self.staging, CLOCK_AT, CLOCK_LEN as u64 * self.real);
+    fn bytes(&self) -> u64 {
+        CLOCK_AT + CLOCK_LEN as u64 * self.real
     }
 
-    /// Maps the staging buffer (after the submission that recorded the copies) and decodes it.
+    /// Records the copies of `ctl`, `vctl` and the clock into staging slot `slot` (end of a
+    /// batch; slot 0 for a batch read at once).
+    pub fn record<T: Real>(&self, enc: &mut wgpu::CommandEncoder, b: &Bufs<T>, vb: &VBufs<T>, slot: usize) {
+        let staging = &self.staging[slot % self.staging.len()];
+        enc.copy_buffer_to_buffer(&b.ctl.buffer, 0, staging, 0, CTL_BYTES);
+        enc.copy_buffer_to_buffer(&vb.vctl.buffer, 0, staging, CTL_BYTES, VCTL_BYTES);
+        let clock = vparam::DT as u64 * self.real;
+        enc.copy_buffer_to_buffer(&vb.vparams.buffer, clock, staging, CLOCK_AT, CLOCK_LEN as u64 * self.real);
+    }
+
+    /// Starts mapping slot `slot` right after `index`, the submission that recorded its copies.
+    pub fn send(&self, slot: usize, index: wgpu::SubmissionIndex) -> InFlight {
+        let slot = slot % self.staging.len();
+        InFlight { slot, mapping: super::staging::map_start(&self.staging[slot], self.bytes()), index }
+    }
+
+    /// Waits for an in-flight batch's submission alone and decodes its words.
+    pub fn take<T: Real>(&self, ctx: &GpuContext, f: InFlight) -> Result<Control, GpuError> {
+        let staging = &self.staging[f.slot];
+        let bytes: Vec<u8> = super::staging::map_finish(ctx, staging, f.mapping, Some(f.index))?;
+        Ok(self.decode::<T>(&bytes))
+    }
+
+    /// Maps slot 0 (after the submission that recorded the copies) and decodes it.
     pub fn read<T: Real>(&self, ctx: &GpuContext) -> Result<Control, GpuError> {
-        let bytes: Vec<u8> = super::staging::map_read(ctx, &self.staging, CLOCK_AT + CLOCK_LEN as u64 * self.real)?;
+        let bytes: Vec<u8> = super::staging::map_read(ctx, &self.staging[0], self.bytes())?;
+        Ok(self.decode::<T>(&bytes))
+    }
+
+    fn decode<T: Real>(&self, bytes: &[u8]) -> Control {
         let words =
             |from: u64, to: u64| -> Vec<u32> { bytemuck::pod_collect_to_vec(&bytes[from as usize..to as usize]) };
         let clock: Vec<T> = bytemuck::pod_collect_to_vec(&bytes[CLOCK_AT as usize..]);
-        Ok(Control {
+        Control {
             ctl: words(0, CTL_BYTES),
             vctl: words(CTL_BYTES, CLOCK_AT),
             dt: clock[0].f64(),
             t: clock[1].f64() + clock[2].f64(),
-        })
+        }
     }
 }
 

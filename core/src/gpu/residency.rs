@@ -244,7 +244,7 @@ impl<T: Real> GpuSolver<T> {
         if bytes == 0 {
             return Ok(());
         }
-        self.submit(|enc| enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes))
+        self.submit(|enc| enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes)).map(|_| ())
     }
 
     /// Loads another particle set (fluids first, `n_fluid` of them, then walls) into a solver

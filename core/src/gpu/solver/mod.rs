@@ -15,7 +15,7 @@
 //! [`GpuSolver::set_reorder_every`] steps, group 2: [`super::reorder`]); everything the host
 //! sees is in the original order.
 
-use super::clock::{write_clock, Control, ControlReader};
+use super::clock::{write_clock, Control, ControlReader, BATCHES_IN_FLIGHT};
 use super::params::Params;
 use super::reorder::{self, RBufs};
 use super::solver_buffers::{ctl, Bufs};
@@ -89,6 +89,9 @@ pub struct GpuSolver<T: Real> {
     steps_total: u64,
     /// Most steps one `advance` submission records (0: all k; [`EngineMode`]).
     max_steps_per_submit: u64,
+    /// Keep up to `BATCHES_IN_FLIGHT` batches of a long `advance` submitted, each batch's
+    /// control words read one batch late ([`EngineMode`]; else each is read before the next).
+    batches_in_flight: bool,
     /// This solver's hold on the context's counters (`gpu::counters`: exact only while alone).
     claim: super::counters::Claim,
 }
@@ -104,16 +107,21 @@ pub struct EngineMode {
     /// Fused passes (each neighbour pass with its per-particle epilogues, `stage::passes`);
     /// false: every stage its own pass.
     pub fused: bool,
+    /// Batches of a long `advance` kept in flight, their control words read one batch late
+    /// (false: each batch's read before the next is submitted).
+    pub in_flight: bool,
 }
 
 impl EngineMode {
     /// The legacy engine, without `advance(k)` and renumbering: lattice order, one step per
     /// submission with a blocking control readback after every step.
-    pub const BEFORE: EngineMode = EngineMode { reorder_every: 0, max_steps_per_submit: 1, fused: false };
+    pub const BEFORE: EngineMode =
+        EngineMode { reorder_every: 0, max_steps_per_submit: 1, fused: false, in_flight: false };
     /// The current engine (the solver's default): renumbering every [`DEFAULT_REORDER_EVERY`]
-    /// steps, k steps per submission and one readback per `advance(k)`, fused passes.
+    /// steps, k steps per submission and one readback per `advance(k)`, fused passes, batches
+    /// in flight when the steps are split.
     pub const AFTER: EngineMode =
-        EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0, fused: true };
+        EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0, fused: true, in_flight: true };
 
     /// `before`, `after`, or the settings.
     pub fn name(&self) -> String {
@@ -121,10 +129,11 @@ impl EngineMode {
             Self::BEFORE => "before".into(),
             Self::AFTER => "after".into(),
             m => format!(
-                "reorder {} / {} steps per submit / {}",
+                "reorder {} / {} steps per submit / {}{}",
                 m.reorder_every,
                 m.max_steps_per_submit,
-                if m.fused { "fused" } else { "unfused" }
+                if m.fused { "fused" } else { "unfused" },
+                if m.in_flight { format!(" / {BATCHES_IN_FLIGHT} batches in flight") } else { String::new() }
             ),
         }
     }
@@ -252,6 +261,7 @@ impl<T: Real> GpuSolver<T> {
             traffic0,
             steps_total: 0,
             max_steps_per_submit: 0,
+            batches_in_flight: true,
             claim,
         };
         s.upload_static_colours()?;
@@ -302,6 +312,7 @@ impl<T: Real> GpuSolver<T> {
         self.set_reorder_every(mode.reorder_every)?;
         self.max_steps_per_submit = mode.max_steps_per_submit;
         self.fused = mode.fused;
+        self.batches_in_flight = mode.in_flight;
         Ok(())
     }
 

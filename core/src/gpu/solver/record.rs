@@ -115,13 +115,18 @@ impl<T: Real> GpuSolver<T> {
         }
     }
 
-    pub(in crate::gpu) fn submit(&self, f: impl FnOnce(&mut wgpu::CommandEncoder)) -> Result<(), GpuError> {
+    /// Records `f` into one command encoder and submits it; returns the submission.
+    pub(in crate::gpu) fn submit(
+        &self,
+        f: impl FnOnce(&mut wgpu::CommandEncoder),
+    ) -> Result<wgpu::SubmissionIndex, GpuError> {
         self.ts.before_submit(&self.ctx)?;
         self.ctx.scoped(|d| {
             let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sphlab.step") });
             f(&mut enc);
-            self.ctx.queue.submit([enc.finish()]);
+            let index = self.ctx.queue.submit([enc.finish()]);
             self.ctx.traffic.submit();
+            index
         })
     }
 

@@ -1,5 +1,6 @@
 //! Stepping the GPU solver: batches of steps in one submission, the control words read back
-//! after each batch (blow-up, neighbour overflow, the device clock), the run driver's
+//! after each batch (blow-up, neighbour overflow, the device clock) — in a long `advance`, one
+//! batch late, with up to `clock::BATCHES_IN_FLIGHT` batches submitted — the run driver's
 //! [`Backend`] interface, and stage timing by timestamps.
 
 // The solver's own imports (state, buffers, stage table, errors).
@@ -7,11 +8,13 @@ use super::*;
 
 impl<T: Real> GpuSolver<T> {
     /// Takes the control words read back after a batch: the host clock follows the device's
-    /// (adaptive dt, or a halted device), and the first failure becomes the error.
-    fn take_control(&mut self, c: Control) -> Result<(), SolverError> {
+    /// (adaptive dt, or a halted device), and the first failure becomes the error. `latest`:
+    /// no batch was submitted after this one (else its clock is not the newest and only a
+    /// failure moves the host's).
+    fn take_control(&mut self, c: Control, latest: bool) -> Result<(), SolverError> {
         let (bad, over) = (c.ctl[ctl::BAD_STEP], c.ctl[ctl::OVER_STEP]);
         let failed = bad != u32::MAX || over != u32::MAX;
-        if self.model.dt_fixed <= 0.0 || failed {
+        if (self.model.dt_fixed <= 0.0 && latest) || failed {
             self.step = c.step();
             self.t = c.t;
             if c.dt > 0.0 {
@@ -50,9 +53,9 @@ impl<T: Real> GpuSolver<T> {
     /// Reads the control words and the clock back (one submit, one readback) and takes them.
     fn check_flags(&mut self) -> Result<(), SolverError> {
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
-        self.submit(|enc| self.control.record(enc, &self.b, &self.vb)).map_err(gpu)?;
+        self.submit(|enc| self.control.record(enc, &self.b, &self.vb, 0)).map_err(gpu)?;
         let c = self.control.read::<T>(&self.ctx).map_err(gpu)?;
-        self.take_control(c)
+        self.take_control(c, true)
     }
 
     /// `k` steps in ONE submission; the control words and the clock are copied at its end and,
@@ -65,29 +68,77 @@ impl<T: Real> GpuSolver<T> {
             return Ok(());
         }
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        let index = self.send_steps(k, read.then_some(0))?;
+        if read {
+            let c = self.control.take::<T>(&self.ctx, self.control.send(0, index)).map_err(gpu)?;
+            self.take_control(c, true)?;
+        } else {
+            let _ = self.ctx.device.poll(wgpu::PollType::Poll);
+        }
+        Ok(())
+    }
+
+    /// `k` steps in batches of at most `most`, up to [`BATCHES_IN_FLIGHT`] submitted before
+    /// the oldest one's control words are read: the device runs batch i + 1 while the host
+    /// reads batch i and encodes batch i + 2. A failure found in batch i is reported as at
+    /// once (the device halts at the failing step, so the batches after it do nothing); the
+    /// others are drained first.
+    fn run_batches(&mut self, k: u64, most: u64) -> Result<(), SolverError> {
+        if let Some(e) = self.pending.take() {
+            return Err(e);
+        }
+        let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
+        let mut flight = std::collections::VecDeque::new();
+        let (mut left, mut slot) = (k, 0);
+        let mut failure = None;
+        while (left > 0 || !flight.is_empty()) && failure.is_none() {
+            if left > 0 && flight.len() < BATCHES_IN_FLIGHT {
+                let n = left.min(most);
+                let index = self.send_steps(n, Some(slot))?;
+                flight.push_back(self.control.send(slot, index));
+                (left, slot) = (left - n, slot + 1);
+                continue;
+            }
+            let oldest = flight.pop_front().expect("a batch in flight");
+            let c = self.control.take::<T>(&self.ctx, oldest).map_err(gpu)?;
+            let latest = left == 0 && flight.is_empty();
+            failure = self.take_control(c, latest).err();
+        }
+        for f in flight {
+            self.control.take::<T>(&self.ctx, f).map_err(gpu)?;
+        }
+        failure.map_or(Ok(()), Err)
+    }
+
+    /// Records and submits `k` steps (the batch's timestamp pair around them when timing is
+    /// on; the control copies into staging slot `slot` when given) and advances the host's
+    /// step count (and, with a fixed dt, its clock).
+    fn send_steps(&mut self, k: u64, slot: Option<usize>) -> Result<wgpu::SubmissionIndex, SolverError> {
+        let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
         let midpoint = self.integrator == Integrator::Midpoint;
         let have_acc = self.have_acc;
-        self.submit(|enc| {
-            // The batch's timestamp pair (timing on): an empty pass before the steps, one after.
-            let [open, close] = self.ts.batch().map_or([None, None], |[a, b]| [Some(a), Some(b)]);
-            let bracket = |enc: &mut wgpu::CommandEncoder, w| {
-                let label = Some("sphlab.batch");
-                drop(enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label, timestamp_writes: Some(w) }));
-            };
-            if let Some(w) = open {
-                bracket(enc, w);
-            }
-            for s in 0..k {
-                self.record_step(enc, midpoint || (s == 0 && !have_acc));
-            }
-            if let Some(w) = close {
-                bracket(enc, w);
-            }
-            if read {
-                self.control.record(enc, &self.b, &self.vb);
-            }
-        })
-        .map_err(gpu)?;
+        let index = self
+            .submit(|enc| {
+                // The batch's timestamp pair (timing on): an empty pass before the steps, one after.
+                let [open, close] = self.ts.batch().map_or([None, None], |[a, b]| [Some(a), Some(b)]);
+                let bracket = |enc: &mut wgpu::CommandEncoder, w| {
+                    let label = Some("sphlab.batch");
+                    drop(enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label, timestamp_writes: Some(w) }));
+                };
+                if let Some(w) = open {
+                    bracket(enc, w);
+                }
+                for s in 0..k {
+                    self.record_step(enc, midpoint || (s == 0 && !have_acc));
+                }
+                if let Some(w) = close {
+                    bracket(enc, w);
+                }
+                if let Some(slot) = slot {
+                    self.control.record(enc, &self.b, &self.vb, slot);
+                }
+            })
+            .map_err(gpu)?;
         self.have_acc = true;
         self.steps_total += k;
         if self.model.dt_fixed > 0.0 {
@@ -97,13 +148,7 @@ impl<T: Real> GpuSolver<T> {
             self.dt = self.model.dt_fixed;
         }
         self.step += k;
-        if read {
-            let c = self.control.read::<T>(&self.ctx).map_err(gpu)?;
-            self.take_control(c)?;
-        } else {
-            let _ = self.ctx.device.poll(wgpu::PollType::Poll);
-        }
-        Ok(())
+        Ok(index)
     }
 
     /// What was done to the solver's context since the solver was built (`gpu::counters`): the
@@ -131,18 +176,24 @@ impl<T: Real> Backend for GpuSolver<T> {
         let read = adaptive || (self.check_every > 0 && (self.step + 1).is_multiple_of(self.check_every));
         self.run_steps(1, read)
     }
+    fn set_steps_per_submit(&mut self, k: u64) {
+        self.max_steps_per_submit = k;
+    }
     fn advance(&mut self, k: u64) -> Result<(), SolverError> {
         if k == 0 {
             return self.run_steps(0, true);
         }
         let most = if self.max_steps_per_submit == 0 { k } else { self.max_steps_per_submit };
-        let mut left = k;
-        while left > 0 {
-            let n = left.min(most);
-            self.run_steps(n, true)?;
-            left -= n;
+        if !self.batches_in_flight || most >= k {
+            let mut left = k;
+            while left > 0 {
+                let n = left.min(most);
+                self.run_steps(n, true)?;
+                left -= n;
+            }
+            return Ok(());
         }
-        Ok(())
+        self.run_batches(k, most)
     }
     fn engine_counters(&self) -> Option<EngineCounters> {
         // Another solver on the context since this one was built: its work would be counted too.
