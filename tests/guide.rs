@@ -17,7 +17,7 @@ use sphlab::gpu::compose::{compose_mapped, validate};
 use sphlab::gpu::params::Params;
 use sphlab::gpu::solver_buffers::{self, Bufs};
 use sphlab::gpu::stages::{defines, PAIR_STAGES};
-use sphlab::gpu::variant::{Accumulation, KernelValues, Mapping, SumLayout, VariantSpec};
+use sphlab::gpu::variant::{Accumulation, KernelValues, Mapping, SumLayout, VariantSpec, Workgroup};
 use sphlab::gpu::variant_buffers::{self, VBufs};
 use sphlab::gpu::GpuContext;
 use sphlab::neighbours::cells::CellBox;
@@ -257,6 +257,7 @@ fn check_scene<T: Real>(ctx: &GpuContext, t: &Toy, name: &str, sets: &[&str]) ->
         accumulation: Accumulation::None,
         kernel_values: KernelValues::Recomputed,
         precision: precision::<T>(),
+        workgroup: Workgroup::W64,
     };
     let composed = compose_mapped(&t.file, &t.source, &defines(&spec)).expect("composes");
     let module = ctx

@@ -284,3 +284,35 @@ fn baselines_are_same_run_and_a_wrong_variant_is_never_the_answer() {
     assert!(md.find("## The answer") < md.find("## Plan"), "the answer comes first");
     assert!(!answer.contains(&format!("| `{wrong}` |")), "an inaccurate variant is never the fastest: {answer}");
 }
+
+/// `--workgroup-sizes` adds each thread variant's twins at the other sizes (and no block
+/// variant's), they run and match the CPU like the 64-thread variant, the answer has the
+/// workgroup-size axis; a size that is not 64, 128 or 256 is bad input.
+#[test]
+fn workgroup_size_is_a_study_axis() {
+    let _g = serial();
+    if gpu_or_skip().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().to_str().expect("utf8");
+    let o = sphlab(&tiny(out, "cells.block-tree.fixed.recomputed.f32", &["--workgroup-sizes", "96"]));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--workgroup-sizes") && stderr(&o).contains("64, 128, 256"), "{}", stderr(&o));
+    let variants = "cells.thread.recomputed.f32,cells.block-tree.fixed.recomputed.f32";
+    let o = sphlab(&tiny(out, variants, &["--workgroup-sizes", "64,256"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = records(dir.path());
+    let gpu: Vec<&str> = rows.iter().filter(|r| r["backend"] == "gpu").map(|r| r["variant"].as_str()).collect();
+    assert_eq!(
+        gpu,
+        ["cells.thread.recomputed.f32", "cells.thread.recomputed.f32.wg256", "cells.block-tree.fixed.recomputed.f32"],
+        "{rows:?}"
+    );
+    for r in rows.iter().filter(|r| r["backend"] == "gpu") {
+        assert!(["ok", "loaded"].contains(&r["status"].as_str()), "{r:?}");
+        assert!(r["ke_rel_error"].parse::<f64>().unwrap() < 1e-5, "{r:?}");
+    }
+    let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary");
+    assert!(md.contains("| workgroup size | `wg256` over `wg64` |"), "{md}");
+}

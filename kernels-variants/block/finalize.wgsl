@@ -5,7 +5,7 @@
 #import common/pair_terms
 #import common/accum
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn finalize_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i < params.n {
@@ -13,7 +13,7 @@ fn finalize_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn finalize_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i < params.n {
@@ -23,7 +23,7 @@ fn finalize_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn finalize_acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i < params.n {

@@ -4,10 +4,19 @@
 // kernel takes its index from here, so any N up to memory is reachable; threads past the end
 // return at each kernel's bounds check. Library module: no bindings, no entry points.
 
-// Threads per workgroup of the one-thread-per-item kernels (their @workgroup_size).
+// Threads per workgroup of the one-thread-per-item kernels (their @workgroup_size): 64, or the
+// variant's workgroup size (`.wg128`, `.wg256`; `GpuSolver::groups` sizes their grids alike).
+#ifdef WG256
+const GROUP_THREADS: u32 = 256u;
+#else
+#ifdef WG128
+const GROUP_THREADS: u32 = 128u;
+#else
 const GROUP_THREADS: u32 = 64u;
+#endif
+#endif
 
-// Linear thread index of a 64-thread kernel dispatched as (gx, gy, 1).
+// Linear thread index of a GROUP_THREADS-thread kernel dispatched as (gx, gy, 1).
 fn linear_id(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     return gid.x + gid.y * nwg.x * GROUP_THREADS;
 }

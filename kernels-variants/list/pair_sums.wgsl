@@ -6,7 +6,7 @@
 
 #import common/pair_terms
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n {
@@ -21,7 +21,7 @@ fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     density_out(i, s);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n {
@@ -41,7 +41,7 @@ fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     grad_out(i, g);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n {

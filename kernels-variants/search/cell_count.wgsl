@@ -7,7 +7,7 @@
 
 const SCAN_BLOCK: u32 = 256u; // twin of search/cell_scan.wgsl
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn cell_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n {

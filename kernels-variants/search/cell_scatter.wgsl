@@ -5,7 +5,7 @@
 
 #import common/bindings
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn cell_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n {
@@ -16,7 +16,7 @@ fn cell_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     sorted[cell_start[c] + k] = i;
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn cell_sort(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let c = linear_id(gid, nwg);
     if c >= params.grid_nx * params.grid_ny {

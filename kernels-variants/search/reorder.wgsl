@@ -81,7 +81,7 @@ fn reorder_decide() {
 }
 
 // Walls per cell (once: walls are static).
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_wall_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = params.n_fluid + linear_id(gid, nwg);
     if i >= params.n || !now() || atomicLoad(&rctl[R_WALLS_READY]) != 0u {
@@ -141,7 +141,7 @@ fn reorder_wall_scan(@builtin(local_invocation_index) t: u32) {
 
 // One thread per slot of `sorted`: the new index of its fluid particle; `sorted` is renumbered
 // in place (each thread owns its slot), so it stays the cell sort of the new indices.
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let s = linear_id(gid, nwg);
     if s >= params.n || !now() {
@@ -165,7 +165,7 @@ fn gather_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     return d;
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -177,7 +177,7 @@ fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
     counts[orig_tmp_at(d)] = atomicLoad(&rctl[orig_word(o)]);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -189,7 +189,7 @@ fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
 }
 
 // Mass, phase and colour (small integers: exact as reals).
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_gather_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -200,7 +200,7 @@ fn reorder_gather_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(n
     grad1[d] = real2(real(colour[o]), real(0.0));
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_put_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -212,7 +212,7 @@ fn reorder_put_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
 }
 
 // ṽ and a.
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -223,7 +223,7 @@ fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
     grad1[d] = acc[o];
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -235,7 +235,7 @@ fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
 
 // The midpoint start state r⁰, v⁰ (live between predict and correct; Verlet's v_{n+½}), then
 // the scratch zeroed.
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_gather_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {
@@ -246,7 +246,7 @@ fn reorder_gather_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
     grad1[d] = vel0[o];
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reorder_put_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let d = gather_index(gid, nwg);
     if d == 0xffffffffu {

@@ -17,7 +17,7 @@
 
 var<workgroup> wg_disp2: array<u32, GROUP_THREADS>;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn track_check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
     var bits = 0u;
@@ -57,7 +57,7 @@ fn track_every() {
     atomicAdd(&vctl[V_SINCE], 1u);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n || atomicLoad(&vctl[V_REBUILD]) == 0u {

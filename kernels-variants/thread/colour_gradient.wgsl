@@ -6,7 +6,7 @@
 #import common/neighbours
 #import common/pair_terms
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n {

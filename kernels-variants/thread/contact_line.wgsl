@@ -22,7 +22,7 @@ fn push_contact(x: real, s: real) {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn contact_line(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n_fluid || phase[i] != 0u || !in_band(pos[i].y) {

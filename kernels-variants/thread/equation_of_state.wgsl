@@ -4,7 +4,7 @@
 
 #import common/epilogues
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn equation_of_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i < params.n {

@@ -40,7 +40,7 @@ fn store_fixed(i: u32, r: real2, v: real2) {
     vel[i] = real2(vx, vy);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n_fluid || halted() {
@@ -56,7 +56,7 @@ fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
 // `FUSE_CHECK` (the stage table's `check` as their epilogue, core/src/stage.rs) every thread
 // checks its particle right after integrating it and the last workgroup to finish ticks the
 // clock (`end_step`), which needs the whole workgroup at its barrier.
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
     if i < params.n_fluid && !closing_halted() {
@@ -67,7 +67,7 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     closing_end(t, nwg);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i >= params.n_fluid || halted() {
@@ -88,7 +88,7 @@ fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     store_fixed(i, r, integrate_kick(vh, acc[i], clock_dt()));
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
     if i < params.n_fluid && !closing_halted() {
@@ -135,7 +135,7 @@ fn check_at(i: u32, step: u32) {
 
 // The check as its own stage, after a step (step number = ctl[CTL_STEP], just advanced by
 // clock_tick).
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn check(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
     if i < params.n_fluid {
@@ -191,7 +191,7 @@ fn closing_end(t: u32, nwg: vec3<u32>) {
 var<workgroup> wg_vmax: array<u32, GROUP_THREADS>;
 var<workgroup> wg_amax: array<u32, GROUP_THREADS>;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
     var vb = 0u;

@@ -4,7 +4,7 @@
 
 #import common/neighbours
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GROUP_THREADS)
 fn wall_pressure(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = params.n_fluid + linear_id(gid, nwg);
     if i >= params.n {

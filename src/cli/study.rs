@@ -55,6 +55,10 @@ pub struct StudyArgs {
     /// GPU variants: `all` or comma-separated ids.
     #[arg(long, default_value = "all")]
     pub variants: String,
+    /// Workgroup sizes of the thread mapping's kernels (comma-separated, of 64, 128, 256):
+    /// each thread variant is timed at each (ids `….wg128`, `….wg256`), a study axis.
+    #[arg(long, default_value = "64")]
+    pub workgroup_sizes: String,
     /// Override a field of every study scene by its TOML path.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,

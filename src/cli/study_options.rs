@@ -5,6 +5,7 @@ use super::common::{check_out, gpu_variants};
 use super::study::{Experiment, StudyArgs};
 use clap::ValueEnum;
 use sphlab::error::Error;
+use sphlab::gpu::variant::{Mapping, VariantSpec, Workgroup};
 use sphlab::plan::Limits;
 use sphlab::study::{self, e23::E23Options, timing::Protocol, StudyOptions};
 use std::path::PathBuf;
@@ -77,10 +78,13 @@ pub fn options(a: StudyArgs) -> Result<StudyOptions, Error> {
     let experiments = experiments(&a.experiments);
     let sizes = sizes(&a.sizes, &a.sets, &limits)?;
     check_extra_sizes(&[a.e4_sizes.as_slice(), &probe_sizes].concat(), &a.sets, &limits)?;
-    let variants = match a.variants.as_str() {
-        "all" => Vec::new(),
-        list => gpu_variants(list)?,
-    };
+    let variants = with_workgroups(
+        match a.variants.as_str() {
+            "all" => Vec::new(),
+            list => gpu_variants(list)?,
+        },
+        &a.workgroup_sizes,
+    )?;
     let e23 = E23Options {
         e2_nx: a.e2_nx,
         e3_nx: a.e3_nx,
@@ -105,4 +109,35 @@ pub fn options(a: StudyArgs) -> Result<StudyOptions, Error> {
         probe_sizes,
         perturb: Vec::new(),
     })
+}
+
+/// `variants` (empty: every variant) with each thread variant's twins at the other sizes of
+/// `--workgroup-sizes`; unchanged (still empty for `all`) when that is just 64.
+fn with_workgroups(variants: Vec<VariantSpec>, sizes: &str) -> Result<Vec<VariantSpec>, Error> {
+    let mut wanted = Vec::new();
+    for t in sizes.split(',').map(str::trim).filter(|t| !t.is_empty()) {
+        let w = t.parse().ok().and_then(Workgroup::of).ok_or_else(|| {
+            Error::input(format!("--workgroup-sizes: `{t}` is not a workgroup size; accepted: 64, 128, 256"))
+        })?;
+        if !wanted.contains(&w) {
+            wanted.push(w);
+        }
+    }
+    if wanted.is_empty() {
+        return Err(Error::input("--workgroup-sizes: give at least one of 64, 128, 256"));
+    }
+    if wanted == [Workgroup::W64] {
+        return Ok(variants);
+    }
+    let base = if variants.is_empty() { VariantSpec::all() } else { variants };
+    let mut out = Vec::new();
+    for v in base {
+        let sizes = if v.mapping == Mapping::Thread { wanted.clone() } else { vec![v.workgroup] };
+        for s in sizes.into_iter().filter_map(|w| v.with_workgroup(w)) {
+            if !out.contains(&s) {
+                out.push(s);
+            }
+        }
+    }
+    Ok(out)
 }

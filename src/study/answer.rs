@@ -9,17 +9,22 @@
 
 use super::baseline::{disagreements, rank_groups};
 use super::Record;
+use crate::gpu::variant::VariantSpec;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
-/// A variant id's parts: (search, mapping, accumulation, kernel values, precision).
-fn parts(id: &str) -> Option<[&str; 5]> {
-    let p: Vec<&str> = id.split('.').collect();
-    match p.len() {
-        4 => Some([p[0], p[1], "none", p[2], p[3]]),
-        5 => Some([p[0], p[1], p[2], p[3], p[4]]),
-        _ => None,
-    }
+/// A GPU variant id's parts: (search, mapping, accumulation, kernel values, precision,
+/// workgroup size); `None` for a CPU or hybrid id.
+fn parts(id: &str) -> Option<[String; 6]> {
+    let v: VariantSpec = id.parse().ok()?;
+    Some([
+        v.search.name().to_string(),
+        v.mapping.name().to_string(),
+        v.accumulation.name().to_string(),
+        v.kernel_values.name().to_string(),
+        v.precision.name().to_string(),
+        v.workgroup.name(),
+    ])
 }
 
 /// One strategy comparison: axis name, index of the part it varies, the faster-claimed value,
@@ -47,6 +52,8 @@ const AXES: &[Axis] = &[
     Axis { axis: "accumulation", part: 1, a: "block-tree", b: "block-atomic", thesis: None },
     Axis { axis: "kernel values", part: 3, a: "recomputed", b: "cached", thesis: None },
     Axis { axis: "precision", part: 4, a: "f32", b: "f64", thesis: None },
+    Axis { axis: "workgroup size", part: 5, a: "wg128", b: "wg64", thesis: None },
+    Axis { axis: "workgroup size", part: 5, a: "wg256", b: "wg64", thesis: None },
 ];
 
 /// The matched pairs of `ax` in `rows` (same run, experiment, N and every other part; the
@@ -54,13 +61,12 @@ const AXES: &[Axis] = &[
 /// time ratio b ÷ a and its interval from the two medians' 95 % intervals.
 fn pairs(ax: &Axis, rows: &[&Record]) -> Vec<(f64, f64, f64)> {
     let key = |r: &Record| -> Option<(String, String)> {
-        let p = parts(&r.variant)?;
-        let mut k: Vec<&str> = p.to_vec();
-        k[ax.part] = "*";
+        let mut k = parts(&r.variant)?;
+        let value = std::mem::replace(&mut k[ax.part], "*".into());
         if ax.part == 1 {
-            k[2] = "*";
+            k[2] = "*".into();
         }
-        Some((p[ax.part].to_string(), format!("{}|{}|{}|{}", r.run, r.experiment, r.n, k.join("."))))
+        Some((value, format!("{}|{}|{}|{}", r.run, r.experiment, r.n, k.join("."))))
     };
     let mut by: BTreeMap<String, (Vec<&Record>, Vec<&Record>)> = BTreeMap::new();
     for r in rows.iter().filter(|r| r.is_ok() && r.backend == "gpu") {

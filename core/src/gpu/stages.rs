@@ -193,6 +193,7 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     if spec.kernel_values == KernelValues::Cached {
         d.push("CACHED");
     }
+    d.extend(spec.workgroup.define());
     if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
         d.push("SLOT_MAJOR");
     }

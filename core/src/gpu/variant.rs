@@ -1,6 +1,8 @@
-//! GPU variant ids (docs/STUDY.md): search × mapping × accumulation × kernel values × precision,
-//! written `"{search}.{mapping}[.{accum}].{kernel_values}.{precision}"`, e.g.
-//! `cells.thread.recomputed.f32` or `tracking.block-atomic.fixed.cached.f32`; the mappings are
+//! GPU variant ids (docs/STUDY.md): search × mapping × accumulation × kernel values × precision
+//! (× workgroup size, a study axis of the thread mapping), written
+//! `"{search}.{mapping}[.{accum}].{kernel_values}.{precision}[.wg{128|256}]"`, e.g.
+//! `cells.thread.recomputed.f32`, `cells.thread.recomputed.f32.wg256` or
+//! `tracking.block-atomic.fixed.cached.f32`; the mappings are
 //! registered in one table (`mappings!`: id, kernel file, layout; `subgroup` needs SUBGROUP).
 //! [`VariantSpec::all`] lists every combination that makes sense (an accumulation only for the block mappings; no
 //! float atomics in f64, so f64 block variants accumulate in fixed point only) and every one
@@ -47,6 +49,48 @@ pub enum KernelValues {
     Cached,
 }
 
+/// Threads per workgroup of the one-thread-per-item kernels (`GROUP_THREADS`,
+/// kernels-variants/common/dispatch.wgsl): 64 for every mapping; 128 or 256 as a study axis of
+/// the thread mapping (the block layout is 16 × 32, the subgroup mapping's groups hold 64).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Workgroup {
+    /// 64 threads (the default, written nowhere in the id).
+    W64,
+    /// 128 threads (`.wg128`).
+    W128,
+    /// 256 threads (`.wg256`).
+    W256,
+}
+
+impl Workgroup {
+    /// Every size, smallest first.
+    pub const ALL: &'static [Workgroup] = &[Workgroup::W64, Workgroup::W128, Workgroup::W256];
+    /// Threads per workgroup.
+    pub fn threads(self) -> u32 {
+        match self {
+            Workgroup::W64 => 64,
+            Workgroup::W128 => 128,
+            Workgroup::W256 => 256,
+        }
+    }
+    /// The id suffix (`wg128`; `wg64` for the default, which ids leave out).
+    pub fn name(self) -> String {
+        format!("wg{}", self.threads())
+    }
+    /// The size of `threads` (64, 128 or 256).
+    pub fn of(threads: u32) -> Option<Self> {
+        Self::ALL.iter().copied().find(|w| w.threads() == threads)
+    }
+    /// The composition define (`WG128`, `WG256`; none for 64).
+    pub fn define(self) -> Option<&'static str> {
+        match self {
+            Workgroup::W64 => None,
+            Workgroup::W128 => Some("WG128"),
+            Workgroup::W256 => Some("WG256"),
+        }
+    }
+}
+
 /// One GPU variant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct VariantSpec {
@@ -60,6 +104,9 @@ pub struct VariantSpec {
     pub kernel_values: KernelValues,
     /// Precision.
     pub precision: Precision,
+    /// Threads per workgroup of the one-thread-per-item kernels (64 unless a thread variant
+    /// says `.wg128` or `.wg256`).
+    pub workgroup: Workgroup,
 }
 
 macro_rules! names {
@@ -130,12 +177,20 @@ pub const SUBGROUP_MAX: u32 = 64;
 pub const DEFAULT_VARIANT: &str = "cells.thread.recomputed.f32";
 
 impl VariantSpec {
-    /// True when the accumulation fits the mapping (`none` exactly for the non-block mappings).
+    /// True when the accumulation fits the mapping (`none` exactly for the non-block mappings)
+    /// and a workgroup size other than 64 is the thread mapping's.
     pub fn is_consistent(&self) -> bool {
         (self.mapping.layout() != SumLayout::Block) == (self.accumulation == Accumulation::None)
+            && (self.workgroup == Workgroup::W64 || self.mapping.layout() == SumLayout::Thread)
     }
 
-    /// Every variant that makes sense, in a stable order.
+    /// The same variant with `workgroup` threads per workgroup (`None` unless consistent).
+    pub fn with_workgroup(self, workgroup: Workgroup) -> Option<VariantSpec> {
+        Some(VariantSpec { workgroup, ..self }).filter(|s| s.is_consistent())
+    }
+
+    /// Every variant that makes sense at the default workgroup size, in a stable order (the
+    /// workgroup sizes of the thread mapping are a study axis: [`Self::with_workgroup`]).
     pub fn all() -> Vec<VariantSpec> {
         let mut v = Vec::new();
         for &search in SearchKind::ALL {
@@ -143,7 +198,8 @@ impl VariantSpec {
                 for &accumulation in Accumulation::ALL {
                     for &kernel_values in KernelValues::ALL {
                         for &precision in Precision::ALL {
-                            let s = VariantSpec { search, mapping, accumulation, kernel_values, precision };
+                            let workgroup = Workgroup::W64;
+                            let s = VariantSpec { search, mapping, accumulation, kernel_values, precision, workgroup };
                             if s.is_consistent() && s.meaningful().is_ok() {
                                 v.push(s);
                             }
@@ -195,6 +251,15 @@ impl VariantSpec {
 
     /// `Err(reason)` when the adapter lacks a feature or a limit this variant needs.
     pub fn support(&self, ctx: &GpuContext) -> Result<(), String> {
+        let threads = self.workgroup.threads();
+        if threads > ctx.limits.max_compute_invocations_per_workgroup
+            || threads > ctx.limits.max_compute_workgroup_size_x
+        {
+            return Err(format!(
+                "{self}: {threads} threads per workgroup exceed the adapter's limits ({} invocations, x size {})",
+                ctx.limits.max_compute_invocations_per_workgroup, ctx.limits.max_compute_workgroup_size_x
+            ));
+        }
         if self.mapping.layout() == SumLayout::Block {
             let (inv, wgs) =
                 (ctx.limits.max_compute_invocations_per_workgroup, ctx.limits.max_compute_workgroup_size_y);
@@ -231,7 +296,9 @@ impl VariantSpec {
     /// checks a spec built field by field.
     pub fn implemented(&self) -> Result<(), String> {
         if !self.is_consistent() {
-            return Err(format!("{self}: an accumulation belongs to the block mappings only"));
+            return Err(format!(
+                "{self}: an accumulation belongs to the block mappings only, a workgroup size to the thread mapping"
+            ));
         }
         self.meaningful()
     }
@@ -243,7 +310,11 @@ impl fmt::Display for VariantSpec {
         if self.accumulation != Accumulation::None {
             write!(f, ".{}", self.accumulation.name())?;
         }
-        write!(f, ".{}.{}", self.kernel_values.name(), self.precision.name())
+        write!(f, ".{}.{}", self.kernel_values.name(), self.precision.name())?;
+        if self.workgroup != Workgroup::W64 {
+            write!(f, ".{}", self.workgroup.name())?;
+        }
+        Ok(())
     }
 }
 
@@ -251,7 +322,17 @@ impl FromStr for VariantSpec {
     type Err = String;
     fn from_str(id: &str) -> Result<Self, String> {
         let bad = || format!("unknown GPU variant `{id}`; valid ids: {}", VariantSpec::all_ids());
-        let parts: Vec<&str> = id.split('.').collect();
+        let mut parts: Vec<&str> = id.split('.').collect();
+        let mut workgroup = Workgroup::W64;
+        if let Some(threads) = parts.last().and_then(|w| w.strip_prefix("wg")) {
+            workgroup =
+                threads.parse().ok().and_then(Workgroup::of).filter(|w| *w != Workgroup::W64).ok_or_else(|| {
+                    format!(
+                        "GPU variant `{id}`: the workgroup size must be wg128 or wg256 (64, the default, is left out)"
+                    )
+                })?;
+            parts.pop();
+        }
         let (s, m, a, k, p) = match parts.as_slice() {
             [s, m, k, p] => (*s, *m, "none", *k, *p),
             [s, m, a, k, p] if *a != "none" => (*s, *m, *a, *k, *p),
@@ -263,8 +344,12 @@ impl FromStr for VariantSpec {
             accumulation: Accumulation::parse(a).ok_or_else(bad)?,
             kernel_values: KernelValues::parse(k).ok_or_else(bad)?,
             precision: Precision::parse(p).ok_or_else(bad)?,
+            workgroup,
         };
         if !spec.is_consistent() {
+            if workgroup != Workgroup::W64 {
+                return Err(format!("GPU variant `{id}`: a workgroup size belongs to the thread mapping only"));
+            }
             return Err(bad());
         }
         spec.meaningful()?;
@@ -300,8 +385,23 @@ mod tests {
             "cells.block-tree.recomputed.f32",
             "x",
             "cells.thread.none.recomputed.f32",
+            "cells.thread.recomputed.f32.wg64",
+            "cells.thread.recomputed.f32.wg96",
+            "cells.subgroup.recomputed.f32.wg128",
+            "cells.block-tree.fixed.recomputed.f32.wg256",
         ] {
             assert!(bad.parse::<VariantSpec>().is_err(), "{bad}");
         }
+        for s in all.iter().filter(|s| s.mapping == Mapping::Thread) {
+            for &w in &Workgroup::ALL[1..] {
+                let wide = s.with_workgroup(w).expect("thread variants take every size");
+                assert_eq!(wide.to_string(), format!("{s}.{}", w.name()));
+                assert_eq!(wide.to_string().parse::<VariantSpec>().unwrap(), wide);
+            }
+        }
+        assert!(all
+            .iter()
+            .filter(|s| s.mapping != Mapping::Thread)
+            .all(|s| s.with_workgroup(Workgroup::W128).is_none()));
     }
 }

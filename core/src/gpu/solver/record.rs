@@ -35,7 +35,7 @@ impl<T: Real> GpuSolver<T> {
                 return [gx, (vbufs::NBR_SLOTS / 16) as u32, gz];
             }
         };
-        let (gx, gy) = spread(threads.div_ceil(64), self.max_groups_per_dim);
+        let (gx, gy) = spread(threads.div_ceil(self.spec.workgroup.threads() as usize), self.max_groups_per_dim);
         [gx, gy, 1]
     }
 
