@@ -80,6 +80,25 @@ impl Row {
         self
     }
 
+    /// Names what a pass or FAIL depends on and, when committed runs give one, the result's
+    /// sensitivity band: the verdict becomes "pass (criterion; depends on …; band …)". Applied
+    /// again it replaces the earlier qualification (re-judging a committed report is idempotent);
+    /// info and invariant rows are left as they are.
+    pub fn qualify(&mut self, depends_on: &str, band: Option<&Band>) {
+        if !(self.verdict.starts_with("pass (") || self.verdict.starts_with("FAIL (")) {
+            return;
+        }
+        let base = self.verdict.strip_suffix(')').unwrap_or(&self.verdict);
+        let base = base.split(QUALIFIER).next().unwrap_or(base).to_string();
+        let band = band.map_or("; no committed sensitivity run".to_string(), |b| format!("; {b}"));
+        self.verdict = format!("{base}{QUALIFIER}{depends_on}{band})");
+    }
+
+    /// Whether the verdict is a pass (an invariant row is not).
+    pub fn is_pass(&self) -> bool {
+        self.verdict.starts_with("pass")
+    }
+
     /// Verdict of a check true by construction (e.g. mass with fixed particle masses): "invariant
     /// (criterion)", or "FAIL (invariant broken: criterion)". Not counted as a pass in `index.md`:
     /// it guards the code, it does not validate the physics.
@@ -87,6 +106,34 @@ impl Row {
         self.verdict =
             if ok { format!("invariant ({criterion})") } else { format!("FAIL (invariant broken: {criterion})") };
         self
+    }
+}
+
+/// The text between a verdict's criterion and what it depends on ([`Row::qualify`]).
+const QUALIFIER: &str = "; depends on ";
+
+/// A result's sensitivity band from committed runs: the parameter's values, the result at each,
+/// the file(s) it was read from, and whether the verdict's bound holds across the whole band.
+#[derive(Clone, Debug)]
+pub struct Band {
+    /// What was varied and where (e.g. "p_b × 0.5 / × 1 / × 2 at nx = 24").
+    pub varied: String,
+    /// The result at each value, formatted.
+    pub values: Vec<String>,
+    /// The committed file(s) read.
+    pub source: String,
+    /// Whether the bound holds at every value of the band (None: not judged).
+    pub holds: Option<bool>,
+}
+
+impl std::fmt::Display for Band {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "sensitivity {}: {} ({})", self.varied, self.values.join(" / "), self.source)?;
+        match self.holds {
+            Some(true) => write!(f, ", bound met across the band"),
+            Some(false) => write!(f, ", bound not met across the band"),
+            None => Ok(()),
+        }
     }
 }
 
