@@ -430,11 +430,15 @@ pub fn write_index(
         m,
         "\nVerdicts: pass and FAIL judge a result against a bound stated before measuring; invariant rows hold by \
          construction (e.g. mass with fixed particle masses) and guard the code, so they are counted apart and not as \
-         passes; info rows carry no bound."
+         passes; info rows carry no bound. Each pass and FAIL names the parameters it depends on and, where \
+         committed runs give one, the result at p_b × 0.5 and × 2 (the background-pressure sweeps), with whether the \
+         bound still holds there. Results held to theory or the thesis (Young's angle for both contact modes, the \
+         thesis's own two-point angle beside the circle fit, the Mode A / Mode B wall-shear ratio, the trend with \
+         refinement) are FAIL until the result meets them."
     );
     let _ = writeln!(
         m,
-        "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them.\n"
+        "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them, and `--rejudge` applies the verdicts again to a committed case.json without them.\n"
     );
     let _ = writeln!(
         m,
