@@ -39,6 +39,15 @@ pub fn judge(name: &str, ctx: &Ctx, rep: &mut CaseReport) {
         "convergence" => convergence(root, rep),
         "spurious" => spurious(root, rep),
         "cross-code" => cross_code(rep),
+        "capillary-wave" => capillary_wave(rep),
+        "impact" => {
+            for r in rep.rows.iter_mut() {
+                r.qualify(
+                    "nx = 48 (not shown converged: nx32-check/README.md), water's c0 and the scene's p_b; the nx = 24 rows above",
+                    None,
+                );
+            }
+        }
         _ => {}
     }
 }
@@ -98,6 +107,35 @@ fn cross_code(rep: &mut CaseReport) {
             "PySPH's own parameters as its script sets them (scenes/pysph-rod.toml), none chosen for the match",
             None,
         );
+    }
+}
+
+/// The equal-density wave's 3-period rms with its band from the case's own p_b × 0.5 and × 2 rows.
+fn capillary_wave(rep: &mut CaseReport) {
+    const HEAD: &str = "rms of a/a0 − Prosperetti, t ≤ ";
+    let pick = |rep: &CaseReport, tail: &str| {
+        rep.rows.iter().find(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with(tail)).map(|r| r.value)
+    };
+    let (half, one, double) = (
+        pick(rep, "density ratio 1, p_b × 0.5"),
+        pick(rep, "(3 periods), density ratio 1"),
+        pick(rep, "density ratio 1, p_b × 2"),
+    );
+    let band = match (half, one, double) {
+        (Some(h), Some(o), Some(d)) => Some(Band {
+            varied: "p_b × 0.5 / × 1 / × 2 of σ/(2Δx)".into(),
+            values: [h, o, d].iter().map(|v| format!("{v:.4}")).collect(),
+            source: "runs/ratio1-pb-half, runs/ratio1, runs/ratio1-pb-double".into(),
+            holds: Some([h, o, d].iter().all(|v| *v <= 0.05)),
+        }),
+        _ => None,
+    };
+    for r in rep
+        .rows
+        .iter_mut()
+        .filter(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with("(3 periods), density ratio 1"))
+    {
+        r.qualify("the 3-period window chosen after the first run (README.md)", band.as_ref());
     }
 }
 

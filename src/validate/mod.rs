@@ -328,12 +328,9 @@ fn rejudge(name: &str, ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     if CASES.iter().all(|c| *c != name) {
         return Err(ValidateError::Input(format!("unknown case `{name}` ({}, all)", CASES.join(", "))));
     }
-    let note = format!(
-        "Verdicts applied by `sphlab validate {name} --rejudge` to the rows of the runs below as they were measured (the particle snapshots some measures read are not committed)."
-    );
-    if !rep.notes.contains(&note) {
-        rep.notes.push(note);
-    }
+    let head = format!("Verdicts applied by `sphlab validate {name} --rejudge`");
+    rep.notes.retain(|n| !n.starts_with(&head));
+    rep.notes.push(format!("{head} to the rows as measured from the runs below (no run or measure repeated)."));
     judge::judge(name, ctx, &mut rep);
     report::write_summary(ctx, &rep)?;
     Ok(rep)

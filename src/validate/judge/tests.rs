@@ -118,3 +118,23 @@ fn qualifying_a_verdict_twice_gives_the_same_text_and_leaves_info_rows_alone() {
     info.qualify("p_b", None);
     assert_eq!(info.verdict, "info");
 }
+
+#[test]
+fn rejudge_applies_the_verdicts_to_a_committed_report_once_and_needs_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), rejudge: true, ..ValidateOptions::default() };
+    let missing = crate::validate::run_case("relax-60", &opts);
+    assert!(matches!(missing, Err(crate::validate::ValidateError::Input(_))), "{missing:?}");
+    let w = "mean over t ∈ [4.3, 4.5]";
+    let rep = report(
+        "relax-60",
+        vec![Row::new(&format!("Mode A, no-slip: θ − 60°, circle fit, {w} (deg)"), 18.0, 2, None, None)],
+    );
+    let ctx = Ctx::new(&opts, "relax-60");
+    std::fs::create_dir_all(&ctx.dir).unwrap();
+    crate::validate::report::write_summary(&ctx, &rep).unwrap();
+    crate::validate::run_case("relax-60", &opts).unwrap();
+    let again = crate::validate::run_case("relax-60", &opts).unwrap();
+    assert!(again.rows[0].verdict.starts_with("FAIL"), "{}", again.rows[0].verdict);
+    assert_eq!(again.notes.iter().filter(|n| n.contains("--rejudge")).count(), 1);
+}
