@@ -33,8 +33,14 @@ pub(super) fn pb_sweep_band(root: &Path, kernel: &str, column: &str, ok: impl Fn
         }
     }
     found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The sweep's own h for this kernel (its rule-p_b run), which need not be the case's.
+    let h = std::fs::read_to_string(root.join(format!("pb-sweep/runs/{kernel}-pb24-osc/summary.json")))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v["parameters"]["kernel"]["h_ratio"].as_f64())
+        .map_or(String::new(), |h| format!(", the sweep's h = {h:.1}Δx"));
     (found.len() >= 2).then(|| Band {
-        varied: format!("p_b {} of σ/(2Δx) at nx = 24", found.iter().map(|f| f.1).collect::<Vec<_>>().join(" / ")),
+        varied: format!("p_b {} of σ/(2Δx) at nx = 24{h}", found.iter().map(|f| f.1).collect::<Vec<_>>().join(" / ")),
         values: found.iter().map(|f| format!("{:.4}", f.2)).collect(),
         source: "../pb-sweep/pb_sweep.csv".into(),
         holds: Some(found.iter().all(|f| ok(f.2))),
