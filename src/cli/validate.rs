@@ -61,6 +61,10 @@ pub struct ValidateArgs {
     /// No console lines.
     #[arg(long)]
     quiet: bool,
+    /// Apply the verdicts again to the committed case.json (no run, no measure): for reports
+    /// whose particle snapshots are not committed.
+    #[arg(long, conflicts_with_all = ["reuse", "quick", "only"])]
+    rejudge: bool,
 }
 
 /// Checks the options (exit 2), runs the case (or all), then writes the report's provenance.
@@ -81,6 +85,7 @@ pub fn run(a: ValidateArgs) -> Result<(), Error> {
         nx_long: a.nx_long,
         full_impact: a.full_impact,
         quiet: a.quiet,
+        rejudge: a.rejudge,
     };
     install_interrupt_handler();
     let case = a.case.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();

@@ -13,6 +13,7 @@
 pub(crate) mod case;
 pub mod data;
 pub(crate) mod executor;
+mod judge;
 pub(crate) mod report;
 
 mod capillary_wave;
@@ -31,7 +32,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 pub use relax::start_sets as relax_start_sets;
-pub use report::{CaseReport, Row, RunRecord};
+pub use report::{Band, CaseReport, Row, RunRecord};
 
 /// The cases, in the order `all` runs them (speed-vs-error reuses oscillation and convergence).
 pub const CASES: [&str; 9] = [
@@ -74,6 +75,9 @@ pub struct ValidateOptions {
     pub full_impact: bool,
     /// No console lines.
     pub quiet: bool,
+    /// Re-apply the verdicts ([`judge`]) to the committed `case.json` instead of measuring
+    /// (the measures read particle snapshots, which are not committed).
+    pub rejudge: bool,
 }
 
 impl Default for ValidateOptions {
@@ -89,6 +93,7 @@ impl Default for ValidateOptions {
             only: Vec::new(),
             full_impact: false,
             quiet: true,
+            rejudge: false,
         }
     }
 }
@@ -287,6 +292,9 @@ pub fn run_case(name: &str, opts: &ValidateOptions) -> Result<CaseReport, Valida
     if !opts.quiet {
         eprintln!("validate {name}{}", if opts.quick { " (quick)" } else { "" });
     }
+    if opts.rejudge {
+        return rejudge(name, &ctx);
+    }
     let start = Instant::now();
     let mut rep = match name {
         "oscillation" => oscillation::run(&ctx)?,
@@ -304,7 +312,27 @@ pub fn run_case(name: &str, opts: &ValidateOptions) -> Result<CaseReport, Valida
     if opts.quick {
         rep.not_full.get_or_insert_with(|| "--quick: coarse resolution and short times".into());
     }
+    judge::judge(name, &ctx, &mut rep);
     report::write_summary(&ctx, &rep)?;
+    Ok(rep)
+}
+
+/// `--rejudge`: the committed `case.json` of `name` with its verdicts applied again (rows, runs
+/// and notes as measured; a note says so), written back with its `summary.md` and `index.md`.
+fn rejudge(name: &str, ctx: &Ctx) -> Result<CaseReport, ValidateError> {
+    let path = ctx.path("case.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| ValidateError::Input(format!("--rejudge: {}: {e} (run the case first)", path.display())))?;
+    let mut rep: CaseReport =
+        serde_json::from_str(&text).map_err(|e| ValidateError::Input(format!("--rejudge: {}: {e}", path.display())))?;
+    if CASES.iter().all(|c| *c != name) {
+        return Err(ValidateError::Input(format!("unknown case `{name}` ({}, all)", CASES.join(", "))));
+    }
+    let head = format!("Verdicts applied by `sphlab validate {name} --rejudge`");
+    rep.notes.retain(|n| !n.starts_with(&head));
+    rep.notes.push(format!("{head} to the rows as measured from the runs below (no run or measure repeated)."));
+    judge::judge(name, ctx, &mut rep);
+    report::write_summary(ctx, &rep)?;
     Ok(rep)
 }
 

@@ -1,11 +1,14 @@
 //! Validation reports: the comparison rows of a case, the provenance of its runs, and the
 //! Markdown files (`<case>/summary.md`, `<case>/case.json`, `index.md`).
 
-use super::{Ctx, ValidateError, ValidateOptions, CASES};
+use super::{Ctx, ValidateError};
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
+
+mod index;
+pub use index::write_index;
 
 /// One line of a case's comparison table.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -80,6 +83,25 @@ impl Row {
         self
     }
 
+    /// Names what a pass or FAIL depends on and, when committed runs give one, the result's
+    /// sensitivity band: the verdict becomes "pass (criterion; depends on …; band …)". Applied
+    /// again it replaces the earlier qualification (re-judging a committed report is idempotent);
+    /// info and invariant rows are left as they are.
+    pub fn qualify(&mut self, depends_on: &str, band: Option<&Band>) {
+        if !(self.verdict.starts_with("pass (") || self.verdict.starts_with("FAIL (")) {
+            return;
+        }
+        let base = self.verdict.strip_suffix(')').unwrap_or(&self.verdict);
+        let base = base.split(QUALIFIER).next().unwrap_or(base).to_string();
+        let band = band.map_or("; no committed sensitivity run".to_string(), |b| format!("; {b}"));
+        self.verdict = format!("{base}{QUALIFIER}{depends_on}{band})");
+    }
+
+    /// Whether the verdict is a pass (an invariant row is not).
+    pub fn is_pass(&self) -> bool {
+        self.verdict.starts_with("pass")
+    }
+
     /// Verdict of a check true by construction (e.g. mass with fixed particle masses): "invariant
     /// (criterion)", or "FAIL (invariant broken: criterion)". Not counted as a pass in `index.md`:
     /// it guards the code, it does not validate the physics.
@@ -87,6 +109,34 @@ impl Row {
         self.verdict =
             if ok { format!("invariant ({criterion})") } else { format!("FAIL (invariant broken: {criterion})") };
         self
+    }
+}
+
+/// The text between a verdict's criterion and what it depends on ([`Row::qualify`]).
+const QUALIFIER: &str = "; depends on ";
+
+/// A result's sensitivity band from committed runs: the parameter's values, the result at each,
+/// the file(s) it was read from, and whether the verdict's bound holds across the whole band.
+#[derive(Clone, Debug)]
+pub struct Band {
+    /// What was varied and where (e.g. "p_b × 0.5 / × 1 / × 2 at nx = 24").
+    pub varied: String,
+    /// The result at each value, formatted.
+    pub values: Vec<String>,
+    /// The committed file(s) read.
+    pub source: String,
+    /// Whether the bound holds at every value of the band (None: not judged).
+    pub holds: Option<bool>,
+}
+
+impl std::fmt::Display for Band {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "sensitivity {}: {} ({})", self.varied, self.values.join(" / "), self.source)?;
+        match self.holds {
+            Some(true) => write!(f, ", bound met across the band"),
+            Some(false) => write!(f, ", bound not met across the band"),
+            None => Ok(()),
+        }
     }
 }
 
@@ -272,6 +322,11 @@ impl CaseReport {
     }
 }
 
+/// A table cell's text with its `|` escaped (quantities such as |θ − 60°| would split the cell).
+pub(crate) fn cell(s: &str) -> String {
+    s.replace('|', "\\|")
+}
+
 fn io(p: &Path, e: impl std::fmt::Display) -> ValidateError {
     ValidateError::Io(format!("{}: {e}", p.display()))
 }
@@ -288,7 +343,12 @@ pub fn write_summary(ctx: &Ctx, rep: &CaseReport) -> Result<(), ValidateError> {
         let _ = writeln!(
             m,
             "| {} | {} | {} | {} | {} | {} |",
-            r.quantity, r.sphlab, r.thesis, r.analytic, r.difference, r.verdict
+            cell(&r.quantity),
+            cell(&r.sphlab),
+            cell(&r.thesis),
+            cell(&r.analytic),
+            cell(&r.difference),
+            cell(&r.verdict)
         );
     }
     if !rep.notes.is_empty() {
@@ -344,76 +404,6 @@ pub fn write_summary(ctx: &Ctx, rep: &CaseReport) -> Result<(), ValidateError> {
     let j = ctx.path("case.json");
     std::fs::write(&j, serde_json::to_string_pretty(rep).expect("json")).map_err(|e| io(&j, e))?;
     write_index(ctx.opts, &[], &[])
-}
-
-/// Writes `index.md` from every `<case>/case.json` under the report root, plus cases that
-/// failed in this invocation.
-pub fn write_index(
-    opts: &ValidateOptions,
-    _reps: &[CaseReport],
-    failed: &[(String, String)],
-) -> Result<(), ValidateError> {
-    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | run wall time (s) |\n|---|---|---|---|---|\n");
-    let mut not_full = Vec::new();
-    for c in CASES {
-        let j = opts.out.join(c).join("case.json");
-        let Some(rep) = std::fs::read_to_string(&j).ok().and_then(|t| serde_json::from_str::<CaseReport>(&t).ok())
-        else {
-            let why =
-                failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
-            let _ = writeln!(m, "| {c} | — | no | — | — |");
-            not_full.push((c.to_string(), why));
-            continue;
-        };
-        let count = |v: &str| rep.rows.iter().filter(|r| r.verdict.starts_with(v)).count();
-        let (pass, fail, inv) = (count("pass"), count("FAIL"), count("invariant"));
-        let _ = writeln!(
-            m,
-            "| [{c}]({c}/summary.md) | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
-            rep.reference.lines().next().unwrap_or(""),
-            if rep.not_full.is_none() { "yes" } else { "no" },
-            rep.rows.len() - pass - fail - inv,
-            rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
-        );
-        if let Some(w) = rep.not_full {
-            not_full.push((c.to_string(), w));
-        }
-    }
-    let _ = writeln!(
-        m,
-        "\nVerdicts: pass and FAIL judge a result against a bound stated before measuring; invariant rows hold by \
-         construction (e.g. mass with fixed particle masses) and guard the code, so they are counted apart and not as \
-         passes; info rows carry no bound."
-    );
-    let _ = writeln!(
-        m,
-        "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them.\n"
-    );
-    let _ = writeln!(
-        m,
-        "Beside the cases: the background-pressure sweep ([pb-sweep/summary.md](pb-sweep/summary.md), \
-         `examples/analysis/pb_sweep.sh`), time to solution against physical error \
-         ([speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md), \
-         `examples/analysis/speed_vs_physical_error.sh`) and the cross-code check's \
-         short-time test (`tests/cross_code.rs`; the whole record is the `cross-code` case).\n"
-    );
-    let _ = writeln!(m, "\n## Cases not run at full resolution\n");
-    if not_full.is_empty() {
-        let _ = writeln!(m, "None.");
-    }
-    for (c, w) in not_full {
-        let _ = writeln!(m, "* **{c}**: {w}");
-    }
-    let _ = writeln!(
-        m,
-        "\n## Findings\n\nWhat these cases show, case by case, with the choices behind the scenes (kernel and h, the \
-         background-pressure rules, where p_b acts, the time-step policy) and the investigations under each case: \
-         [docs/physics-choices.md](../../docs/physics-choices.md). The equations the cases test are in \
-         [docs/PHYSICS.md](../../docs/PHYSICS.md) (§9 for the scenes, §10 for the contact-angle measures)."
-    );
-    std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
-    let p = opts.out.join("index.md");
-    std::fs::write(&p, m).map_err(|e| io(&p, e))
 }
 
 /// Writes `name` (CSV with a header) in the case directory and records it.

@@ -379,8 +379,8 @@ impl Sessile {
         let rep = &mut out.rep;
         let ratio = a.shear / b.shear;
         rep.rows.push(
-            Row::new("peak wall shear rate ratio, Mode A / Mode B", ratio, 1, Some(THESIS_SHEAR_RATIO), None)
-                .check(ratio > 1.0, "Mode B lower than Mode A (direction)"),
+            // Judged against the thesis's ratio by validate::judge.
+            Row::new("peak wall shear rate ratio, Mode A / Mode B", ratio, 1, Some(THESIS_SHEAR_RATIO), None),
         );
         let ratio_row = |name: String, v: f64| Row::new(&name, v, 1, Some(THESIS_SHEAR_RATIO), None);
         let flow_ratio = a.flow / b.flow;

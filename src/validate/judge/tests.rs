@@ -1,0 +1,140 @@
+//! Tests of the verdicts: an invariant row is not counted as a pass, results off Young's angle,
+//! off the thesis's shear ratio or diverging with refinement get FAIL, and re-judging is
+//! idempotent.
+
+use super::*;
+use crate::validate::{ValidateOptions, CASES};
+
+fn report(name: &str, rows: Vec<Row>) -> CaseReport {
+    CaseReport { rows, ..CaseReport::new(name, "test", false) }
+}
+
+fn judged(name: &str, rows: Vec<Row>) -> CaseReport {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+    let mut rep = report(name, rows);
+    judge(name, &Ctx::new(&opts, name), &mut rep);
+    rep
+}
+
+fn verdict<'a>(rep: &'a CaseReport, prefix: &str) -> &'a str {
+    &rep.row(prefix).unwrap_or_else(|| panic!("no row {prefix}")).verdict
+}
+
+#[test]
+fn an_invariant_row_is_counted_apart_and_not_as_a_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+    let rep = report(
+        CASES[0],
+        vec![
+            Row::new("water mass drift", 0.0, 1, None, Some(0.0)).invariant(true, "mass exact"),
+            Row::new("period", 0.366, 3, None, None).check(true, "within 5 %"),
+            Row::new("broken", 1.0, 1, None, None).invariant(false, "mass exact"),
+        ],
+    );
+    assert!(!rep.rows[0].is_pass() && rep.rows[1].is_pass() && !rep.rows[2].is_pass());
+    let ctx = Ctx::new(&opts, CASES[0]);
+    std::fs::create_dir_all(&ctx.dir).unwrap();
+    crate::validate::report::write_summary(&ctx, &rep).unwrap();
+    let index = std::fs::read_to_string(dir.path().join("index.md")).unwrap();
+    assert!(index.contains("| 1 pass, 1 FAIL, 1 invariant, 0 info |"), "{index}");
+}
+
+#[test]
+fn relax_60_off_youngs_angle_fails_and_mode_b_passes_with_the_thesis_metric_beside() {
+    let w = "mean over t ∈ [4.3, 4.5]";
+    let rep = judged(
+        "relax-60",
+        vec![
+            Row::new(&format!("Mode B, no-slip: θ − 60°, circle fit, {w} (deg)"), 0.99, 2, None, Some(0.0)),
+            Row::new(&format!("Mode B, no-slip: θ − 60°, two-point, {w} (deg)"), -8.46, 2, None, Some(0.0)),
+            Row::new(&format!("Mode A, no-slip: θ − 60°, circle fit, {w} (deg)"), 18.07, 2, None, Some(0.0)),
+            Row::new(&format!("Mode A, no-slip: D/D0 at the wall, {w}"), 1.124, 3, None, Some(1.385)),
+            Row::new("Mode A, no-slip: end angle approached from both sides, midpoint − 60°", 15.0, 2, None, None),
+        ],
+    );
+    let b = verdict(&rep, "Mode B, no-slip: θ − 60°, circle fit");
+    assert!(b.starts_with("pass") && b.contains("two-point metric: 51.5°") && b.contains("depends on p_b"), "{b}");
+    assert!(verdict(&rep, "Mode B, no-slip: θ − 60°, two-point").starts_with("FAIL"));
+    assert!(verdict(&rep, "Mode A, no-slip: θ − 60°, circle fit").starts_with("FAIL"));
+    assert!(verdict(&rep, "Mode A, no-slip: D/D0").starts_with("FAIL"));
+    assert!(verdict(&rep, "Mode A, no-slip: end angle").starts_with("FAIL"));
+    // Mode A at Young's angle passes the same rule.
+    let rep = judged(
+        "relax-60",
+        vec![Row::new(&format!("Mode A, no-slip: θ − 60°, circle fit, {w} (deg)"), 1.0, 2, None, None)],
+    );
+    assert!(verdict(&rep, "Mode A").starts_with("pass"));
+}
+
+#[test]
+fn the_shear_ratio_is_judged_against_the_thesis_not_its_direction() {
+    let row = |v| {
+        Row::new("peak wall shear rate ratio, Mode A / Mode B", v, 1, Some(160.0), None).check(v > 1.0, "direction")
+    };
+    assert!(verdict(&judged("sessile-90", vec![row(4.3)]), "peak").starts_with("FAIL"));
+    assert!(verdict(&judged("sessile-90", vec![row(150.0)]), "peak").starts_with("pass"));
+}
+
+#[test]
+fn an_angle_that_moves_away_from_young_with_refinement_fails_the_trend() {
+    let rows = |th: [f64; 4]| {
+        [45, 65, 85, 105]
+            .iter()
+            .zip(th)
+            .map(|(nx, t)| Row::new(&format!("Δx = 0.5/{nx}: θ circle fit, mean (deg)"), t, 2, None, Some(60.0)))
+            .collect::<Vec<_>>()
+    };
+    let rep = judged("convergence", rows([61.58, 60.99, 62.24, 63.40]));
+    let v = verdict(&rep, "trend with refinement: |θ − 60°| at nx = 65, 85, 105");
+    assert!(v.starts_with("FAIL"), "{v}");
+    let rep = judged("convergence", rows([65.0, 63.0, 61.5, 60.5]));
+    assert!(verdict(&rep, "trend with refinement").starts_with("pass"));
+    // Judged again: one trend row, not two.
+    let mut again = rep.clone();
+    let dir = tempfile::tempdir().unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+    judge("convergence", &Ctx::new(&opts, "convergence"), &mut again);
+    assert_eq!(again.rows.len(), rep.rows.len());
+    assert!(falls(&[3.0, 2.0, 1.0]) && !falls(&[1.0, 2.0, 3.0]) && !falls(&[1.0]));
+}
+
+#[test]
+fn qualifying_a_verdict_twice_gives_the_same_text_and_leaves_info_rows_alone() {
+    let band = Band {
+        varied: "p_b × 0.5 / × 1".into(),
+        values: vec!["1".into(), "2".into()],
+        source: "f.csv".into(),
+        holds: Some(false),
+    };
+    let mut r = Row::new("x", 1.0, 1, None, None).check(true, "< 3° (thesis)");
+    r.qualify("p_b", Some(&band));
+    let once = r.verdict.clone();
+    r.qualify("p_b", Some(&band));
+    assert_eq!(r.verdict, once);
+    assert_eq!(once, "pass (< 3° (thesis); depends on p_b; sensitivity p_b × 0.5 / × 1: 1 / 2 (f.csv), bound not met across the band)");
+    let mut info = Row::new("y", 1.0, 1, None, None);
+    info.qualify("p_b", None);
+    assert_eq!(info.verdict, "info");
+}
+
+#[test]
+fn rejudge_applies_the_verdicts_to_a_committed_report_once_and_needs_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), rejudge: true, ..ValidateOptions::default() };
+    let missing = crate::validate::run_case("relax-60", &opts);
+    assert!(matches!(missing, Err(crate::validate::ValidateError::Input(_))), "{missing:?}");
+    let w = "mean over t ∈ [4.3, 4.5]";
+    let rep = report(
+        "relax-60",
+        vec![Row::new(&format!("Mode A, no-slip: θ − 60°, circle fit, {w} (deg)"), 18.0, 2, None, None)],
+    );
+    let ctx = Ctx::new(&opts, "relax-60");
+    std::fs::create_dir_all(&ctx.dir).unwrap();
+    crate::validate::report::write_summary(&ctx, &rep).unwrap();
+    crate::validate::run_case("relax-60", &opts).unwrap();
+    let again = crate::validate::run_case("relax-60", &opts).unwrap();
+    assert!(again.rows[0].verdict.starts_with("FAIL"), "{}", again.rows[0].verdict);
+    assert_eq!(again.notes.iter().filter(|n| n.contains("--rejudge")).count(), 1);
+}

@@ -1,0 +1,89 @@
+//! `index.md`: one line per case with its verdict counts, then every FAIL with its measured value
+//! and reason and every pass with what it depends on, read from the cases' `case.json`.
+
+use super::{cell, io, CaseReport};
+use crate::validate::{ValidateError, ValidateOptions, CASES};
+use std::fmt::Write as _;
+
+/// Writes `index.md` from every `<case>/case.json` under the report root, plus cases that
+/// failed in this invocation.
+pub fn write_index(
+    opts: &ValidateOptions,
+    _reps: &[CaseReport],
+    failed: &[(String, String)],
+) -> Result<(), ValidateError> {
+    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | run wall time (s) |\n|---|---|---|---|---|\n");
+    let mut not_full = Vec::new();
+    let mut judged = String::new();
+    for c in CASES {
+        let j = opts.out.join(c).join("case.json");
+        let Some(rep) = std::fs::read_to_string(&j).ok().and_then(|t| serde_json::from_str::<CaseReport>(&t).ok())
+        else {
+            let why =
+                failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
+            let _ = writeln!(m, "| {c} | — | no | — | — |");
+            not_full.push((c.to_string(), why));
+            continue;
+        };
+        let count = |v: &str| rep.rows.iter().filter(|r| r.verdict.starts_with(v)).count();
+        let (pass, fail, inv) = (count("pass"), count("FAIL"), count("invariant"));
+        let _ = writeln!(
+            m,
+            "| [{c}]({c}/summary.md) | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
+            rep.reference.lines().next().unwrap_or(""),
+            if rep.not_full.is_none() { "yes" } else { "no" },
+            rep.rows.len() - pass - fail - inv,
+            rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
+        );
+        for r in rep.rows.iter().filter(|r| r.verdict.starts_with("pass") || r.verdict.starts_with("FAIL")) {
+            let _ = writeln!(judged, "| {c} | {} | {} | {} |", cell(&r.quantity), cell(&r.sphlab), cell(&r.verdict));
+        }
+        if let Some(w) = rep.not_full {
+            not_full.push((c.to_string(), w));
+        }
+    }
+    let _ = writeln!(
+        m,
+        "\nVerdicts: pass and FAIL judge a result against a bound stated before measuring; invariant rows hold by \
+         construction (e.g. mass with fixed particle masses) and guard the code, so they are counted apart and not as \
+         passes; info rows carry no bound. Each pass and FAIL names the parameters it depends on and, where \
+         committed runs give one, the result at p_b × 0.5 and × 2 (the background-pressure sweeps), with whether the \
+         bound still holds there. Results held to theory or the thesis (Young's angle for both contact modes, the \
+         thesis's own two-point angle beside the circle fit, the Mode A / Mode B wall-shear ratio, the trend with \
+         refinement) are FAIL until the result meets them."
+    );
+    let _ = writeln!(
+        m,
+        "\n## Every pass and FAIL\n\nEach with its measured value, its bound, what it depends on and its sensitivity \
+         band.\n\n| case | quantity | sphlab | verdict |\n|---|---|---|---|\n{judged}"
+    );
+    let _ = writeln!(
+        m,
+        "\nRegenerate: `sphlab validate all` (runs everything; `--t-end T` shortens the sessile-90 / relax-60 / convergence runs, `--quick` for the test-suite sizes). `--reuse` analyses finished runs of exactly the same scene and end time found under `runs/` (e.g. started by hand with the `sphlab run` commands listed in each summary.md); `--skip-missing` lists the others as not run. Particle snapshots are not committed (`.gitignore`); re-running a case recreates them, and `--rejudge` applies the verdicts again to a committed case.json without them.\n"
+    );
+    let _ = writeln!(
+        m,
+        "Beside the cases: the background-pressure sweep ([pb-sweep/summary.md](pb-sweep/summary.md), \
+         `examples/analysis/pb_sweep.sh`), time to solution against physical error \
+         ([speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md), \
+         `examples/analysis/speed_vs_physical_error.sh`) and the cross-code check's \
+         short-time test (`tests/cross_code.rs`; the whole record is the `cross-code` case).\n"
+    );
+    let _ = writeln!(m, "\n## Cases not run at full resolution\n");
+    if not_full.is_empty() {
+        let _ = writeln!(m, "None.");
+    }
+    for (c, w) in not_full {
+        let _ = writeln!(m, "* **{c}**: {w}");
+    }
+    let _ = writeln!(
+        m,
+        "\n## Findings\n\nWhat these cases show, case by case, with the choices behind the scenes (kernel and h, the \
+         background-pressure rules, where p_b acts, the time-step policy) and the investigations under each case: \
+         [docs/physics-choices.md](../../docs/physics-choices.md). The equations the cases test are in \
+         [docs/PHYSICS.md](../../docs/PHYSICS.md) (§9 for the scenes, §10 for the contact-angle measures)."
+    );
+    std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
+    let p = opts.out.join("index.md");
+    std::fs::write(&p, m).map_err(|e| io(&p, e))
+}
