@@ -102,6 +102,11 @@ fn density_out(i: u32, s: real2) {
     // 1/σ² once per particle, next to σ (every pair term reads it from both sides).
     sigma[i] = real2(s.x, inv_sigma2(s.x));
     chi[i] = select(real(0.0), s.y / s.x, params_has(params, STAGE_HOLMES));
+#ifdef FUSE_WALL_TYPING
+    if i >= params.n_fluid {
+        wall_typing_at(i);
+    }
+#endif
 #ifdef FUSE_EQUATION_OF_STATE
     equation_of_state_at(i);
 #endif

@@ -15,6 +15,7 @@
 
 #import common/bindings
 #import common/variant_bindings
+#import common/neighbours
 #import integrate
 #import timestep
 
@@ -40,16 +41,27 @@ fn store_fixed(i: u32, r: real2, v: real2) {
     vel[i] = real2(vx, vy);
 }
 
+// With `FUSE_CELL_COUNT` (the stage table's `cell_count` as the epilogue of an integrator
+// stage) the kernel runs over every particle: fluids are integrated, then every particle's cell
+// is counted where it now stands (walls and a halted device's particles where they are).
+fn moved_count(i: u32) {
+#ifdef FUSE_CELL_COUNT
+    if i < params.n {
+        cell_count_at(i);
+    }
+#endif
+}
+
 @compute @workgroup_size(64)
 fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid || halted() {
-        return;
+    if i < params.n_fluid && !halted() {
+        pos0[i] = pos[i];
+        vel0[i] = vel[i];
+        let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
+        store_fixed(i, s.r, s.v);
     }
-    pos0[i] = pos[i];
-    vel0[i] = vel[i];
-    let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
-    store_fixed(i, s.r, s.v);
+    moved_count(i);
 }
 
 // The closing stages (`midpoint_correct`, `verlet_kick`) have no early return: with
@@ -64,15 +76,20 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         store_fixed(i, s.r, s.v);
         closing_check(i);
     }
+    moved_count(i);
     closing_end(t, nwg);
 }
 
 @compute @workgroup_size(64)
 fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid || halted() {
-        return;
+    if i < params.n_fluid && !halted() {
+        verlet_drift_at(i);
     }
+    moved_count(i);
+}
+
+fn verlet_drift_at(i: u32) {
     let v0 = vel[i];
     let vh = integrate_kick(v0, acc[i], clock_dt());
     let r = integrate_drift(pos[i], vh + (vt[i] - v0), clock_dt());
@@ -99,6 +116,7 @@ fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         store_fixed(i, pos[i], vn);
         closing_check(i);
     }
+    moved_count(i);
     closing_end(t, nwg);
 }
 

@@ -55,9 +55,15 @@ pub struct GpuSolver<T: Real> {
     /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
     /// epilogues.
     pub(super) passes: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
-    /// The end of a step (`Stage::closing_passes`: the closing integrator stage with the check),
-    /// each pass with its fused kernels when it has epilogues.
+    /// The opening integrator stage (`Stage::opening_passes`: with the cell count of the cell
+    /// searches), each pass with its fused kernels when it has epilogues.
+    pub(super) opening: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
+    /// The end of a step (`Stage::closing_passes`: the closing integrator stage with the check
+    /// and the cell count), each pass with its fused kernels when it has epilogues.
     pub(super) closing: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
+    /// The cell counts on the device are those of the current positions (a `cell_count` stage
+    /// was recorded after the particles last moved), so the next search skips its count.
+    pub(super) counts_fresh: std::cell::Cell<bool>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
     pub(super) fused: bool,
     /// Renumber the particles in cell order every this many steps (0: never).
@@ -208,7 +214,9 @@ impl<T: Real> GpuSolver<T> {
             Ok(out)
         };
         let passes = with_kernels(model.stages.evaluation_passes())?;
-        let closing = with_kernels(Stage::closing_passes(scene.time.integrator))?;
+        let cells = spec.search != crate::neighbours::SearchKind::Direct;
+        let opening = with_kernels(Stage::opening_passes(scene.time.integrator, cells))?;
+        let closing = with_kernels(Stage::closing_passes(scene.time.integrator, cells))?;
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
         let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
         let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
@@ -232,7 +240,9 @@ impl<T: Real> GpuSolver<T> {
             vbg,
             rbg,
             passes,
+            opening,
             closing,
+            counts_fresh: std::cell::Cell::new(false),
             fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,
             reorder_since: std::cell::Cell::new(u64::MAX),
