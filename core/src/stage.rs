@@ -25,14 +25,15 @@ pub enum Stage {
     WallTyping,
     /// ρ = mσ and the pressure.
     EquationOfState,
-    /// Adami wall pressure (R-wall).
-    WallPressure,
     /// Colour gradients.
     ColourGradient,
     /// Algorithm 1 (Mode B).
     NormalCorrection,
     /// Surface stress tensor Π.
     SurfaceStress,
+    /// Adami wall pressure (R-wall; reads ρ and p, which the surface stages do not touch, so it
+    /// can end the colour-gradient pass).
+    WallPressure,
     /// Accelerations of the fluid particles.
     Acceleration,
     /// XSPH advection velocity.
@@ -152,7 +153,6 @@ pub static TABLE: [StageDef; 18] = [
         ),
         &[Stage::NumberDensity],
     ),
-    def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]),
     def(Stage::ColourGradient, "colour_gradient", &[F::Sigma, F::Colour], &[All(F::Grad)], &[]),
     epilogue(
         def(Stage::NormalCorrection, "normal_correction", &[F::Grad, F::Colour, F::Contacts], &[Part(F::Grad)], &[]),
@@ -162,6 +162,10 @@ pub static TABLE: [StageDef; 18] = [
         def(Stage::SurfaceStress, "surface_stress", &[F::Grad, F::Colour], &[All(F::Pi)], &[]),
         &[Stage::ColourGradient],
     ),
+    // A wall's pressure from its fluid neighbours' ρ and p (the number-density pass's), in the
+    // thread of the colour-gradient pass that has just written the wall's gradient: that pass
+    // reads no p.
+    epilogue(def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]), &[Stage::ColourGradient]),
     def(Stage::Acceleration, "acceleration", &[F::Sigma, F::Chi, F::Mass, F::P, F::Pi], &[Fluid(F::Acc)], &[]),
     def(Stage::Xsph, "xsph", &[F::Mass, F::Rho], &[Fluid(F::Vt)], &[]),
     def(Stage::MidpointPredict, "midpoint_predict", &[F::Acc, F::Vt], &[], &[]),
@@ -198,10 +202,10 @@ impl Stage {
         Stage::NumberDensity,
         Stage::WallTyping,
         Stage::EquationOfState,
-        Stage::WallPressure,
         Stage::ColourGradient,
         Stage::NormalCorrection,
         Stage::SurfaceStress,
+        Stage::WallPressure,
         Stage::Acceleration,
         Stage::Xsph,
     ];
@@ -346,6 +350,12 @@ mod tests {
         assert_eq!(passes(&mode_b).len(), 3);
         assert_eq!(passes(&mode_b)[1], vec![NumberDensity, WallTyping, EquationOfState]);
         assert_eq!(passes(&mode_b)[2], vec![ColourGradient, NormalCorrection, SurfaceStress]);
+        // The wall pressure ends the colour-gradient pass, or is a pass of its own without one.
+        assert_eq!(
+            passes(&[EquationOfState, ColourGradient, SurfaceStress, WallPressure, Acceleration])[1],
+            vec![ColourGradient, SurfaceStress, WallPressure]
+        );
+        assert_eq!(passes(&[NumberDensity, EquationOfState, WallPressure, Acceleration]).len(), 3);
         // Wall typing never joins a pass that does not compute σ.
         assert_eq!(passes(&[ContactLine, WallTyping]).len(), 2);
         // The check ends the closing integrator stage, never the opening one; the cell count

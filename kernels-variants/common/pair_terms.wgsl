@@ -18,6 +18,9 @@
 #import wall
 #ifdef FUSED
 #import common/epilogues
+#ifdef FUSE_WALL_PRESSURE
+#import common/wall_pressure
+#endif
 #endif
 
 // One list entry of particle i: neighbour, image code, slot, image position, x_ij, r.
@@ -146,6 +149,11 @@ fn grad_out(i: u32, g: Grad2) {
 #endif
 #ifdef FUSE_SURFACE_STRESS
     surface_stress_at(i);
+#endif
+#ifdef FUSE_WALL_PRESSURE
+    if i >= params.n_fluid {
+        wall_pressure_at(i);
+    }
 #endif
 }
 

@@ -7,8 +7,8 @@
 //
 // The device clock (src/gpu/clock.rs): the step counter is `ctl[CTL_STEP]`, dt and the time
 // (a compensated sum t + t_lo) are `vparams[VP_DT]`, `vparams[VP_T]`, `vparams[VP_T_LO]`, so many
-// steps run in one submission with no host write in between. `dt_compute` (one thread, after
-// `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
+// steps run in one submission with no host write in between. `dt_compute` (the last workgroup
+// of `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
 // step, or, with the check fused into the closing stage, the last workgroup of that stage does. Once a step has failed (NaN, escape, neighbour or fixed-point overflow) the device is
 // halted: the integrators and the clock stop, so positions, velocities, step and t stay those of
 // the failing step until the host reads the flags.
@@ -233,11 +233,17 @@ fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if t == 0u {
         atomicMax(&ctl[CTL_VMAX], wg_vmax[0]);
         atomicMax(&ctl[CTL_AMAX], wg_amax[0]);
+        // The last workgroup to finish (a count in ctl[CTL_DONE], reset by it) sets dt from
+        // every workgroup's maxima.
+        if atomicAdd(&ctl[CTL_DONE], 1u) + 1u == nwg.x * nwg.y * nwg.z {
+            atomicStore(&ctl[CTL_DONE], 0u);
+            dt_compute();
+        }
     }
 }
 
-// Adaptive dt from the maxima of reduce_max (one thread; `DtLimits::compute(...).min()`).
-@compute @workgroup_size(1)
+// Adaptive dt from the maxima of reduce_max (`DtLimits::compute(...).min()`), by the last
+// workgroup of reduce_max.
 fn dt_compute() {
     if halted() {
         return;

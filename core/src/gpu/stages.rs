@@ -73,22 +73,23 @@ const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
 }
 
 /// Cell-ordered particles, right after the cell sort (`gpu::reorder`; group 2 bound): the
-/// decision, the per-cell wall prefix (once), the renumbering, then gather and put back of
-/// every persistent per-particle array. Every thread returns at once when nothing is due.
+/// per-cell wall prefix ([`REORDER_WALLS`], recorded with the first renumbering only: walls never
+/// move), the renumbering, then gather and put back of every persistent per-particle array, each
+/// kernel putting back the pair of fields the one before gathered. Every thread returns at once
+/// when a halted device vetoes the renumbering.
 pub const REORDER: &[KernelDef] = &[
-    k("reorder_decide", super::reorder::FILE, Domain::One),
     k("reorder_wall_count", super::reorder::FILE, Domain::Wall),
     k("reorder_wall_scan", super::reorder::FILE, Domain::One),
     k("reorder_perm", super::reorder::FILE, Domain::All),
     k("reorder_gather_state", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_state", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_tags", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_tags", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_rates", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_rates", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_start", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_state_gather_tags", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_tags_gather_rates", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_rates_gather_start", super::reorder::FILE, Domain::Fluid),
     k("reorder_put_start", super::reorder::FILE, Domain::Fluid),
 ];
+
+/// The kernels of [`REORDER`] that compute the per-cell wall prefix (once).
+pub const REORDER_WALLS: [&str; 2] = ["reorder_wall_count", "reorder_wall_scan"];
 
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
 pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
@@ -114,13 +115,7 @@ pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
         ],
     ),
     (Stage::CellCount, &[t(Stage::CellCount, "search/cell_count.wgsl", Domain::All)]),
-    (
-        Stage::ReduceMax,
-        &[
-            t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid),
-            k("dt_compute", "thread/integrate.wgsl", Domain::One),
-        ],
-    ),
+    (Stage::ReduceMax, &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid)]),
 ];
 
 /// Tracking lists, before the cell sort: displacement reduction and the rebuild decision.

@@ -64,6 +64,8 @@ pub struct GpuSolver<T: Real> {
     /// The cell counts on the device are those of the current positions (a `cell_count` stage
     /// was recorded after the particles last moved), so the next search skips its count.
     pub(super) counts_fresh: std::cell::Cell<bool>,
+    /// The per-cell wall prefix of the renumbering has been recorded (walls never move).
+    pub(super) walls_ordered: std::cell::Cell<bool>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
     pub(super) fused: bool,
     /// Renumber the particles in cell order every this many steps (0: never).
@@ -243,6 +245,7 @@ impl<T: Real> GpuSolver<T> {
             opening,
             closing,
             counts_fresh: std::cell::Cell::new(false),
+            walls_ordered: std::cell::Cell::new(false),
             fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,
             reorder_since: std::cell::Cell::new(u64::MAX),

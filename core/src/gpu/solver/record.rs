@@ -87,8 +87,14 @@ impl<T: Real> GpuSolver<T> {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
         for (kd, p) in kernels {
-            if (kd.file == reorder::FILE && !renumber) || (counted && kd.entry == Stage::CellCount.name()) {
+            let walls_done = self.walls_ordered.get() && crate::gpu::stages::REORDER_WALLS.contains(&kd.entry);
+            if (kd.file == reorder::FILE && (!renumber || walls_done))
+                || (counted && kd.entry == Stage::CellCount.name())
+            {
                 continue;
+            }
+            if kd.entry == crate::gpu::stages::REORDER_WALLS[1] {
+                self.walls_ordered.set(true);
             }
             let [gx, gy, gz] = self.groups(kd.domain);
             if gx > 0 {
