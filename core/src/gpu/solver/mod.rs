@@ -122,12 +122,16 @@ impl EngineMode {
     /// steps, k steps per submission and one readback per `advance(k)`, fused passes.
     pub const AFTER: EngineMode =
         EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0, fused: true };
+    /// The current engine in its debug mode: every stage of the table its own pass (no
+    /// epilogues), all else as [`Self::AFTER`]; timed against it, the cost of the extra passes.
+    pub const UNFUSED: EngineMode = EngineMode { fused: false, ..Self::AFTER };
 
     /// `before`, `after`, or the settings.
     pub fn name(&self) -> String {
         match *self {
             Self::BEFORE => "before".into(),
             Self::AFTER => "after".into(),
+            Self::UNFUSED => "unfused".into(),
             m => format!(
                 "reorder {} / {} steps per submit / {}",
                 m.reorder_every,
