@@ -395,10 +395,55 @@ fn batches_in_flight_match_batches_read_one_at_a_time() {
     }
 }
 
+/// The fused engine (the stage table's passes: epilogues in the neighbour passes, the check, the
+/// clock tick and the cell count in the integrator stages) and its unfused debug mode (every
+/// stage its own pass) take the same steps bit for bit: midpoint and Verlet, fixed and adaptive
+/// dt, Mode B's contact points, wall typing and wall pressure, and the renumbering inside the
+/// run. The fused engine's dispatches per step, from its own counters, stay within the bounds
+/// reports/engine/ gives (the drop and the impact scene), and below the unfused engine's.
+#[test]
+fn fused_and_unfused_engines_take_the_same_steps_with_fewer_dispatches() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    // 64 steps: the first evaluation's own cell count and the renumberings (every 16 steps)
+    // amortised as in reports/engine/.
+    let steps = 64;
+    let cases: &[(&str, &[&str], Option<f64>)] = &[
+        ("oscillating-drop", &["domain.nx=24"], Some(14.5)),
+        ("impact", &["domain.nx=24"], Some(17.5)),
+        ("oscillating-drop", &["domain.nx=24", "time.integrator=verlet"], None),
+        ("sessile-90", &["contact.mode=b", "domain.nx=24"], None),
+    ];
+    for &(name, sets, bound) in cases {
+        let (s, l) = scene(name, sets);
+        let run = |fused: bool| {
+            let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
+            g.set_fused(fused);
+            assert!(g.engine_counters_exclusive(), "the one solver on its context");
+            let c0 = g.engine_counters();
+            g.advance(steps).unwrap();
+            let c = g.engine_counters().since(&c0);
+            assert!(g.reorder_count().unwrap() >= 2, "{name}: renumbered inside the run");
+            let f = g.frame();
+            (c.dispatches as f64 / steps as f64, (f.pos, f.vel, f.acc, f.t))
+        };
+        let (fused, a) = run(true);
+        let (unfused, b) = run(false);
+        println!("{name} {sets:?}: dispatches per step fused {fused:.3}, unfused {unfused:.3}");
+        assert!(a == b, "{name} {sets:?}: the fused and unfused engines differ");
+        assert!(fused < unfused, "{name}: fused {fused} vs unfused {unfused} dispatches per step");
+        if let Some(most) = bound {
+            assert!(fused <= most, "{name}: {fused} dispatches per step (at most {most})");
+        }
+    }
+}
+
 /// The study's `engine` experiment at a small N writes, in one run, the CPU single-thread rows,
-/// and before AND after rows for the fastest variant and `cells.thread.recomputed.f32`; the
-/// engine's own counters show the two engines differ (before: one submission and one readback
-/// per step; after: one per block of K steps), and summary.md has the before/after table.
+/// and before, after AND unfused rows for the fastest variant and `cells.thread.recomputed.f32`;
+/// the engine's own counters show the engines differ (before: one submission and one readback
+/// per step; after and unfused: one per block of K steps; unfused: more dispatches than after),
+/// and summary.md has the before/after and the fused/unfused tables.
 #[test]
 fn study_engine_experiment_writes_before_and_after_rows() {
     use sphlab::study::engine_ab::THREAD_RECOMPUTED;
@@ -450,13 +495,25 @@ fn study_engine_experiment_writes_before_and_after_rows() {
             assert!(r.modelled_bytes_per_eval.is_some_and(|b| b > 0.0) && r.device_bytes.is_some(), "{v} {e}");
             (r.submits_per_step.expect("counted"), r.readbacks_per_step.expect("counted"))
         };
-        let (before, after) = (get("before"), get("after"));
+        let (before, after, unfused) = (get("before"), get("after"), get("unfused"));
         assert_eq!(before, (1.0, 1.0), "{v}: before = one submission and one readback per step");
         assert_eq!(after, (1.0 / k as f64, 1.0 / k as f64), "{v}: after = one of each per K = {k} steps");
+        assert_eq!(unfused, after, "{v}: unfused differs from after only in its passes");
+        let dispatches = |e: &str| {
+            rows.iter().find(|r| r.variant == v && r.engine == e).and_then(|r| r.dispatches_per_step).expect("counted")
+        };
+        assert!(dispatches("unfused") > dispatches("after"), "{v}: unfused records more passes");
     }
+    assert!(md_has_fused_table(dir.path()), "summary.md: the fused/unfused table");
     let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary.md");
     assert!(md.contains("## Engine — legacy against current"), "{md}");
     assert!(md.contains(&format!("| `{THREAD_RECOMPUTED}` |")), "{md}");
     let csv = std::fs::read_to_string(dir.path().join("records.csv")).expect("records.csv");
     assert!(csv.lines().next().is_some_and(|h| h.contains("engine") && h.contains("roofline_fraction")), "{csv}");
+}
+
+/// summary.md of a study in `dir` has the fused-against-unfused table with a ratio row.
+fn md_has_fused_table(dir: &std::path::Path) -> bool {
+    let md = std::fs::read_to_string(dir.join("summary.md")).unwrap_or_default();
+    md.contains("Fused against unfused") && md.contains("| unfused ms/step |") && md.lines().any(|l| l.contains("× ["))
 }

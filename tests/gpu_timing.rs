@@ -30,6 +30,9 @@ fn allowed(g: &GpuSolver<f32>, s: &Scene) -> Vec<&'static str> {
     let mut v = g.model.stages.names();
     v.extend(integrator_stages(s));
     v.push(Stage::Check.name());
+    if g.spec().search != sphlab::neighbours::SearchKind::Direct {
+        v.push(Stage::CellCount.name());
+    }
     if g.model.dt_fixed <= 0.0 {
         v.push(Stage::ReduceMax.name());
     }

@@ -16,22 +16,24 @@ use crate::scene::Integrator;
 pub enum Stage {
     /// Neighbour lists (CPU) or cell ranges / lists (GPU).
     NeighbourSearch,
+    /// Contact points (Mode B; reads positions and phases only, so it runs before σ and the
+    /// wall typing can end the number-density pass).
+    ContactLine,
     /// σ and Holmes χ.
     NumberDensity,
-    /// Contact points (Mode B).
-    ContactLine,
     /// Wall colours by the interpolation line (Mode B, Algorithm 2).
     WallTyping,
     /// ρ = mσ and the pressure.
     EquationOfState,
-    /// Adami wall pressure (R-wall).
-    WallPressure,
     /// Colour gradients.
     ColourGradient,
     /// Algorithm 1 (Mode B).
     NormalCorrection,
     /// Surface stress tensor Π.
     SurfaceStress,
+    /// Adami wall pressure (R-wall; reads ρ and p, which the surface stages do not touch, so it
+    /// can end the colour-gradient pass).
+    WallPressure,
     /// Accelerations of the fluid particles.
     Acceleration,
     /// XSPH advection velocity.
@@ -46,6 +48,10 @@ pub enum Stage {
     VerletKick,
     /// Blow-up check (non-finite or escaped particles).
     Check,
+    /// The cell of every particle and the per-cell counts, the first step of the GPU cell
+    /// search, run at the end of the integrator stages that move the particles (the next
+    /// search then starts from these counts); no CPU function (the CPU search counts itself).
+    CellCount,
     /// max |v|, max |a| for the automatic dt.
     ReduceMax,
 }
@@ -101,9 +107,10 @@ pub struct StageDef {
     pub clears: &'static [Clear],
     /// The passes (by their first stage) this per-particle stage may run at the end of, in the
     /// thread that has just written the particle's output, when it follows that pass (every
-    /// stage in between fused too): it reads only the particle's own fields, so the fused pass
-    /// computes what the two passes compute ([`ActiveStages::evaluation_passes`],
-    /// [`Stage::closing_passes`]).
+    /// stage in between fused too): of what the pass writes it reads only that particle's own
+    /// output (anything else it reads comes from earlier passes), and nothing in the pass reads
+    /// what it writes, so the fused pass computes what the two passes compute
+    /// ([`ActiveStages::evaluation_passes`], [`Stage::opening_passes`], [`Stage::closing_passes`]).
     pub epilogue_of: &'static [Stage],
 }
 
@@ -126,11 +133,16 @@ const fn epilogue(d: StageDef, heads: &'static [Stage]) -> StageDef {
 }
 
 /// The table, in [`Stage`] order.
-pub static TABLE: [StageDef; 17] = [
+pub static TABLE: [StageDef; 18] = [
     def(Stage::NeighbourSearch, "neighbour_search", &[], &[], &[Clear::CellCounts]),
-    def(Stage::NumberDensity, "number_density", &[], &[All(F::Sigma), All(F::Chi)], &[]),
     def(Stage::ContactLine, "contact_line", &[], &[All(F::Contacts)], &[Clear::ContactsFound]),
-    def(Stage::WallTyping, "wall_typing", &[F::Contacts], &[Part(F::Colour), Part(F::Mass)], &[]),
+    def(Stage::NumberDensity, "number_density", &[], &[All(F::Sigma), All(F::Chi)], &[]),
+    // A wall's colour and mass from the contact points of the pass before and its own position
+    // (σ reads neither), so it ends the number-density pass, before the EOS that reads them.
+    epilogue(
+        def(Stage::WallTyping, "wall_typing", &[F::Contacts], &[Part(F::Colour), Part(F::Mass)], &[]),
+        &[Stage::NumberDensity],
+    ),
     epilogue(
         def(
             Stage::EquationOfState,
@@ -141,7 +153,6 @@ pub static TABLE: [StageDef; 17] = [
         ),
         &[Stage::NumberDensity],
     ),
-    def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]),
     def(Stage::ColourGradient, "colour_gradient", &[F::Sigma, F::Colour], &[All(F::Grad)], &[]),
     epilogue(
         def(Stage::NormalCorrection, "normal_correction", &[F::Grad, F::Colour, F::Contacts], &[Part(F::Grad)], &[]),
@@ -151,6 +162,10 @@ pub static TABLE: [StageDef; 17] = [
         def(Stage::SurfaceStress, "surface_stress", &[F::Grad, F::Colour], &[All(F::Pi)], &[]),
         &[Stage::ColourGradient],
     ),
+    // A wall's pressure from its fluid neighbours' ρ and p (the number-density pass's), in the
+    // thread of the colour-gradient pass that has just written the wall's gradient: that pass
+    // reads no p.
+    epilogue(def(Stage::WallPressure, "wall_pressure", &[F::Rho, F::P], &[Part(F::P)], &[]), &[Stage::ColourGradient]),
     def(Stage::Acceleration, "acceleration", &[F::Sigma, F::Chi, F::Mass, F::P, F::Pi], &[Fluid(F::Acc)], &[]),
     def(Stage::Xsph, "xsph", &[F::Mass, F::Rho], &[Fluid(F::Vt)], &[]),
     def(Stage::MidpointPredict, "midpoint_predict", &[F::Acc, F::Vt], &[], &[]),
@@ -160,15 +175,20 @@ pub static TABLE: [StageDef; 17] = [
     // The blow-up check of each particle right after its closing integration (the step number
     // it records is the one being completed; the clock ticks once every particle is done).
     epilogue(def(Stage::Check, "check", &[F::Acc], &[], &[]), &[Stage::MidpointCorrect, Stage::VerletKick]),
+    // Each particle's cell, counted right after it moved (walls counted where they stand).
+    epilogue(
+        def(Stage::CellCount, "cell_count", &[], &[], &[Clear::CellCounts]),
+        &[Stage::MidpointPredict, Stage::MidpointCorrect, Stage::VerletDrift, Stage::VerletKick],
+    ),
     def(Stage::ReduceMax, "reduce_max", &[F::Acc], &[], &[Clear::Maxima]),
 ];
 
 impl Stage {
     /// Every stage, in table order.
-    pub const ALL: [Stage; 17] = {
-        let mut all = [Stage::NeighbourSearch; 17];
+    pub const ALL: [Stage; 18] = {
+        let mut all = [Stage::NeighbourSearch; 18];
         let mut k = 0;
-        while k < 17 {
+        while k < 18 {
             all[k] = TABLE[k].stage;
             k += 1;
         }
@@ -178,14 +198,14 @@ impl Stage {
     /// The stages of one force evaluation, in order (whether active or not).
     pub const EVALUATION: [Stage; 11] = [
         Stage::NeighbourSearch,
-        Stage::NumberDensity,
         Stage::ContactLine,
+        Stage::NumberDensity,
         Stage::WallTyping,
         Stage::EquationOfState,
-        Stage::WallPressure,
         Stage::ColourGradient,
         Stage::NormalCorrection,
         Stage::SurfaceStress,
+        Stage::WallPressure,
         Stage::Acceleration,
         Stage::Xsph,
     ];
@@ -228,10 +248,19 @@ impl Stage {
         }
     }
 
-    /// The end of a step of `integrator` as passes: its closing stage, then `check` (one pass:
-    /// the check is an epilogue of the closing stage).
-    pub fn closing_passes(integrator: Integrator) -> Vec<Vec<Stage>> {
-        passes(&[Stage::step_pair(integrator).1, Stage::Check])
+    /// The opening integrator stage of a step of `integrator` as passes, followed by the
+    /// [`Stage::CellCount`] of the moved particles when the search has cells (`cell_count`).
+    pub fn opening_passes(integrator: Integrator, cell_count: bool) -> Vec<Vec<Stage>> {
+        let open = [Stage::step_pair(integrator).0, Stage::CellCount];
+        passes(&open[..if cell_count { 2 } else { 1 }])
+    }
+
+    /// The end of a step of `integrator` as passes: its closing stage, then `check`, then (with
+    /// `cell_count`) the cell counts of the moved particles; one pass: both are epilogues of the
+    /// closing stage.
+    pub fn closing_passes(integrator: Integrator, cell_count: bool) -> Vec<Vec<Stage>> {
+        let close = [Stage::step_pair(integrator).1, Stage::Check, Stage::CellCount];
+        passes(&close[..if cell_count { 3 } else { 2 }])
     }
 
     /// Fields written to every element (poisoned before a lone GPU run).
@@ -314,14 +343,28 @@ mod tests {
             ]
         );
         assert_eq!(pass_label(&p[1]), "number_density+equation_of_state");
-        // Mode B: wall typing (it writes colours and masses) between σ and the EOS keeps them apart.
+        // Mode B: the contact points first, then σ with the wall typing and the EOS of the
+        // typed walls in one pass.
         let mode_b =
-            [NumberDensity, ContactLine, WallTyping, EquationOfState, ColourGradient, NormalCorrection, SurfaceStress];
-        assert_eq!(passes(&mode_b).len(), 5);
-        assert_eq!(passes(&mode_b)[4], vec![ColourGradient, NormalCorrection, SurfaceStress]);
-        // The check ends the closing integrator stage, never the opening one.
-        assert_eq!(Stage::closing_passes(Integrator::Midpoint), vec![vec![MidpointCorrect, Check]]);
-        assert_eq!(Stage::closing_passes(Integrator::Verlet), vec![vec![VerletKick, Check]]);
+            [ContactLine, NumberDensity, WallTyping, EquationOfState, ColourGradient, NormalCorrection, SurfaceStress];
+        assert_eq!(passes(&mode_b).len(), 3);
+        assert_eq!(passes(&mode_b)[1], vec![NumberDensity, WallTyping, EquationOfState]);
+        assert_eq!(passes(&mode_b)[2], vec![ColourGradient, NormalCorrection, SurfaceStress]);
+        // The wall pressure ends the colour-gradient pass, or is a pass of its own without one.
+        assert_eq!(
+            passes(&[EquationOfState, ColourGradient, SurfaceStress, WallPressure, Acceleration])[1],
+            vec![ColourGradient, SurfaceStress, WallPressure]
+        );
+        assert_eq!(passes(&[NumberDensity, EquationOfState, WallPressure, Acceleration]).len(), 3);
+        // Wall typing never joins a pass that does not compute σ.
+        assert_eq!(passes(&[ContactLine, WallTyping]).len(), 2);
+        // The check ends the closing integrator stage, never the opening one; the cell count
+        // ends both when the search has cells.
+        assert_eq!(Stage::closing_passes(Integrator::Midpoint, false), vec![vec![MidpointCorrect, Check]]);
+        assert_eq!(Stage::closing_passes(Integrator::Verlet, true), vec![vec![VerletKick, Check, CellCount]]);
+        assert_eq!(Stage::opening_passes(Integrator::Midpoint, true), vec![vec![MidpointPredict, CellCount]]);
+        assert_eq!(Stage::opening_passes(Integrator::Verlet, false), vec![vec![VerletDrift]]);
         assert_eq!(passes(&[MidpointPredict, Check]).len(), 2);
+        assert_eq!(passes(&[Acceleration, CellCount]).len(), 2);
     }
 }

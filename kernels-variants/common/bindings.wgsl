@@ -35,7 +35,7 @@
 
 // Words of `ctl` (twin of `CTL_*` in src/gpu/solver_buffers.rs).
 const CTL_CONTACTS_FOUND: u32 = 0u; // points found in the last contact_line (may exceed 32)
-const CTL_CONTACTS: u32 = 1u;       // points kept (≤ 32), sorted by x
+const CTL_CONTACTS: u32 = 1u;       // unused (the points kept are min(found, MAX_CONTACTS))
 const CTL_BAD_STEP: u32 = 2u;       // first step with a bad particle (0xFFFFFFFF: none)
 const CTL_BAD: u32 = 3u;            // 2·particle + (0 non-finite, 1 left the domain)
 const CTL_VMAX: u32 = 4u;           // f32 bits of max |v| (fluids)
@@ -43,7 +43,7 @@ const CTL_AMAX: u32 = 5u;           // f32 bits of max |a| (fluids)
 const CTL_CONTACTS_MAX: u32 = 6u;   // largest contact count seen since the last read
 const CTL_STEP: u32 = 7u;           // device clock: steps completed (src/gpu/clock.rs)
 const CTL_OVER_STEP: u32 = 8u;      // first step whose evaluations overflowed (0xFFFFFFFF: none)
-const CTL_DONE: u32 = 9u;           // workgroups done in the fused closing stage (thread/integrate.wgsl)
+const CTL_DONE: u32 = 9u;           // workgroups done in the fused closing stage or reduce_max (thread/integrate.wgsl)
 
 // Colour-gradient slot s (0 or 1) of particle i: one binding per slot, so neither passes the
 // storage-binding cap before the per-particle vec2 arrays do (src/plan/gpu.rs).
@@ -54,15 +54,23 @@ fn grad_at(i: u32, s: u32) -> real2 {
     return grad1[i];
 }
 
-// Index of the contact point nearest to r (first in x order on ties), or −1 when there is none.
+// (x, s) of contact point a before that of point b (the CPU's sort order).
+fn contact_before(a: u32, b: u32) -> bool {
+    let xa = contacts[4u * a];
+    let xb = contacts[4u * b];
+    return xa < xb || (xa == xb && contacts[4u * a + 2u] < contacts[4u * b + 2u]);
+}
+
+// Index of the contact point nearest to r (the first in (x, s) order on ties, whatever order
+// the points were appended in), or −1 when there is none. Twin of `cpu::stages::nearest_contact`.
 fn nearest_contact(r: real2) -> i32 {
-    let count = atomicLoad(&ctl[CTL_CONTACTS]);
+    let count = min(atomicLoad(&ctl[CTL_CONTACTS_FOUND]), MAX_CONTACTS);
     var best = -1;
     var bd = real(0.0);
     for (var k = 0u; k < count; k++) {
         let d = r - real2(contacts[4u * k], contacts[4u * k + 1u]);
         let d2 = d.x * d.x + d.y * d.y;
-        if best < 0 || d2 < bd {
+        if best < 0 || d2 < bd || (d2 == bd && contact_before(k, u32(best))) {
             best = i32(k);
             bd = d2;
         }

@@ -1,14 +1,33 @@
 // epilogues.wgsl: the per-particle stages that the stage table lets run at the end of a
 // neighbour pass, in the thread that has just written particle i's output (core/src/stage.rs,
-// `epilogue_of`): the equation of state after the number density, Algorithm 1 and the surface
-// stress after the colour gradient. Each reads only particle i's own fields, so the fused
-// kernel (composed with `FUSE_<STAGE>`, common/pair_terms.wgsl's output functions call these)
-// and the stage's own thread kernel (thread/<stage>.wgsl, the unfused debug path) compute the
-// same numbers. Twins of `cpu::stages::{equation_of_state, normal_correction, surface_stress}`.
+// `epilogue_of`): the wall typing and the equation of state after the number density,
+// Algorithm 1 and the surface stress after the colour gradient. Of what the pass writes each
+// reads only particle i's own output (the contact points come from the pass before), so the
+// fused kernel (composed with `FUSE_<STAGE>`, common/pair_terms.wgsl's output functions call
+// these) and the stage's own thread kernel (thread/<stage>.wgsl, the unfused debug path)
+// compute the same numbers. Twins of `cpu::stages::{wall_typing, equation_of_state,
+// normal_correction, surface_stress}`.
 
 #import common/bindings
 #import eos
 #import contact
+
+// Algorithm 2 on wall particle i: below y_w, the side of the interpolation line through the
+// nearest contact point gives the liquid (0) or gas (1) colour; otherwise (or without contact
+// points) untyped. Mass per T83.
+fn wall_typing_at(i: u32) {
+    var c = NO_COLOUR;
+    let r = pos[i];
+    if r.y < params.y_wall {
+        let k = nearest_contact(r);
+        if k >= 0 {
+            let tp = real2(contacts[4u * u32(k)], contacts[4u * u32(k) + 1u]);
+            c = select(1, 0, contact_side(r, tp, contact_normal_of(k)) < real(0.0));
+        }
+    }
+    colour[i] = c;
+    mass[i] = params.mass[select(params.wall_phase, u32(c), c >= 0)];
+}
 
 // ρ = mσ and the Tait pressure of particle i, with the EOS of its fluid phase, a wall's typed
 // phase or the wall phase.

@@ -50,6 +50,20 @@ fn cell_index(p: real2) -> u32 {
     return u32(x + i32(params.grid_nx) * y);
 }
 
+// Cells per block of the cell scan (twin of search/cell_scan.wgsl's SCAN_BLOCK, plan::SCAN_BLOCK).
+const COUNT_SCAN_BLOCK: u32 = 256u;
+
+// The first step of the counting sort for particle i: its cell, the cell's count and the scan's
+// block sum (kept after the counts), on counts the host cleared. Run by search/cell_count.wgsl,
+// or at the end of an integrator stage (the stage table's `cell_count` epilogue) by the thread
+// that has just moved the particle.
+fn cell_count_at(i: u32) {
+    let c = cell_index(pos[i]);
+    cell_of[i] = c;
+    atomicAdd(&cell_counts[c], 1u);
+    atomicAdd(&cell_counts[params.grid_nx * params.grid_ny + c / COUNT_SCAN_BLOCK], 1u);
+}
+
 fn nb_begin(i: u32, xi: real2) -> Nb {
     var it: Nb;
     it.xi = xi;

@@ -18,6 +18,9 @@
 #import wall
 #ifdef FUSED
 #import common/epilogues
+#ifdef FUSE_WALL_PRESSURE
+#import common/wall_pressure
+#endif
 #endif
 
 // One list entry of particle i: neighbour, image code, slot, image position, x_ij, r.
@@ -102,6 +105,11 @@ fn density_out(i: u32, s: real2) {
     // 1/σ² once per particle, next to σ (every pair term reads it from both sides).
     sigma[i] = real2(s.x, inv_sigma2(s.x));
     chi[i] = select(real(0.0), s.y / s.x, params_has(params, STAGE_HOLMES));
+#ifdef FUSE_WALL_TYPING
+    if i >= params.n_fluid {
+        wall_typing_at(i);
+    }
+#endif
 #ifdef FUSE_EQUATION_OF_STATE
     equation_of_state_at(i);
 #endif
@@ -141,6 +149,11 @@ fn grad_out(i: u32, g: Grad2) {
 #endif
 #ifdef FUSE_SURFACE_STRESS
     surface_stress_at(i);
+#endif
+#ifdef FUSE_WALL_PRESSURE
+    if i >= params.n_fluid {
+        wall_pressure_at(i);
+    }
 #endif
 }
 

@@ -24,8 +24,8 @@
 @group(2) @binding(0) var<storage, read_write> rctl: array<atomic<u32>>; // R_* words, wall_before (cells + 1), orig_of (n)
 
 // Words of `rctl` (twin of `gpu::reorder::R_*`).
-const R_NOW: u32 = 0u;         // 1: renumber in this evaluation
-const R_SINCE: u32 = 1u;       // evaluations since the last renumbering (starts at EVERY)
+const R_NOW: u32 = 0u;         // unused (each kernel decides: `now()`)
+const R_SINCE: u32 = 1u;       // 1 after a renumbering (the host keeps the cadence)
 const R_EVERY: u32 = 2u;       // renumber every this many evaluations (0: never; host-written)
 const R_COUNT: u32 = 3u;       // renumberings so far
 const R_WALLS_READY: u32 = 4u; // 1 once `wall_before` holds the prefix
@@ -44,47 +44,40 @@ fn orig_tmp_at(d: u32) -> u32 {      // orig_of of the particle that gets new in
     return params.n + d;
 }
 
-fn now() -> bool {
-    return atomicLoad(&rctl[R_NOW]) != 0u;
-}
 
 // The host records the reorder kernels only in the evaluations they are due (its cadence of
-// `EVERY` evaluations), so the decision here is only the veto of a halted device; with
-// `TRACKING` a renumbering also rebuilds the candidate lists (counted as a build, as
-// `track_every` counts one), which `track_build` does next in this stage.
-@compute @workgroup_size(1)
-fn reorder_decide() {
-    let every = atomicLoad(&rctl[R_EVERY]);
-    var due = every > 0u;
-    // A halted device (a failed step, kernels-variants/thread/integrate.wgsl) keeps its numbering,
-    // so the failing particle and the state read back map through the permutation of that step.
-    // Nor does one with an overflowing particle noted and not yet read (a midpoint step's second
-    // evaluation comes before the step's clock_tick).
-    if atomicLoad(&ctl[CTL_BAD_STEP]) != 0xffffffffu || atomicLoad(&ctl[CTL_OVER_STEP]) != 0xffffffffu
-        || atomicLoad(&vctl[V_OVER_FIRST]) != 0xffffffffu {
-        due = false;
-    }
-    atomicStore(&rctl[R_NOW], select(0u, 1u, due));
-    if due {
-        atomicStore(&rctl[R_SINCE], 0u);
-        atomicAdd(&rctl[R_COUNT], 1u);
-#ifdef TRACKING
-        if atomicLoad(&vctl[V_REBUILD]) == 0u {
-            atomicStore(&vctl[V_REBUILD], 1u);
-            atomicStore(&vctl[V_SINCE], 1u);
-            atomicStore(&vctl[V_CAND_STALE], 0u);
-            atomicAdd(&vctl[V_REBUILDS], 1u);
-        }
-#endif
-    }
-    atomicAdd(&rctl[R_SINCE], 1u);
+// `EVERY` evaluations), so the decision here is only the veto of a halted device: it keeps its
+// numbering, so the failing particle and the state read back map through the permutation of
+// that step; nor does one with an overflowing particle noted and not yet read (a midpoint
+// step's second evaluation comes before the step's clock tick). None of these words changes
+// while the reorder kernels run, so every kernel takes the same decision.
+fn now() -> bool {
+    return atomicLoad(&rctl[R_EVERY]) > 0u && atomicLoad(&ctl[CTL_BAD_STEP]) == 0xffffffffu
+        && atomicLoad(&ctl[CTL_OVER_STEP]) == 0xffffffffu && atomicLoad(&vctl[V_OVER_FIRST]) == 0xffffffffu;
 }
 
-// Walls per cell (once: walls are static).
+// The bookkeeping of a renumbering (one thread of `reorder_perm`): the count and, with
+// `TRACKING`, a rebuild of the candidate lists (counted as a build, as `track_every` counts
+// one), which `track_build` does next in this stage.
+fn renumbering_noted() {
+    atomicStore(&rctl[R_SINCE], 1u);
+    atomicAdd(&rctl[R_COUNT], 1u);
+#ifdef TRACKING
+    if atomicLoad(&vctl[V_REBUILD]) == 0u {
+        atomicStore(&vctl[V_REBUILD], 1u);
+        atomicStore(&vctl[V_SINCE], 1u);
+        atomicStore(&vctl[V_CAND_STALE], 0u);
+        atomicAdd(&vctl[V_REBUILDS], 1u);
+    }
+#endif
+}
+
+// Walls per cell (once, whatever the decision: walls are static; the host records this and the
+// scan only with the first renumbering).
 @compute @workgroup_size(GROUP_THREADS)
 fn reorder_wall_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = params.n_fluid + linear_id(gid, nwg);
-    if i >= params.n || !now() || atomicLoad(&rctl[R_WALLS_READY]) != 0u {
+    if i >= params.n || atomicLoad(&rctl[R_WALLS_READY]) != 0u {
         return;
     }
     atomicAdd(&rctl[R_WALL_BEFORE + cell_of[i]], 1u);
@@ -103,7 +96,7 @@ var<workgroup> wall_due: u32;
 fn reorder_wall_scan(@builtin(local_invocation_index) t: u32) {
     // Read by one thread and shared uniformly (the barriers below need every thread).
     if t == 0u {
-        wall_due = select(0u, 1u, now() && atomicLoad(&rctl[R_WALLS_READY]) == 0u);
+        wall_due = select(0u, 1u, atomicLoad(&rctl[R_WALLS_READY]) == 0u);
     }
     if workgroupUniformLoad(&wall_due) == 0u {
         return;
@@ -147,6 +140,9 @@ fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if s >= params.n || !now() {
         return;
     }
+    if s == 0u {
+        renumbering_noted();
+    }
     let j = sorted[s];
     if j >= params.n_fluid {
         return;
@@ -156,7 +152,9 @@ fn reorder_perm(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     sorted[s] = d;
 }
 
-// Gather (into `grad0[d]`, `grad1[d]`) and put back, one pair of fields at a time.
+// Gather (into `grad0[d]`, `grad1[d]`) and put back, one pair of fields at a time: each kernel
+// puts back the pair gathered by the kernel before and gathers the next (the same thread reads
+// grad0[d], grad1[d] before it overwrites them; no kernel writes what it gathers).
 fn gather_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     let d = linear_id(gid, nwg);
     if d >= params.n_fluid || !now() {
@@ -165,95 +163,98 @@ fn gather_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     return d;
 }
 
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn gather_state(d: u32) {
     let o = counts[src_at(d)];
     grad0[d] = pos[o];
     grad1[d] = vel[o];
     counts[orig_tmp_at(d)] = atomicLoad(&rctl[orig_word(o)]);
 }
 
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_put_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn put_state(d: u32) {
     pos[d] = grad0[d];
     vel[d] = grad1[d];
     atomicStore(&rctl[orig_word(d)], counts[orig_tmp_at(d)]);
 }
 
 // Mass, phase and colour (small integers: exact as reals).
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_gather_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn gather_tags(d: u32) {
     let o = counts[src_at(d)];
     grad0[d] = real2(mass[o], real(phase[o]));
     grad1[d] = real2(real(colour[o]), real(0.0));
 }
 
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_put_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn put_tags(d: u32) {
     mass[d] = grad0[d].x;
     phase[d] = u32(grad0[d].y);
     colour[d] = i32(grad1[d].x);
 }
 
 // ṽ and a.
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn gather_rates(d: u32) {
     let o = counts[src_at(d)];
     grad0[d] = vt[o];
     grad1[d] = acc[o];
 }
 
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_put_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn put_rates(d: u32) {
     vt[d] = grad0[d];
     acc[d] = grad1[d];
 }
 
 // The midpoint start state r⁰, v⁰ (live between predict and correct; Verlet's v_{n+½}), then
 // the scratch zeroed.
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_gather_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn gather_start(d: u32) {
     let o = counts[src_at(d)];
     grad0[d] = pos0[o];
     grad1[d] = vel0[o];
 }
 
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_put_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let d = gather_index(gid, nwg);
-    if d == 0xffffffffu {
-        return;
-    }
+fn put_start(d: u32) {
     pos0[d] = grad0[d];
     vel0[d] = grad1[d];
     grad0[d] = real2(real(0.0));
     grad1[d] = real2(real(0.0));
+}
+
+@compute @workgroup_size(GROUP_THREADS)
+fn reorder_gather_state(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d != 0xffffffffu {
+        gather_state(d);
+    }
+}
+
+@compute @workgroup_size(GROUP_THREADS)
+fn reorder_put_state_gather_tags(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d != 0xffffffffu {
+        put_state(d);
+        gather_tags(d);
+    }
+}
+
+@compute @workgroup_size(GROUP_THREADS)
+fn reorder_put_tags_gather_rates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d != 0xffffffffu {
+        put_tags(d);
+        gather_rates(d);
+    }
+}
+
+@compute @workgroup_size(GROUP_THREADS)
+fn reorder_put_rates_gather_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d != 0xffffffffu {
+        put_rates(d);
+        gather_start(d);
+    }
+}
+
+@compute @workgroup_size(GROUP_THREADS)
+fn reorder_put_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let d = gather_index(gid, nwg);
+    if d != 0xffffffffu {
+        put_start(d);
+    }
 }

@@ -1,9 +1,11 @@
 // contact_line.wgsl (thread mapping): contact points of the liquid (phase 0) in the first-row
 // band (§8.4 step 2), twin of `cpu::stages::contact_line`. `contact_line`: one thread per fluid
 // particle finds its predecessor/successor among its band neighbours and appends points through
-// an atomic counter (capacity MAX_CONTACTS; the count beyond it is kept for the overflow
-// error). `contact_sort`: one thread sorts the kept points by (x, s), so the result does not
-// depend on the order of the appends. The host clears ctl[CTL_CONTACTS_FOUND] first.
+// an atomic counter (capacity MAX_CONTACTS; the largest count is kept for the overflow error).
+// The points stay in the order of the appends: their one use, `nearest_contact`
+// (common/bindings.wgsl), breaks distance ties by (x, s), so it picks the point the CPU's
+// (x, s)-sorted list gives, and the readback sorts them (`gpu::readback`). The host clears
+// ctl[CTL_CONTACTS_FOUND] first.
 
 #import common/neighbours
 
@@ -14,6 +16,7 @@ fn in_band(y: real) -> bool {
 
 fn push_contact(x: real, s: real) {
     let k = atomicAdd(&ctl[CTL_CONTACTS_FOUND], 1u);
+    atomicMax(&ctl[CTL_CONTACTS_MAX], k + 1u);
     if k < MAX_CONTACTS {
         contacts[4u * k] = x;
         contacts[4u * k + 1u] = params.y_wall;
@@ -63,36 +66,4 @@ fn contact_line(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     } else if pred_phase != 0u {
         push_contact(half * (xi + pred), real(-1.0));
     }
-}
-
-// (x, s) of point a is before that of point b.
-fn contact_before(a: vec4<real>, b: vec4<real>) -> bool {
-    return a.x < b.x || (a.x == b.x && a.z < b.z);
-}
-
-fn contact_get(k: u32) -> vec4<real> {
-    return vec4<real>(contacts[4u * k], contacts[4u * k + 1u], contacts[4u * k + 2u], contacts[4u * k + 3u]);
-}
-
-fn contact_set(k: u32, v: vec4<real>) {
-    contacts[4u * k] = v.x;
-    contacts[4u * k + 1u] = v.y;
-    contacts[4u * k + 2u] = v.z;
-    contacts[4u * k + 3u] = v.w;
-}
-
-@compute @workgroup_size(1)
-fn contact_sort() {
-    let count = min(atomicLoad(&ctl[CTL_CONTACTS_FOUND]), MAX_CONTACTS);
-    for (var k = 1u; k < count; k++) {
-        let v = contact_get(k);
-        var m = k;
-        while m > 0u && contact_before(v, contact_get(m - 1u)) {
-            contact_set(m, contact_get(m - 1u));
-            m--;
-        }
-        contact_set(m, v);
-    }
-    atomicStore(&ctl[CTL_CONTACTS], count);
-    atomicMax(&ctl[CTL_CONTACTS_MAX], atomicLoad(&ctl[CTL_CONTACTS_FOUND]));
 }

@@ -7,14 +7,15 @@
 //
 // The device clock (src/gpu/clock.rs): the step counter is `ctl[CTL_STEP]`, dt and the time
 // (a compensated sum t + t_lo) are `vparams[VP_DT]`, `vparams[VP_T]`, `vparams[VP_T_LO]`, so many
-// steps run in one submission with no host write in between. `dt_compute` (one thread, after
-// `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
+// steps run in one submission with no host write in between. `dt_compute` (the last workgroup
+// of `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
 // step, or, with the check fused into the closing stage, the last workgroup of that stage does. Once a step has failed (NaN, escape, neighbour or fixed-point overflow) the device is
 // halted: the integrators and the clock stop, so positions, velocities, step and t stay those of
 // the failing step until the host reads the flags.
 
 #import common/bindings
 #import common/variant_bindings
+#import common/neighbours
 #import integrate
 #import timestep
 
@@ -40,16 +41,27 @@ fn store_fixed(i: u32, r: real2, v: real2) {
     vel[i] = real2(vx, vy);
 }
 
+// With `FUSE_CELL_COUNT` (the stage table's `cell_count` as the epilogue of an integrator
+// stage) the kernel runs over every particle: fluids are integrated, then every particle's cell
+// is counted where it now stands (walls and a halted device's particles where they are).
+fn moved_count(i: u32) {
+#ifdef FUSE_CELL_COUNT
+    if i < params.n {
+        cell_count_at(i);
+    }
+#endif
+}
+
 @compute @workgroup_size(GROUP_THREADS)
 fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid || halted() {
-        return;
+    if i < params.n_fluid && !halted() {
+        pos0[i] = pos[i];
+        vel0[i] = vel[i];
+        let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
+        store_fixed(i, s.r, s.v);
     }
-    pos0[i] = pos[i];
-    vel0[i] = vel[i];
-    let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
-    store_fixed(i, s.r, s.v);
+    moved_count(i);
 }
 
 // The closing stages (`midpoint_correct`, `verlet_kick`) have no early return: with
@@ -64,15 +76,20 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         store_fixed(i, s.r, s.v);
         closing_check(i);
     }
+    moved_count(i);
     closing_end(t, nwg);
 }
 
 @compute @workgroup_size(GROUP_THREADS)
 fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
-    if i >= params.n_fluid || halted() {
-        return;
+    if i < params.n_fluid && !halted() {
+        verlet_drift_at(i);
     }
+    moved_count(i);
+}
+
+fn verlet_drift_at(i: u32) {
     let v0 = vel[i];
     let vh = integrate_kick(v0, acc[i], clock_dt());
     let r = integrate_drift(pos[i], vh + (vt[i] - v0), clock_dt());
@@ -99,6 +116,7 @@ fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         store_fixed(i, pos[i], vn);
         closing_check(i);
     }
+    moved_count(i);
     closing_end(t, nwg);
 }
 
@@ -215,11 +233,17 @@ fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if t == 0u {
         atomicMax(&ctl[CTL_VMAX], wg_vmax[0]);
         atomicMax(&ctl[CTL_AMAX], wg_amax[0]);
+        // The last workgroup to finish (a count in ctl[CTL_DONE], reset by it) sets dt from
+        // every workgroup's maxima.
+        if atomicAdd(&ctl[CTL_DONE], 1u) + 1u == nwg.x * nwg.y * nwg.z {
+            atomicStore(&ctl[CTL_DONE], 0u);
+            dt_compute();
+        }
     }
 }
 
-// Adaptive dt from the maxima of reduce_max (one thread; `DtLimits::compute(...).min()`).
-@compute @workgroup_size(1)
+// Adaptive dt from the maxima of reduce_max (`DtLimits::compute(...).min()`), by the last
+// workgroup of reduce_max.
 fn dt_compute() {
     if halted() {
         return;

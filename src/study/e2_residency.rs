@@ -50,6 +50,7 @@ pub fn group_of(stage: Stage) -> &'static str {
         | Stage::VerletDrift
         | Stage::VerletKick
         | Stage::Check
+        | Stage::CellCount
         | Stage::ReduceMax => "integration",
     }
 }

@@ -6,13 +6,16 @@
 //!   blocking control readback, as the engine ran before `advance(k)`;
 //! * **after** ([`EngineMode::AFTER`], the solver's default): cell-order renumbering every 16
 //!   steps, the per-particle stages fused into the neighbour passes the stage table allows,
-//!   the K steps of a block in one submission with one readback.
+//!   the K steps of a block in one submission with one readback;
+//! * **unfused** ([`EngineMode::UNFUSED`]): **after** with every stage of the table its own
+//!   pass (the debug mode), so that fused ÷ unfused of the same variant in the same run is the
+//!   gain of the fused passes alone.
 //!
 //! Runs, in order: the single-thread CPU references (`cpu1.cells.f64`, whose snapshot is the
 //! accuracy reference, and `cpu1.cells.f32`); (a) every GPU variant (`--variants`, else all;
 //! direct search only up to [`super::DIRECT_MAX_N`] unless named; `cells.thread.recomputed.f32`
 //! always) in **after** mode, to find the fastest; (b) the fastest and
-//! `cells.thread.recomputed.f32` in **before** mode. Every run goes through the
+//! `cells.thread.recomputed.f32` in **before** and in **unfused** mode. Every run goes through the
 //! study's protocol ([`super::timing`]) and is one [`Record`] (experiment `engine`) with its
 //! `engine`, the device bytes, the modelled bytes per evaluation, the measured streaming
 //! bandwidth and the fraction of it the time per step reaches ([`crate::gpu::bandwidth`]), and
@@ -238,12 +241,22 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
     }
     for v in before {
         out.push(runs.record(v.parse()?, EngineMode::BEFORE));
+        out.push(runs.record(v.parse()?, EngineMode::UNFUSED));
     }
     Ok(())
 }
 
-fn fmt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
+fn fmt<X>(x: Option<X>, f: impl Fn(X) -> String) -> String {
     x.map_or("-".into(), f)
+}
+
+/// a ÷ b of the median times per step, with the interval their 95 % intervals bound (the
+/// lowest a over the highest b, and the reverse); `None` unless both were timed.
+pub fn ratio_interval(a: &Record, b: &Record) -> Option<(f64, f64, f64)> {
+    let (ma, mb) = (a.ms_per_step_median?, b.ms_per_step_median?);
+    let (alo, ahi) = (a.ms_per_step_ci_lo.unwrap_or(ma), a.ms_per_step_ci_hi.unwrap_or(ma));
+    let (blo, bhi) = (b.ms_per_step_ci_lo.unwrap_or(mb), b.ms_per_step_ci_hi.unwrap_or(mb));
+    Some((ma / mb, alo / bhi, ahi / blo))
 }
 
 /// The sentence on what limits a variant's time on the current engine, from its record: the roofline
@@ -328,6 +341,26 @@ pub fn summary(md: &mut String, recs: &[Record]) {
             fmt(a.and_then(|r| r.roofline_fraction), |x| format!("{:.2} %", 100.0 * x)),
             counts(b),
             counts(a)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nFused against unfused, the same variant in the same run (**unfused**: the current engine with every stage \
+         of the stage table its own pass):\n\n| variant | unfused ms/step | fused (after) ms/step | unfused ÷ fused \
+         [95 % interval] | dispatches per step (unfused → fused) |\n|---|---|---|---|---|"
+    );
+    for v in &shown {
+        let (u, a) = (find(v, "unfused"), find(v, "after"));
+        let ms = |r: Option<&Record>| r.and_then(|r| r.ms_per_step_median);
+        let dispatches = |r: Option<&Record>| fmt(r.and_then(|r| r.dispatches_per_step), |x| format!("{x:.2}"));
+        let _ = writeln!(
+            md,
+            "| `{v}` | {} | {} | {} | {} → {} |",
+            fmt(ms(u), |x| format!("{x:.3}")),
+            fmt(ms(a), |x| format!("{x:.3}")),
+            fmt(u.zip(a).and_then(|(u, a)| ratio_interval(u, a)), |(r, lo, hi)| format!("{r:.2}× [{lo:.2}, {hi:.2}]")),
+            dispatches(u),
+            dispatches(a)
         );
     }
     let _ = writeln!(md);

@@ -181,14 +181,16 @@ pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     f.contacts = all;
 }
 
-/// The contact point nearest to `r` (first in x order on ties).
+/// The contact point nearest to `r`, the first in (x, s) order on ties whatever the order of
+/// `contacts` (the GPU's are in the order they were found).
 #[inline(always)]
 pub fn nearest_contact<T: Real>(contacts: &[ContactPoint<T>], r: V2<T>) -> Option<&ContactPoint<T>> {
     let mut best: Option<&ContactPoint<T>> = None;
     let mut bd = T::infinity();
     for cp in contacts {
         let d = (r - cp.r).norm2();
-        if d < bd {
+        let before = |b: &ContactPoint<T>| cp.r.x < b.r.x || (cp.r.x == b.r.x && cp.s < b.s);
+        if d < bd || (d == bd && best.is_some_and(before)) {
             bd = d;
             best = Some(cp);
         }

@@ -3,8 +3,8 @@
 //! **Clock.** The step counter is `ctl[STEP]` (u32), dt and the time are entries of `vparams`
 //! (`vparam::DT`, `vparam::T` plus its rounding error `vparam::T_LO`, in the storage precision).
 //! The host writes them only at construction and at a restart ([`write_clock`]); during steps the
-//! kernels `dt_compute` (adaptive dt, after `reduce_max`) and `clock_tick` (end of each step)
-//! advance them (`kernels-variants/thread/integrate.wgsl`). So k steps are recorded into one
+//! kernels advance them: `dt_compute` (adaptive dt, by the last workgroup of `reduce_max`) and
+//! `clock_tick` (end of each step, by the last workgroup of the fused closing stage) (`kernels-variants/thread/integrate.wgsl`). So k steps are recorded into one
 //! command encoder and one submission with no host write in between; the host mirrors step and
 //! t by counting (fixed dt) or takes them from the readback (adaptive dt).
 //!

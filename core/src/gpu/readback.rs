@@ -16,6 +16,7 @@ use crate::neighbours::SearchKind;
 use crate::neighbours::INDEX_MASK as PACK_MASK;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
+use std::cmp::Ordering;
 
 /// Positions and velocities in particle order.
 pub type PosVel<T> = (Vec<V2<T>>, Vec<V2<T>>);
@@ -46,6 +47,7 @@ impl<T: Real> GpuSolver<T> {
         let b = &self.b;
         let o = self.device_order()?;
         b.pos.upload(ctx, &to_device(pos, 1, &o))?;
+        self.counts_fresh.set(false);
         b.vel.upload(ctx, &to_device(vel, 1, &o))?;
         b.sigma.upload(ctx, &to_device(&sigma_pairs(&f.sigma), 1, &o))?;
         b.chi.upload(ctx, &to_device(&f.chi, 1, &o))?;
@@ -119,7 +121,7 @@ impl<T: Real> GpuSolver<T> {
         let b = &self.b;
         let w = b.ctl.read_back(ctx)?;
         let raw = b.contacts.read_back(ctx)?;
-        let kept = (w[ctl::CONTACTS] as usize).min(MAX_CONTACTS);
+        let kept = (w[ctl::CONTACTS_FOUND] as usize).min(MAX_CONTACTS);
         let o = self.device_order()?;
         let (g0, g1) = (to_original(b.grad0.read_back(ctx)?, 1, &o), to_original(b.grad1.read_back(ctx)?, 1, &o));
         Ok(Fields {
@@ -133,9 +135,9 @@ impl<T: Real> GpuSolver<T> {
             pi: to_original(b.pi.read_back(ctx)?, 1, &o).iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
             acc: to_original(b.acc.read_back(ctx)?, 1, &o),
             vt: to_original(b.vt.read_back(ctx)?, 1, &o),
-            contacts: (0..kept)
-                .map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] })
-                .collect(),
+            contacts: sorted_contacts(
+                (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
+            ),
             contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
             shift: Vec::new(),
         })
@@ -184,4 +186,12 @@ impl<T: Real> GpuSolver<T> {
         let (pos, vel) = (self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?);
         Ok((to_original(pos, 1, &o), to_original(vel, 1, &o)))
     }
+}
+
+/// Contact points in the CPU's (x, s) order (the device keeps them in the order found).
+fn sorted_contacts<T: Real>(mut c: Vec<ContactPoint<T>>) -> Vec<ContactPoint<T>> {
+    c.sort_by(|a, b| {
+        a.r.x.partial_cmp(&b.r.x).unwrap_or(Ordering::Equal).then(a.s.partial_cmp(&b.s).unwrap_or(Ordering::Equal))
+    });
+    c
 }

@@ -29,7 +29,8 @@ pub mod ctl {
     pub const STEP: usize = 7;
     /// First step whose evaluations overflowed a list or the fixed-point range (`u32::MAX`: none).
     pub const OVER_STEP: usize = 8;
-    /// Workgroups done in the fused closing stage (the last one ticks the clock; back to 0 then).
+    /// Workgroups done in the fused closing stage (the last one ticks the clock) or in
+    /// `reduce_max` (the last one sets dt); back to 0 then.
     pub const DONE: usize = 9;
     /// Words in the buffer.
     pub const LEN: usize = 12;

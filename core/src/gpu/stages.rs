@@ -73,33 +73,28 @@ const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
 }
 
 /// Cell-ordered particles, right after the cell sort (`gpu::reorder`; group 2 bound): the
-/// decision, the per-cell wall prefix (once), the renumbering, then gather and put back of
-/// every persistent per-particle array. Every thread returns at once when nothing is due.
+/// per-cell wall prefix ([`REORDER_WALLS`], recorded with the first renumbering only: walls never
+/// move), the renumbering, then gather and put back of every persistent per-particle array, each
+/// kernel putting back the pair of fields the one before gathered. Every thread returns at once
+/// when a halted device vetoes the renumbering.
 pub const REORDER: &[KernelDef] = &[
-    k("reorder_decide", super::reorder::FILE, Domain::One),
     k("reorder_wall_count", super::reorder::FILE, Domain::Wall),
     k("reorder_wall_scan", super::reorder::FILE, Domain::One),
     k("reorder_perm", super::reorder::FILE, Domain::All),
     k("reorder_gather_state", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_state", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_tags", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_tags", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_rates", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_rates", super::reorder::FILE, Domain::Fluid),
-    k("reorder_gather_start", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_state_gather_tags", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_tags_gather_rates", super::reorder::FILE, Domain::Fluid),
+    k("reorder_put_rates_gather_start", super::reorder::FILE, Domain::Fluid),
     k("reorder_put_start", super::reorder::FILE, Domain::Fluid),
 ];
+
+/// The kernels of [`REORDER`] that compute the per-cell wall prefix (once).
+pub const REORDER_WALLS: [&str; 2] = ["reorder_wall_count", "reorder_wall_scan"];
 
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
 pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
     (Stage::NumberDensity, &[t(Stage::NumberDensity, "thread/number_density.wgsl", Domain::All)]),
-    (
-        Stage::ContactLine,
-        &[
-            t(Stage::ContactLine, "thread/contact_line.wgsl", Domain::Fluid),
-            k("contact_sort", "thread/contact_line.wgsl", Domain::One),
-        ],
-    ),
+    (Stage::ContactLine, &[t(Stage::ContactLine, "thread/contact_line.wgsl", Domain::Fluid)]),
     (Stage::WallTyping, &[t(Stage::WallTyping, "thread/wall_typing.wgsl", Domain::Wall)]),
     (Stage::EquationOfState, &[t(Stage::EquationOfState, "thread/equation_of_state.wgsl", Domain::All)]),
     (Stage::WallPressure, &[t(Stage::WallPressure, "thread/wall_pressure.wgsl", Domain::Wall)]),
@@ -119,13 +114,8 @@ pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
             t(Stage::Check, "thread/integrate.wgsl", Domain::Fluid),
         ],
     ),
-    (
-        Stage::ReduceMax,
-        &[
-            t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid),
-            k("dt_compute", "thread/integrate.wgsl", Domain::One),
-        ],
-    ),
+    (Stage::CellCount, &[t(Stage::CellCount, "search/cell_count.wgsl", Domain::All)]),
+    (Stage::ReduceMax, &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid)]),
 ];
 
 /// Tracking lists, before the cell sort: displacement reduction and the rebuild decision.
@@ -176,7 +166,29 @@ pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     }
     let mut t = vec![(Stage::NeighbourSearch, search)];
     t.extend(THREAD_STAGES.iter().map(|(s, ks)| (*s, pair_stage(spec, *s).unwrap_or_else(|| ks.to_vec()))));
+    if spec.search == SearchKind::Direct {
+        // No cells to count.
+        t.retain(|(s, _)| *s != Stage::CellCount);
+    }
     t
+}
+
+/// The domain of a kernel of a fused pass: its own, widened to every particle when an
+/// epilogue's own kernel (the one named as its stage) runs over more particles than the head's
+/// fluid or wall range (the cell count of every particle after the fluids' integration).
+fn fused_domain(own: Domain, pass: &[Stage], table: &[(Stage, Vec<KernelDef>)]) -> Domain {
+    let epilogue_domain = |s: &Stage| {
+        table
+            .iter()
+            .find(|(t, _)| t == s)
+            .and_then(|(_, ks)| ks.iter().find(|kd| kd.entry == s.name()))
+            .map(|kd| kd.domain)
+    };
+    let wider = pass[1..].iter().filter_map(epilogue_domain).any(|d| d == Domain::All);
+    match own {
+        Domain::Fluid | Domain::Wall if wider => Domain::All,
+        d => d,
+    }
 }
 
 /// Composition defines of a variant.
@@ -300,8 +312,11 @@ impl Pipelines {
             return Ok(c.clone());
         }
         let head = pass[0];
-        let kernels =
-            kernel_table(&self.spec).into_iter().find(|(s, _)| *s == head).map(|(_, k)| k).unwrap_or_default();
+        let table = kernel_table(&self.spec);
+        let mut kernels = table.iter().find(|(s, _)| *s == head).map(|(_, k)| k.clone()).unwrap_or_default();
+        for kd in &mut kernels {
+            kd.domain = fused_domain(kd.domain, pass, &table);
+        }
         let extra: Vec<String> = pass[1..].iter().map(|s| fuse_define(*s)).collect();
         let mut defs = defines(&self.spec);
         if pass.len() > 1 {

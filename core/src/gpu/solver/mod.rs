@@ -55,9 +55,17 @@ pub struct GpuSolver<T: Real> {
     /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
     /// epilogues.
     pub(super) passes: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
-    /// The end of a step (`Stage::closing_passes`: the closing integrator stage with the check),
-    /// each pass with its fused kernels when it has epilogues.
+    /// The opening integrator stage (`Stage::opening_passes`: with the cell count of the cell
+    /// searches), each pass with its fused kernels when it has epilogues.
+    pub(super) opening: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
+    /// The end of a step (`Stage::closing_passes`: the closing integrator stage with the check
+    /// and the cell count), each pass with its fused kernels when it has epilogues.
     pub(super) closing: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
+    /// The cell counts on the device are those of the current positions (a `cell_count` stage
+    /// was recorded after the particles last moved), so the next search skips its count.
+    pub(super) counts_fresh: std::cell::Cell<bool>,
+    /// The per-cell wall prefix of the renumbering has been recorded (walls never move).
+    pub(super) walls_ordered: std::cell::Cell<bool>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
     pub(super) fused: bool,
     /// Renumber the particles in cell order every this many steps (0: never).
@@ -122,12 +130,16 @@ impl EngineMode {
     /// in flight when the steps are split.
     pub const AFTER: EngineMode =
         EngineMode { reorder_every: DEFAULT_REORDER_EVERY, max_steps_per_submit: 0, fused: true, in_flight: true };
+    /// The current engine in its debug mode: every stage of the table its own pass (no
+    /// epilogues), all else as [`Self::AFTER`]; timed against it, the cost of the extra passes.
+    pub const UNFUSED: EngineMode = EngineMode { fused: false, ..Self::AFTER };
 
     /// `before`, `after`, or the settings.
     pub fn name(&self) -> String {
         match *self {
             Self::BEFORE => "before".into(),
             Self::AFTER => "after".into(),
+            Self::UNFUSED => "unfused".into(),
             m => format!(
                 "reorder {} / {} steps per submit / {}{}",
                 m.reorder_every,
@@ -217,7 +229,9 @@ impl<T: Real> GpuSolver<T> {
             Ok(out)
         };
         let passes = with_kernels(model.stages.evaluation_passes())?;
-        let closing = with_kernels(Stage::closing_passes(scene.time.integrator))?;
+        let cells = spec.search != crate::neighbours::SearchKind::Direct;
+        let opening = with_kernels(Stage::opening_passes(scene.time.integrator, cells))?;
+        let closing = with_kernels(Stage::closing_passes(scene.time.integrator, cells))?;
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
         let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
         let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
@@ -241,7 +255,10 @@ impl<T: Real> GpuSolver<T> {
             vbg,
             rbg,
             passes,
+            opening,
             closing,
+            counts_fresh: std::cell::Cell::new(false),
+            walls_ordered: std::cell::Cell::new(false),
             fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,
             reorder_since: std::cell::Cell::new(u64::MAX),

@@ -50,13 +50,22 @@ impl<T: Real> GpuSolver<T> {
     /// Records one pass of `stages` (a stage, or a neighbour pass with its fused epilogues,
     /// `stage::passes`) running `kernels`: the table's clears of every stage (when there are
     /// kernels), the block accumulator clear (block kernels), then one compute pass; the reorder
-    /// kernels only when the host's cadence says they are due.
+    /// kernels only when the host's cadence says they are due; the search's own cell count (and
+    /// its clear) only when no `cell_count` stage has counted the particles where they are.
     fn record_pass(&self, enc: &mut wgpu::CommandEncoder, stages: &[Stage], kernels: &Compiled) {
         if kernels.is_empty() {
             return;
         }
-        let renumber = stages[0] == Stage::NeighbourSearch && self.reorder_due();
+        let search = stages[0] == Stage::NeighbourSearch;
+        let renumber = search && self.reorder_due();
+        let counted = search && self.counts_fresh.replace(false);
+        if stages.contains(&Stage::CellCount) {
+            self.counts_fresh.set(true);
+        }
         for clear in stages.iter().flat_map(|s| s.def().clears) {
+            if counted && *clear == Clear::CellCounts {
+                continue;
+            }
             let (buffer, offset, size) = match clear {
                 Clear::CellCounts => (&self.b.cell_count.buffer, 0, None),
                 Clear::ContactsFound => (&self.b.ctl.buffer, 4 * ctl::CONTACTS_FOUND as u64, Some(4)),
@@ -78,8 +87,14 @@ impl<T: Real> GpuSolver<T> {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
         for (kd, p) in kernels {
-            if kd.file == reorder::FILE && !renumber {
+            let walls_done = self.walls_ordered.get() && crate::gpu::stages::REORDER_WALLS.contains(&kd.entry);
+            if (kd.file == reorder::FILE && (!renumber || walls_done))
+                || (counted && kd.entry == Stage::CellCount.name())
+            {
                 continue;
+            }
+            if kd.entry == crate::gpu::stages::REORDER_WALLS[1] {
+                self.walls_ordered.set(true);
             }
             let [gx, gy, gz] = self.groups(kd.domain);
             if gx > 0 {
@@ -151,10 +166,11 @@ impl<T: Real> GpuSolver<T> {
     }
 
     /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
-    /// `dt_compute`, the integrator's opening stage, the evaluation, its closing stage with
-    /// `check` (`Stage::closing_passes`: fused, the check and the clock tick run in the closing
-    /// kernel; unfused, `clock_tick` then `check` after it). Reads nothing from the host: dt and the step number come from
-    /// the device clock.
+    /// `dt_compute`, the integrator's opening stage (with the cell count,
+    /// `Stage::opening_passes`), the evaluation, its closing stage with `check` and the cell
+    /// count (`Stage::closing_passes`: fused, the check, the clock tick and the count run in the
+    /// closing kernel; unfused, `clock_tick` then `check`, then `cell_count`, each its own pass).
+    /// Reads nothing from the host: dt and the step number come from the device clock.
     pub(super) fn record_step(&self, enc: &mut wgpu::CommandEncoder, first_eval: bool) {
         if first_eval {
             self.record_evaluate(enc);
@@ -162,7 +178,7 @@ impl<T: Real> GpuSolver<T> {
         if self.model.dt_fixed <= 0.0 {
             self.record(enc, Stage::ReduceMax);
         }
-        self.record(enc, Stage::step_pair(self.integrator).0);
+        self.record_passes(enc, &self.opening);
         self.record_evaluate(enc);
         self.record_passes(enc, &self.closing);
     }
