@@ -193,6 +193,9 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     if spec.kernel_values == KernelValues::Cached {
         d.push("CACHED");
     }
+    if super::mask_lists::uses_masks(spec) {
+        d.push("MASK_LISTS");
+    }
     if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
         d.push("SLOT_MAJOR");
     }
