@@ -1,8 +1,9 @@
 //! The buffers of the strategy variants, bind group 1 (twin of
 //! `kernels-variants/common/variant_bindings.wgsl` and `common/accum.wgsl`: binding k here is
 //! binding k there): control words, per-variant constants (fixed-point quanta, tracking radii),
-//! list and candidate counts, the 64-slot explicit neighbour lists, cached kernel values, the
-//! tracking candidates with their reference positions, and the block accumulator. A variant
+//! list and candidate counts, the explicit neighbour lists (64 slots, or bitmasks over the cell
+//! walk: `gpu::mask_lists`, which sizes every list buffer), cached kernel values, the tracking
+//! candidates with their reference positions, and the block accumulator. A variant
 //! allocates only what it uses (one-element stand-ins otherwise), and [`VBufs::overflow`]
 //! turns the overflow counters into [`SolverError::NeighbourOverflow`].
 //!
