@@ -159,7 +159,7 @@ impl<T: Real> Device<T> {
         let grid = CellBox::over(&cpu.pos, cpu.model.support());
         let params = Params::new(&cpu.model, n, cpu.n_fluid, &grid);
         let b = Bufs::new(ctx, &params, n, grid.cells()).expect("state buffers");
-        let vb = VBufs::new(ctx, spec, &cpu.model, n).expect("strategy buffers");
+        let vb = VBufs::new(ctx, spec, &cpu.model, n, grid.cells()).expect("strategy buffers");
         let (state, _) = solver_buffers::layouts(ctx).expect("state layout");
         let (strategy, layout) = variant_buffers::layouts(ctx, &state).expect("pipeline layout");
         let groups = [b.bind_group(ctx, &state).expect("group 0"), vb.bind_group(ctx, &strategy).expect("group 1")];

@@ -140,6 +140,7 @@ fn wgsl_constants(entry: &str) -> std::collections::HashMap<String, i64> {
 
 #[test]
 fn wgsl_constants_equal_rust_values() {
+    use sphlab::gpu::mask_lists;
     use sphlab::gpu::params::{code, flags};
     use sphlab::gpu::solver_buffers::ctl;
     use sphlab::gpu::variant_buffers::{vctl, CAND_SLOTS, NBR_SLOTS};
@@ -185,6 +186,10 @@ fn wgsl_constants_equal_rust_values() {
         ("CTL_DONE", ctl::DONE as i64),
         ("NBR_SLOTS", NBR_SLOTS as i64),
         ("CAND_SLOTS", CAND_SLOTS as i64),
+        ("NBR_WORDS_CELLS", mask_lists::NBR_WORDS_CELLS as i64),
+        ("NBR_WORDS_TRACK", mask_lists::NBR_WORDS_TRACK as i64),
+        ("CAND_WORDS", mask_lists::CAND_WORDS as i64),
+        ("CAND_LO_WORDS", mask_lists::CAND_LO_WORDS as i64),
         ("PACK_SHIFT", IMAGE_SHIFT as i64),
         ("PACK_MASK", INDEX_MASK as i64),
         ("V_NBR_OVER", vctl::NBR_OVER as i64),
@@ -200,6 +205,7 @@ fn wgsl_constants_equal_rust_values() {
         ("V_OVER_FIRST", vctl::OVER_FIRST as i64),
         ("V_CAND_STALE", vctl::CAND_STALE as i64),
         ("V_NBR_EVAL", vctl::NBR_EVAL as i64),
+        ("V_NBR_NEED", vctl::NBR_NEED as i64),
     ];
     for (name, value) in rust {
         assert_eq!(w.get(*name), Some(value), "WGSL `{name}` differs from Rust");

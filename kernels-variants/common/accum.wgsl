@@ -5,9 +5,10 @@
 // * otherwise fixed point: each term is rounded to an integer multiple of the field's quantum
 //   q_f (a power of two, vparams[VP_Q + f], chosen on the host from the field's expected
 //   magnitude) and added as a 64-bit two's-complement integer held in two u32 words (low word
-//   atomicAdd, carry into the high word). Integer addition is associative, so the result does
-//   not depend on the order of the adds: bit-reproducible run to run.
-// The host zeroes the buffer before each block stage (0 bits = 0.0 = fixed 0); the finalize
+//   atomicAdd, carry into the high word; the high words in binding 4 unless values are
+//   cached). Integer addition is associative, so the result does not depend on the order of
+//   the adds: bit-reproducible run to run.
+// The host zeroes the buffers before each block stage (0 bits = 0.0 = fixed 0); the finalize
 // kernels read it back with `acc_get`. Zero terms are skipped (they change nothing).
 // Library module: declares binding 8 of group 1 (its element type depends on the define).
 
@@ -17,6 +18,13 @@
 @group(1) @binding(8) var<storage, read_write> accum: array<atomic<f32>>;
 #else
 @group(1) @binding(8) var<storage, read_write> accum: array<atomic<u32>>;
+#ifndef ACC_CAS
+#ifndef CACHED
+// Fixed point without cached kernel values: the high words in binding 4 (which holds the
+// cached kernel values otherwise), so neither buffer passes 4 words per particle.
+@group(1) @binding(4) var<storage, read_write> accum_hi: array<atomic<u32>>;
+#endif
+#endif
 #endif
 
 const TWO32: f32 = 4294967296.0;
@@ -60,10 +68,17 @@ fn acc_add(i: u32, c: u32, f: u32, v: real) {
         hi = ~hi + select(0u, 1u, lo == 0u);
         lo = 0u - lo;
     }
+#ifdef CACHED
     let a = 2u * (4u * i + c);
     let old = atomicAdd(&accum[a], lo);
     let carry = select(0u, 1u, old + lo < old);
     atomicAdd(&accum[a + 1u], hi + carry);
+#else
+    let a = 4u * i + c;
+    let old = atomicAdd(&accum[a], lo);
+    let carry = select(0u, 1u, old + lo < old);
+    atomicAdd(&accum_hi[a], hi + carry);
+#endif
 #endif
 #endif
 }
@@ -78,9 +93,15 @@ fn acc_get(i: u32, c: u32, f: u32) -> real {
 #else
     // Magnitude and sign in integers first (real(hi)·2³² + real(lo) would lose a small
     // negative total to rounding), then one conversion.
+#ifdef CACHED
     let a = 2u * (4u * i + c);
     var lo = atomicLoad(&accum[a]);
     var hi = atomicLoad(&accum[a + 1u]);
+#else
+    let a = 4u * i + c;
+    var lo = atomicLoad(&accum[a]);
+    var hi = atomicLoad(&accum_hi[a]);
+#endif
     let neg = bitcast<i32>(hi) < 0;
     if neg {
         hi = ~hi + select(0u, 1u, lo == 0u);

@@ -32,7 +32,7 @@ fn block_density(i: u32, k: u32) -> real2 {
     if !block_has(i, k) {
         return real2(real(0.0), real(0.0));
     }
-    return density_pair(i, params_kernel(params), pair_at(pos[i], nbr_slot(i, k)));
+    return density_pair(i, params_kernel(params), list_pair(i, pos[i], k));
 }
 
 // Per-slot term of colour_gradient.
@@ -40,7 +40,7 @@ fn block_gradient(i: u32, k: u32) -> Grad2 {
     if !block_has(i, k) || colour[i] < 0 {
         return Grad2(real2(real(0.0), real(0.0)), real2(real(0.0), real(0.0)));
     }
-    return grad_pair(colour[i], params_kernel(params), pair_at(pos[i], nbr_slot(i, k)));
+    return grad_pair(colour[i], params_kernel(params), list_pair(i, pos[i], k));
 }
 
 // Per-slot term of acceleration (fluid particles only).
@@ -50,5 +50,5 @@ fn block_acceleration(i: u32, k: u32) -> real2 {
     }
     // PERF: every column rebuilds the particle context (a few loads, ≤ 4 walls).
     let c = acc_ctx(i);
-    return acc_pair(i, c, params_kernel(params), pair_at(c.xi, nbr_slot(i, k)));
+    return acc_pair(i, c, params_kernel(params), list_pair(i, c.xi, k));
 }

@@ -5,7 +5,8 @@
 // iterations in all, gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, silently: one candidate per
 // iteration lost neighbours from ~2,300 particles; the plan refuses direct beyond
 // `plan::gpu::LAVAPIPE_LOOP_CANDIDATES` there); `TRACKING` defined = the particle's tracking
-// candidates (kernels-variants/search/tracking.wgsl) under the exact distance test; otherwise the 3×3 cells around
+// candidates (kernels-variants/search/tracking.wgsl; with `MASK_LISTS` the set bits of its
+// candidate mask, common/mask_lists.wgsl) under the exact distance test; otherwise the 3×3 cells around
 // `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*, walked as three
 // contiguous slot ranges of `sorted`, one per row (DualSPHysics' "range" loops; the same order
 // as cell by cell: rows, then x, then index). A neighbour is
@@ -15,6 +16,9 @@
 // counts, cand); no entry points.
 
 #import common/variant_bindings
+#ifdef MASK_LISTS
+#import common/mask_lists
+#endif
 
 struct Nb {
     j: u32,        // current neighbour index
@@ -28,6 +32,13 @@ struct Nb {
     cy: i32,
     mask: u32,     // DIRECT: hits of the current chunk not yet returned (bit k = candidate base + k)
     base: u32,     // DIRECT: flat cursor (code·n + j) of the current chunk's first candidate
+    i: u32,        // the query particle's index
+    m: u32,        // TRACKING with MASK_LISTS: candidate ordinal of the current candidate
+#ifdef MASK_LISTS
+    walk: Walk,    // TRACKING: the walk of the build's box (common/mask_lists.wgsl)
+    word: u32,     // TRACKING: current word of the candidate mask
+    live: bool,    // TRACKING: the walk has a span left
+#endif
 }
 
 // Candidates tested per loop iteration of the direct search.
@@ -70,12 +81,23 @@ fn nb_begin(i: u32, xi: real2) -> Nb {
     it.code = 0u;
     it.cur = 0u;
     it.end = 0u;
+    it.i = i;
+    it.m = 0xFFFFFFFFu;
 #ifdef DIRECT
     it.end = 9u * params.n; // flat cursor: code·n + j over the nine codes
 #else
 #ifdef TRACKING
+#ifdef MASK_LISTS
+    // (Local copies: a pointer to a struct member cannot be a call argument in SPIR-V output.)
+    var walk = walk_begin(ref_pos[i], 4u, true);
+    it.live = walk_next(&walk);
+    it.walk = walk;
+    it.word = 0u;
+    it.mask = cand_word(i, 0u);
+#else
     it.cur = i * CAND_SLOTS;
     it.end = it.cur + min(counts[params.n + i], CAND_SLOTS);
+#endif
 #else
     let c = cell_coords(xi);
     it.cx = c.x;
@@ -143,6 +165,11 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
     }
     return false;
 #else
+#ifdef TRACKING
+#ifdef MASK_LISTS
+    return nb_next_mask(it);
+#endif
+#endif
     loop {
         if (*it).cur < (*it).end {
 #ifdef TRACKING
@@ -191,3 +218,42 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
     return false;
 #endif
 }
+
+#ifdef TRACKING
+#ifdef MASK_LISTS
+// The tracking iterator over the candidate mask: the set bits in increasing order, each
+// located on the build's walk (ordinals only grow, so the walk only moves forward), under the
+// exact distance test at the current positions.
+fn nb_next_mask(it: ptr<function, Nb>) -> bool {
+    loop {
+        if (*it).mask == 0u {
+            (*it).word += 1u;
+            if (*it).word >= CAND_WORDS || !(*it).live {
+                return false;
+            }
+            (*it).mask = cand_word((*it).i, (*it).word);
+            continue;
+        }
+        let b = 32u * (*it).word + firstTrailingBit((*it).mask);
+        (*it).mask &= (*it).mask - 1u;
+        (*it).m += 1u;
+        var walk = (*it).walk;
+        let j = walk_to(&walk, b);
+        (*it).walk = walk;
+        if j == 0xFFFFFFFFu {
+            return false;
+        }
+        let code = walk.code;
+        let xj = image_pos(params, code, pos[j]);
+        let d = (*it).xi - xj;
+        if d.x * d.x + d.y * d.y < params.support2 {
+            (*it).j = j;
+            (*it).code = code;
+            (*it).xj = xj;
+            return true;
+        }
+    }
+    return false;
+}
+#endif
+#endif

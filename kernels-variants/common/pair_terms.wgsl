@@ -1,7 +1,7 @@
 // pair_terms.wgsl: the per-pair bodies of the three pair-sum stages (number_density,
 // colour_gradient, acceleration), shared by the `thread` kernels over the search iterator
 // (thread/*.wgsl, through `pair_of`), the list-driven `thread` kernels (list/pair_sums.wgsl, through
-// `pair_at`), the block mappings (block/*.wgsl) and their finalize kernels, so every mapping
+// `list_pair`), the block mappings (block/*.wgsl) and their finalize kernels, so every mapping
 // composes the physics of shaders/pair.wgsl in one place. Each
 // `*_pair` returns the contribution of one slot; each `*_out` applies the per-particle
 // prefactors (σ_i, 1/m_i, gravity, Lennard-Jones) and writes the field, exactly as the
@@ -14,6 +14,9 @@
 // Library module (needs common/variant_bindings); no entry points.
 
 #import common/variant_bindings
+#ifdef MASK_LISTS
+#import common/mask_lists
+#endif
 #import pair
 #import wall
 #ifdef FUSED
@@ -51,9 +54,20 @@ fn pair_of(xi: real2, j: u32, code: u32, xj: real2) -> Pair {
     return p;
 }
 
-// Number of valid slots of i (an overflowing particle is reported by the host).
+// Number of valid entries of i's list (an overflowing particle is reported by the host; with
+// `MASK_LISTS` counts[i] is the number of entries the mask holds).
 fn list_len(i: u32) -> u32 {
     return min(counts[i], NBR_SLOTS);
+}
+
+// Entry k (< list_len(i)) of the list of particle i at xi.
+fn list_pair(i: u32, xi: real2, k: u32) -> Pair {
+#ifdef MASK_LISTS
+    let e = mask_entry(i, xi, k);
+    return pair_of(xi, e.x, e.y, image_pos(params, e.y, pos[e.x]));
+#else
+    return pair_at(xi, nbr_slot(i, k));
+#endif
 }
 
 // The entry in `slot` (= nbr_slot(i, k)) of particle i at xi.

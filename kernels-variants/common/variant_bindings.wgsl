@@ -1,10 +1,12 @@
 // variant_bindings.wgsl: bind group 1, the buffers of the strategy variants (twin of
 // `VBufs::storage` in src/gpu/variant_buffers.rs, binding k there = binding k here): control
-// words, per-variant constants, list and candidate counts, the thesis's 64-slot explicit
-// neighbour lists (packed j | code << 28 like `neighbours::pack`), cached kernel values, the
-// tracking candidates and their reference positions. The accumulator (binding 8) is declared
-// by common/accum.wgsl, since its element type depends on the accumulation. Variants that do
-// not use a buffer get a one-element stand-in. Library module: no entry points.
+// words, per-variant constants, list and candidate counts, the explicit neighbour lists and
+// the tracking candidates (`MASK_LISTS`: bitmasks over the cell walk, common/mask_lists.wgsl;
+// otherwise the thesis's 64 slots, packed j | code << 28 like `neighbours::pack`, and 96
+// candidate slots), cached kernel values, the tracking reference positions. The accumulator
+// (binding 8, and binding 4 for the high words of a fixed-point one without cached values) is
+// declared by common/accum.wgsl, since its element type depends on the accumulation. Variants
+// that do not use a buffer get a one-element stand-in. Library module: no entry points.
 
 #import common/bindings
 
@@ -12,13 +14,22 @@
 @group(1) @binding(1) var<storage, read_write> vparams: array<real>;
 @group(1) @binding(2) var<storage, read_write> counts: array<u32>;    // list count (0..n), candidates (n..2n)
 @group(1) @binding(3) var<storage, read_write> nbr: array<u32>;       // slot k of i at nbr_slot(i, k)
+#ifdef CACHED
 @group(1) @binding(4) var<storage, read_write> cache_wf: array<real2>; // (W_ij, F'(r_ij)) per slot
 @group(1) @binding(5) var<storage, read_write> cache_xj: array<real2>; // image position of j per slot
+#else
+// Binding 4 holds the high words of a fixed-point accumulation (common/accum.wgsl).
+@group(1) @binding(5) var<storage, read_write> cand_hi: array<u32>;    // tracking mask words CAND_LO_WORDS..
+#endif
 @group(1) @binding(6) var<storage, read_write> cand: array<u32>;       // slot k of i at i*CAND_SLOTS + k
 @group(1) @binding(7) var<storage, read_write> ref_pos: array<real2>;  // positions at the last build
 
 const NBR_SLOTS: u32 = 64u;   // thesis §6.4.1: at most 64 neighbours (4 blocks of 16 threads)
 const CAND_SLOTS: u32 = 96u;  // tracking candidates within support + skin
+const NBR_WORDS_CELLS: u32 = 6u; // mask words of a list over the 3 × 3 cells (common/mask_lists.wgsl)
+const NBR_WORDS_TRACK: u32 = 5u; // mask words of a list over the tracking candidates
+const CAND_WORDS: u32 = 9u;      // mask words of the tracking candidates
+const CAND_LO_WORDS: u32 = 4u;   // of which in `cand` (the rest in `cand_hi`)
 const PACK_SHIFT: u32 = 28u;  // twin of neighbours::IMAGE_SHIFT
 const PACK_MASK: u32 = 0x0FFFFFFFu;
 
@@ -36,6 +47,7 @@ const V_FIXED_OVER: u32 = 9u; // fixed-point terms beyond the representable rang
 const V_CAND_STALE: u32 = 10u; // particles whose current candidate list overflowed (until the next build)
 const V_OVER_FIRST: u32 = 11u; // lowest device index whose list overflowed while the device ran (0xFFFFFFFF: none)
 const V_NBR_EVAL: u32 = 12u;  // particles over NBR_SLOTS in this evaluation (nbr_fold moves it into V_NBR_OVER)
+const V_NBR_NEED: u32 = 13u;  // most mask bits a particle's list needed (MASK_LISTS; past the mask: overflow)
 
 // Entries of `vparams` (twin of `vparam::*`).
 const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)

@@ -16,7 +16,7 @@ fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     let xi = pos[i];
     var s = real2(real(0.0), real(0.0));
     for (var k = 0u; k < list_len(i); k++) {
-        s += density_pair(i, kp, pair_at(xi, nbr_slot(i, k)));
+        s += density_pair(i, kp, list_pair(i, xi, k));
     }
     density_out(i, s);
 }
@@ -33,7 +33,7 @@ fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     var g = Grad2(real2(real(0.0), real(0.0)), real2(real(0.0), real(0.0)));
     if k >= 0 {
         for (var s = 0u; s < list_len(i); s++) {
-            let t = grad_pair(k, kp, pair_at(xi, nbr_slot(i, s)));
+            let t = grad_pair(k, kp, list_pair(i, xi, s));
             g.g0 += t.g0;
             g.g1 += t.g1;
         }
@@ -52,7 +52,7 @@ fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         let kp = params_kernel(params);
         let c = acc_ctx(i);
         for (var k = 0u; k < list_len(i); k++) {
-            sum += acc_pair(i, c, kp, pair_at(c.xi, nbr_slot(i, k)));
+            sum += acc_pair(i, c, kp, list_pair(i, c.xi, k));
         }
     }
     acc_out(i, sum);

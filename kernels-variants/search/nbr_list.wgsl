@@ -1,5 +1,6 @@
 // nbr_list.wgsl: the explicit neighbour lists of the block mappings and of the `cached` kernel
-// values (thesis §6.4.1 layout: at most NBR_SLOTS = 64 neighbours per particle), built every
+// values (thesis §6.4.1 layout: at most NBR_SLOTS = 64 neighbours per particle; bitmasks with
+// `MASK_LISTS`, the cells and tracking searches with recomputed values), built every
 // evaluation from the variant's search (direct, cells or tracking candidates, through
 // common/neighbours.wgsl) after the search kernels ran. counts[i] = neighbour count (may exceed
 // 64: the particle is then counted in vctl, the lowest such index noted, and the host reports
@@ -13,6 +14,63 @@
 
 #import common/neighbours
 
+#ifdef MASK_LISTS
+// The compact lists (common/mask_lists.wgsl): bit b of i's mask set when walk ordinal b (cells:
+// of the 3 × 3 box of this evaluation's sort) or candidate ordinal b (tracking) is a
+// neighbour. counts[i] = the entries the mask holds; a particle with more than NBR_SLOTS
+// neighbours (the block layouts' 64 slots) or a neighbour past the mask is counted as
+// overflowing (V_NBR_NEED: the most mask bits a particle needed).
+@compute @workgroup_size(GROUP_THREADS)
+fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = linear_id(gid, nwg);
+    if i >= params.n {
+        return;
+    }
+    let xi = pos[i];
+    var mk: array<u32, NBR_WORDS>;
+    var count = 0u;
+    var kept = 0u;
+    var need = 0u;
+#ifdef TRACKING
+    var it = nb_begin(i, xi);
+    while nb_next(&it) {
+        let b = it.m;
+        if b < 32u * NBR_WORDS {
+            mk[b / 32u] |= 1u << (b % 32u);
+            kept += 1u;
+        }
+        count += 1u;
+        need = b + 1u;
+    }
+#else
+    var walk = walk_begin(xi, 3u, false);
+    while walk_next(&walk) {
+        for (var s = walk.s0; s < walk.s1; s++) {
+            let d = xi - image_pos(params, walk.code, pos[sorted[s]]);
+            if d.x * d.x + d.y * d.y < params.support2 {
+                let b = walk.ord + (s - walk.s0);
+                if b < 32u * NBR_WORDS {
+                    mk[b / 32u] |= 1u << (b % 32u);
+                    kept += 1u;
+                }
+                count += 1u;
+                need = b + 1u;
+            }
+        }
+    }
+#endif
+    for (var w = 0u; w < NBR_WORDS; w++) {
+        set_nbr_word(i, w, mk[w]);
+    }
+    counts[i] = kept;
+    if count > NBR_SLOTS || need > 32u * NBR_WORDS {
+        atomicAdd(&vctl[V_NBR_EVAL], 1u);
+        atomicMax(&vctl[V_NBR_MAX], count);
+        atomicMax(&vctl[V_NBR_NEED], need);
+        note_overflow(i);
+    }
+}
+#else
 @compute @workgroup_size(GROUP_THREADS)
 fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = linear_id(gid, nwg);
@@ -45,6 +103,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         note_overflow(i);
     }
 }
+#endif
 
 // One thread, after `nbr_build`: this evaluation's overflowing particles into the maximum.
 @compute @workgroup_size(1)

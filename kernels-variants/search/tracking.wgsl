@@ -8,7 +8,9 @@
 // for non-negative floats), `track_every` turns it and the evaluation counter into the flag `vctl[V_REBUILD]`, `track_build` rebuilds only
 // when the flag is set (every thread returns at once otherwise) and `track_clear` lowers it.
 // PERF: the cell sort of search/cell_*.wgsl still runs every evaluation (cheap next to the
-// pair stages); indirect dispatch could skip it too. Candidates beyond CAND_SLOTS are counted
+// pair stages); indirect dispatch could skip it too. With `MASK_LISTS` the candidates are a
+// bitmask over the build's cell walk (common/mask_lists.wgsl; a candidate past the mask
+// overflows, V_CAND_MAX then holding the mask bits needed). Candidates beyond CAND_SLOTS are counted
 // in vctl and reported as `NeighbourOverflow` by the host, never dropped silently; the
 // truncated lists stay flagged (V_CAND_STALE: particles, counted by the build) for every
 // evaluation until the next build, and `track_clear` keeps their most in V_CAND_OVER.
@@ -65,6 +67,42 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
     let xi = pos[i];
     let r2 = vparams[VP_CAND_R2];
+#ifdef MASK_LISTS
+    // The candidate mask over the 4 × 4 box (common/mask_lists.wgsl) and the copy of the sort
+    // it refers to (the next evaluation's counting sort overwrites `sorted` and `cell_start`).
+    cand[CAND_LO_WORDS * params.n + i] = sorted[i];
+    let cells = params.grid_nx * params.grid_ny;
+    for (var c = i; c <= cells; c += params.n) {
+        cand[(CAND_LO_WORDS + 1u) * params.n + c] = cell_start[c];
+    }
+    var mk: array<u32, CAND_WORDS>;
+    var count = 0u;
+    var need = 0u;
+    var walk = walk_begin(xi, 4u, false);
+    while walk_next(&walk) {
+        for (var s = walk.s0; s < walk.s1; s++) {
+            let d = xi - image_pos(params, walk.code, pos[sorted[s]]);
+            if d.x * d.x + d.y * d.y < r2 {
+                let b = walk.ord + (s - walk.s0);
+                if b < 32u * CAND_WORDS {
+                    mk[b / 32u] |= 1u << (b % 32u);
+                }
+                count += 1u;
+                need = b + 1u;
+            }
+        }
+    }
+    for (var w = 0u; w < CAND_WORDS; w++) {
+        set_cand_word(i, w, mk[w]);
+    }
+    counts[params.n + i] = count;
+    ref_pos[i] = xi;
+    if need > 32u * CAND_WORDS {
+        atomicAdd(&vctl[V_CAND_STALE], 1u);
+        atomicMax(&vctl[V_CAND_MAX], need);
+        note_overflow(i);
+    }
+#else
     // Cell size ≥ support and support + skin ≤ 2 cells: the 5×5 block around the cell of the
     // (inversely imaged) query point holds every candidate.
     var count = 0u;
@@ -99,6 +137,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         atomicMax(&vctl[V_CAND_MAX], count);
         note_overflow(i);
     }
+#endif
 }
 
 @compute @workgroup_size(1)

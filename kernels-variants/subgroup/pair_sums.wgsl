@@ -22,7 +22,7 @@ fn number_density(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups)
         let kp = params_kernel(params);
         let xi = pos[i];
         for (var k = lane; k < list_len(i); k += size) {
-            s += density_pair(i, kp, pair_at(xi, i * NBR_SLOTS + k));
+            s += density_pair(i, kp, list_pair(i, xi, k));
         }
     }
     let t = subgroupAdd(s);
@@ -41,7 +41,7 @@ fn colour_gradient(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups
         let xi = pos[i];
         let c = colour[i];
         for (var k = lane; k < list_len(i); k += size) {
-            let t = grad_pair(c, kp, pair_at(xi, i * NBR_SLOTS + k));
+            let t = grad_pair(c, kp, list_pair(i, xi, k));
             g0 += t.g0;
             g1 += t.g1;
         }
@@ -61,7 +61,7 @@ fn acceleration(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) n
         let kp = params_kernel(params);
         let c = acc_ctx(i);
         for (var k = lane; k < list_len(i); k += size) {
-            sum += acc_pair(i, c, kp, pair_at(c.xi, i * NBR_SLOTS + k));
+            sum += acc_pair(i, c, kp, list_pair(i, c.xi, k));
         }
     }
     let t = subgroupAdd(sum);

@@ -16,7 +16,8 @@
 //! per-particle array a kernel touches moves once per kernel (reads + writes, by
 //! [`stage_bytes`]); neighbour data gathered through the cell iterator (`pos[j]`, `sigma[j]`, …)
 //! is assumed to come from cache (counted zero); what is stored per pair moves per pair: list
-//! entries (4 B per neighbour written by `nbr_build` and read by each pair-sum stage), cached
+//! entries (4 B per neighbour written by `nbr_build` and read by each pair-sum stage; the
+//! bitmask lists of `gpu::mask_lists` move their mask words per particle instead), cached
 //! kernel values and image positions (2 × real2 per neighbour, written once, read per
 //! pair-sum stage) and the block accumulators (one atomic read-modify-write of 4 B — 8 B in
 //! fixed point — per term and component, per row for block-tree, plus the clear and the
@@ -218,17 +219,23 @@ pub fn modelled_bytes_per_evaluation(
     };
     let cached = spec.kernel_values == KernelValues::Cached;
     let per_pair_read = if spec.has_lists() { 4.0 + if cached { 4.0 * r } else { 0.0 } } else { 0.0 };
+    // What one particle's list moves per write or read: its mask words, or k entries.
+    let list = if spec.has_lists() && super::mask_lists::uses_masks(spec) {
+        4.0 * super::mask_lists::nbr_bits(spec) as f64 / 32.0
+    } else {
+        k * per_pair_read
+    };
     let atom = if spec.accumulation == Accumulation::Fixed { 8.0 } else { 4.0 };
     let mut bytes = 0.0;
     for &s in stages {
         let (b, over) = stage_bytes(spec, s, r);
         bytes += b * count(over);
         if s == Stage::NeighbourSearch && spec.has_lists() {
-            bytes += n * (4.0 + k * per_pair_read);
+            bytes += n * (4.0 + list);
         }
         let Some(comps) = pair_components(s) else { continue };
         let over = if s == Stage::Acceleration { nf } else { n };
-        bytes += over * k * per_pair_read;
+        bytes += over * list;
         if spec.mapping.layout() == SumLayout::Block {
             let terms = if spec.mapping == Mapping::BlockTree { 4.0 } else { k };
             // RMW per term and component, then the clear (8 words) and the finalize read.

@@ -19,8 +19,9 @@
 //! solver) naming the buffer, the bytes needed and the bytes available. Timestamp query
 //! buffers (only while stage timing is on) and the bandwidth probe's buffers are not counted.
 
-use crate::gpu::variant::{KernelValues, SumLayout, VariantSpec};
-use crate::gpu::variant_buffers::{vctl, CAND_SLOTS, NBR_SLOTS};
+use crate::gpu::mask_lists::list_words;
+use crate::gpu::variant::VariantSpec;
+use crate::gpu::variant_buffers::{binding_names, vctl};
 use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
 use crate::neighbours::SearchKind;
@@ -131,12 +132,10 @@ impl GpuPlan {
     pub fn new(spec: &VariantSpec, n: u64, cells: u64) -> Self {
         let r = if spec.precision == Precision::F64 { 8 } else { 4 };
         let v2 = 2 * r;
-        let lists = spec.has_lists();
         let tracking = spec.search == SearchKind::Tracking;
-        let cached = lists && spec.kernel_values == KernelValues::Cached;
-        let block = spec.mapping.layout() == SumLayout::Block;
         let on = |b: bool, len: u64| if b { len } else { 1 };
-        let (slots, cand) = (NBR_SLOTS as u64, CAND_SLOTS as u64);
+        let w = list_words(spec, n as usize, cells as usize, r as usize);
+        let (b4, b5) = binding_names(spec);
         let blocks = scan_blocks(cells as usize) as u64;
         let params = (if r == 8 {
             size_of::<crate::gpu::params::Params<f64>>()
@@ -173,12 +172,12 @@ impl GpuPlan {
             ("vctl", vctl::LEN as u64, 4),
             ("vparams", VPARAMS as u64, r),
             ("counts", 2 * n.max(1), 4),
-            ("nbr", on(lists, n * slots), 4),
-            ("cache_wf", on(cached, n * slots), v2),
-            ("cache_xj", on(cached, n * slots), v2),
-            ("cand", on(tracking, n * cand), 4),
+            ("nbr", w.nbr as u64, 4),
+            (b4, w.b4 as u64, 4),
+            (b5, w.b5 as u64, 4),
+            ("cand", w.cand as u64, 4),
             ("ref_pos", on(tracking, n), v2),
-            ("accum", on(block, 8 * n), 4),
+            ("accum", w.accum as u64, 4),
             ("params", 1, params),
             // Cell ordering (gpu::reorder): control words, and for the cells and tracking
             // searches the per-cell wall prefix and the permutation (the gathers' scratch is

@@ -4,6 +4,7 @@
 //! Everything crosses in the original particle order (`gpu::reorder` maps to and from the
 //! device's cell order).
 
+use super::mask_lists::{decode, uses_masks, MaskBuffers};
 use super::reorder::{to_device, to_original};
 use super::solver::GpuSolver;
 use super::solver_buffers::{ctl, sigma_of, sigma_pairs};
@@ -160,7 +161,29 @@ impl<T: Real> GpuSolver<T> {
             }
             (start, sorted)
         };
-        let lists = if self.spec.has_lists() {
+        let lists = if self.spec.has_lists() && uses_masks(&self.spec) {
+            let (pos, ref_pos) = (self.b.pos.read_back(ctx)?, self.vb.ref_pos.read_back(ctx)?);
+            let (cell_start, sorted) = (self.b.cell_start.read_back(ctx)?, self.b.sorted.read_back(ctx)?);
+            let (nbr, cand, cand_hi) =
+                (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cache_xj.read_back(ctx)?);
+            let bufs = MaskBuffers {
+                pos: &pos,
+                ref_pos: &ref_pos,
+                cell_start: &cell_start,
+                sorted: &sorted,
+                nbr: &nbr,
+                cand: &cand,
+                cand_hi: &cand_hi,
+            };
+            let device = decode(&self.spec, &self.grid, &self.model.images, &bufs);
+            let mut lists = vec![Vec::new(); self.n];
+            for (d, &orig_i) in o.iter().enumerate() {
+                let mut l: Vec<u32> = device[d].iter().map(|&e| orig(e)).collect();
+                l.sort_unstable();
+                lists[orig_i as usize] = l;
+            }
+            Some(lists)
+        } else if self.spec.has_lists() {
             let (counts, nbr) = (self.vb.counts.read_back(ctx)?, self.vb.nbr.read_back(ctx)?);
             let slot_major = self.spec.mapping.layout() == SumLayout::Thread;
             let slot = |i: usize, k: usize| if slot_major { k * self.n + i } else { i * NBR_SLOTS + k };

@@ -206,6 +206,9 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
         d.push("CACHED");
     }
     d.extend(spec.workgroup.define());
+    if super::mask_lists::uses_masks(spec) {
+        d.push("MASK_LISTS");
+    }
     if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
         d.push("SLOT_MAJOR");
     }

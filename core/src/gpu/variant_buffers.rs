@@ -1,8 +1,9 @@
 //! The buffers of the strategy variants, bind group 1 (twin of
 //! `kernels-variants/common/variant_bindings.wgsl` and `common/accum.wgsl`: binding k here is
 //! binding k there): control words, per-variant constants (fixed-point quanta, tracking radii),
-//! list and candidate counts, the 64-slot explicit neighbour lists, cached kernel values, the
-//! tracking candidates with their reference positions, and the block accumulator. A variant
+//! list and candidate counts, the explicit neighbour lists (64 slots, or bitmasks over the cell
+//! walk: `gpu::mask_lists`, which sizes every list buffer), cached kernel values, the tracking
+//! candidates with their reference positions, and the block accumulator. A variant
 //! allocates only what it uses (one-element stand-ins otherwise), and [`VBufs::overflow`]
 //! turns the overflow counters into [`SolverError::NeighbourOverflow`].
 //!
@@ -15,7 +16,8 @@
 //! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
-use super::variant::{SumLayout, VariantSpec};
+use super::mask_lists::{list_words, nbr_bits, uses_masks, CAND_WORDS};
+use super::variant::VariantSpec;
 use super::{GpuContext, GpuError, GpuVec};
 use crate::backend::SolverError;
 use crate::model::Model;
@@ -61,6 +63,9 @@ pub mod vctl {
     pub const OVER_FIRST: usize = 11;
     /// Particles over 64 neighbours in the current evaluation (`nbr_build`; zeroed by `nbr_fold`).
     pub const NBR_EVAL: usize = 12;
+    /// The most mask bits a particle's list needed (bitmask lists, `gpu::mask_lists`): past
+    /// the mask the list overflowed.
+    pub const NBR_NEED: usize = 13;
     /// Words.
     pub const LEN: usize = 16;
 }
@@ -94,13 +99,24 @@ pub struct VBufs<T: Real> {
     pub vparams: GpuVec<T>,
     pub counts: GpuVec<u32>,
     pub nbr: GpuVec<u32>,
-    pub cache_wf: GpuVec<V2<T>>,
-    pub cache_xj: GpuVec<V2<T>>,
+    /// Binding 4: cached (W, F′) per slot, or the high words of a fixed-point accumulation.
+    pub cache_wf: GpuVec<u32>,
+    /// Binding 5: cached x_j per slot, or the tracking candidate mask's upper words.
+    pub cache_xj: GpuVec<u32>,
     pub cand: GpuVec<u32>,
     pub ref_pos: GpuVec<V2<T>>,
     pub accum: GpuVec<u32>,
     spec: VariantSpec,
     every: u32,
+}
+
+/// The names of bindings 4 and 5 (what they hold for `spec`, `gpu::mask_lists::ListWords`).
+pub fn binding_names(spec: &VariantSpec) -> (&'static str, &'static str) {
+    if spec.kernel_values == super::variant::KernelValues::Cached {
+        ("cache_wf", "cache_xj")
+    } else {
+        ("accum_hi", "cand_hi")
+    }
 }
 
 /// Power of two 2^(⌊log₂ s⌋ − 48) (the fixed-point quantum of a field of magnitude s).
@@ -109,24 +125,22 @@ fn quantum(s: f64) -> f64 {
 }
 
 impl<T: Real> VBufs<T> {
-    /// Allocates what `spec` uses for `n` particles and writes the constants.
-    pub fn new(ctx: &GpuContext, spec: VariantSpec, m: &Model<T>, n: usize) -> Result<Self, GpuError> {
-        let lists = spec.has_lists();
+    /// Allocates what `spec` uses for `n` particles on `cells` grid cells and writes the constants.
+    pub fn new(ctx: &GpuContext, spec: VariantSpec, m: &Model<T>, n: usize, cells: usize) -> Result<Self, GpuError> {
         let tracking = spec.search == SearchKind::Tracking;
-        let if_ = |on: bool, len: usize| if on { len } else { 1 };
         let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
-        let v2 = |name: &str, len| GpuVec::<V2<T>>::new(ctx, &format!("sphlab.{name}"), len);
-        let cached = lists && spec.kernel_values == super::variant::KernelValues::Cached;
+        let w = list_words(&spec, n, cells, size_of::<T>());
+        let (b4, b5) = binding_names(&spec);
         let b = Self {
             vctl: u("vctl", vctl::LEN)?,
             vparams: GpuVec::new(ctx, "sphlab.vparams", vparam::LEN)?,
             counts: u("counts", 2 * n.max(1))?,
-            nbr: u("nbr", if_(lists, n * NBR_SLOTS))?,
-            cache_wf: v2("cache_wf", if_(cached, n * NBR_SLOTS))?,
-            cache_xj: v2("cache_xj", if_(cached, n * NBR_SLOTS))?,
-            cand: u("cand", if_(tracking, n * CAND_SLOTS))?,
-            ref_pos: v2("ref_pos", if_(tracking, n))?,
-            accum: u("accum", if_(spec.mapping.layout() == SumLayout::Block, 8 * n))?,
+            nbr: u("nbr", w.nbr)?,
+            cache_wf: u(b4, w.b4)?,
+            cache_xj: u(b5, w.b5)?,
+            cand: u("cand", w.cand)?,
+            ref_pos: GpuVec::<V2<T>>::new(ctx, "sphlab.ref_pos", if tracking { n } else { 1 })?,
+            accum: u("accum", w.accum)?,
             spec,
             every: TrackingCfg::default().every,
         };
@@ -200,8 +214,15 @@ impl<T: Real> VBufs<T> {
     pub fn overflow_in(&self, ctx: &GpuContext, mut c: Vec<u32>, step: u64) -> Result<(), SolverError> {
         let gpu = |e: GpuError| SolverError::Gpu(e.to_string());
         let cand = c[vctl::CAND_OVER].max(c[vctl::CAND_STALE]);
-        let err = if cand > 0 {
+        let masks = uses_masks(&self.spec);
+        let (bits, need) = (nbr_bits(&self.spec), c[vctl::NBR_NEED] as usize);
+        let err = if cand > 0 && masks {
+            let what = " (tracking candidates: bits of the candidate mask over the cell walk)".to_string();
+            Some((cand, 32 * CAND_WORDS, c[vctl::CAND_MAX], what))
+        } else if cand > 0 {
             Some((cand, CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".to_string()))
+        } else if c[vctl::NBR_OVER] > 0 && masks && need > bits {
+            Some((c[vctl::NBR_OVER], bits, need as u32, " (bits of the list mask over the cell walk)".to_string()))
         } else if c[vctl::NBR_OVER] > 0 {
             Some((c[vctl::NBR_OVER], NBR_SLOTS, c[vctl::NBR_MAX], String::new()))
         } else {
@@ -212,7 +233,7 @@ impl<T: Real> VBufs<T> {
             return Ok(());
         }
         let first = c[vctl::OVER_FIRST];
-        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::CAND_OVER, vctl::FIXED_OVER] {
+        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::NBR_NEED, vctl::CAND_OVER, vctl::FIXED_OVER] {
             c[w] = 0;
         }
         c[vctl::OVER_FIRST] = u32::MAX;
@@ -234,6 +255,18 @@ impl<T: Real> VBufs<T> {
             max: max as usize,
             variant: format!("{}{what}", self.spec),
         })
+    }
+
+    /// The accumulator buffers a block stage clears first (the fixed-point high words are in
+    /// binding 4 unless kernel values are cached).
+    pub(crate) fn accumulators(&self) -> Vec<&wgpu::Buffer> {
+        let split = self.spec.accumulation == super::variant::Accumulation::Fixed
+            && self.spec.kernel_values != super::variant::KernelValues::Cached;
+        let mut v = vec![&self.accum.buffer];
+        if split {
+            v.push(&self.cache_wf.buffer);
+        }
+        v
     }
 
     pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_VSTORAGE as usize] {

@@ -214,7 +214,7 @@ impl<T: Real> GpuSolver<T> {
         crate::gpu::plan::direct_loop_check(&spec, n as u64, codes, &driver).map_err(GpuError::Unsupported)?;
         let params = Params::new(&model, n, n_fluid, &grid);
         let b = Bufs::new(&ctx, &params, n, grid.cells())?;
-        let vb = VBufs::new(&ctx, spec, &model, n)?;
+        let vb = VBufs::new(&ctx, spec, &model, n, grid.cells())?;
         let evals = Self::evaluations_per_step(scene.time.integrator);
         let renumbers = spec.search != crate::neighbours::SearchKind::Direct;
         let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;

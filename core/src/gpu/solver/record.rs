@@ -74,7 +74,9 @@ impl<T: Real> GpuSolver<T> {
             enc.clear_buffer(buffer, offset, size);
         }
         if kernels.iter().any(|(kd, _)| kd.domain == Domain::Block) {
-            enc.clear_buffer(&self.vb.accum.buffer, 0, None);
+            for b in self.vb.accumulators() {
+                enc.clear_buffer(b, 0, None);
+            }
         }
         let label = crate::stage::pass_label(stages);
         let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain)[0] > 0);
