@@ -164,7 +164,7 @@ impl Case for CapillaryWave {
             (true, false) => row.check(
                 ok && reached && rms <= RMS_TOL,
                 &format!(
-                    "≤ {RMS_TOL} over {ACCEPT_PERIODS} periods, run finished; p_b = σ/(2Δx), La = 3000, Δx = λ/{}",
+                    "≤ {RMS_TOL} over {ACCEPT_PERIODS} periods, run finished; p_b by the capillary rule, La = 3000, Δx = λ/{}",
                     scene.domain.nx
                 ),
             ),

@@ -116,10 +116,9 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
     let ends: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[4], r[3])).collect();
     let pbs: Vec<String> = ends.iter().map(|e| format!("{:.2} at nx = {}", pb_for(e.0 as u32), e.0)).collect();
     rep.notes.push(format!(
-        "Background pressure: relax-60's rule p_b = max(11.25σ/R, 0.2314σ/Δx) \
-         (scene::builtin::moving_contact_background_pressure): {}. Under the former rule p_b = σ/(2Δx), \
-         which grows with 1/Δx, θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105: the growing \
-         background pressure pinned the contact line farther at every refinement (pb-check/README.md).",
+        "Background pressure: the capillary rule p_b = 2·σ|∇C|_max/2 with c0 from σ|∇C|_max/2 = 1 % of ρ0c0² \
+         (docs/PHYSICS.md §3.1, ../capillary-rule/README.md): p_b {}. Under the earlier rule p_b = σ/(2Δx) \
+         at c0 = 20, θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105 (pb-check/README.md).",
         pbs.join(", ")
     ));
     if ends.len() >= 2 {

@@ -64,7 +64,7 @@ pub struct ValidateOptions {
     /// End time of the long sessile/relax/convergence runs (default: the thesis's t = 5).
     pub t_end_long: Option<f64>,
     /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65), with the
-    /// scene's p_b rule at that resolution (σ/Δx for sessile-90, max(11.25σ/R, 0.2314σ/Δx) for relax-60).
+    /// capillary rule's p_b and c0 at that resolution.
     pub nx_long: Option<u32>,
     /// With `reuse`: skip (and report) runs that have no finished output instead of running them.
     pub skip_missing: bool,
