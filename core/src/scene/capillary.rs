@@ -141,4 +141,22 @@ mod tests {
         let c = |nx: f64| (7.0 * stiffness(1.0, &k, 0.5 / nx, 1.0, 7.0)).sqrt();
         assert!((c(120.0) / c(30.0) - 2.0).abs() < 1e-12);
     }
+
+    #[test]
+    fn an_override_of_kernel_or_resolution_re_applies_the_rule_except_a_named_p_b() {
+        let drop = crate::scene::builtin::builtin("oscillating-drop").unwrap();
+        let set = |v: &[&str]| {
+            crate::scene::overrides::apply_overrides(&drop, &v.iter().map(|s| s.to_string()).collect::<Vec<_>>())
+                .unwrap()
+        };
+        let cubic = set(&["kernel.kind=cubic-spline", "domain.nx=45"]);
+        let want = ruled(&cubic);
+        assert!((cubic.phases[1].p_b - want.phases[1].p_b).abs() < 1e-12 && cubic.phases[1].p_b != drop.phases[1].p_b);
+        assert!((cubic.phases[0].c0 - want.phases[0].c0).abs() < 1e-12 && cubic.phases[0].c0 > drop.phases[0].c0);
+        let named = set(&["domain.nx=45", "phases.0.p_b=5"]);
+        assert_eq!(named.phases[0].p_b, 5.0);
+        assert!((named.phases[1].p_b - ruled(&named).phases[1].p_b).abs() < 1e-12);
+        let alpha = set(&["capillary_rule.alpha=1"]);
+        assert!((alpha.phases[0].p_b - 0.5 * drop.phases[0].p_b).abs() < 1e-12);
+    }
 }
