@@ -52,33 +52,37 @@ fn a_fixed_dt_above_each_limit_is_refused_naming_that_limit() {
 
 #[test]
 fn scale_gives_the_study_and_convergence_dt() {
-    for nx in [30, 45, 60, 100] {
-        let dt = sphlab::study::study_scene(nx).time.dt;
-        let hand = 1e-4 * 30.0 / nx as f64;
-        assert!((dt / hand - 1.0).abs() < 1e-12, "nx = {nx}: scale {dt} vs the study's {hand}");
+    // Under the capillary rule c0 ∝ Δx^{-1/2}: scale keeps the fraction of the tightest limit the
+    // drop's dt = 1e-4 has at nx = 30 (the CFL limit, at that resolution's c0), and the scaled
+    // dt passes the strict check at every resolution.
+    let fraction = |s: &sphlab::scene::Scene| {
+        let l = sphlab::scene::dt_policy::limits_at(s, s.domain.nx);
+        (effective_dt(s) / l.limits.min(), l.c_max.0)
+    };
+    let (f30, c30) = fraction(&sphlab::study::study_scene(30));
+    assert!((sphlab::study::study_scene(30).time.dt - 1e-4).abs() < 1e-15);
+    for nx in [45, 60, 100, 160] {
+        let s = sphlab::study::study_scene(nx);
+        let (f, c) = fraction(&s);
+        assert!((f / f30 - 1.0).abs() < 1e-9, "nx = {nx}: fraction {f} vs {f30} at nx = 30");
+        // c0 follows the rule: (nx/30)^{1/2} times nx = 30's.
+        assert!((c / c30 - (nx as f64 / 30.0).sqrt()).abs() < 1e-9, "nx = {nx}: c0 {c} vs {c30}");
+        // Finer than the old CFL-only law 1e-4·30/nx, by the rise of c0.
+        assert!(s.time.dt < 1e-4 * 30.0 / nx as f64, "nx = {nx}: {}", s.time.dt);
     }
-    // At nx = 160 the capillary limit (∝ Δx^1.5) binds (from nx ≈ 143 with h = 1.2Δx): scale keeps
-    // the nx = 30 fraction of it, 5.5 % below the CFL-scaled 1.875e-5.
-    let dt = sphlab::study::study_scene(160).time.dt;
-    assert!(dt < 0.99 * 1.875e-5 && dt > 0.9 * 1.875e-5, "nx = 160: {dt}");
-    // The convergence cases' old hand formula 7e-5·(65/nx)² is the viscous (Δx²) law: scale
-    // reproduces it where the viscous limit binds (μ = 0.15, sessile-90's viscosity). With
-    // relax-60's own μ = 0.05 (thesis §4.2.3) another limit binds, and scale keeps that limit's
-    // fraction instead (a different dt from the Δx² law), always within every limit.
+    // relax-60 (the convergence cases) from its own dt at nx = 65, at both viscosities.
     for nx in [45, 65, 85, 105] {
-        let hand = 7e-5 * (65.0 / nx as f64).powi(2);
         let base = builtin("relax-60").unwrap();
         let sets = |extra: &[&str]| {
             let mut v = vec![format!("domain.nx={nx}"), "time.dt_policy=scale".to_string()];
             v.extend(extra.iter().map(|s| s.to_string()));
             apply_overrides(&base, &v).unwrap()
         };
-        let viscous = sets(&["phases.0.mu=0.15", "phases.1.mu=0.15"]);
-        let dt = effective_dt(&viscous);
-        assert!((dt / hand - 1.0).abs() < 1e-12, "relax-60 μ = 0.15 nx = {nx}: {dt} vs {hand}");
-        assert!(apply(&viscous).is_ok(), "nx = {nx}: the scaled dt passes the check");
-        let own = sets(&[]);
-        assert!(apply(&own).is_ok(), "nx = {nx}: the scaled dt passes the check");
+        let (f65, _) = fraction(&base);
+        for s in [sets(&["phases.0.mu=0.15", "phases.1.mu=0.15"]), sets(&[])] {
+            assert!(apply(&s).is_ok(), "nx = {nx}: the scaled dt passes the check");
+            assert!(fraction(&s).0 <= f65 * (1.0 + 1e-9), "nx = {nx}: {} vs {f65}", fraction(&s).0);
+        }
     }
 }
 

@@ -51,8 +51,8 @@ pub struct ValidateArgs {
     /// End time of the long sessile-90 / relax-60 / convergence runs (default: the thesis's 5).
     #[arg(long)]
     t_end: Option<f64>,
-    /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65; p_b follows
-    /// the scene's rule at that resolution: σ/Δx for sessile-90, max(11.25σ/R, 0.2314σ/Δx) for relax-60).
+    /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65; p_b and c0
+    /// follow the capillary rule at that resolution, docs/PHYSICS.md §3.1).
     #[arg(long)]
     nx_long: Option<u32>,
     /// Run the impact case at full resolution (hours per angle on a CPU).

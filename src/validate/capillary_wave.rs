@@ -13,7 +13,7 @@ use super::{Ctx, RunSpec, ValidateError};
 use crate::analytic::capillary_wave::{Prosperetti, WaveParams};
 use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
 use crate::plot::{PlotSpec, RefLine, Series};
-use crate::scene::{builtin::capillary_background_pressure, Scene};
+use crate::scene::Scene;
 
 /// Acceptance: rms of a/a0 − Prosperetti over the first [`ACCEPT_PERIODS`] inviscid periods.
 pub const RMS_TOL: f64 = 0.05;
@@ -25,10 +25,14 @@ pub const QUICK_RMS_TOL: f64 = 0.2;
 const QUICK_NX: u32 = 24;
 const TABLE: &str = "amplitude.csv";
 
-/// The background-pressure overrides of the wave at `nx` with p_b = factor · σ/(2Δx) (λ = σ = 1).
-fn sets(nx: u32, pb_factor: f64) -> Vec<String> {
-    let pb = pb_factor * capillary_background_pressure(1.0, 1.0 / nx as f64);
-    vec![format!("domain.nx={nx}"), format!("phases.0.p_b={pb}"), format!("phases.1.p_b={pb}")]
+/// The overrides of the wave scene `name` at `nx` under the capillary rule, p_b × `pb_factor`.
+fn sets(name: &str, nx: u32, pb_factor: f64) -> Vec<String> {
+    let mut scene = crate::scene::builtin::builtin(name).expect("built-in");
+    let mut sets = crate::scene::capillary::sets_at(&scene, nx);
+    scene.domain.nx = nx;
+    let pb = pb_factor * crate::scene::capillary::background_pressure(1.0, &scene.kernel, scene.domain.dx());
+    sets.extend((0..scene.phases.len()).map(|k| format!("phases.{k}.p_b={pb}")));
+    sets
 }
 
 /// The analytic solution of a wave scene: its densities, the liquid's ν, σ and λ. None when
@@ -62,7 +66,7 @@ impl CapillaryWave {
             ("ratio1", "capillary-wave", "density ratio 1", 0.6),
             ("ratio1000", "capillary-wave-1000", "density ratio 1000", 0.2),
         ] {
-            let (s, t) = if q { (sets(QUICK_NX, 1.0), Some(quick_t)) } else { (vec![], None) };
+            let (s, t) = if q { (sets(scene, QUICK_NX, 1.0), Some(quick_t)) } else { (vec![], None) };
             runs.push(CaseRun::new(RunSpec::new(id, scene, &s, t, 0), label));
         }
         if !q {
@@ -71,7 +75,10 @@ impl CapillaryWave {
                 ("ratio1-pb-half", 0.5, "density ratio 1, p_b × 0.5"),
                 ("ratio1-pb-double", 2.0, "density ratio 1, p_b × 2"),
             ] {
-                runs.push(CaseRun::new(RunSpec::new(id, "capillary-wave", &sets(nx, f), None, 0), label));
+                runs.push(CaseRun::new(
+                    RunSpec::new(id, "capillary-wave", &sets("capillary-wave", nx, f), None, 0),
+                    label,
+                ));
             }
         }
         runs
@@ -157,7 +164,7 @@ impl Case for CapillaryWave {
             (true, false) => row.check(
                 ok && reached && rms <= RMS_TOL,
                 &format!(
-                    "≤ {RMS_TOL} over {ACCEPT_PERIODS} periods, run finished; p_b = σ/(2Δx), La = 3000, Δx = λ/{}",
+                    "≤ {RMS_TOL} over {ACCEPT_PERIODS} periods, run finished; p_b by the capillary rule, La = 3000, Δx = λ/{}",
                     scene.domain.nx
                 ),
             ),

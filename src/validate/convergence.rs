@@ -16,24 +16,19 @@ pub const FULL_NX: [u32; 4] = [45, 65, 85, 105];
 /// Resolutions of the quick study.
 pub const QUICK_NX: [u32; 3] = [20, 26, 33];
 
-/// The background pressure of the long runs at `nx`: relax-60's rule
-/// ([`crate::scene::builtin::moving_contact_background_pressure`], 45 up to nx ≈ 97, then the
-/// interface floor: 48.59 at 105).
+/// The background pressure of the long runs at `nx`: the capillary rule
+/// ([`crate::scene::capillary::background_pressure`]) with relax-60's kernel.
 pub fn pb_for(nx: u32) -> f64 {
-    crate::scene::builtin::moving_contact_background_pressure(1.0, super::relax::R0, 0.5 / nx as f64)
+    let s = crate::scene::builtin::relax_60();
+    crate::scene::capillary::background_pressure(1.0, &s.kernel, 0.5 / nx as f64)
 }
 
-/// The overrides at `nx`: the background pressure of relax-60's rule at that resolution
-/// ([`pb_for`]) and `time.dt_policy = "scale"` from relax-60's own 7e-5 at nx = 65 (dt follows
-/// the tightest limit); quick: from 1.4e-4 at 26 (the CFL limit binds there, so dt ∝ Δx).
+/// The overrides at `nx`: the capillary rule's p_b and c0 at that resolution
+/// ([`crate::scene::capillary::sets_at`]) and `time.dt_policy = "scale"` from relax-60's own dt
+/// at nx = 65 (dt follows the tightest limit); quick: from 1.4e-4 at 26.
 fn dt_sets(nx: u32, quick: bool) -> Vec<String> {
-    let pb = pb_for(nx);
-    let mut sets = vec![
-        format!("domain.nx={nx}"),
-        format!("phases.0.p_b={pb}"),
-        format!("phases.1.p_b={pb}"),
-        "time.dt_policy=scale".into(),
-    ];
+    let mut sets = crate::scene::capillary::sets_at(&crate::scene::builtin::relax_60(), nx);
+    sets.push("time.dt_policy=scale".into());
     if quick {
         sets.extend(["time.dt=1.4e-4".into(), "time.dt_nx=26".into()]);
     }
@@ -121,10 +116,9 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
     let ends: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[4], r[3])).collect();
     let pbs: Vec<String> = ends.iter().map(|e| format!("{:.2} at nx = {}", pb_for(e.0 as u32), e.0)).collect();
     rep.notes.push(format!(
-        "Background pressure: relax-60's rule p_b = max(11.25σ/R, 0.2314σ/Δx) \
-         (scene::builtin::moving_contact_background_pressure): {}. Under the former rule p_b = σ/(2Δx), \
-         which grows with 1/Δx, θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105: the growing \
-         background pressure pinned the contact line farther at every refinement (pb-check/README.md).",
+        "Background pressure: the capillary rule p_b = 2·σ|∇C|_max/2 with c0 from σ|∇C|_max/2 = 1 % of ρ0c0² \
+         (docs/PHYSICS.md §3.1, ../capillary-rule/README.md): p_b {}. Under the earlier rule p_b = σ/(2Δx) \
+         at c0 = 20, θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105 (pb-check/README.md).",
         pbs.join(", ")
     ));
     if ends.len() >= 2 {

@@ -65,7 +65,7 @@ pub struct ValidateOptions {
     /// End time of the long sessile/relax/convergence runs (default: the thesis's t = 5).
     pub t_end_long: Option<f64>,
     /// Resolution of the long sessile-90 / relax-60 runs (default: the thesis's 65), with the
-    /// scene's p_b rule at that resolution (σ/Δx for sessile-90, max(11.25σ/R, 0.2314σ/Δx) for relax-60).
+    /// capillary rule's p_b and c0 at that resolution.
     pub nx_long: Option<u32>,
     /// With `reuse`: skip (and report) runs that have no finished output instead of running them.
     pub skip_missing: bool,
@@ -114,14 +114,15 @@ impl ValidateOptions {
     }
 
     /// Overrides of the full sessile-90 / relax-60 runs: none at nx = 65; else the resolution
-    /// and the scene's background-pressure rule `p_b(σ, Δx)` at that resolution (σ = 1, box
-    /// width 0.5): [`crate::scene::builtin::at_rest_background_pressure`] for sessile-90,
-    /// [`crate::scene::builtin::moving_contact_background_pressure`] for relax-60.
-    pub fn long_sets(&self, p_b: fn(f64, f64) -> f64) -> Vec<String> {
+    /// with the capillary rule's p_b and c0 at it ([`crate::scene::capillary::sets_at`]) and dt
+    /// scaled from the scene's (`time.dt_policy = "scale"`).
+    pub fn long_sets(&self, scene: &str) -> Vec<String> {
         match self.nx_long {
             Some(nx) if nx != 65 => {
-                let pb = p_b(1.0, 0.5 / nx as f64);
-                vec![format!("domain.nx={nx}"), format!("phases.0.p_b={pb}"), format!("phases.1.p_b={pb}")]
+                let base = builtin::builtin(scene).expect("built-in");
+                let mut sets = crate::scene::capillary::sets_at(&base, nx);
+                sets.push("time.dt_policy=scale".into());
+                sets
             }
             _ => vec![],
         }

@@ -29,7 +29,7 @@ pub const THESIS_PERIOD_TOL: f64 = 0.05;
 pub const THESIS_AMPLITUDE_TOL: f64 = 0.2;
 
 /// The smoothing length of each kernel on this case (`kernel.h_ratio` overrides), chosen by the
-/// period against the quintic's at nx = 30, p_b = σ/(2Δx) = 30:
+/// period against the quintic's at nx = 30, p_b = σ/(2Δx) = 30 (before the capillary rule):
 /// * quintic h = 1.2Δx (support 3.6Δx): the scene's default (amplitude and spurious speed, see
 ///   `scene::builtin::oscillating_drop`); h = Δx kept as an info run;
 /// * cubic spline h = 1.2Δx (support 2.4Δx): the thesis's choice for §4.2.2–4.2.4 (docs/PHYSICS.md §7.4);

@@ -28,7 +28,9 @@ const CONTACT_BAND: f64 = 0.1;
 /// Quick-mode overrides of the sessile / relax scenes: 26×26 (13 particles per radius),
 /// dt = 1.4e-4 (half the CFL limit there), a series row every 100 steps.
 pub fn quick_sets() -> Vec<String> {
-    vec!["domain.nx=26".into(), "time.dt=1.4e-4".into(), "output.every=100".into()]
+    let mut sets = crate::scene::capillary::sets_at(&crate::scene::builtin::sessile(90.0), 26);
+    sets.extend(["time.dt=1.4e-4".into(), "output.every=100".into()]);
+    sets
 }
 
 /// The averaging window of the "equilibrium" shear profile: around t = 4.4 when the run

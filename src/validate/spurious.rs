@@ -127,8 +127,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             speed.iter().filter(|p| p.0 >= T_TRANSIENT).max_by(|a, b| a.1.total_cmp(&b.1)).map_or(f64::NAN, |p| p.0);
         rep.notes.push(format!(
             "Max fluid speed {vmax:.3} at t = {at:.3} exceeds the stated bound {MAX_SPEED_BOUND}, set when p_b was B = 175 \
-             (then 0.089, late mean 0.0069). With p_b = {pb} = σ/(2Δx) (a liquid-like \
-             oscillation with every kernel) the lattice-noise currents are larger: mean of the max speed {late_mean:.4} over \
+             (then 0.089, late mean 0.0069). With p_b = {pb} (the capillary rule, docs/PHYSICS.md §3.1) the lattice-noise currents are larger: mean of the max speed {late_mean:.4} over \
              the second half. See reports/validation/pb-sweep for spurious speed against p_b.",
             pb = scene_pb
         ));

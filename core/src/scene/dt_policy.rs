@@ -11,7 +11,8 @@
 //!   there: `dt(nx) = dt · min limits(nx) / min limits(dt_nx)`. Where the same limit binds at both
 //!   resolutions this is that limit's power of Δx (CFL: Δx, the study's `1e-4·30/nx`; viscous:
 //!   Δx², the convergence cases); where another limit takes over it follows that one, so a dt
-//!   safe at `dt_nx` stays safe at every resolution. The scaled dt is then checked as `strict`.
+//!   safe at `dt_nx` stays safe at every resolution (under the capillary rule the limits at
+//!   `dt_nx` take the rule's c0 there). The scaled dt is then checked as `strict`.
 //!
 //! [`apply`] is the one check at load (`run::run`, the study's and the stability map's scenes);
 //! [`effective_dt`] is what the solvers use (`Model::new`), so every path sees the same dt.
@@ -171,7 +172,13 @@ pub fn effective_dt(scene: &Scene) -> f64 {
         return t.dt;
     }
     let at = limits_at(scene, scene.domain.nx).tightest().1;
-    let from = limits_at(scene, dt_nx(scene)).tightest().1;
+    // Under the capillary rule c0 follows the resolution: the limits at dt_nx take its c0 there.
+    let mut base = scene.clone();
+    if base.capillary_rule.is_some() {
+        base.domain.nx = dt_nx(scene);
+        super::capillary::apply(&mut base);
+    }
+    let from = limits_at(&base, dt_nx(scene)).tightest().1;
     if at.is_finite() && from.is_finite() {
         t.dt * at / from
     } else {

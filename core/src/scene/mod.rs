@@ -5,6 +5,7 @@
 
 pub mod build;
 pub mod builtin;
+pub mod capillary;
 pub mod dt_policy;
 pub mod initial;
 pub(crate) mod lattice;
@@ -66,6 +67,11 @@ pub struct Scene {
     /// ([`wave`]). Not written when absent, so summaries of earlier runs still match.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interface_wave: Option<InterfaceWave>,
+    /// The capillary rule for every phase's p_b and c0 (docs/PHYSICS.md §3.1), applied by the
+    /// built-ins and again after every `--set` override that does not name that p_b or c0
+    /// ([`capillary::apply`]). Not written when absent, so summaries of earlier runs still match.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capillary_rule: Option<capillary::CapillaryRule>,
     /// Output cadence.
     #[serde(default)]
     pub output: Output,

@@ -63,7 +63,22 @@ pub fn apply_overrides(scene: &Scene, sets: &[String]) -> Result<Scene, SceneErr
         toml::from_str::<Scene>(&text).map_err(|e| err(key, e.message().to_string()))?;
     }
     let text = toml::to_string(&root).map_err(|e| err("<scene>", e.to_string()))?;
-    let out: Scene = toml::from_str(&text).map_err(|e| err("<scene>", e.message().to_string()))?;
+    let mut out: Scene = toml::from_str(&text).map_err(|e| err("<scene>", e.message().to_string()))?;
+    // The capillary rule follows the resolution and kernel set here, except where a p_b or c0
+    // is set by name.
+    super::validate::capillary_rule(&out)?;
+    if out.capillary_rule.is_some() {
+        let named: Vec<&str> = sets.iter().filter_map(|s| s.split_once('=')).map(|(k, _)| k.trim()).collect();
+        let ruled = super::capillary::ruled(&out);
+        for (k, (p, r)) in out.phases.iter_mut().zip(ruled.phases).enumerate() {
+            if !named.contains(&format!("phases.{k}.p_b").as_str()) {
+                p.p_b = r.p_b;
+            }
+            if !named.contains(&format!("phases.{k}.c0").as_str()) {
+                p.c0 = r.c0;
+            }
+        }
+    }
     out.validate()?;
     Ok(out)
 }

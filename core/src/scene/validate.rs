@@ -80,6 +80,7 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
     shapes(s)?;
     interfaces(s)?;
     interface_wave(s)?;
+    capillary_rule(s)?;
     time(s)?;
     if s.output.every == 0 {
         return Err(err("output.every", "must be ≥ 1 (a series.csv row every N steps)"));
@@ -277,6 +278,22 @@ fn interfaces(s: &Scene) -> Result<(), SceneError> {
     in_range("walls.beta_max", s.walls.beta_max, BETA_MAX, "β_max")?;
     in_range("walls.lj_strength", s.walls.lj_strength, LJ_STRENGTH, "the Lennard-Jones strength")?;
     finite_within("gravity", &s.gravity, MAX_GRAVITY, "both components")?;
+    Ok(())
+}
+
+/// The capillary rule's constants: α ≥ 0 (0 is the thesis's p_b = 0), 0 < ε ≤ 1, and a σ to
+/// take the band tension from.
+pub(super) fn capillary_rule(s: &Scene) -> Result<(), SceneError> {
+    let Some(r) = &s.capillary_rule else { return Ok(()) };
+    if !(r.alpha.is_finite() && (0.0..=100.0).contains(&r.alpha)) {
+        return Err(err("capillary_rule.alpha", format!("must be in [0, 100], got {}", num(r.alpha))));
+    }
+    if !(r.epsilon.is_finite() && r.epsilon > 0.0 && r.epsilon <= 1.0) {
+        return Err(err("capillary_rule.epsilon", format!("must be in (0, 1], got {}", num(r.epsilon))));
+    }
+    if s.surface_tension.as_ref().is_none_or(|t| t.sigma <= 0.0) {
+        return Err(err("capillary_rule", "needs surface_tension.sigma > 0 (the band tension σ|∇C|/2)"));
+    }
     Ok(())
 }
 

@@ -43,7 +43,7 @@ impl Oscillation {
     /// The variants: id, label, overrides (the long runs: every kernel and h, p_b and field).
     fn variants(&self) -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
         let mut variants: Vec<(&str, &str, Vec<&str>)> =
-            vec![("quintic", "field on all particles, quintic h = 1.2Δx, p_b = σ/(2Δx) (default)", vec![])];
+            vec![("quintic", "field on all particles, quintic h = 1.2Δx, p_b by the capillary rule (default)", vec![])];
         if self.quick {
             return variants;
         }

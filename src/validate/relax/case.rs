@@ -88,7 +88,7 @@ impl Relax {
         let mut why = Vec::new();
         if !quick && nx != 65 {
             why.push(format!(
-                "nx = {nx} instead of the thesis's 65 (CPU time), p_b = {:.2} (the rule max(11.25σ/R, 0.2314σ/Δx)), dt = {:.4e} (the thesis's 7e-5 at nx = 65 scaled with the viscous limit, as in the convergence case)",
+                "nx = {nx} instead of the thesis's 65 (CPU time), p_b = {:.2} (the capillary rule), dt = {:.4e} (relax-60's dt at nx = 65 scaled with the tightest limit, as in the convergence case)",
                 crate::validate::convergence::pb_for(nx),
                 crate::validate::convergence::dt_for(nx, false)
             ));

@@ -1,7 +1,7 @@
 //! The relax-60 rows across runs: each mode's end angle approached from both sides, and Mode B
 //! at the thesis's own dt against the scaled dt (when a finished run of it exists).
 
-use super::{analytic_spread, wall_spread, Variant, R0};
+use super::{analytic_spread, wall_spread, Variant};
 use crate::plot::{PlotSpec, Series};
 use crate::validate::data::{col, read_series, window_stats};
 use crate::validate::report::{CaseReport, Row};
@@ -78,13 +78,7 @@ pub(super) fn dt_comparison(
     rep: &mut CaseReport,
     angle: &mut PlotSpec,
 ) {
-    let spec = RunSpec::new(
-        "b-noslip-dt7e-5",
-        "relax-60",
-        &ctx.opts.long_sets(|sigma, dx| crate::scene::builtin::moving_contact_background_pressure(sigma, R0, dx)),
-        Some(t_end),
-        2,
-    );
+    let spec = RunSpec::new("b-noslip-dt7e-5", "relax-60", &ctx.opts.long_sets("relax-60"), Some(t_end), 2);
     let dir = ctx.dir.join("runs").join(&spec.id);
     let Ok(scene) = spec.scene() else { return };
     let Some(rec) = crate::validate::RunRecord::reuse(&dir, &scene, Some(t_end), &spec.command(&dir)) else {

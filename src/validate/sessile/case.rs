@@ -284,11 +284,7 @@ impl Case for Sessile {
         let runs = [("mode-b", "b"), ("mode-a", "a")]
             .into_iter()
             .map(|(id, mode)| {
-                let mut sets = if self.quick {
-                    quick_sets()
-                } else {
-                    ctx.opts.long_sets(crate::scene::builtin::at_rest_background_pressure)
-                };
+                let mut sets = if self.quick { quick_sets() } else { ctx.opts.long_sets("sessile-90") };
                 sets.push(format!("contact.mode={mode}"));
                 CaseRun::new(
                     RunSpec::new(id, "sessile-90", &sets, Some(self.t_end), 2),
@@ -354,8 +350,8 @@ impl Sessile {
         let (quick, nx, t_end) = (self.quick, self.nx, self.t_end);
         if !quick && nx != 65 {
             rep.not_full_because(format!(
-                "nx = {nx} instead of the thesis's 65 (CPU time), p_b = σ/Δx = {} (a drop at rest: pb-check/README.md)",
-                crate::scene::builtin::at_rest_background_pressure(1.0, 0.5 / nx as f64)
+                "nx = {nx} instead of the thesis's 65 (CPU time), p_b and c0 by the capillary rule at that nx: {}",
+                crate::scene::capillary::sets_at(&crate::scene::builtin::sessile(90.0), nx).join(", ")
             ));
         }
         if !quick && t_end < 5.0 {
