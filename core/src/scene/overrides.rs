@@ -68,6 +68,7 @@ pub fn apply_overrides(scene: &Scene, sets: &[String]) -> Result<Scene, SceneErr
     // is set by name.
     super::validate::capillary_rule(&out)?;
     if out.capillary_rule.is_some() {
+        super::validate::rule_inputs(&out)?;
         let named: Vec<&str> = sets.iter().filter_map(|s| s.split_once('=')).map(|(k, _)| k.trim()).collect();
         let ruled = super::capillary::ruled(&out);
         for (k, (p, r)) in out.phases.iter_mut().zip(ruled.phases).enumerate() {

@@ -283,6 +283,15 @@ fn interfaces(s: &Scene) -> Result<(), SceneError> {
 
 /// The capillary rule's constants: α ≥ 0 (0 is the thesis's p_b = 0), 0 < ε ≤ 1, and a σ to
 /// take the band tension from.
+/// The fields the capillary rule derives p_b and c0 from (resolution and kernel, the phases'
+/// densities and exponents, σ), checked before it runs so that a bad value is named itself,
+/// not through the sound speed it would make.
+pub(super) fn rule_inputs(s: &Scene) -> Result<(), SceneError> {
+    domain(s)?;
+    phases(s)?;
+    interfaces(s)
+}
+
 pub(super) fn capillary_rule(s: &Scene) -> Result<(), SceneError> {
     let Some(r) = &s.capillary_rule else { return Ok(()) };
     if !(r.alpha.is_finite() && (0.0..=100.0).contains(&r.alpha)) {
