@@ -89,7 +89,7 @@ fn roofline(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> 
     let Some(bw) = pts.iter().find_map(|(r, _)| r.bandwidth_gb_s) else { return Ok(()) };
     let (lo, hi) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), (_, p)| (a.min(p.0), b.max(p.0)));
     let mut spec = PlotSpec::new(
-        format!("Roofline — the fastest variant of each GPU family (E4, N = {n})"),
+        format!("Roofline, E4 at N = {n}: each GPU family's fastest"),
         "pair interactions per modelled byte",
         "pair interactions per second",
     );
