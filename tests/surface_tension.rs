@@ -167,6 +167,12 @@ fn flat_frame(n: u32, kernel: &str, h_ratio: f64, sigma: f64) -> Frame {
         format!("kernel.h_ratio={h_ratio}"),
         format!("surface_tension.sigma={sigma}"),
         "relax.t=0.0".into(),
+        // The same equation of state at every σ (named, so the capillary rule keeps them): the
+        // difference of two frames is then the surface force alone.
+        "phases.0.p_b=30.0".into(),
+        "phases.1.p_b=30.0".into(),
+        "phases.0.c0=35.0".into(),
+        "phases.1.c0=35.0".into(),
     ];
     let scene = apply_overrides(&base, &sets).unwrap();
     let layout = build_layout(&scene).unwrap();

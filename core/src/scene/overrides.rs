@@ -66,6 +66,11 @@ pub fn apply_overrides(scene: &Scene, sets: &[String]) -> Result<Scene, SceneErr
     let mut out: Scene = toml::from_str(&text).map_err(|e| err("<scene>", e.message().to_string()))?;
     // The capillary rule follows the resolution and kernel set here, except where a p_b or c0
     // is set by name.
+    // Without surface tension there is no band tension: the rule does not apply, and p_b and
+    // c0 stay the scene's.
+    if out.surface_tension.as_ref().is_some_and(|t| t.sigma == 0.0) {
+        out.capillary_rule = None;
+    }
     super::validate::capillary_rule(&out)?;
     if out.capillary_rule.is_some() {
         super::validate::rule_inputs(&out)?;
