@@ -52,6 +52,11 @@ pub enum Stage {
     /// search, run at the end of the integrator stages that move the particles (the next
     /// search then starts from these counts); no CPU function (the CPU search counts itself).
     CellCount,
+    /// The cell starts: the exclusive prefix sum of those counts (the previous starts kept
+    /// after them for the next search's merge), run by the last workgroup of the integrator
+    /// stages that counted (grids of at most `gpu::plan::FUSED_SCAN_CELLS` cells; the next
+    /// search then neither scans nor scatters); no CPU function.
+    CellScan,
     /// max |v|, max |a| for the automatic dt.
     ReduceMax,
 }
@@ -133,7 +138,7 @@ const fn epilogue(d: StageDef, heads: &'static [Stage]) -> StageDef {
 }
 
 /// The table, in [`Stage`] order.
-pub static TABLE: [StageDef; 18] = [
+pub static TABLE: [StageDef; 19] = [
     def(Stage::NeighbourSearch, "neighbour_search", &[], &[], &[Clear::CellCounts]),
     def(Stage::ContactLine, "contact_line", &[], &[All(F::Contacts)], &[Clear::ContactsFound]),
     def(Stage::NumberDensity, "number_density", &[], &[All(F::Sigma), All(F::Chi)], &[]),
@@ -180,15 +185,20 @@ pub static TABLE: [StageDef; 18] = [
         def(Stage::CellCount, "cell_count", &[], &[], &[Clear::CellCounts]),
         &[Stage::MidpointPredict, Stage::MidpointCorrect, Stage::VerletDrift, Stage::VerletKick],
     ),
+    // The cell starts from those counts, once every workgroup of the pass has counted.
+    epilogue(
+        def(Stage::CellScan, "cell_scan", &[], &[], &[]),
+        &[Stage::MidpointPredict, Stage::MidpointCorrect, Stage::VerletDrift, Stage::VerletKick],
+    ),
     def(Stage::ReduceMax, "reduce_max", &[F::Acc], &[], &[Clear::Maxima]),
 ];
 
 impl Stage {
     /// Every stage, in table order.
-    pub const ALL: [Stage; 18] = {
-        let mut all = [Stage::NeighbourSearch; 18];
+    pub const ALL: [Stage; 19] = {
+        let mut all = [Stage::NeighbourSearch; 19];
         let mut k = 0;
-        while k < 18 {
+        while k < 19 {
             all[k] = TABLE[k].stage;
             k += 1;
         }
@@ -249,18 +259,19 @@ impl Stage {
     }
 
     /// The opening integrator stage of a step of `integrator` as passes, followed by the
-    /// [`Stage::CellCount`] of the moved particles when the search has cells (`cell_count`).
-    pub fn opening_passes(integrator: Integrator, cell_count: bool) -> Vec<Vec<Stage>> {
-        let open = [Stage::step_pair(integrator).0, Stage::CellCount];
-        passes(&open[..if cell_count { 2 } else { 1 }])
+    /// cell stages of the moved particles `cells` gives ([`CellEpilogues::stages`]).
+    pub fn opening_passes(integrator: Integrator, cells: CellEpilogues) -> Vec<Vec<Stage>> {
+        let mut open = vec![Stage::step_pair(integrator).0];
+        open.extend(cells.stages());
+        passes(&open)
     }
 
-    /// The end of a step of `integrator` as passes: its closing stage, then `check`, then (with
-    /// `cell_count`) the cell counts of the moved particles; one pass: both are epilogues of the
-    /// closing stage.
-    pub fn closing_passes(integrator: Integrator, cell_count: bool) -> Vec<Vec<Stage>> {
-        let close = [Stage::step_pair(integrator).1, Stage::Check, Stage::CellCount];
-        passes(&close[..if cell_count { 3 } else { 2 }])
+    /// The end of a step of `integrator` as passes: its closing stage, then `check`, then the
+    /// cell stages `cells` gives; one pass: all are epilogues of the closing stage.
+    pub fn closing_passes(integrator: Integrator, cells: CellEpilogues) -> Vec<Vec<Stage>> {
+        let mut close = vec![Stage::step_pair(integrator).1, Stage::Check];
+        close.extend(cells.stages());
+        passes(&close)
     }
 
     /// Fields written to every element (poisoned before a lone GPU run).
@@ -271,6 +282,30 @@ impl Stage {
     /// Every field written.
     pub fn outputs(self) -> impl Iterator<Item = Field> {
         self.def().writes.iter().map(|w| w.field())
+    }
+}
+
+/// The cell stages that follow the integrator stages: none (the `direct` search), the count
+/// ([`Stage::CellCount`]: the search scans and scatters), or the count and the scan
+/// ([`Stage::CellScan`]: the search only merges the previous lists into the new ones).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CellEpilogues {
+    /// No cells.
+    None,
+    /// The cell counts.
+    Count,
+    /// The counts and the cell starts.
+    CountAndScan,
+}
+
+impl CellEpilogues {
+    /// The stages, in order.
+    pub fn stages(self) -> &'static [Stage] {
+        match self {
+            CellEpilogues::None => &[],
+            CellEpilogues::Count => &[Stage::CellCount],
+            CellEpilogues::CountAndScan => &[Stage::CellCount, Stage::CellScan],
+        }
     }
 }
 
@@ -360,11 +395,21 @@ mod tests {
         assert_eq!(passes(&[ContactLine, WallTyping]).len(), 2);
         // The check ends the closing integrator stage, never the opening one; the cell count
         // ends both when the search has cells.
-        assert_eq!(Stage::closing_passes(Integrator::Midpoint, false), vec![vec![MidpointCorrect, Check]]);
-        assert_eq!(Stage::closing_passes(Integrator::Verlet, true), vec![vec![VerletKick, Check, CellCount]]);
-        assert_eq!(Stage::opening_passes(Integrator::Midpoint, true), vec![vec![MidpointPredict, CellCount]]);
-        assert_eq!(Stage::opening_passes(Integrator::Verlet, false), vec![vec![VerletDrift]]);
+        use CellEpilogues as C;
+        assert_eq!(Stage::closing_passes(Integrator::Midpoint, C::None), vec![vec![MidpointCorrect, Check]]);
+        assert_eq!(Stage::closing_passes(Integrator::Verlet, C::Count), vec![vec![VerletKick, Check, CellCount]]);
+        assert_eq!(
+            Stage::closing_passes(Integrator::Midpoint, C::CountAndScan),
+            vec![vec![MidpointCorrect, Check, CellCount, CellScan]]
+        );
+        assert_eq!(Stage::opening_passes(Integrator::Midpoint, C::Count), vec![vec![MidpointPredict, CellCount]]);
+        assert_eq!(
+            Stage::opening_passes(Integrator::Midpoint, C::CountAndScan),
+            vec![vec![MidpointPredict, CellCount, CellScan]]
+        );
+        assert_eq!(Stage::opening_passes(Integrator::Verlet, C::None), vec![vec![VerletDrift]]);
         assert_eq!(passes(&[MidpointPredict, Check]).len(), 2);
         assert_eq!(passes(&[Acceleration, CellCount]).len(), 2);
+        assert_eq!(passes(&[Acceleration, CellScan]).len(), 2);
     }
 }

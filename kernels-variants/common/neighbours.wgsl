@@ -68,11 +68,63 @@ const COUNT_SCAN_BLOCK: u32 = 256u;
 // block sum (kept after the counts), on counts the host cleared. Run by search/cell_count.wgsl,
 // or at the end of an integrator stage (the stage table's `cell_count` epilogue) by the thread
 // that has just moved the particle.
+// The slot i of the last search's lists is kept after them (`sorted[n + i]`) for the merge of
+// search/cell_scatter.wgsl (nothing reads `sorted` while the particles move and are counted).
 fn cell_count_at(i: u32) {
     let c = cell_index(pos[i]);
     cell_of[i] = c;
     atomicAdd(&cell_counts[c], 1u);
     atomicAdd(&cell_counts[params.grid_nx * params.grid_ny + c / COUNT_SCAN_BLOCK], 1u);
+    sorted[params.n + i] = sorted[i];
+}
+
+// Cell c's start of the last search, kept after this search's starts by the scan (first write
+// of a start: `keep_start`) for the merge.
+fn prev_start(c: u32) -> u32 {
+    return cell_start[params.grid_nx * params.grid_ny + 1u + c];
+}
+
+// Writes cell c's start (c = cells: the total), keeping the one it replaces.
+fn keep_start(c: u32, start: u32) {
+    let cells = params.grid_nx * params.grid_ny;
+    cell_start[cells + 1u + c] = cell_start[c];
+    cell_start[c] = start;
+}
+
+// The stage table's `cell_scan` as the epilogue of an integrator stage: the exclusive prefix
+// sum of the counts into `cell_start`, by the whole last workgroup (thread t of GROUP_THREADS,
+// called in uniform control flow), each thread a contiguous chunk of cells; the counts are
+// reset (as `scan_add` does). Grids of at most `plan::FUSED_SCAN_CELLS` cells.
+var<workgroup> scan_part: array<u32, GROUP_THREADS>;
+
+fn scan_cells_in_group(t: u32) {
+    let cells = params.grid_nx * params.grid_ny;
+    let chunk = (cells + GROUP_THREADS - 1u) / GROUP_THREADS;
+    let a = min(t * chunk, cells);
+    let e = min(a + chunk, cells);
+    var s = 0u;
+    for (var c = a; c < e; c++) {
+        s += atomicLoad(&cell_counts[c]);
+    }
+    scan_part[t] = s;
+    workgroupBarrier();
+    if t == 0u {
+        var run = 0u;
+        for (var k = 0u; k < GROUP_THREADS; k++) {
+            let v = scan_part[k];
+            scan_part[k] = run;
+            run += v;
+        }
+        keep_start(cells, run);
+    }
+    workgroupBarrier();
+    var run = scan_part[t];
+    for (var c = a; c < e; c++) {
+        let v = atomicLoad(&cell_counts[c]);
+        keep_start(c, run);
+        atomicStore(&cell_counts[c], 0u);
+        run += v;
+    }
 }
 
 fn nb_begin(i: u32, xi: real2) -> Nb {

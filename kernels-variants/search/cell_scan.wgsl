@@ -7,9 +7,13 @@
 // SCAN_BLOCK blocks `scan_add` sums the block sums before its own in workgroup memory instead
 // (the last block writes the total). `scan_add` scans each block (Hillis–Steele) and adds its
 // block's offset. It also resets the counts to zero: they are the scatter cursors next. Twin
-// of `SCAN_BLOCK` / `scan_blocks` in core/src/gpu/plan.rs.
+// of `SCAN_BLOCK` / `scan_blocks` in core/src/gpu/plan.rs. Every start written keeps the one it
+// replaces after the new ones (`keep_start`, common/neighbours.wgsl) for the merge of
+// search/cell_scatter.wgsl. The stage table's `cell_scan` stage as a pass of its own (the
+// unfused engine, or the search's own scan when no integrator stage scanned the counts).
 
 #import common/bindings
+#import common/neighbours
 
 const SCAN_BLOCK: u32 = 256u;
 var<workgroup> part: array<u32, SCAN_BLOCK>;
@@ -46,7 +50,7 @@ fn scan_blocks(@builtin(local_invocation_index) t: u32) {
             part[k] = run;
             run += v;
         }
-        cell_start[cells] = run;
+        keep_start(cells, run);
     }
     workgroupBarrier();
     var run = part[t];
@@ -78,7 +82,7 @@ fn scan_add(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: 
     if blocks > SCAN_BLOCK {
         offset = atomicLoad(&cell_counts[cells + b]);
     } else if t == 0u && b + 1u == blocks {
-        cell_start[cells] = offset + atomicLoad(&cell_counts[cells + b]);
+        keep_start(cells, offset + atomicLoad(&cell_counts[cells + b]));
     }
     let v = count_or_zero(c, cells);
     part[t] = v;
@@ -93,7 +97,7 @@ fn scan_add(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: 
         workgroupBarrier();
     }
     if c < cells {
-        cell_start[c] = offset + part[t] - v;
+        keep_start(c, offset + part[t] - v);
         atomicStore(&cell_counts[c], 0u);
     }
 }

@@ -43,7 +43,9 @@ fn store_fixed(i: u32, r: real2, v: real2) {
 
 // With `FUSE_CELL_COUNT` (the stage table's `cell_count` as the epilogue of an integrator
 // stage) the kernel runs over every particle: fluids are integrated, then every particle's cell
-// is counted where it now stands (walls and a halted device's particles where they are).
+// is counted where it now stands (walls and a halted device's particles where they are); with
+// `FUSE_CELL_SCAN` the last workgroup then scans the counts into the cell starts (`pass_end`),
+// so the integrator stages have no early return.
 fn moved_count(i: u32) {
 #ifdef FUSE_CELL_COUNT
     if i < params.n {
@@ -53,7 +55,7 @@ fn moved_count(i: u32) {
 }
 
 @compute @workgroup_size(GROUP_THREADS)
-fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
     if i < params.n_fluid && !halted() {
         pos0[i] = pos[i];
@@ -62,6 +64,7 @@ fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         store_fixed(i, s.r, s.v);
     }
     moved_count(i);
+    pass_end(t, nwg);
 }
 
 // The closing stages (`midpoint_correct`, `verlet_kick`) have no early return: with
@@ -77,16 +80,17 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         closing_check(i);
     }
     moved_count(i);
-    closing_end(t, nwg);
+    pass_end(t, nwg);
 }
 
 @compute @workgroup_size(GROUP_THREADS)
-fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
     if i < params.n_fluid && !halted() {
         verlet_drift_at(i);
     }
     moved_count(i);
+    pass_end(t, nwg);
 }
 
 fn verlet_drift_at(i: u32) {
@@ -117,7 +121,7 @@ fn verlet_kick(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         closing_check(i);
     }
     moved_count(i);
-    closing_end(t, nwg);
+    pass_end(t, nwg);
 }
 
 // Non-finite test on the f32 bits (NaN/inf comparisons may be folded away by the compiler);
@@ -186,20 +190,42 @@ fn closing_check(i: u32) {
 #endif
 }
 
-// End of the fused closing kernel: each workgroup, once all its threads are done (the barrier),
-// counts itself in ctl[CTL_DONE]; the last one resets the count and ticks the clock, after
-// every thread of the dispatch has read it.
-fn closing_end(t: u32, nwg: vec3<u32>) {
+// End of an integrator kernel with an epilogue that needs every particle done: the clock tick
+// of the fused `check`, the fused `cell_scan` (none otherwise).
+fn pass_end(t: u32, nwg: vec3<u32>) {
 #ifdef FUSE_CHECK
+    last_group_end(t, nwg);
+#else
+#ifdef FUSE_CELL_SCAN
+    last_group_end(t, nwg);
+#endif
+#endif
+}
+
+// Each workgroup, once all its threads are done (the barrier), counts itself in ctl[CTL_DONE];
+// the last one resets the count, ticks the clock (after every thread of the dispatch has read
+// it) and scans the cell counts every workgroup has counted (its whole workgroup: the flag is
+// loaded uniformly, so the scan's barriers are uniform).
+var<workgroup> last_group: u32;
+
+fn last_group_end(t: u32, nwg: vec3<u32>) {
     storageBarrier();
     if t == 0u {
-        let groups = nwg.x * nwg.y * nwg.z;
-        if atomicAdd(&ctl[CTL_DONE], 1u) + 1u == groups {
+        var last = 0u;
+        if atomicAdd(&ctl[CTL_DONE], 1u) + 1u == nwg.x * nwg.y * nwg.z {
             atomicStore(&ctl[CTL_DONE], 0u);
+            last = 1u;
+#ifdef FUSE_CHECK
             if !failed_before() {
                 tick();
             }
+#endif
         }
+        last_group = last;
+    }
+#ifdef FUSE_CELL_SCAN
+    if workgroupUniformLoad(&last_group) == 1u {
+        scan_cells_in_group(t);
     }
 #endif
 }

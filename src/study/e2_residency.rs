@@ -51,6 +51,7 @@ pub fn group_of(stage: Stage) -> &'static str {
         | Stage::VerletKick
         | Stage::Check
         | Stage::CellCount
+        | Stage::CellScan
         | Stage::ReduceMax => "integration",
     }
 }

@@ -33,6 +33,11 @@ use serde::Serialize;
 /// live after the counts in `cell_count`.
 pub const SCAN_BLOCK: usize = 256;
 
+/// The largest grid whose cell scan the last workgroup of the integrator stage runs (the
+/// stage table's `cell_scan` epilogue: one workgroup walks every cell, so beyond this the scan
+/// is the search's own dispatch, spread over the blocks).
+pub const FUSED_SCAN_CELLS: usize = 4096;
+
 /// Blocks of the parallel cell scan for `cells` cells.
 pub fn scan_blocks(cells: usize) -> usize {
     cells.div_ceil(SCAN_BLOCK)
@@ -166,8 +171,8 @@ impl GpuPlan {
             ("contacts", 4 * MAX_CONTACTS as u64, r),
             ("ctl", CTL_WORDS as u64, 4),
             ("cell_count", cells + blocks, 4),
-            ("cell_start", cells + 1, 4),
-            ("sorted", n, 4),
+            ("cell_start", 2 * (cells + 1), 4),
+            ("sorted", 2 * n, 4),
             ("cell_of", n, 4),
             ("vctl", vctl::LEN as u64, 4),
             ("vparams", VPARAMS as u64, r),

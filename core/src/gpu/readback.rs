@@ -49,6 +49,7 @@ impl<T: Real> GpuSolver<T> {
         let o = self.device_order()?;
         b.pos.upload(ctx, &to_device(pos, 1, &o))?;
         self.counts_fresh.set(false);
+        self.lists_kept.set(false);
         b.vel.upload(ctx, &to_device(vel, 1, &o))?;
         b.sigma.upload(ctx, &to_device(&sigma_pairs(&f.sigma), 1, &o))?;
         b.chi.upload(ctx, &to_device(&f.chi, 1, &o))?;
@@ -154,8 +155,8 @@ impl<T: Real> GpuSolver<T> {
         let (cell_start, sorted) = if self.spec.search == SearchKind::Direct {
             (Vec::new(), Vec::new())
         } else {
-            let start = self.b.cell_start.read_back(ctx)?;
-            let mut sorted: Vec<u32> = self.b.sorted.read_back(ctx)?.into_iter().map(orig).collect();
+            let start = self.b.cell_start.read_range(ctx, 0, self.grid.cells() + 1)?;
+            let mut sorted: Vec<u32> = self.b.sorted.read_range(ctx, 0, self.n)?.into_iter().map(orig).collect();
             for c in start.windows(2) {
                 sorted[c[0] as usize..c[1] as usize].sort_unstable();
             }
@@ -163,7 +164,10 @@ impl<T: Real> GpuSolver<T> {
         };
         let lists = if self.spec.has_lists() && uses_masks(&self.spec) {
             let (pos, ref_pos) = (self.b.pos.read_back(ctx)?, self.vb.ref_pos.read_back(ctx)?);
-            let (cell_start, sorted) = (self.b.cell_start.read_back(ctx)?, self.b.sorted.read_back(ctx)?);
+            let (cell_start, sorted) = (
+                self.b.cell_start.read_range(ctx, 0, self.grid.cells() + 1)?,
+                self.b.sorted.read_range(ctx, 0, self.n)?,
+            );
             let (nbr, cand, cand_hi) =
                 (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cache_xj.read_back(ctx)?);
             let bufs = MaskBuffers {

@@ -29,8 +29,8 @@ pub mod ctl {
     pub const STEP: usize = 7;
     /// First step whose evaluations overflowed a list or the fixed-point range (`u32::MAX`: none).
     pub const OVER_STEP: usize = 8;
-    /// Workgroups done in the fused closing stage (the last one ticks the clock) or in
-    /// `reduce_max` (the last one sets dt); back to 0 then.
+    /// Workgroups done in a fused integrator stage (the last one ticks the clock and scans the
+    /// cell counts) or in `reduce_max` (the last one sets dt); back to 0 then.
     pub const DONE: usize = 9;
     /// Words in the buffer.
     pub const LEN: usize = 12;
@@ -112,8 +112,10 @@ impl<T: Real> Bufs<T> {
             ctl: u("ctl", ctl::LEN)?,
             // The counts, then the block sums of the parallel scan (search/cell_scan.wgsl).
             cell_count: u("cell_count", cells + crate::gpu::plan::scan_blocks(cells))?,
-            cell_start: u("cell_start", cells + 1)?,
-            sorted: u("sorted", n)?,
+            // This search's starts and lists, then the previous search's (kept by the cell
+            // scan and the count for the merge of search/cell_scatter.wgsl).
+            cell_start: u("cell_start", 2 * (cells + 1))?,
+            sorted: u("sorted", 2 * n)?,
             cell_of: u("cell_of", n)?,
         })
     }

@@ -58,14 +58,28 @@ const fn k(entry: &'static str, file: &'static str, domain: Domain) -> KernelDef
     KernelDef { entry, file, domain }
 }
 
-/// Kernels of the `cells` neighbour search, in dispatch order.
+/// Kernels of the `cells` neighbour search, in dispatch order: the count, the scan ([`CELL_SCAN`])
+/// and either the scatter and sort or, when the integrator has counted the particles after the
+/// previous search built its lists, the merge of those lists ([`CELL_MERGE`]; the host records
+/// one or the other: `GpuSolver::record_pass`).
 pub const CELLS_SEARCH: &[KernelDef] = &[
     k("cell_count", "search/cell_count.wgsl", Domain::All),
-    k("scan_blocks", "search/cell_scan.wgsl", Domain::BlockSums),
-    k("scan_add", "search/cell_scan.wgsl", Domain::ScanBlocks),
+    CELL_SCAN[0],
+    CELL_SCAN[1],
     k("cell_scatter", "search/cell_scatter.wgsl", Domain::All),
     k("cell_sort", "search/cell_scatter.wgsl", Domain::Cells),
+    k(CELL_MERGE, "search/cell_scatter.wgsl", Domain::Cells),
 ];
+
+/// The kernels of the cell scan: the search's own, and the `cell_scan` stage's when it runs as a
+/// pass of its own (fused, the last workgroup of the integrator stage scans).
+pub const CELL_SCAN: [KernelDef; 2] = [
+    k("scan_blocks", "search/cell_scan.wgsl", Domain::BlockSums),
+    k("scan_add", "search/cell_scan.wgsl", Domain::ScanBlocks),
+];
+
+/// The entry point that builds each cell's list from the previous lists of the cells around it.
+pub const CELL_MERGE: &str = "cell_merge";
 
 /// The thread kernel of stage `s` (entry point = stage name) in `file`.
 const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
@@ -115,6 +129,7 @@ pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
         ],
     ),
     (Stage::CellCount, &[t(Stage::CellCount, "search/cell_count.wgsl", Domain::All)]),
+    (Stage::CellScan, &CELL_SCAN),
     (Stage::ReduceMax, &[t(Stage::ReduceMax, "thread/integrate.wgsl", Domain::Fluid)]),
 ];
 
@@ -168,7 +183,7 @@ pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     t.extend(THREAD_STAGES.iter().map(|(s, ks)| (*s, pair_stage(spec, *s).unwrap_or_else(|| ks.to_vec()))));
     if spec.search == SearchKind::Direct {
         // No cells to count.
-        t.retain(|(s, _)| *s != Stage::CellCount);
+        t.retain(|(s, _)| !matches!(s, Stage::CellCount | Stage::CellScan));
     }
     t
 }

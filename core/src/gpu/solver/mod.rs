@@ -32,7 +32,7 @@ use crate::neighbours::cells::CellBox;
 use crate::real::{Real, V2};
 use crate::scene::build::Layout;
 use crate::scene::{ContactMode, Integrator, Scene};
-use crate::stage::{Clear, Stage};
+use crate::stage::{CellEpilogues, Clear, Stage};
 use std::sync::Arc;
 
 mod record;
@@ -64,6 +64,13 @@ pub struct GpuSolver<T: Real> {
     /// The cell counts on the device are those of the current positions (a `cell_count` stage
     /// was recorded after the particles last moved), so the next search skips its count.
     pub(super) counts_fresh: std::cell::Cell<bool>,
+    /// The cell starts on the device are those of these counts (a `cell_scan` stage was
+    /// recorded with them), so the next search skips its scan too.
+    pub(super) starts_fresh: std::cell::Cell<bool>,
+    /// A search has built the cell lists of the particles as now numbered (kept, with their
+    /// starts, as the previous lists by the next count and scan), so a search after a fresh
+    /// count merges them instead of scattering and sorting.
+    pub(super) lists_kept: std::cell::Cell<bool>,
     /// The per-cell wall prefix of the renumbering has been recorded (walls never move).
     pub(super) walls_ordered: std::cell::Cell<bool>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
@@ -229,7 +236,11 @@ impl<T: Real> GpuSolver<T> {
             Ok(out)
         };
         let passes = with_kernels(model.stages.evaluation_passes())?;
-        let cells = spec.search != crate::neighbours::SearchKind::Direct;
+        let cells = match spec.search {
+            crate::neighbours::SearchKind::Direct => CellEpilogues::None,
+            _ if grid.cells() <= crate::gpu::plan::FUSED_SCAN_CELLS => CellEpilogues::CountAndScan,
+            _ => CellEpilogues::Count,
+        };
         let opening = with_kernels(Stage::opening_passes(scene.time.integrator, cells))?;
         let closing = with_kernels(Stage::closing_passes(scene.time.integrator, cells))?;
         let bg = b.bind_group(&ctx, &compiled.state_layout)?;
@@ -258,6 +269,8 @@ impl<T: Real> GpuSolver<T> {
             opening,
             closing,
             counts_fresh: std::cell::Cell::new(false),
+            starts_fresh: std::cell::Cell::new(false),
+            lists_kept: std::cell::Cell::new(false),
             walls_ordered: std::cell::Cell::new(false),
             fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,

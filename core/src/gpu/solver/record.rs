@@ -51,7 +51,10 @@ impl<T: Real> GpuSolver<T> {
     /// `stage::passes`) running `kernels`: the table's clears of every stage (when there are
     /// kernels), the block accumulator clear (block kernels), then one compute pass; the reorder
     /// kernels only when the host's cadence says they are due; the search's own cell count (and
-    /// its clear) only when no `cell_count` stage has counted the particles where they are.
+    /// its clear) only when no `cell_count` stage has counted the particles where they are, its
+    /// scan only when no `cell_scan` stage has scanned those counts, and the merge of the
+    /// previous lists instead of the scatter and sort when the counts are fresh and a search has
+    /// built the lists of the particles as numbered ([`Self::search_skips`]).
     fn record_pass(&self, enc: &mut wgpu::CommandEncoder, stages: &[Stage], kernels: &Compiled) {
         if kernels.is_empty() {
             return;
@@ -59,8 +62,15 @@ impl<T: Real> GpuSolver<T> {
         let search = stages[0] == Stage::NeighbourSearch;
         let renumber = search && self.reorder_due();
         let counted = search && self.counts_fresh.replace(false);
+        let skips = self.search_skips(search, counted);
         if stages.contains(&Stage::CellCount) {
             self.counts_fresh.set(true);
+        }
+        if stages.contains(&Stage::CellScan) {
+            self.starts_fresh.set(true);
+        }
+        if search && self.spec.search != crate::neighbours::SearchKind::Direct {
+            self.lists_kept.set(true);
         }
         for clear in stages.iter().flat_map(|s| s.def().clears) {
             if counted && *clear == Clear::CellCounts {
@@ -90,9 +100,7 @@ impl<T: Real> GpuSolver<T> {
         }
         for (kd, p) in kernels {
             let walls_done = self.walls_ordered.get() && crate::gpu::stages::REORDER_WALLS.contains(&kd.entry);
-            if (kd.file == reorder::FILE && (!renumber || walls_done))
-                || (counted && kd.entry == Stage::CellCount.name())
-            {
+            if (kd.file == reorder::FILE && (!renumber || walls_done)) || skips.contains(&kd.entry) {
                 continue;
             }
             if kd.entry == crate::gpu::stages::REORDER_WALLS[1] {
@@ -105,6 +113,30 @@ impl<T: Real> GpuSolver<T> {
                 self.ctx.traffic.dispatch(1);
             }
         }
+    }
+
+    /// The search kernels a search pass skips (none for another pass, `counted`: a cell count
+    /// stage counted the particles where they are): the count when counted; the scan when a
+    /// `cell_scan` stage scanned those counts; the merge of the previous lists unless counted
+    /// and the lists kept ([`GpuSolver::lists_kept`]), else the scatter and sort.
+    fn search_skips(&self, search: bool, counted: bool) -> Vec<&'static str> {
+        let mut skip = Vec::new();
+        if !search {
+            return skip;
+        }
+        let scanned = self.starts_fresh.replace(false) && counted;
+        if counted {
+            skip.push(Stage::CellCount.name());
+        }
+        if scanned {
+            skip.extend(crate::gpu::stages::CELL_SCAN.iter().map(|kd| kd.entry));
+        }
+        if counted && self.lists_kept.get() {
+            skip.extend(["cell_scatter", "cell_sort"]);
+        } else {
+            skip.push(crate::gpu::stages::CELL_MERGE);
+        }
+        skip
     }
 
     /// Records one force evaluation: every active stage in the CPU order (fused: the table's
@@ -170,8 +202,9 @@ impl<T: Real> GpuSolver<T> {
     /// Records one whole step: (first evaluation,) with an adaptive dt `reduce_max` and
     /// `dt_compute`, the integrator's opening stage (with the cell count,
     /// `Stage::opening_passes`), the evaluation, its closing stage with `check` and the cell
-    /// count (`Stage::closing_passes`: fused, the check, the clock tick and the count run in the
-    /// closing kernel; unfused, `clock_tick` then `check`, then `cell_count`, each its own pass).
+    /// count and scan (`Stage::closing_passes`: fused, the check, the clock tick, the count and
+    /// the scan run in the closing kernel; unfused, `clock_tick` then `check`, then `cell_count`,
+    /// then `cell_scan`, each its own pass).
     /// Reads nothing from the host: dt and the step number come from the device clock.
     pub(super) fn record_step(&self, enc: &mut wgpu::CommandEncoder, first_eval: bool) {
         if first_eval {
