@@ -168,12 +168,14 @@ pub fn measure_bandwidth(ctx: &GpuContext, bytes: u64) -> Result<Option<Bandwidt
 pub fn stage_bytes(spec: &VariantSpec, stage: Stage, r: f64) -> (f64, u8) {
     let v = 2.0 * r;
     match stage {
-        // cell_count (pos → cell_of, count RMW), scatter (cell_of, cursor RMW → sorted), sort
-        // (sorted read + write); tracking adds the displacement check (pos, ref_pos).
+        // cell_count (pos → cell_of, count RMW, the list slot kept: 20), then, in every
+        // evaluation after a step, the merge (each kept slot and its cell_of read by the 3×3
+        // cells around it: 72; the list written, then sorted: 12); tracking adds the
+        // displacement check (pos, ref_pos).
         Stage::NeighbourSearch => match spec.search {
             SearchKind::Direct => (0.0, 0),
-            SearchKind::Cells => (v + 36.0, 0),
-            SearchKind::Tracking => (3.0 * v + 36.0, 0),
+            SearchKind::Cells => (v + 104.0, 0),
+            SearchKind::Tracking => (3.0 * v + 104.0, 0),
         },
         // σ is stored with 1/σ² (a real2 record).
         Stage::NumberDensity => (2.0 * v + r, 0),

@@ -14,6 +14,14 @@
 //! The cell searches keep the fluid particles in cell order on the device (renumbered every
 //! [`GpuSolver::set_reorder_every`] steps, group 2: [`super::reorder`]); everything the host
 //! sees is in the original order.
+//!
+//! A step, as the stage table composes it (fused): the opening integrator stage with the cell
+//! count and, on grids of at most `plan::FUSED_SCAN_CELLS` cells, the cell scan as epilogues
+//! (the last workgroup scans); the evaluation, whose search then only merges the previous
+//! search's lists into the new ones (`cell_merge`), then its neighbour passes with their
+//! epilogues; the closing stage with the check, the clock tick, the count and the scan. The
+//! debug mode ([`GpuSolver::set_fused`]) records every stage of the same table as a pass of its
+//! own.
 
 use super::clock::{write_clock, Control, ControlReader, BATCHES_IN_FLIGHT};
 use super::params::Params;
@@ -55,11 +63,11 @@ pub struct GpuSolver<T: Real> {
     /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
     /// epilogues.
     pub(super) passes: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
-    /// The opening integrator stage (`Stage::opening_passes`: with the cell count of the cell
-    /// searches), each pass with its fused kernels when it has epilogues.
+    /// The opening integrator stage (`Stage::opening_passes`: with the cell count and scan of
+    /// the cell searches), each pass with its fused kernels when it has epilogues.
     pub(super) opening: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
     /// The end of a step (`Stage::closing_passes`: the closing integrator stage with the check
-    /// and the cell count), each pass with its fused kernels when it has epilogues.
+    /// and the cell count and scan), each pass with its fused kernels when it has epilogues.
     pub(super) closing: Vec<(Vec<Stage>, Option<Arc<Compiled>>)>,
     /// The cell counts on the device are those of the current positions (a `cell_count` stage
     /// was recorded after the particles last moved), so the next search skips its count.
