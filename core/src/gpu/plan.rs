@@ -217,6 +217,25 @@ impl GpuPlan {
         GpuPlan::new(&resolve_lists(spec, n, cells, lim), n, cells)
     }
 
+    /// Why a per-slot list buffer `b` over the per-buffer `cap` has no smaller form here (empty
+    /// for any other buffer): one entry per list slot, per pair, where only the cells and
+    /// tracking searches with recomputed kernel values have the compact masks.
+    fn per_pair_note(&self, b: &BufferPlan, cap: u64) -> String {
+        let slots = crate::gpu::variant_buffers::NBR_SLOTS as u64;
+        let per_slot = b.bytes / (slots * self.n.max(1));
+        let slotted =
+            matches!(b.name, "nbr" | "cache_wf" | "cache_xj") && !crate::gpu::mask_lists::uses_masks(&self.spec);
+        if !slotted || per_slot == 0 {
+            return String::new();
+        }
+        format!(
+            " ({slots} list slots × {per_slot} B per particle: one binding holds {} particles; the direct \
+             search and cached kernel values keep per-pair storage, which has no compact form, only the \
+             cells and tracking searches with recomputed kernel values have mask lists)",
+            cap / (slots * per_slot)
+        )
+    }
+
     /// The largest buffer.
     pub fn largest(&self) -> &BufferPlan {
         self.buffers.iter().max_by_key(|b| b.bytes).expect("buffers")
@@ -237,13 +256,14 @@ impl GpuPlan {
                 "max_buffer_size"
             };
             return Err(format!(
-                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}); \
+                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}){}; \
                  lower domain.nx or choose a variant with smaller buffers (sphlab variants --memory N)",
                 b.name,
                 b.bytes,
                 fmt_bytes(b.bytes as f64),
                 cap,
-                fmt_bytes(cap as f64)
+                fmt_bytes(cap as f64),
+                self.per_pair_note(b, cap)
             ));
         }
         if let Some(m) = lim.memory {
@@ -381,6 +401,21 @@ mod tests {
         let e = GpuPlan::new(&auto.with_lists(ListFormat::Slots).unwrap(), 100_000_000, 8_000_000).check(&lim);
         assert!(e.unwrap_err().contains("`cand`"));
         assert!(max_particles(&auto, 0.08, &lim, 1 << 28) > 100_000_000);
+        // Per-pair storage is named as such, with the most particles one binding holds.
+        let direct: VariantSpec = "direct.subgroup.recomputed.f32".parse().unwrap();
+        let e = GpuPlan::new(&direct, 100_000_000, 8_000_000).check(&lim).unwrap_err();
+        assert!(e.contains("`nbr`") && e.contains("64 list slots × 4 B") && e.contains("8388608 particles"), "{e}");
+        let cached: VariantSpec = "tracking.thread.cached.f32".parse().unwrap();
+        let e = GpuPlan::new(&cached, 5_000_000, 400_000).check(&lim).unwrap_err();
+        assert!(
+            e.contains("`cache_wf`")
+                && e.contains("× 8 B")
+                && e.contains("4194304 particles")
+                && e.contains("per-pair"),
+            "{e}"
+        );
+        let e = GpuPlan::new(&auto, 100_000_000, 8_000_000).check(&small).unwrap_err();
+        assert!(!e.contains("per-pair"), "{e}");
     }
 
     #[test]
