@@ -175,6 +175,7 @@ impl Summary {
                 .collect(),
             wall_particles: layout.n_wall(),
             backend: opts.backend.to_string(),
+            ran: backend.name(),
             precision: backend.precision().to_string(),
             dt_last: 0.0,
             steps: 0,
