@@ -112,6 +112,9 @@ pub struct Check {
 pub struct VariantReport {
     /// Variant id.
     pub variant: String,
+    /// The variant as it ran (its list format resolved by N: `.slots` or `.masks` where the
+    /// format is a choice); empty when it did not run.
+    pub ran: String,
     /// pass, FAIL, unsupported, error or skipped (not run: `verify --budget` spent).
     pub status: String,
     /// Why unsupported / what failed.
@@ -123,7 +126,8 @@ pub struct VariantReport {
 impl VariantReport {
     /// A variant that was not run, and why.
     pub fn skipped(variant: VariantSpec, reason: String) -> Self {
-        VariantReport { variant: variant.to_string(), status: "skipped".into(), reason, checks: Vec::new() }
+        let variant = variant.to_string();
+        VariantReport { variant, ran: String::new(), status: "skipped".into(), reason, checks: Vec::new() }
     }
 }
 
@@ -310,11 +314,15 @@ impl Verifier {
     pub fn variant_on(&self, ctx: &Arc<GpuContext>, spec: VariantSpec, gpu_scene: Option<&Scene>) -> VariantReport {
         let variant = spec.to_string();
         if let Err(reason) = spec.support(ctx) {
-            return VariantReport { variant, status: "unsupported".into(), reason, checks: Vec::new() };
+            let ran = String::new();
+            return VariantReport { variant, ran, status: "unsupported".into(), reason, checks: Vec::new() };
         }
         let layout = match &self.layout {
             Ok(l) => l,
-            Err(e) => return VariantReport { variant, status: "error".into(), reason: e.clone(), checks: Vec::new() },
+            Err(e) => {
+                let (ran, reason) = (String::new(), e.clone());
+                return VariantReport { variant, ran, status: "error".into(), reason, checks: Vec::new() };
+            }
         };
         let (scene, vel0, steps) = (&self.scene, &self.vel0[..], self.steps);
         let gpu_scene = gpu_scene.map(|s| Scene { relax: None, ..s.clone() });
@@ -330,12 +338,14 @@ impl Verifier {
             },
         };
         match r {
-            Ok(checks) => {
+            Ok((checks, ran)) => {
                 let failed: Vec<String> = checks.iter().filter(|c| !c.pass).map(|c| c.name.clone()).collect();
                 let status = if failed.is_empty() { "pass" } else { "FAIL" };
-                VariantReport { variant, status: status.into(), reason: failed.join(", "), checks }
+                VariantReport { variant, ran, status: status.into(), reason: failed.join(", "), checks }
             }
-            Err(e) => VariantReport { variant, status: "error".into(), reason: e, checks: Vec::new() },
+            Err(e) => {
+                VariantReport { variant, ran: String::new(), status: "error".into(), reason: e, checks: Vec::new() }
+            }
         }
     }
 
@@ -346,7 +356,7 @@ impl Verifier {
         spec: VariantSpec,
         cpu: &CpuReference<T>,
         gpu_scene: &Scene,
-    ) -> Result<Vec<Check>, String> {
+    ) -> Result<(Vec<Check>, String), String> {
         let mut gpu = GpuSolver::<T>::new(ctx.clone(), gpu_scene, layout, spec).map_err(|e| e.to_string())?;
         gpu.restart_with_velocities(&self.vel0);
         let nf = cpu.n_fluid;
@@ -381,11 +391,12 @@ impl Verifier {
         // The GPU takes all its steps in one submission (the device clock, adaptive dt and check).
         Backend::advance(&mut gpu, self.steps).map_err(|e| format!("GPU: {e}"))?;
         checks.extend(observables(&self.scene, &gpu.frame(), &cpu.frame));
-        Ok(checks)
+        Ok((checks, gpu.spec().to_string()))
     }
 }
 
-/// A terminal table: one line per variant with its worst field and observable.
+/// A terminal table: one line per variant (as it ran: its list format resolved) with its worst field
+/// and observable.
 pub fn format_table(reports: &[VariantReport]) -> String {
     let mut s = format!(
         "{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n",
@@ -396,7 +407,7 @@ pub fn format_table(reports: &[VariantReport]) -> String {
         let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2e}"));
         s += &format!(
             "{:<44} {:<11} {:>9} {:>9} {:>9} {:>9}  {}\n",
-            r.variant,
+            if r.ran.is_empty() { &r.variant } else { &r.ran },
             r.status,
             f(get(Field::Sigma).map(|c| c.rel_l2)),
             f(get(Field::P).map(|c| c.rel_l2)),

@@ -172,6 +172,8 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
         let engine = &summary["gpu_engine"];
         if backend == "gpu" {
+            // The variant as it ran (the default has no list-format choice: its id unchanged).
+            assert_eq!(summary["ran"], "cells.thread.recomputed.f32", "{summary}");
             // Device bytes from the memory plan, modelled traffic, and (with timestamps) the
             // measured bandwidth and the roofline fraction.
             assert!(engine["device_bytes"].as_u64().unwrap_or(0) > 0, "{engine}");

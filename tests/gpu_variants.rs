@@ -18,7 +18,7 @@ use sphlab::gpu::compose::{compose_variant_mapped, validate};
 use sphlab::gpu::plan::{GpuPlan, SCAN_BLOCK};
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::stages::{defines, kernel_table, Domain};
-use sphlab::gpu::variant::{Accumulation, SumLayout, VariantSpec};
+use sphlab::gpu::variant::{Accumulation, ListFormat, SumLayout, VariantSpec};
 use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Precision;
@@ -39,10 +39,18 @@ const ACC_VS_F64: (f64, f64) = (1.25, 1e-6);
 
 const SCENES: &[(&str, &[&str])] = &[("oscillating-drop", &[]), ("sessile-90", &["contact.mode=b", "domain.nx=33"])];
 
+/// Every variant of `VariantSpec::all()` (its list format chosen by N), then each one whose list
+/// format is a choice with the masks forced (`.masks`; at these sizes the choice is slots).
+fn with_both_formats() -> Vec<VariantSpec> {
+    let all = VariantSpec::all();
+    let masks = all.iter().filter_map(|s| s.with_lists(ListFormat::Masks));
+    all.iter().copied().chain(masks).collect()
+}
+
 #[test]
 fn every_variant_composes_and_validates() {
     let mut done = BTreeSet::new();
-    for spec in VariantSpec::all() {
+    for spec in with_both_formats() {
         let defs = defines(&spec);
         for (_, kernels) in kernel_table(&spec) {
             for kd in kernels {
@@ -81,6 +89,11 @@ fn check_variant<T: Real>(
 ) {
     let t0 = Instant::now();
     let mut gpu = GpuSolver::<T>::new(ctx.clone(), s, l, spec).unwrap_or_else(|e| panic!("{spec}: {e}"));
+    // At these sizes the slot lists fit any adapter's binding: the plan chooses them unless
+    // the id forces the masks.
+    let want =
+        if spec.lists == ListFormat::Auto && spec.list_format_matters() { ListFormat::Slots } else { spec.lists };
+    assert_eq!(gpu.spec(), VariantSpec { lists: want, ..spec }, "{tag}: the list format that ran");
     let t1 = Instant::now();
     gpu.evaluate_once().unwrap_or_else(|e| panic!("{spec}: {e}"));
     let f = gpu.read_fields().unwrap();
@@ -113,7 +126,7 @@ fn every_variant_matches_cpu_one_evaluation() {
         c32.evaluate().unwrap();
         let mut c64 = CpuSolver::<f64>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
         c64.evaluate().unwrap();
-        for spec in VariantSpec::all() {
+        for spec in with_both_formats() {
             if let Err(why) = spec.support(&ctx) {
                 assert!(why.contains(&spec.to_string()) && why.len() > spec.to_string().len() + 5, "{why}");
                 refused.push(why);
@@ -174,9 +187,11 @@ fn neighbour_overflow_is_reported() {
     let (s, l) = scene("sessile-90", &["contact.mode=b", "domain.nx=21", "kernel.kind=quintic", "kernel.h_ratio=2.0"]);
     let ids = [
         "cells.block-atomic.cas.recomputed.f32",
+        "cells.block-atomic.cas.recomputed.f32.masks",
         "tracking.block-tree.fixed.cached.f32",
         "direct.thread.cached.f32",
         "tracking.thread.recomputed.f32",
+        "tracking.thread.recomputed.f32.masks",
     ];
     for id in ids {
         let spec: VariantSpec = id.parse().unwrap();
@@ -427,7 +442,7 @@ fn dispatch_spreads_over_two_dimensions() {
         // More than one scan block, so the multi-workgroup cell scan runs (spread too).
         assert!(forced.cells() > SCAN_BLOCK, "{id}: {} cells", forced.cells());
         // The memory plan predicts exactly what the solver allocated.
-        let plan = GpuPlan::new(&spec, l.pos.len() as u64, forced.cells() as u64);
+        let plan = GpuPlan::new(&forced.spec(), l.pos.len() as u64, forced.cells() as u64);
         assert_eq!(plan.total_bytes, forced.device_bytes(), "{id}: planned vs allocated device bytes");
         forced.evaluate_once().unwrap();
         assert_neighbours_match(id, &cpu, &forced);

@@ -258,6 +258,7 @@ fn check_scene<T: Real>(ctx: &GpuContext, t: &Toy, name: &str, sets: &[&str]) ->
         kernel_values: KernelValues::Recomputed,
         precision: precision::<T>(),
         workgroup: Workgroup::W64,
+        lists: sphlab::gpu::variant::ListFormat::Auto,
     };
     let composed = compose_mapped(&t.file, &t.source, &defines(&spec)).expect("composes");
     let module = ctx

@@ -75,7 +75,9 @@ fn list(json: bool) {
 }
 
 /// `--memory N`: the GPU memory plan of every variant (`plan::gpu`), cells per particle as in
-/// `oscillating-drop` at nx = 300.
+/// `oscillating-drop` at nx = 300; at N in the list format the stated adapter gets (`lists`:
+/// slots or masks where the format is a choice), the largest N of each adapter in the format
+/// chosen there.
 fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
     if n == 0 || n > HARD_MAX_PARTICLES {
         return Err(Error::input(format!("--memory: N must lie in [1, {HARD_MAX_PARTICLES}], got {n}")));
@@ -89,11 +91,13 @@ fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
     let big = DeviceLimits::stated(140_000_000_000, 2 << 30, "stated: 140 GB device memory, 2 GiB per buffer");
     let mut rows = Vec::new();
     for v in VariantSpec::all() {
-        let plan = GpuPlan::new(&v, n, (n as f64 * cpp).ceil() as u64);
-        let fits = here.as_ref().map(|l| plan.check(l));
+        // At N on the stated adapter, in the list format the plan chooses there.
+        let plan = GpuPlan::resolved(&v, n, (n as f64 * cpp).ceil() as u64, &big);
+        let fits = here.as_ref().map(|l| GpuPlan::new(&v, n, plan.cells).check(l));
         rows.push(serde_json::json!({
             "id": v.to_string(),
-            "bytes_per_particle": bytes_per_particle(&v, cpp),
+            "lists": plan.spec.lists.suffix(),
+            "bytes_per_particle": bytes_per_particle(&plan.spec, cpp),
             "total_bytes": plan.total_bytes,
             "largest_buffer": plan.largest().name,
             "largest_buffer_bytes": plan.largest().bytes,
@@ -132,8 +136,9 @@ fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
 /// The table of `--memory N`, one row per variant.
 fn print_memory_table(n: u64, rows: &[serde_json::Value]) {
     println!(
-        "{:<44} {:>9} {:>12} {:>22} {:>12} {:>12}",
+        "{:<44} {:>6} {:>9} {:>12} {:>22} {:>12} {:>12}",
         "variant",
+        "lists",
         "B/part.",
         format!("N={n}"),
         "largest buffer",
@@ -146,8 +151,9 @@ fn print_memory_table(n: u64, rows: &[serde_json::Value]) {
         let largest =
             format!("{} {}", s("largest_buffer"), fmt_bytes(r["largest_buffer_bytes"].as_f64().unwrap_or(0.0)));
         println!(
-            "{:<44} {:>9.1} {:>12} {:>22} {:>12} {:>12}",
+            "{:<44} {:>6} {:>9.1} {:>12} {:>22} {:>12} {:>12}",
             s("id"),
+            r["lists"].as_str().unwrap_or("-"),
             r["bytes_per_particle"].as_f64().unwrap_or(0.0),
             fmt_bytes(r["total_bytes"].as_f64().unwrap_or(0.0)),
             largest,

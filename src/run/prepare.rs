@@ -54,7 +54,8 @@ pub fn make_gpu_backend(
         p.check_gpu(&lim).map_err(RunError::Input)?;
         let bw = crate::gpu::bandwidth::measure_bandwidth(&ctx, crate::gpu::bandwidth::QUICK_PROBE_BYTES)
             .map_err(|e| input(e.to_string()))?;
-        let bytes = p.gpu.as_ref().map_or(0, |g| g.total_bytes);
+        let gpu = p.gpu.as_ref().map(|g| crate::gpu::plan::GpuPlan::resolved(&g.spec, g.n, g.cells, &lim));
+        let (spec, bytes) = gpu.map_or((spec, 0), |g| (g.spec, g.total_bytes));
         traffic = Some(EngineTraffic::new(&spec, scene, layout.pos.len(), layout.n_fluid, bytes, bw));
     }
     let info = GpuInfo::from_adapter(&ctx.adapter_info);
@@ -174,6 +175,7 @@ impl Summary {
                 .collect(),
             wall_particles: layout.n_wall(),
             backend: opts.backend.to_string(),
+            ran: backend.name(),
             precision: backend.precision().to_string(),
             dt_last: 0.0,
             steps: 0,

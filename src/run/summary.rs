@@ -27,6 +27,9 @@ pub struct Summary {
     pub wall_particles: usize,
     /// Backend name (cpu, cpu1, or variant id).
     pub backend: String,
+    /// The backend as it ran: a GPU variant with its list format resolved by N (`….slots`,
+    /// `….masks` where the format is a choice), else the backend's own name.
+    pub ran: String,
     /// Precision the backend computes in (f64, f32; a GPU variant's own).
     pub precision: String,
     /// dt of the last step.

@@ -5,7 +5,7 @@
 //! ([`list_words`], shared by `VBufs::new` and the memory plan), and the host's decoder of the
 //! masks into packed lists ([`decode`], for the exact comparison with the CPU lists).
 
-use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec};
+use super::variant::{Accumulation, KernelValues, ListFormat, SumLayout, VariantSpec};
 use super::variant_buffers::{CAND_SLOTS, NBR_SLOTS};
 use crate::model::Images;
 use crate::neighbours::cells::CellBox;
@@ -22,10 +22,13 @@ pub const CAND_WORDS: usize = 9;
 pub const CAND_LO_WORDS: usize = 4;
 
 /// True when `spec` keeps its lists and tracking candidates as bitmasks (the `MASK_LISTS`
-/// define): the cells and tracking searches with recomputed kernel values. The direct search
-/// has no cell order to index into, and cached values are stored per list slot anyway.
+/// define): its list format is [`ListFormat::Masks`], which only the cells and tracking searches
+/// with recomputed kernel values take (`VariantSpec::list_format_matters`; the direct search has
+/// no cell order to index into, and cached values are stored per list slot anyway). An
+/// unresolved [`ListFormat::Auto`] counts as slots: the solver resolves it by N first
+/// (`gpu::plan::resolve_lists`).
 pub fn uses_masks(spec: &VariantSpec) -> bool {
-    spec.search != SearchKind::Direct && spec.kernel_values == KernelValues::Recomputed
+    spec.lists == ListFormat::Masks && spec.list_format_matters()
 }
 
 /// Mask bits of a list (the most walk or candidate ordinals it can hold).
@@ -188,7 +191,10 @@ mod tests {
     fn list_words_fit_a_2_gib_binding_at_1e8() {
         let n = 100_000_000;
         let cap = (2usize << 30) / 4;
-        for spec in VariantSpec::all().iter().filter(|s| uses_masks(s)) {
+        let masked: Vec<VariantSpec> =
+            VariantSpec::all().iter().filter_map(|s| s.with_lists(ListFormat::Masks)).collect();
+        assert!(masked.iter().all(uses_masks) && masked.len() >= 20, "{} variants", masked.len());
+        for spec in &masked {
             let w = list_words(spec, n, n / 12, 4);
             for (name, words) in [("nbr", w.nbr), ("b4", w.b4), ("b5", w.b5), ("cand", w.cand), ("accum", w.accum)] {
                 assert!(words <= cap, "{spec}: {name} {words} words");

@@ -20,7 +20,7 @@
 //! buffers (only while stage timing is on) and the bandwidth probe's buffers are not counted.
 
 use crate::gpu::mask_lists::list_words;
-use crate::gpu::variant::VariantSpec;
+use crate::gpu::variant::{ListFormat, VariantSpec};
 use crate::gpu::variant_buffers::{binding_names, vctl};
 use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
@@ -124,6 +124,28 @@ pub struct GpuPlan {
     pub buffers: Vec<BufferPlan>,
     /// Sum of the buffers (and the parameter uniform).
     pub total_bytes: u64,
+    /// The variant as planned (its list format may still be `Auto`: [`GpuPlan::check`]
+    /// resolves it against the limits).
+    #[serde(skip)]
+    pub spec: VariantSpec,
+}
+
+/// `spec` with its list format resolved for `n` particles on `cells` cells under `lim`: the one
+/// place the format is chosen. A forced format, or a variant without the choice, is kept; else
+/// [`ListFormat::Slots`] (one index per entry, the fast lists) while every buffer of the slot
+/// plan fits the adapter's per-buffer cap and the dispatch grid fits, [`ListFormat::Masks`]
+/// beyond (a few words per particle; device memory in all is checked on the result).
+pub fn resolve_lists(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits) -> VariantSpec {
+    if spec.lists != ListFormat::Auto || !spec.list_format_matters() {
+        return *spec;
+    }
+    let slots = VariantSpec { lists: ListFormat::Slots, ..*spec };
+    let per_buffer = DeviceLimits { memory: None, ..lim.clone() };
+    if GpuPlan::new(&slots, n, cells).check(&per_buffer).is_ok() {
+        slots
+    } else {
+        VariantSpec { lists: ListFormat::Masks, ..*spec }
+    }
 }
 
 /// Bytes `GpuVec` allocates for `len` elements of `size` bytes (at least 4, a multiple of 4).
@@ -192,7 +214,31 @@ impl GpuPlan {
         let buffers: Vec<BufferPlan> =
             list.iter().map(|&(name, len, size)| BufferPlan { name, bytes: alloc(len, size) }).collect();
         let total_bytes = buffers.iter().map(|b| b.bytes).sum();
-        GpuPlan { variant: spec.to_string(), n, cells, buffers, total_bytes }
+        GpuPlan { variant: spec.to_string(), n, cells, buffers, total_bytes, spec: *spec }
+    }
+
+    /// The plan of [`resolve_lists`]'s choice under `lim` (the variant as the solver runs it).
+    pub fn resolved(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits) -> Self {
+        GpuPlan::new(&resolve_lists(spec, n, cells, lim), n, cells)
+    }
+
+    /// Why a per-slot list buffer `b` over the per-buffer `cap` has no smaller form here (empty
+    /// for any other buffer): one entry per list slot, per pair, where only the cells and
+    /// tracking searches with recomputed kernel values have the compact masks.
+    fn per_pair_note(&self, b: &BufferPlan, cap: u64) -> String {
+        let slots = crate::gpu::variant_buffers::NBR_SLOTS as u64;
+        let per_slot = b.bytes / (slots * self.n.max(1));
+        let slotted =
+            matches!(b.name, "nbr" | "cache_wf" | "cache_xj") && !crate::gpu::mask_lists::uses_masks(&self.spec);
+        if !slotted || per_slot == 0 {
+            return String::new();
+        }
+        format!(
+            " ({slots} list slots × {per_slot} B per particle: one binding holds {} particles; the direct \
+             search and cached kernel values keep per-pair storage, which has no compact form, only the \
+             cells and tracking searches with recomputed kernel values have mask lists)",
+            cap / (slots * per_slot)
+        )
     }
 
     /// The largest buffer.
@@ -203,6 +249,9 @@ impl GpuPlan {
     /// Ok when every buffer, the total and the dispatch grid fit `lim`; else the first that
     /// does not, naming the buffer, the bytes needed and the bytes available.
     pub fn check(&self, lim: &DeviceLimits) -> Result<(), String> {
+        if self.spec.lists == ListFormat::Auto && self.spec.list_format_matters() {
+            return GpuPlan::resolved(&self.spec, self.n, self.cells, lim).check(lim);
+        }
         let head = format!("GPU memory plan of {} for {} particles", self.variant, self.n);
         let cap = lim.buffer_cap();
         if let Some(b) = self.buffers.iter().find(|b| b.bytes > cap) {
@@ -212,13 +261,14 @@ impl GpuPlan {
                 "max_buffer_size"
             };
             return Err(format!(
-                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}); \
+                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}){}; \
                  lower domain.nx or choose a variant with smaller buffers (sphlab variants --memory N)",
                 b.name,
                 b.bytes,
                 fmt_bytes(b.bytes as f64),
                 cap,
-                fmt_bytes(cap as f64)
+                fmt_bytes(cap as f64),
+                self.per_pair_note(b, cap)
             ));
         }
         if let Some(m) = lim.memory {
@@ -329,6 +379,48 @@ mod tests {
         assert!(e.contains("65535") && e.contains("16126 particles") && e.contains(&direct.to_string()), "{e}");
         assert!(direct_loop_check(&direct, 10_000_000, 4, "NVIDIA 580.95").is_ok());
         assert!(direct_loop_check(&cells, 10_000_000, 4, lp).is_ok());
+    }
+
+    #[test]
+    fn the_list_format_is_slots_while_they_fit_the_binding() {
+        let lim = DeviceLimits::stated(140_000_000_000, 2 << 30, "test");
+        let small = DeviceLimits::stated(1 << 40, 128 << 20, "test");
+        let at = |id: &str, n: u64, lim: &DeviceLimits| {
+            resolve_lists(&id.parse().unwrap(), n, n / 12, lim).to_string().rsplit('.').next().unwrap().to_string()
+        };
+        // Tracking candidates: 96 slots × 4 B per particle in one binding; cells lists: 64 slots.
+        let cap_track = (2u64 << 30) / (96 * 4);
+        assert_eq!(at("tracking.thread.recomputed.f32", cap_track, &lim), "slots");
+        assert_eq!(at("tracking.thread.recomputed.f32", cap_track + 1, &lim), "masks");
+        assert_eq!(at("cells.subgroup.recomputed.f32", (2u64 << 30) / 256, &lim), "slots");
+        assert_eq!(at("cells.subgroup.recomputed.f32", (2u64 << 30) / 256 + 1, &lim), "masks");
+        assert_eq!(at("cells.subgroup.recomputed.f32", 11_664, &small), "slots");
+        assert_eq!(at("cells.subgroup.recomputed.f32", 600_000, &small), "masks");
+        // Forced formats are kept; variants without the choice are left alone.
+        assert_eq!(at("tracking.thread.recomputed.f32.masks", 1000, &lim), "masks");
+        assert_eq!(at("tracking.thread.recomputed.f32.slots", 100_000_000, &lim), "slots");
+        assert_eq!(at("direct.subgroup.recomputed.f32", 100_000_000, &lim), "f32");
+        // The plan of an unresolved variant checks the format the solver would run.
+        let auto: VariantSpec = "tracking.thread.recomputed.f32".parse().unwrap();
+        assert!(GpuPlan::new(&auto, 100_000_000, 8_000_000).check(&lim).is_ok());
+        let e = GpuPlan::new(&auto.with_lists(ListFormat::Slots).unwrap(), 100_000_000, 8_000_000).check(&lim);
+        assert!(e.unwrap_err().contains("`cand`"));
+        assert!(max_particles(&auto, 0.08, &lim, 1 << 28) > 100_000_000);
+        // Per-pair storage is named as such, with the most particles one binding holds.
+        let direct: VariantSpec = "direct.subgroup.recomputed.f32".parse().unwrap();
+        let e = GpuPlan::new(&direct, 100_000_000, 8_000_000).check(&lim).unwrap_err();
+        assert!(e.contains("`nbr`") && e.contains("64 list slots × 4 B") && e.contains("8388608 particles"), "{e}");
+        let cached: VariantSpec = "tracking.thread.cached.f32".parse().unwrap();
+        let e = GpuPlan::new(&cached, 5_000_000, 400_000).check(&lim).unwrap_err();
+        assert!(
+            e.contains("`cache_wf`")
+                && e.contains("× 8 B")
+                && e.contains("4194304 particles")
+                && e.contains("per-pair"),
+            "{e}"
+        );
+        let e = GpuPlan::new(&auto, 100_000_000, 8_000_000).check(&small).unwrap_err();
+        assert!(!e.contains("per-pair"), "{e}");
     }
 
     #[test]

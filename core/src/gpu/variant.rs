@@ -107,6 +107,33 @@ pub struct VariantSpec {
     /// Threads per workgroup of the one-thread-per-item kernels (64 unless a thread variant
     /// says `.wg128` or `.wg256`).
     pub workgroup: Workgroup,
+    /// Format of the neighbour and tracking lists (`gpu::mask_lists`): chosen by N unless the
+    /// id forces one with `.slots` or `.masks`.
+    pub lists: ListFormat,
+}
+
+/// Format of the explicit neighbour lists and tracking candidates of the cells and tracking
+/// searches with recomputed kernel values (the other variants always keep slots).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ListFormat {
+    /// Chosen by the memory plan (`gpu::plan::resolve_lists`): slots while every slot buffer
+    /// fits the adapter's per-buffer cap, masks beyond.
+    Auto,
+    /// One index per entry: 64 neighbour slots, 96 tracking-candidate slots.
+    Slots,
+    /// Bitmasks over the cell walk (`gpu::mask_lists`).
+    Masks,
+}
+
+impl ListFormat {
+    /// The id suffix (`None` for `Auto`).
+    pub fn suffix(self) -> Option<&'static str> {
+        match self {
+            ListFormat::Auto => None,
+            ListFormat::Slots => Some("slots"),
+            ListFormat::Masks => Some("masks"),
+        }
+    }
 }
 
 macro_rules! names {
@@ -182,6 +209,20 @@ impl VariantSpec {
     pub fn is_consistent(&self) -> bool {
         (self.mapping.layout() != SumLayout::Block) == (self.accumulation == Accumulation::None)
             && (self.workgroup == Workgroup::W64 || self.mapping.layout() == SumLayout::Thread)
+            && (self.lists == ListFormat::Auto || self.list_format_matters())
+    }
+
+    /// True when the list format is a choice: the cells and tracking searches with recomputed
+    /// kernel values that keep lists (every tracking variant keeps candidates).
+    pub fn list_format_matters(&self) -> bool {
+        self.search != SearchKind::Direct
+            && self.kernel_values == KernelValues::Recomputed
+            && (self.has_lists() || self.search == SearchKind::Tracking)
+    }
+
+    /// The same variant with list format `lists` (`None` unless the format is a choice).
+    pub fn with_lists(self, lists: ListFormat) -> Option<VariantSpec> {
+        Some(VariantSpec { lists, ..self }).filter(|s| s.is_consistent())
     }
 
     /// The same variant with `workgroup` threads per workgroup (`None` unless consistent).
@@ -198,8 +239,16 @@ impl VariantSpec {
                 for &accumulation in Accumulation::ALL {
                     for &kernel_values in KernelValues::ALL {
                         for &precision in Precision::ALL {
-                            let workgroup = Workgroup::W64;
-                            let s = VariantSpec { search, mapping, accumulation, kernel_values, precision, workgroup };
+                            let (workgroup, lists) = (Workgroup::W64, ListFormat::Auto);
+                            let s = VariantSpec {
+                                search,
+                                mapping,
+                                accumulation,
+                                kernel_values,
+                                precision,
+                                workgroup,
+                                lists,
+                            };
                             if s.is_consistent() && s.meaningful().is_ok() {
                                 v.push(s);
                             }
@@ -314,6 +363,9 @@ impl fmt::Display for VariantSpec {
         if self.workgroup != Workgroup::W64 {
             write!(f, ".{}", self.workgroup.name())?;
         }
+        if let Some(l) = self.lists.suffix() {
+            write!(f, ".{l}")?;
+        }
         Ok(())
     }
 }
@@ -323,6 +375,14 @@ impl FromStr for VariantSpec {
     fn from_str(id: &str) -> Result<Self, String> {
         let bad = || format!("unknown GPU variant `{id}`; valid ids: {}", VariantSpec::all_ids());
         let mut parts: Vec<&str> = id.split('.').collect();
+        let lists = match parts.last() {
+            Some(&"slots") => ListFormat::Slots,
+            Some(&"masks") => ListFormat::Masks,
+            _ => ListFormat::Auto,
+        };
+        if lists != ListFormat::Auto {
+            parts.pop();
+        }
         let mut workgroup = Workgroup::W64;
         if let Some(threads) = parts.last().and_then(|w| w.strip_prefix("wg")) {
             workgroup =
@@ -345,8 +405,16 @@ impl FromStr for VariantSpec {
             kernel_values: KernelValues::parse(k).ok_or_else(bad)?,
             precision: Precision::parse(p).ok_or_else(bad)?,
             workgroup,
+            lists,
         };
         if !spec.is_consistent() {
+            if lists != ListFormat::Auto && !spec.list_format_matters() {
+                return Err(format!(
+                    "GPU variant `{id}`: a list format (.slots or .masks) belongs to the cells and tracking \
+                     searches with recomputed kernel values that keep lists (block and subgroup mappings; \
+                     every tracking variant)"
+                ));
+            }
             if workgroup != Workgroup::W64 {
                 return Err(format!("GPU variant `{id}`: a workgroup size belongs to the thread mapping only"));
             }
@@ -403,5 +471,22 @@ mod tests {
             .iter()
             .filter(|s| s.mapping != Mapping::Thread)
             .all(|s| s.with_workgroup(Workgroup::W128).is_none()));
+        // A forced list format round-trips, after the workgroup size; only where it is a choice.
+        let t: VariantSpec = "tracking.thread.recomputed.f32.wg256.masks".parse().unwrap();
+        assert_eq!((t.lists, t.workgroup), (ListFormat::Masks, Workgroup::W256));
+        assert_eq!(t.to_string().parse::<VariantSpec>().unwrap(), t);
+        for s in &all {
+            for l in [ListFormat::Slots, ListFormat::Masks] {
+                match s.with_lists(l) {
+                    Some(f) => assert_eq!(f.to_string().parse::<VariantSpec>().unwrap(), f, "{f}"),
+                    None => assert!(format!("{s}.{}", l.suffix().unwrap()).parse::<VariantSpec>().is_err()),
+                }
+            }
+        }
+        let chosen = all.iter().filter(|s| s.list_format_matters()).count();
+        assert!(chosen > 0 && chosen < all.len());
+        assert!("cells.thread.recomputed.f32.slots".parse::<VariantSpec>().unwrap_err().contains("list format"));
+        assert!("direct.subgroup.recomputed.f32.masks".parse::<VariantSpec>().is_err());
+        assert!("cells.subgroup.cached.f32.slots".parse::<VariantSpec>().is_err());
     }
 }

@@ -222,8 +222,11 @@ impl<T: Real> GpuSolver<T> {
         let grid = CellBox::over(&pos, model.support());
         // The memory plan before any buffer exists: each buffer within the adapter's caps, the
         // dispatch grid within its workgroup limit (device memory is the caller's: `sphlab run`).
+        // The list format is chosen here, by N, for everything below (`plan::resolve_lists`).
+        let lim = DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) };
+        let spec = crate::gpu::plan::resolve_lists(&spec, n as u64, grid.cells() as u64, &lim);
         let plan = GpuPlan::new(&spec, n as u64, grid.cells() as u64);
-        plan.check(&DeviceLimits { memory: None, ..DeviceLimits::of(&ctx, None) }).map_err(GpuError::Unsupported)?;
+        plan.check(&lim).map_err(GpuError::Unsupported)?;
         let codes = model.images.codes().len() as u64;
         let driver = format!("{} {}", ctx.adapter_info.name, ctx.adapter_info.driver);
         crate::gpu::plan::direct_loop_check(&spec, n as u64, codes, &driver).map_err(GpuError::Unsupported)?;
@@ -307,7 +310,7 @@ impl<T: Real> GpuSolver<T> {
         Ok(s)
     }
 
-    /// The variant.
+    /// The variant as it runs (its list format resolved by N: `plan::resolve_lists`).
     pub fn spec(&self) -> VariantSpec {
         self.spec
     }
