@@ -28,9 +28,9 @@ pub struct Contact {
     #[serde(default = "default_band")]
     pub band: f64,
     /// Mode A: the contact-line force that carries the half of σ_GS − σ_LS the fluid side of the
-    /// wall bands does not (docs/PHYSICS.md §8.2.1). `false`: the wall bands alone (the former
-    /// Mode A, kept for comparison).
-    #[serde(default = "yes")]
+    /// wall bands does not (docs/PHYSICS.md §8.2.1). Off by default: it wets the wall completely
+    /// at Young's 60° (the wall bands alone stop above Young's angle).
+    #[serde(default)]
     pub line_force: bool,
 }
 
@@ -54,7 +54,7 @@ impl Default for Contact {
             normal_correction: true,
             wall_typing: true,
             band: 1.2,
-            line_force: true,
+            line_force: false,
         }
     }
 }
