@@ -28,8 +28,8 @@ pub struct Contact {
     #[serde(default = "default_band")]
     pub band: f64,
     /// Mode A: the contact-line force that carries the half of σ_GS − σ_LS the fluid side of the
-    /// wall bands does not (docs/PHYSICS.md §8.2.1). Off by default: it wets the wall completely
-    /// at Young's 60° (the wall bands alone stop above Young's angle).
+    /// wall bands does not (docs/PHYSICS.md §8.2.1). Off by default: it overshoots Young's angle
+    /// (the wall bands alone stop short of it).
     #[serde(default)]
     pub line_force: bool,
 }
