@@ -118,9 +118,8 @@ pub fn assign_colours<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     }
 }
 
-/// Whether height `y` lies in the first-row band `0 < y − y_w ≤ band` (§8.4 step 2).
 #[inline(always)]
-pub fn in_band<T: Real>(m: &Model<T>, y: T) -> bool {
+fn in_band<T: Real>(m: &Model<T>, y: T) -> bool {
     let d = y - m.y_wall;
     d > T::zero() && d <= m.band
 }
