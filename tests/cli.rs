@@ -77,6 +77,10 @@ fn bad_inputs_exit_2_with_a_message() {
     let tvf = ["--set", "time.background=\"transport\""];
     let gpu = [&["run", "oscillating-drop", "--backend", "gpu", "--out", out][..], &tvf[..]].concat();
     assert_input_error(&gpu, "time.background");
+    // So is Mode A's contact-line force.
+    let line = ["--set", "contact.mode=\"a\"", "--set", "contact.line_force=true"];
+    let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &line[..]].concat();
+    assert_input_error(&gpu, "contact.line_force");
     // clap's own errors (unknown flag) also exit 2.
     let o = sphlab(&["run", "oscillating-drop", "--no-such-flag"]);
     assert_eq!(o.status.code(), Some(2), "unknown flag exits 2");

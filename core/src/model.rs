@@ -15,6 +15,10 @@ pub const COLOUR_WALL: i32 = 2;
 pub const NO_COLOUR: i32 = -1;
 /// Most contact points one evaluation may hold.
 pub const MAX_CONTACTS: usize = 32;
+/// The share of a Mode A wall band's tension its fluid side carries (docs/PHYSICS.md §8.2.1):
+/// ½ for every kernel, the wall lattice being the fluid lattice mirrored in the wall surface;
+/// `tests/force_balance.rs` measures it on a flat layer.
+pub const WALL_BAND_SHARE: f64 = 0.5;
 
 /// Per-phase constants.
 #[derive(Clone, Copy, Debug)]
@@ -210,6 +214,9 @@ pub struct Model<T> {
     pub sigma: [[T; N_COLOURS]; N_COLOURS],
     /// Contact mode.
     pub contact_mode: ContactMode,
+    /// Mode A's contact-line force per unit length, `(1 − s_w)(σ_GS − σ_LS)` (§8.2.1); zero when
+    /// off or when the wall tensions are equal.
+    pub line_force: T,
     /// θ_d in radians.
     pub theta: T,
     /// Contact band height (× Δx).
@@ -339,9 +346,14 @@ impl<T: Real> Model<T> {
         };
         let surface = st > 0.0 && scene.phases.len() == 2;
         let mode_b = surface && scene.contact.mode == ContactMode::B;
+        let line_force = if surface && scene.contact.mode == ContactMode::A && scene.contact.line_force {
+            (1.0 - WALL_BAND_SHARE) * (scene.contact.sigma_gs - scene.contact.sigma_ls)
+        } else {
+            0.0
+        };
         let stages = ActiveStages {
             holmes_chi: scene.walls.velocity == WallVelocity::Holmes && !walls.is_empty(),
-            contact_line: mode_b,
+            contact_line: mode_b || line_force != 0.0,
             wall_typing: mode_b && scene.contact.wall_typing,
             wall_pressure: scene.walls.pressure == WallPressure::RWall && !walls.is_empty(),
             surface_tension: surface,
@@ -364,6 +376,7 @@ impl<T: Real> Model<T> {
             wall_phase,
             sigma,
             contact_mode: if surface { scene.contact.mode } else { ContactMode::None },
+            line_force: T::c(line_force),
             theta: T::c(scene.contact.theta_deg.to_radians()),
             band: T::c(scene.contact.band * dx),
             y_wall: T::c(d.y[0]),

@@ -2,6 +2,7 @@
 //! acceleration (pressure, viscosity, surface stress, walls, background pressure), the
 //! Lennard-Jones boundary repulsion, and XSPH; named as their stages of [`crate::stage::TABLE`].
 
+use super::line_force::{line_force_acc, line_force_norms};
 use super::stages::Ctx;
 use crate::exec;
 use crate::fields::Fields;
@@ -116,11 +117,13 @@ pub fn acceleration_pairs<T: Real>(
 }
 
 /// `acceleration` (T65): pressure (T68) + viscous (T70, wall ghost velocities §6.2–6.4) +
-/// surface (T76) + gravity + optional Lennard-Jones, for fluid particles; the pair sums are
-/// those of [`acceleration_pairs`].
+/// surface (T76) + gravity + optional Lennard-Jones + Mode A's contact-line force (§8.2.1), for
+/// fluid particles; the pair sums are those of [`acceleration_pairs`].
 pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
     let fr = &*f;
+    let line = m.line_force != T::zero() && !fr.contacts.is_empty();
+    let norms = if line { line_force_norms(c, &fr.contacts) } else { Vec::new() };
     let out: Vec<(V2<T>, V2<T>)> = exec::map(c.exec, c.n_fluid, |i| {
         let (mut sum, mut shift) = (V2::zero(), V2::zero());
         acceleration_pairs(c, fr, i, |_, _, term, v| match term {
@@ -130,6 +133,9 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         let mut a = sum / fr.mass[i] + m.gravity;
         if m.stages.lennard_jones {
             a += lennard_jones(m, c.pos[i]);
+        }
+        if line {
+            a += line_force_acc(c, &fr.contacts, &norms, i, fr.mass[i]);
         }
         (a, shift / fr.mass[i])
     });

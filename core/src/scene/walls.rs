@@ -27,6 +27,11 @@ pub struct Contact {
     /// Mode B: the contact-line band is 0 < y − y_w ≤ band·Δx (thesis 1.2).
     #[serde(default = "default_band")]
     pub band: f64,
+    /// Mode A: the contact-line force that carries the half of σ_GS − σ_LS the fluid side of the
+    /// wall bands does not (docs/PHYSICS.md §8.2.1). Off by default: it overshoots Young's angle
+    /// (the wall bands alone stop short of it).
+    #[serde(default)]
+    pub line_force: bool,
 }
 
 fn default_theta() -> f64 {
@@ -49,6 +54,7 @@ impl Default for Contact {
             normal_correction: true,
             wall_typing: true,
             band: 1.2,
+            line_force: false,
         }
     }
 }

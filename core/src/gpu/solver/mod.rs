@@ -201,6 +201,13 @@ impl<T: Real> GpuSolver<T> {
                     .into(),
             ));
         }
+        if model.line_force != T::zero() {
+            return Err(GpuError::Unsupported(
+                "contact.line_force = true (Mode A's contact-line force, σ_GS ≠ σ_LS) is CPU only (the WGSL \
+                 stages have the wall bands alone); use --backend cpu or contact.line_force = false"
+                    .into(),
+            ));
+        }
         if model.transport_p_b.is_some() {
             return Err(GpuError::Unsupported(
                 "time.background = \"transport\" (transport-velocity formulation) is CPU only (the WGSL \
