@@ -24,14 +24,17 @@ fn has_timestamps(ctx: &GpuContext) -> bool {
     ok
 }
 
-/// Stage names a step of `g` may record: the force stages, the integrator's, `check`, and
-/// `reduce_max` under automatic dt.
+/// Stage names a step of `g` may record: the force stages, the integrator's, `check`, the cell
+/// count with (on small grids) the cell scan, and `reduce_max` under automatic dt.
 fn allowed(g: &GpuSolver<f32>, s: &Scene) -> Vec<&'static str> {
     let mut v = g.model.stages.names();
     v.extend(integrator_stages(s));
     v.push(Stage::Check.name());
     if g.spec().search != sphlab::neighbours::SearchKind::Direct {
         v.push(Stage::CellCount.name());
+        if g.cells() <= sphlab::gpu::plan::FUSED_SCAN_CELLS {
+            v.push(Stage::CellScan.name());
+        }
     }
     if g.model.dt_fixed <= 0.0 {
         v.push(Stage::ReduceMax.name());
@@ -93,6 +96,10 @@ fn stage_times_are_positive_scene_specific_and_within_wall_clock() {
         for stage in core.iter().chain(&integrator_stages(&s)) {
             assert!(reported.contains(stage), "{name} {id}: `{stage}` missing from {reported:?}");
         }
+        // On a small grid the integrator's last workgroup scans the cell counts it fused.
+        let scans = g.spec().search != sphlab::neighbours::SearchKind::Direct
+            && g.cells() <= sphlab::gpu::plan::FUSED_SCAN_CELLS;
+        assert_eq!(reported.contains(&Stage::CellScan.name()), scans, "{name} {id}: {reported:?}");
         let two_phase = name == "oscillating-drop";
         let colour = Stage::ColourGradient.name();
         assert_eq!(reported.contains(&colour), two_phase, "{name}: {colour} {reported:?}");
