@@ -145,13 +145,24 @@ impl<T: Real> GpuSolver<T> {
         })
     }
 
+    /// Fills the cell lists of the next search (`sorted[0..n)`, not the previous lists kept
+    /// after them for the merge) with an index no particle has, so a slot the next search does
+    /// not write fails every comparison (tests).
+    pub fn poison_cell_lists(&self) -> Result<(), GpuError> {
+        let poison = vec![u32::MAX; self.n];
+        self.ctx.traffic.write();
+        self.ctx.queue.write_buffer(&self.b.sorted.buffer, 0, bytemuck::cast_slice(&poison));
+        Ok(())
+    }
+
     /// The neighbour structures of the last evaluation (for the exact comparison with the CPU),
     /// in original indices: `sorted` re-sorted within each cell, each list under its particle's
     /// original index, whatever the device order and list layout (slot- or particle-major).
     pub fn read_neighbours(&self) -> Result<NeighbourView, GpuError> {
         let ctx = &*self.ctx;
         let o = self.device_order()?;
-        let orig = |e: u32| o[(e & PACK_MASK) as usize] | (e & !PACK_MASK);
+        // (An index no particle has, e.g. a poisoned slot, reads as u32::MAX.)
+        let orig = |e: u32| o.get((e & PACK_MASK) as usize).map_or(u32::MAX, |&d| d | (e & !PACK_MASK));
         let (cell_start, sorted) = if self.spec.search == SearchKind::Direct {
             (Vec::new(), Vec::new())
         } else {
