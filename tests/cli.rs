@@ -56,6 +56,7 @@ fn bad_inputs_exit_2_with_a_message() {
     assert_input_error(&["run", "oscillating-drop", "--set", "domain.x=[0.5, 0.0]", "--out", out], "domain.x");
     assert_input_error(&["run", "oscillating-drop", "--set", "phases=[]", "--out", out], "phases");
     assert_input_error(&["run", "oscillating-drop", "--set", "time.dt=-1", "--out", out], "time.dt");
+    assert_input_error(&["run", "oscillating-drop", "--set", "domain.jitter=0.3", "--out", out], "domain.jitter");
     assert_input_error(&["run", "oscillating-drop", "--set", "phases.0.rho0=-1", "--out", out], "phases[0].rho0");
     assert_input_error(&["run", "oscillating-drop", "--set", "fill=\"oil\"", "--out", out], "fill");
     assert_input_error(&["run", "oscillating-drop", "--set", "domain.left=\"periodic\"", "--out", out], "periodic");

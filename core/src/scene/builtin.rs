@@ -81,6 +81,8 @@ pub fn oscillating_drop() -> Scene {
             right: Side::NoSlip,
             bottom: Side::Mirror,
             top: Side::NoSlip,
+            jitter: 0.0,
+            seed: 0,
         },
         // Quintic with h = 1.2Δx (support 3.6Δx; the thesis gives no h): at nx = 30, p_b = 30 the
         // wider support smooths ∇C and the pressure sum on the disordered arrangement. Measured
@@ -135,6 +137,8 @@ pub fn sessile(theta_deg: f64) -> Scene {
             right: Side::NoSlip,
             bottom: Side::NoSlip,
             top: Side::NoSlip,
+            jitter: 0.0,
+            seed: 0,
         },
         kernel: KernelCfg { kind: KernelKind::CubicSpline, h_ratio: 1.2 },
         // μ = 0.15 (thesis §4.2.2: "equal density and viscosity of 1.0 and 0.15"), σ = 1;
@@ -211,6 +215,8 @@ pub fn impact(theta_deg: f64) -> Scene {
             right: Side::FreeSlip,
             bottom: Side::NoSlip,
             top: Side::FreeSlip,
+            jitter: 0.0,
+            seed: 0,
         },
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
         phases: vec![
@@ -259,6 +265,8 @@ pub fn poiseuille() -> Scene {
             right: Side::Periodic,
             bottom: Side::NoSlip,
             top: Side::NoSlip,
+            jitter: 0.0,
+            seed: 0,
         },
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.0 },
         phases: vec![fluid("fluid", 1.0, 1.0, 10.0, 7.0)],
@@ -318,6 +326,8 @@ pub fn capillary_wave(density_ratio: f64) -> Scene {
             right: Side::Periodic,
             bottom: Side::Mirror,
             top: Side::Mirror,
+            jitter: 0.0,
+            seed: 0,
         },
         kernel: KernelCfg { kind: KernelKind::Quintic, h_ratio: 1.2 },
         phases: vec![fluid("liquid", 1.0, mu_l, 0.0, gamma_l), fluid("gas", rho_g, mu_l * rho_g, 0.0, gamma_g)],

@@ -116,6 +116,22 @@ pub struct Domain {
     pub bottom: Side,
     /// Top side (y = y1).
     pub top: Side,
+    /// Lattice jitter: every fluid particle displaced by up to this fraction of Δx along x and
+    /// along y (uniform, drawn from `seed`), for realisations of one set-up; 0 (the default)
+    /// keeps the lattice. Walls stay on it.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub jitter: f64,
+    /// The jitter's seed: one realisation per seed.
+    #[serde(default, skip_serializing_if = "is_zero_u64")]
+    pub seed: u64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+fn is_zero_u64(x: &u64) -> bool {
+    *x == 0
 }
 
 impl Domain {

@@ -14,6 +14,9 @@ fn err(field: &str, msg: impl Into<String>) -> SceneError {
 
 /// Largest |coordinate| of the domain and shapes.
 pub const MAX_COORD: f64 = 1e6;
+/// Largest `domain.jitter` (fraction of Δx): a first row 0.5Δx from a wall stays inside it,
+/// and no two jittered particles come closer than Δx/2.
+pub const MAX_JITTER: f64 = 0.25;
 /// Smallest domain extent.
 pub const MIN_EXTENT: f64 = 1e-9;
 /// Smallest Δx relative to the largest |coordinate| (f64 positions must resolve the lattice).
@@ -90,6 +93,12 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
 
 fn domain(s: &Scene) -> Result<(), SceneError> {
     let d = &s.domain;
+    if !(0.0..=MAX_JITTER).contains(&d.jitter) {
+        return Err(err(
+            "domain.jitter",
+            format!("must be within [0, {}] (a fraction of Δx), got {}", num(MAX_JITTER), num(d.jitter)),
+        ));
+    }
     for (f, v) in [("domain.x", d.x), ("domain.y", d.y)] {
         finite_within(f, &v, MAX_COORD, "both bounds")?;
         if !(v[1] - v[0] >= MIN_EXTENT) {
