@@ -3,8 +3,8 @@
 # pinned contact line? The 90° half-disc of radius R0 = 0.25 is replaced by the cap of equal
 # area that meets the wall at THETA0 (circle of radius R centred at (0, −R cos θ0), with
 # R² (θ0 − sin θ0 cos θ0)/2 = π R0²/4); everything else is relax-60's: θ_d = 60°, no-slip,
-# dt scaled with the viscous limit, and the scene's p_b = 45, which is relax-60's rule up to
-# nx ≈ 97 (pass --set phases.0.p_b=… --set phases.1.p_b=… above that). A contact line that
+# dt scaled with the stability limits, and the scene's p_b and c0 from the capillary rule
+# (docs/PHYSICS.md §3.1, re-applied at every nx). A contact line that
 # ends at the same angle from above and below 60° is at its model's equilibrium; one that stops
 # short from both sides is pinned. Usage:
 #   examples/analysis/relax_start_angle.sh NX MODE THETA0 OUT [--set KEY=VALUE ...]
