@@ -5,7 +5,8 @@
 //! the `fixed` accumulation and the `thread` mapping; neighbour overflow reported as
 //! `NeighbourOverflow`; tracking lists rebuilt on the CPU's schedule; thread, block and
 //! subgroup variants with the workgroups-per-dimension limit forced to 4 (2-D dispatch, the
-//! multi-workgroup cell scan) and the memory plan equal to what the solver allocates.
+//! multi-workgroup cell scan) and the memory plan equal to what the solver allocates; the
+//! subgroup mapping with 2 and 4 lanes per particle, so that several particles share a subgroup.
 
 mod common;
 
@@ -18,7 +19,7 @@ use sphlab::gpu::compose::{compose_variant_mapped, validate};
 use sphlab::gpu::plan::{GpuPlan, SCAN_BLOCK};
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::stages::{defines, kernel_table, Domain};
-use sphlab::gpu::variant::{Accumulation, ListFormat, SumLayout, VariantSpec};
+use sphlab::gpu::variant::{Accumulation, ListFormat, SumLayout, VariantSpec, SUBGROUP_LANES};
 use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Precision;
@@ -490,4 +491,73 @@ fn direct_search_matches_cpu_at_4624_particles() {
         let e = e.expect("direct past the loop cap is refused").to_string();
         assert!(e.contains("LP_MAX_TGSI_LOOP_ITERATIONS") && e.contains("16126"), "{e}");
     }
+}
+
+/// The subgroup mapping with several particles per subgroup: composed with 2 and 4 lanes per
+/// particle (`GpuSolver::with_subgroup_lanes`), below the adapter's smallest subgroup so that
+/// S / G particles share one (lavapipe's subgroups are smaller than the default 16 lanes, where
+/// each particle has a whole subgroup), and with the default lanes. Each must cover every
+/// particle with its dispatch, match the CPU after one evaluation on both scenes (verify's
+/// tolerances, lists exactly) and stay on the CPU's trajectory over 12 steps (the fused
+/// epilogues run in the group's lane 0). A butterfly that skips an offset, a group that reads
+/// another particle's lanes or a particle index that ignores S / G fails the evaluation.
+#[test]
+fn subgroup_groups_share_a_subgroup_and_match_cpu() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let (smin, smax) = (ctx.adapter_info.subgroup_min_size, ctx.adapter_info.subgroup_max_size);
+    println!("adapter subgroup size: {smin}..{smax} lanes");
+    let ids = ["cells.subgroup.recomputed.f32", "tracking.subgroup.cached.f64"];
+    if ids.iter().any(|id| id.parse::<VariantSpec>().unwrap().support(&ctx).is_err()) {
+        println!("SKIP: the adapter runs no subgroup variant");
+        return;
+    }
+    assert!(smin > 2, "subgroups of {smin} lanes: 2 lanes per particle would not share one");
+    for lanes in [2, 4, SUBGROUP_LANES] {
+        let per_subgroup = smin / lanes.min(smin);
+        for (name, sets) in SCENES {
+            let (s, l) = scene(name, sets);
+            for id in ids {
+                let spec: VariantSpec = id.parse().unwrap();
+                let tag = format!("{name} {id} {lanes} lanes ({per_subgroup} per subgroup)");
+                match spec.precision {
+                    Precision::F32 => check_lanes::<f32>(&ctx, &s, &l, spec, lanes, &tag),
+                    Precision::F64 => check_lanes::<f64>(&ctx, &s, &l, spec, lanes, &tag),
+                }
+            }
+        }
+    }
+    let (s, l) = scene(SCENES[0].0, SCENES[0].1);
+    let e = GpuSolver::<f32>::with_subgroup_lanes(ctx.clone(), &s, &l, ids[0].parse().unwrap(), 3);
+    assert!(e.err().expect("3 lanes are refused").to_string().contains("must be 2, 4, 8 or 16"));
+}
+
+/// One evaluation of `spec` at `lanes` lanes per particle vs the CPU, then (on the first scene)
+/// 12 steps vs the CPU's trajectory.
+fn check_lanes<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, spec: VariantSpec, lanes: u32, tag: &str) {
+    let mut g =
+        GpuSolver::<T>::with_subgroup_lanes(ctx.clone(), s, l, spec, lanes).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    let [gx, gy, gz] = g.groups(Domain::Subgroups);
+    let g_max = lanes.min(ctx.adapter_info.subgroup_max_size);
+    assert!((gx * gy * gz * (64 / g_max)) as usize >= l.pos.len(), "{tag}: the grid misses particles");
+    let mut cpu = CpuSolver::<T>::new(s, l, Exec::Parallel, SearchKind::Cells);
+    cpu.evaluate().unwrap();
+    g.evaluate_once().unwrap_or_else(|e| panic!("{tag}: {e}"));
+    assert_fields_match(tag, &cpu.model, cpu.n_fluid, &cpu.f, &g.read_fields().unwrap(), None);
+    assert_neighbours_match(tag, &cpu, &g);
+    if s.name != SCENES[0].0 {
+        return;
+    }
+    const STEPS: u64 = 12;
+    let tol = if T::NAME == "f32" { 1e-4 } else { 1e-9 };
+    let mut g = GpuSolver::<T>::with_subgroup_lanes(ctx.clone(), s, l, spec, lanes).unwrap();
+    let mut cpu = CpuSolver::<T>::new(s, l, Exec::Parallel, SearchKind::Cells);
+    for _ in 0..STEPS {
+        cpu.step().unwrap();
+        g.step().unwrap_or_else(|e| panic!("{tag}: {e}"));
+    }
+    let d = max_diff(&g.frame().pos, &cpu.frame().pos, l.n_fluid, l.dx);
+    println!("{tag}: after {STEPS} steps max |Δx| vs CPU {d:.1e} Δx (tol {tol:e})");
+    assert!(d <= tol, "{tag}: trajectories apart by {d:e} Δx after {STEPS} steps");
 }

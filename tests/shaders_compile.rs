@@ -124,8 +124,12 @@ fn naga_errors_are_mapped_back_to_the_original_line() {
 
 /// The value of every `u32`/`i32` constant of a composed module, by name.
 fn wgsl_constants(entry: &str) -> std::collections::HashMap<String, i64> {
+    constants_of(&validate(&compose_mapped("<constants>", entry, &[]).expect("composes")).expect("validates"))
+}
+
+/// The value of every `u32`/`i32` constant of a validated module, by name.
+fn constants_of(m: &wgpu::naga::Module) -> std::collections::HashMap<String, i64> {
     use wgpu::naga::{Expression, Literal};
-    let m = validate(&compose_mapped("<constants>", entry, &[]).expect("composes")).expect("validates");
     let mut out = std::collections::HashMap::new();
     for (_, c) in m.constants.iter() {
         let v = match m.global_expressions[c.init] {
@@ -226,4 +230,22 @@ fn wgsl_constants_equal_rust_values() {
         Some(&(sphlab::gpu::plan::DIRECT_CHUNK as i64)),
         "WGSL DIRECT_CHUNK differs from Rust"
     );
+}
+
+/// The subgroup kernels' `LANES` is `SUBGROUP_LANES` without a define and each count
+/// `stages::lanes_define` accepts under its define; any other count is refused.
+#[test]
+fn subgroup_lanes_equal_rust_values() {
+    use sphlab::gpu::stages::lanes_define;
+    use sphlab::gpu::variant::SUBGROUP_LANES;
+    for lanes in [2, 4, 8, SUBGROUP_LANES] {
+        let defs: Vec<&str> = lanes_define(lanes).expect("accepted").into_iter().collect();
+        let c = compose_variant_mapped("subgroup/pair_sums.wgsl", &defs).expect("composes");
+        let w = constants_of(&validate(&c).expect("validates"));
+        assert_eq!(w.get("LANES"), Some(&(lanes as i64)), "WGSL `LANES` with {defs:?} differs from Rust");
+    }
+    assert_eq!(lanes_define(SUBGROUP_LANES), Ok(None));
+    for bad in [0, 1, 3, 32, 64] {
+        assert!(lanes_define(bad).unwrap_err().contains("must be 2, 4, 8 or 16"), "{bad}");
+    }
 }

@@ -5,7 +5,7 @@ use super::common::{gpu_context, print_json, with_provenance};
 use clap::Args;
 use sphlab::error::Error;
 use sphlab::gpu::plan::{bytes_per_particle, max_particles, DeviceLimits, GpuPlan};
-use sphlab::gpu::variant::VariantSpec;
+use sphlab::gpu::variant::{VariantSpec, SUBGROUP_LANES};
 use sphlab::plan::{fmt_bytes, parse_bytes, HARD_MAX_PARTICLES};
 use sphlab::provenance::{GpuInfo, Provenance};
 use sphlab::scene::{builtin, overrides::apply_overrides};
@@ -65,7 +65,11 @@ fn list(json: bool) {
         return;
     }
     match &ctx {
-        Ok(c) => println!("adapter: {}", c.describe()),
+        Ok(c) => {
+            let (lo, hi) = (c.adapter_info.subgroup_min_size, c.adapter_info.subgroup_max_size);
+            println!("adapter: {}", c.describe());
+            println!("subgroups: {lo}..{hi} lanes (the subgroup mapping: min({SUBGROUP_LANES}, S) lanes per particle)");
+        }
         Err(e) => println!("adapter: none ({e})"),
     }
     for (id, needs, status) in rows {

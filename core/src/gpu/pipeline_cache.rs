@@ -1,6 +1,7 @@
 //! Compiled pipelines of each variant, built once per [`GpuContext`] and reused by every solver
 //! of that variant (every size of a study sweep): the two bind-group layouts and the stage
-//! pipelines depend only on the variant and the device, never on the particle count.
+//! pipelines depend only on the variant (with the subgroup kernels' lanes per particle) and the
+//! device, never on the particle count.
 
 use super::solver_buffers::layouts;
 use super::stages::Pipelines;
@@ -26,23 +27,24 @@ pub struct Compiled {
 /// The per-context cache (a field of [`GpuContext`]).
 #[derive(Default)]
 pub struct PipelineCache {
-    map: Mutex<HashMap<VariantSpec, Arc<Compiled>>>,
+    map: Mutex<HashMap<(VariantSpec, u32), Arc<Compiled>>>,
     compiles: Mutex<u64>,
 }
 
 impl PipelineCache {
-    /// The compiled pipelines of `spec` on `ctx`, compiling them on first use.
-    pub fn get(&self, ctx: &GpuContext, spec: &VariantSpec) -> Result<Arc<Compiled>, GpuError> {
-        if let Some(c) = self.map.lock().expect("pipeline cache").get(spec) {
+    /// The compiled pipelines of `spec` on `ctx` with `lanes` lanes per particle in the subgroup
+    /// kernels (`stages::lanes_define`), compiling them on first use.
+    pub fn get(&self, ctx: &GpuContext, spec: &VariantSpec, lanes: u32) -> Result<Arc<Compiled>, GpuError> {
+        if let Some(c) = self.map.lock().expect("pipeline cache").get(&(*spec, lanes)) {
             return Ok(c.clone());
         }
         let (state_layout, _) = layouts(ctx)?;
         let (variant_layout, pl) = vbufs::layouts(ctx, &state_layout)?;
         let (reorder_layout, rpl) = super::reorder::layouts(ctx, &state_layout, &variant_layout)?;
-        let pipes = Arc::new(Pipelines::build(ctx, spec, &pl, &rpl)?);
+        let pipes = Arc::new(Pipelines::build(ctx, (spec, lanes), &pl, &rpl)?);
         let c = Arc::new(Compiled { state_layout, variant_layout, reorder_layout, pipes });
         *self.compiles.lock().expect("pipeline cache") += 1;
-        self.map.lock().expect("pipeline cache").insert(*spec, c.clone());
+        self.map.lock().expect("pipeline cache").insert((*spec, lanes), c.clone());
         Ok(c)
     }
 

@@ -9,7 +9,7 @@
 //! a kernel whose entry point is not the stage name.
 
 use super::compose::{compose_variant, F64};
-use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec};
+use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec, SUBGROUP_LANES};
 use super::{GpuContext, GpuError};
 use crate::neighbours::SearchKind;
 use crate::real::Precision;
@@ -39,7 +39,8 @@ pub enum Domain {
     BlockSums,
     /// The 16 × 32 block layout: N/32 workgroups in x, 4 in y (64 slots).
     Block,
-    /// One subgroup per particle: N / (64 / the adapter's largest subgroup) workgroups of 64.
+    /// A group of G = min(lanes, the adapter's largest subgroup) lanes per particle
+    /// ([`super::variant::SUBGROUP_LANES`]): N / (64 / G) workgroups of 64.
     Subgroups,
 }
 
@@ -235,6 +236,19 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     d
 }
 
+/// The define that composes the subgroup kernels with `lanes` lanes per particle (`LANES2`,
+/// `LANES4`, `LANES8`; none for [`SUBGROUP_LANES`], the kernels' default), `Err` naming the
+/// accepted values for any other count.
+pub fn lanes_define(lanes: u32) -> Result<Option<&'static str>, String> {
+    match lanes {
+        2 => Ok(Some("LANES2")),
+        4 => Ok(Some("LANES4")),
+        8 => Ok(Some("LANES8")),
+        SUBGROUP_LANES => Ok(None),
+        _ => Err(format!("subgroup lanes per particle must be 2, 4, 8 or {SUBGROUP_LANES} (got {lanes})")),
+    }
+}
+
 /// Kernels and their pipelines, in dispatch order.
 pub type Compiled = Vec<(KernelDef, wgpu::ComputePipeline)>;
 
@@ -243,6 +257,8 @@ pub struct Pipelines {
     /// Stage → (kernel, pipeline) in dispatch order.
     pub stages: HashMap<Stage, Compiled>,
     spec: VariantSpec,
+    /// Lanes per particle the subgroup kernels were composed with ([`lanes_define`]).
+    pub lanes: u32,
     layout: wgpu::PipelineLayout,
     fused: Mutex<HashMap<Vec<Stage>, Arc<Compiled>>>,
 }
@@ -298,14 +314,16 @@ fn compile(
 
 impl Pipelines {
     /// Composes and compiles every kernel of `spec` against `layout` (the reorder kernels against
-    /// `reorder_layout`, which adds group 2), one module per file and stage.
+    /// `reorder_layout`, which adds group 2), one module per file and stage, the subgroup kernels
+    /// with `lanes` lanes per particle ([`lanes_define`]).
     pub fn build(
         ctx: &GpuContext,
-        spec: &VariantSpec,
+        (spec, lanes): (&VariantSpec, u32),
         layout: &wgpu::PipelineLayout,
         reorder_layout: &wgpu::PipelineLayout,
     ) -> Result<Self, GpuError> {
-        let defs = defines(spec);
+        let mut defs = defines(spec);
+        defs.extend(lanes_define(lanes).map_err(GpuError::Unsupported)?);
         let mut modules = Modules::new();
         let mut stages = HashMap::new();
         for (stage, kernels) in kernel_table(spec) {
@@ -319,7 +337,7 @@ impl Pipelines {
             let both = (layout, reorder_layout);
             stages.insert(stage, compile(ctx, spec, (&kernels, &defs), &mut modules, both, label)?);
         }
-        Ok(Self { stages, spec: *spec, layout: layout.clone(), fused: Mutex::new(HashMap::new()) })
+        Ok(Self { stages, spec: *spec, lanes, layout: layout.clone(), fused: Mutex::new(HashMap::new()) })
     }
 
     /// The kernels of a fused pass (its first stage's, composed with `FUSED` and the
@@ -337,6 +355,7 @@ impl Pipelines {
         }
         let extra: Vec<String> = pass[1..].iter().map(|s| fuse_define(*s)).collect();
         let mut defs = defines(&self.spec);
+        defs.extend(lanes_define(self.lanes).map_err(GpuError::Unsupported)?);
         if pass.len() > 1 {
             defs.push("FUSED");
         }

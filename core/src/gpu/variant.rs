@@ -22,8 +22,8 @@ pub enum SumLayout {
     /// The thesis's 16 × 32 block over the 64-slot lists: atomics into an accumulator
     /// (`cas`, `native` or `fixed`), then a finalize kernel per field.
     Block,
-    /// One subgroup per particle over the 64-slot lists, lanes' sums added by `subgroupAdd`
-    /// (no atomics, no accumulation; needs SUBGROUP).
+    /// A group of `min(SUBGROUP_LANES, S)` lanes of a subgroup per particle over the 64-slot
+    /// lists, the group's sums added by a shuffle butterfly (no atomics, no accumulation; needs SUBGROUP).
     Subgroup,
 }
 
@@ -184,8 +184,8 @@ mappings! {
     /// The same layout, tree reduction of each row in workgroup memory, then one atomic add
     /// per particle per workgroup.
     BlockTree = "block-tree": Some("block/tree.wgsl"), Block;
-    /// Beyond the thesis: one subgroup per particle over its list, the lanes' partial sums
-    /// added with `subgroupAdd` (Features::SUBGROUP).
+    /// Beyond the thesis: a group of [`SUBGROUP_LANES`] lanes of a subgroup per particle over
+    /// its list, the group's partial sums added by a `subgroupShuffleXor` butterfly (Features::SUBGROUP).
     Subgroup = "subgroup": Some("subgroup/pair_sums.wgsl"), Subgroup;
 }
 names!(Accumulation { None = "none", Cas = "cas", Native = "native", Fixed = "fixed" });
@@ -199,6 +199,12 @@ impl Default for VariantSpec {
 
 /// Largest subgroup the `subgroup` mapping takes (its workgroups have 64 threads).
 pub const SUBGROUP_MAX: u32 = 64;
+
+/// Lanes per particle of the `subgroup` mapping (`LANES`, kernels-variants/subgroup/pair_sums.wgsl):
+/// each particle gets G = min(SUBGROUP_LANES, S) lanes of a subgroup of S (S / G particles per
+/// subgroup), a group sized to lists of ~30–40 entries; the tests also compose 2, 4 and 8
+/// (`GpuSolver::with_subgroup_lanes`, `stages::lanes_define`).
+pub const SUBGROUP_LANES: u32 = 16;
 
 /// The variant `--backend gpu` uses without `--variant`.
 pub const DEFAULT_VARIANT: &str = "cells.thread.recomputed.f32";
@@ -333,9 +339,7 @@ impl VariantSpec {
         }
         let sg = ctx.adapter_info.subgroup_max_size;
         if self.mapping.layout() == SumLayout::Subgroup && sg > SUBGROUP_MAX {
-            return Err(format!(
-                "{self}: subgroups of up to {sg} lanes do not fit the 64-thread workgroup of one particle per subgroup"
-            ));
+            return Err(format!("{self}: subgroups of up to {sg} lanes do not fit the mapping's 64-thread workgroup"));
         }
         Ok(())
     }

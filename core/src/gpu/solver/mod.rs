@@ -188,6 +188,20 @@ impl<T: Real> GpuSolver<T> {
     /// Uploads the scene; the variant's pipelines come from the context's cache (compiled on
     /// first use).
     pub fn new(ctx: Arc<GpuContext>, scene: &Scene, layout: &Layout, spec: VariantSpec) -> Result<Self, GpuError> {
+        Self::with_subgroup_lanes(ctx, scene, layout, spec, crate::gpu::variant::SUBGROUP_LANES)
+    }
+
+    /// [`Self::new`] with the subgroup mapping's kernels composed for `lanes` lanes per particle
+    /// (2, 4, 8 or the default [`crate::gpu::variant::SUBGROUP_LANES`]; the other mappings
+    /// ignore it). A test knob: fewer lanes than the adapter's subgroup puts several particles
+    /// in one subgroup even on a CPU device whose subgroups are small.
+    pub fn with_subgroup_lanes(
+        ctx: Arc<GpuContext>,
+        scene: &Scene,
+        layout: &Layout,
+        spec: VariantSpec,
+        lanes: u32,
+    ) -> Result<Self, GpuError> {
         spec.implemented().map_err(GpuError::Unsupported)?;
         spec.support(&ctx).map_err(GpuError::Unsupported)?;
         if spec.precision.name() != T::NAME {
@@ -216,7 +230,7 @@ impl<T: Real> GpuSolver<T> {
         let evals = Self::evaluations_per_step(scene.time.integrator);
         let renumbers = spec.search != crate::neighbours::SearchKind::Direct;
         let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
-        let compiled = ctx.pipelines.get(&ctx, &spec)?;
+        let compiled = ctx.pipelines.get(&ctx, &spec, lanes)?;
         let pipes = compiled.pipes.clone();
         let with_kernels = |list: Vec<Vec<Stage>>| -> Result<Vec<_>, GpuError> {
             let mut out = Vec::new();

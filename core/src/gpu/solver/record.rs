@@ -26,7 +26,10 @@ impl<T: Real> GpuSolver<T> {
                 return [gx, gy, 1];
             }
             Domain::Subgroups => {
-                let per_group = 64 / self.ctx.adapter_info.subgroup_max_size.clamp(1, 64) as usize;
+                // G lanes per particle at the largest subgroup: a smaller one puts more particles
+                // in a workgroup, so this grid covers N at any size the adapter picks.
+                let lanes = self.pipes.lanes.min(self.ctx.adapter_info.subgroup_max_size.clamp(1, 64));
+                let per_group = 64 / lanes.max(1) as usize;
                 let (gx, gy) = spread(self.n.div_ceil(per_group), self.max_groups_per_dim);
                 return [gx, gy, 1];
             }
