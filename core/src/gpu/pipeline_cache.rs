@@ -41,7 +41,7 @@ impl PipelineCache {
         let (state_layout, _) = layouts(ctx)?;
         let (variant_layout, pl) = vbufs::layouts(ctx, &state_layout)?;
         let (reorder_layout, rpl) = super::reorder::layouts(ctx, &state_layout, &variant_layout)?;
-        let pipes = Arc::new(Pipelines::build(ctx, (spec, lanes), &pl, &rpl)?);
+        let pipes = Arc::new(Pipelines::build(ctx, spec, lanes, &pl, &rpl)?);
         let c = Arc::new(Compiled { state_layout, variant_layout, reorder_layout, pipes });
         *self.compiles.lock().expect("pipeline cache") += 1;
         self.map.lock().expect("pipeline cache").insert((*spec, lanes), c.clone());

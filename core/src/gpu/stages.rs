@@ -318,7 +318,8 @@ impl Pipelines {
     /// with `lanes` lanes per particle ([`lanes_define`]).
     pub fn build(
         ctx: &GpuContext,
-        (spec, lanes): (&VariantSpec, u32),
+        spec: &VariantSpec,
+        lanes: u32,
         layout: &wgpu::PipelineLayout,
         reorder_layout: &wgpu::PipelineLayout,
     ) -> Result<Self, GpuError> {
