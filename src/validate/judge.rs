@@ -11,11 +11,13 @@ use super::report::{Band, CaseReport, Row};
 use super::Ctx;
 use std::path::Path;
 
+mod rule;
 mod sensitivity;
 #[cfg(test)]
 mod tests;
 
-use sensitivity::{pb_sweep_band, relax_pb_band, sessile_pb_band};
+use rule::{alpha_band, nx_band, rule_text};
+use sensitivity::{relax_pb_band, sessile_pb_band};
 
 /// Young's angle of relax-60 (deg).
 const YOUNG_DEG: f64 = 60.0;
@@ -57,47 +59,48 @@ fn rows<'a>(rep: &'a mut CaseReport, prefix: &'a str) -> impl Iterator<Item = &'
     rep.rows.iter_mut().filter(move |r| r.quantity.starts_with(prefix))
 }
 
+/// The drop's radius (σ/R is the Laplace jump).
+const DROP_R: f64 = 0.1875;
+
 fn oscillation(root: &Path, rep: &mut CaseReport) {
-    const ON: &str = "p_b = σ/(2Δx), nx = 30, the initial field, μ";
-    let period = |k| pb_sweep_band(root, k, "period", |v| (v / 0.37 - 1.0).abs() <= 0.05);
+    let on = format!("{}, the initial field, μ", rule_text("oscillating-drop", None));
+    let period = alpha_band(root, "quintic", "period", |v| (v / 0.37 - 1.0).abs() <= 0.05);
     for r in rows(rep, "period, field on all particles, quintic") {
-        r.qualify(&format!("{ON}, the quintic at h = 1.2Δx"), period("quintic").as_ref());
+        r.qualify(&format!("{on}, the quintic at h = 1.2Δx"), period.as_ref());
     }
-    let amp = pb_sweep_band(root, "quintic", "amplitude", |v| (v / 0.012 - 1.0).abs() <= 0.2);
+    let amp = alpha_band(root, "quintic", "amplitude", |v| (v / 0.012 - 1.0).abs() <= 0.2);
     for r in rows(rep, "first-cycle amplitude, field on all particles, quintic") {
-        r.qualify(&format!("{ON}, the quintic at h = 1.2Δx"), amp.as_ref());
+        r.qualify(&format!("{on}, the quintic at h = 1.2Δx"), amp.as_ref());
     }
     let kernels = [
         ("period, cubic spline", "cubic-spline"),
         ("period, Wendland C2", "wendland-c2"),
         ("period, truncated Gaussian", "gaussian"),
+        ("period, Johnson quadratic", "johnson"),
     ];
     for (prefix, kernel) in kernels {
-        let band = pb_sweep_band(root, kernel, "period", |_| true).map(|b| Band { holds: None, ..b });
+        // Against the thesis's 0.37 (the bound of check 1 of ../capillary-rule/README.md); the
+        // case's own bound is against the quintic's period of the same run.
+        let band = nx_band(root, kernel, "period", "against 0.37 ± 5 %", |v| (v / 0.37 - 1.0).abs() <= 0.05);
         for r in rows(rep, prefix) {
-            r.qualify(&format!("{ON}, the kernel's h; against the quintic's period at the same p_b"), band.as_ref());
+            r.qualify(&format!("{on}, the kernel's h; against the quintic's period of the same rule"), band.as_ref());
         }
-    }
-    for r in rows(rep, "period, Johnson quadratic") {
-        r.qualify(
-            &format!("{ON}, h = 2Δx (the sweep's Johnson runs are at h = 1.2Δx: ../pb-sweep/johnson-h/README.md)"),
-            None,
-        );
     }
 }
 
 fn spurious(root: &Path, rep: &mut CaseReport) {
-    const ON: &str = "p_b = σ/(2Δx), nx = 30, the quintic at h = 1.2Δx";
-    let speed = pb_sweep_band(root, "quintic", "spurious_speed", |v| v < 0.1);
-    let jump = pb_sweep_band(root, "quintic", "laplace_jump", |v| (v / (1.0 / 0.1875) - 1.0).abs() <= 0.03);
+    let on = format!("{}, the quintic at h = 1.2Δx", rule_text("oscillating-drop", None));
+    let what = "the drop at rest to t = 1";
+    let speed = nx_band(root, "quintic", "spurious_speed", what, |v| v < 0.1);
+    let jump = nx_band(root, "quintic", "jump", what, |v| (v * DROP_R - 1.0).abs() <= 0.03);
     for r in rows(rep, "max fluid speed over") {
-        r.qualify(ON, speed.as_ref());
+        r.qualify(&on, speed.as_ref());
     }
     for r in rows(rep, "Laplace jump") {
-        r.qualify(ON, jump.as_ref());
+        r.qualify(&on, jump.as_ref());
     }
     for r in rows(rep, "max liquid kinetic energy") {
-        r.qualify(ON, None);
+        r.qualify(&on, None);
     }
 }
 
@@ -123,7 +126,7 @@ fn capillary_wave(rep: &mut CaseReport) {
     );
     let band = match (half, one, double) {
         (Some(h), Some(o), Some(d)) => Some(Band {
-            varied: "p_b × 0.5 / × 1 / × 2 of σ/(2Δx)".into(),
+            varied: "p_b × 0.5 / × 1 / × 2 of the rule's".into(),
             values: [h, o, d].iter().map(|v| format!("{v:.4}")).collect(),
             source: "runs/ratio1-pb-half, runs/ratio1, runs/ratio1-pb-double".into(),
             holds: Some([h, o, d].iter().all(|v| *v <= 0.05)),
@@ -135,19 +138,31 @@ fn capillary_wave(rep: &mut CaseReport) {
         .iter_mut()
         .filter(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with("(3 periods), density ratio 1"))
     {
-        r.qualify("the 3-period window chosen after the first run (README.md)", band.as_ref());
+        r.qualify(
+            &format!(
+                "{}; the 3-period window chosen after the first run (README.md)",
+                rule_text("capillary-wave", None)
+            ),
+            band.as_ref(),
+        );
     }
 }
 
 fn sessile(root: &Path, rep: &mut CaseReport) {
+    let rule = rule_text("sessile-90", Some(65));
     for r in rows(rep, "Mode B: max |θ − 90°|, circle fit") {
         r.qualify(
-            "p_b = σ/Δx, nx = 65, μ = 0.15, a start at θ_Y = 90° (it tests that the drop stays there)",
+            &format!("{rule}, μ = 0.15, a start at θ_Y = 90° (it tests that the drop stays there)"),
             sessile_pb_band(root).as_ref(),
         );
     }
     for r in rows(rep, "Mode B: max normal deviation, mean") {
-        r.qualify("p_b = σ/Δx (adopted after this check failed at σ/(2Δx)), nx = 65; p_b × 0.5 at nx = 45: pb-check/README.md", None);
+        r.qualify(
+            &format!(
+                "{rule}; under the earlier per-scene p_b it failed at σ/(2Δx) and passed at σ/Δx (pb-check/README.md)"
+            ),
+            None,
+        );
     }
     for r in rep.rows.iter_mut().filter(|r| r.quantity == "peak wall shear rate ratio, Mode A / Mode B") {
         let ratio = r.value;
@@ -172,6 +187,7 @@ const RELAX_FROM_90: [&str; 5] = [
 /// relax-60's rows over the end window `wtext` (the case's, e.g. "t ∈ [4.3, 4.5]").
 fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
     let window = format!("mean over {wtext}");
+    let rule = rule_text("relax-60", Some(nx));
     for label in RELAX_FROM_90 {
         let mode_a = label.starts_with("Mode A");
         let why = if mode_a { "; Mode A's equilibrium off Young's angle: mode-a-check/README.md" } else { "" };
@@ -180,25 +196,27 @@ fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
         let spread = format!("{label} D/D0 at the wall, {window}");
         let pb = if label == "Mode B, no-slip:" && nx == 65 { relax_pb_band(root) } else { None };
         let depends = match label {
-            "Mode B, no-slip, transport velocity:" => "p_b = ρ0c0² in the transport velocity only, nx = 65, μ = 0.05",
-            _ => "p_b = max(11.25σ/R, 0.2314σ/Δx) = 45 in the EOS and momentum equation, nx = 65, μ = 0.05",
+            "Mode B, no-slip, transport velocity:" => {
+                format!("p_b = ρ0c0² in the transport velocity only, c0 of {rule}, μ = 0.05")
+            }
+            _ => format!("{rule} (p_b in the EOS and momentum equation), μ = 0.05"),
         };
         for r in rows(rep, &circle) {
             let ok = r.value.abs() < ANGLE_TOL_DEG;
             let thesis = two_point.map_or(String::new(), |t| format!("; the thesis's two-point metric: {t:.1}°"));
             *r = r.clone().check(ok, &format!("|θ − 60°| < 3° (Young's angle){thesis}{why}"));
-            r.qualify(depends, pb.as_ref().map(|b| &b[0]));
+            r.qualify(&depends, pb.as_ref().map(|b| &b[0]));
         }
         for r in rows(rep, &format!("{label} θ − 60°, two-point, {window}")) {
             let ok = r.value.abs() < ANGLE_TOL_DEG;
             *r = r.clone().check(ok, "|θ − 60°| < 3° by the thesis's metric (the first two rows at the wall)");
-            r.qualify(depends, None);
+            r.qualify(&depends, None);
         }
         let d_an = super::relax::analytic_spread();
         for r in rows(rep, &spread) {
             let ok = (r.value / d_an - 1.0).abs() < SPREAD_TOL;
             *r = r.clone().check(ok, &format!("within 3 % of the 60° cap's {d_an:.3}{why}"));
-            r.qualify(depends, pb.as_ref().map(|b| &b[1]));
+            r.qualify(&depends, pb.as_ref().map(|b| &b[1]));
         }
     }
     for r in rows(rep, "Mode A, no-slip: end angle approached from both sides") {
@@ -209,7 +227,7 @@ fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
         );
     }
     for r in rows(rep, "Mode B, no-slip: end angle approached from both sides") {
-        r.qualify("p_b = 45 (relax-60's rule), nx = 65", None);
+        r.qualify(&rule, None);
     }
 }
 

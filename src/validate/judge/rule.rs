@@ -1,0 +1,88 @@
+//! What a capillary case's verdicts depend on under the one background-pressure and sound-speed
+//! rule (docs/PHYSICS.md §3.1), and the rule's own sensitivity bands: the oscillating drop and the
+//! drop at rest at α × 0.5 / × 1 / × 2 and at nx = 30 / 45, read from
+//! `capillary-rule/capillary_rule.csv` (the runs of `examples/analysis/capillary_rule.sh`).
+
+use crate::validate::report::Band;
+use std::path::Path;
+
+/// The committed table of the rule's runs, relative to the report root.
+const RULE_CSV: &str = "capillary-rule/capillary_rule.csv";
+
+/// "p_b = α·σ|∇C|_max/2 = … and c0 = … by the capillary rule (α, ε), nx = …" for built-in
+/// `scene` at `nx` (its own resolution when `None`), computed by the rule itself.
+pub(super) fn rule_text(scene: &str, nx: Option<u32>) -> String {
+    let Some(mut s) = crate::scene::builtin::builtin(scene) else {
+        return "p_b and c0 by the capillary rule (docs/PHYSICS.md §3.1)".into();
+    };
+    if let Some(nx) = nx {
+        s.domain.nx = nx;
+    }
+    crate::scene::capillary::apply(&mut s);
+    let rule = s.capillary_rule.clone().unwrap_or_default();
+    let dense = s.phases.iter().max_by(|a, b| a.rho0.total_cmp(&b.rho0));
+    let (p_b, c0) = dense.map_or((f64::NAN, f64::NAN), |p| (p.p_b, p.c0));
+    format!(
+        "p_b = α·σ|∇C|_max/2 = {p_b:.1} and c0 = {c0:.1} by the capillary rule (α = {}, ε = {}; docs/PHYSICS.md §3.1), nx = {}",
+        rule.alpha, rule.epsilon, s.domain.nx
+    )
+}
+
+/// Column `column` of the rule's table for `kernel`, at each `(alpha, nx)` of `points` that has
+/// a finite value.
+fn table(root: &Path, kernel: &str, column: &str, points: &[(f64, u32)]) -> Vec<(f64, u32, f64)> {
+    let Ok(mut reader) = csv::Reader::from_path(root.join(RULE_CSV)) else {
+        return Vec::new();
+    };
+    let Ok(header) = reader.headers().cloned() else {
+        return Vec::new();
+    };
+    let idx = |name: &str| header.iter().position(|h| h == name);
+    let (Some(a), Some(n), Some(k), Some(c)) = (idx("alpha"), idx("nx"), idx("kernel"), idx(column)) else {
+        return Vec::new();
+    };
+    let num = |rec: &csv::StringRecord, i: usize| rec.get(i).and_then(|x| x.parse::<f64>().ok());
+    let mut found = Vec::new();
+    for rec in reader.records().map_while(Result::ok) {
+        let (Some(alpha), Some(nx), Some(v)) = (num(&rec, a), num(&rec, n), num(&rec, c)) else {
+            continue;
+        };
+        let here = points.iter().any(|p| (p.0 - alpha).abs() < 1e-9 && f64::from(p.1) == nx);
+        if rec.get(k) == Some(kernel) && here && v.is_finite() {
+            found.push((alpha, nx as u32, v));
+        }
+    }
+    found.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    found
+}
+
+fn band(varied: String, found: &[(f64, u32, f64)], prec: usize, ok: impl Fn(f64) -> bool) -> Option<Band> {
+    (found.len() >= 2).then(|| Band {
+        varied,
+        values: found.iter().map(|f| format!("{:.prec$}", f.2)).collect(),
+        source: format!("../{RULE_CSV}"),
+        holds: Some(found.iter().all(|f| ok(f.2))),
+    })
+}
+
+/// The oscillating drop's `column` (period, amplitude) with `kernel` at α × 0.5 / × 1 / × 2 of
+/// the rule (nx = 30), with whether `ok` holds at each.
+pub(super) fn alpha_band(root: &Path, kernel: &str, column: &str, ok: impl Fn(f64) -> bool) -> Option<Band> {
+    let found = table(root, kernel, column, &[(1.0, 30), (2.0, 30), (4.0, 30)]);
+    let steps: Vec<&str> = found
+        .iter()
+        .map(|f| match f.0 {
+            a if a < 1.5 => "× 0.5",
+            a if a < 3.0 => "× 1",
+            _ => "× 2",
+        })
+        .collect();
+    band(format!("α {} of the rule at nx = 30", steps.join(" / ")), &found, 4, ok)
+}
+
+/// `column` with `kernel` under the rule (α = 2) at nx = 30 and 45 (the rule moves p_b and c0
+/// with Δx), with whether `ok` holds at both.
+pub(super) fn nx_band(root: &Path, kernel: &str, column: &str, what: &str, ok: impl Fn(f64) -> bool) -> Option<Band> {
+    let found = table(root, kernel, column, &[(2.0, 30), (2.0, 45)]);
+    band(format!("nx = 30 / 45 under the rule ({what})"), &found, 4, ok)
+}
