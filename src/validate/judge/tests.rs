@@ -142,10 +142,10 @@ fn rejudge_applies_the_verdicts_to_a_committed_report_once_and_needs_one() {
 #[test]
 fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table() {
     // The rule's values, computed by the rule: the drop at nx = 30 and 45, relax-60 at nx = 65.
-    let at30 = rule::rule_text("oscillating-drop", None);
+    let at30 = rule_text("oscillating-drop", None);
     assert!(at30.contains("= 24.7 and c0 = 35.2") && at30.contains("nx = 30"), "{at30}");
-    assert!(rule::rule_text("oscillating-drop", Some(45)).contains("= 37.1 and c0 = 43.1"));
-    assert!(rule::rule_text("relax-60", Some(65)).contains("= 60.7 and c0 = 55.1"));
+    assert!(rule_text("oscillating-drop", Some(45)).contains("= 37.1 and c0 = 43.1"));
+    assert!(rule_text("relax-60", Some(65)).contains("= 60.7 and c0 = 55.1"));
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
     std::fs::write(
@@ -155,13 +155,13 @@ fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table(
     )
     .unwrap();
     let ok = |v: f64| (v / 0.37 - 1.0).abs() <= 0.05;
-    let a = rule::alpha_band(dir.path(), "quintic", "period", ok).unwrap();
+    let a = alpha_band(dir.path(), "quintic", "period", ok).unwrap();
     assert_eq!(a.values, ["0.4320", "0.3660", "0.3660"]);
     assert!(a.varied.starts_with("α × 0.5 / × 1 / × 2") && a.holds == Some(false), "{a}");
-    let n = rule::nx_band(dir.path(), "quintic", "period", "x", ok).unwrap();
+    let n = nx_band(dir.path(), "quintic", "period", "x", ok).unwrap();
     assert_eq!((n.values.clone(), n.holds), (vec!["0.3660".to_string(), "0.3740".to_string()], Some(true)));
     // One point is no band; a missing column or table is none either.
-    assert!(rule::nx_band(dir.path(), "johnson", "period", "x", ok).is_none());
-    assert!(rule::nx_band(dir.path(), "quintic", "amplitude", "x", ok).is_none());
-    assert!(rule::alpha_band(&dir.path().join("none"), "quintic", "period", ok).is_none());
+    assert!(nx_band(dir.path(), "johnson", "period", "x", ok).is_none());
+    assert!(nx_band(dir.path(), "quintic", "amplitude", "x", ok).is_none());
+    assert!(alpha_band(&dir.path().join("none"), "quintic", "period", ok).is_none());
 }
