@@ -39,6 +39,22 @@ fn an_invariant_row_is_counted_apart_and_not_as_a_pass() {
     crate::validate::report::write_summary(&ctx, &rep).unwrap();
     let index = std::fs::read_to_string(dir.path().join("index.md")).unwrap();
     assert!(index.contains("| 1 pass, 1 FAIL, 1 invariant, 0 info |"), "{index}");
+    // No run record carries the capillary rule: the case is listed as stale; one that does is not.
+    assert!(index.contains("| **stale**: per-scene p_b (before the rule) | 1 pass"), "{index}");
+    let mut ruled = rep.clone();
+    ruled.runs.push(
+        serde_json::from_value(serde_json::json!({"id": "r", "dir": "x", "command": "c", "backend": "cpu1",
+        "precision": "f64", "adapter": "CPU", "git_commit": "c", "date": "d", "wall_time_s": 1.0, "ms_per_step": 1.0,
+        "steps": 1, "t_final": 1.0, "n_fluid": 1, "status": "ok", "reused": false}))
+        .unwrap(),
+    );
+    let run = ctx.dir.join("runs/r");
+    std::fs::create_dir_all(&run).unwrap();
+    std::fs::write(run.join("summary.json"), r#"{"parameters": {"capillary_rule": {"alpha": 2.0, "epsilon": 0.01}}}"#)
+        .unwrap();
+    crate::validate::report::write_summary(&ctx, &ruled).unwrap();
+    let index = std::fs::read_to_string(dir.path().join("index.md")).unwrap();
+    assert!(index.contains("| the capillary rule | 1 pass"), "{index}");
 }
 
 #[test]

@@ -12,7 +12,7 @@ pub fn write_index(
     _reps: &[CaseReport],
     failed: &[(String, String)],
 ) -> Result<(), ValidateError> {
-    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | verdicts | run wall time (s) |\n|---|---|---|---|---|\n");
+    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | p_b and c0 | verdicts | run wall time (s) |\n|---|---|---|---|---|---|\n");
     let mut not_full = Vec::new();
     let mut judged = String::new();
     for c in CASES {
@@ -21,7 +21,7 @@ pub fn write_index(
         else {
             let why =
                 failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
-            let _ = writeln!(m, "| {c} | — | no | — | — |");
+            let _ = writeln!(m, "| {c} | — | no | — | — | — |");
             not_full.push((c.to_string(), why));
             continue;
         };
@@ -29,9 +29,10 @@ pub fn write_index(
         let (pass, fail, inv) = (count("pass"), count("FAIL"), count("invariant"));
         let _ = writeln!(
             m,
-            "| [{c}]({c}/summary.md) | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
+            "| [{c}]({c}/summary.md) | {} | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
             rep.reference.lines().next().unwrap_or(""),
             if rep.not_full.is_none() { "yes" } else { "no" },
+            pressure_rule(&opts.out.join(c), c, &rep),
             rep.rows.len() - pass - fail - inv,
             rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
         );
@@ -47,8 +48,9 @@ pub fn write_index(
         "\nVerdicts: pass and FAIL judge a result against a bound stated before measuring; invariant rows hold by \
          construction (e.g. mass with fixed particle masses) and guard the code, so they are counted apart and not as \
          passes; info rows carry no bound. Each pass and FAIL names the parameters it depends on and, where \
-         committed runs give one, the result at p_b × 0.5 and × 2 (the background-pressure sweeps), with whether the \
-         bound still holds there. Results held to theory or the thesis (Young's angle for both contact modes, the \
+         committed runs give one, the result across a sensitivity band (the capillary rule's α × 0.5 and × 2, its \
+         resolutions, or the background-pressure runs made before the rule, each named), with whether the bound still \
+         holds there. Results held to theory or the thesis (Young's angle for both contact modes, the \
          thesis's own two-point angle beside the circle fit, the Mode A / Mode B wall-shear ratio, the trend with \
          refinement) are FAIL until the result meets them."
     );
@@ -83,7 +85,36 @@ pub fn write_index(
          [docs/physics-choices.md](../../docs/physics-choices.md). The equations the cases test are in \
          [docs/PHYSICS.md](../../docs/PHYSICS.md) (§9 for the scenes, §10 for the contact-angle measures)."
     );
+    let _ = writeln!(
+        m,
+        "\nThe column p_b and c0 reads each case's run records (`runs/<id>/summary.json`): \"the capillary rule\" when \
+         its runs carry the rule's constants (docs/PHYSICS.md §3.1), \"**stale**\" for a capillary case whose runs were \
+         made under the per-scene background pressures before it (its numbers do not describe the current code)."
+    );
     std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
     let p = opts.out.join("index.md");
     std::fs::write(&p, m).map_err(|e| io(&p, e))
+}
+
+/// How case `name`'s runs set p_b and c0: the impact keeps water's, the cross-code check PySPH's;
+/// every other (capillary) case is under the capillary rule when one of its runs' records carries
+/// the rule's section, else stale (measured under the per-scene rules before it).
+fn pressure_rule(case_dir: &std::path::Path, name: &str, rep: &CaseReport) -> &'static str {
+    match name {
+        "impact" => "water's c0, p_b = B (not a capillary flow)",
+        "cross-code" => "PySPH's (scenes/pysph-rod.toml)",
+        _ => {
+            let ruled = rep.runs.iter().any(|r| {
+                std::fs::read_to_string(case_dir.join("runs").join(&r.id).join("summary.json"))
+                    .ok()
+                    .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+                    .is_some_and(|v| v["parameters"]["capillary_rule"].is_object())
+            });
+            if ruled {
+                "the capillary rule"
+            } else {
+                "**stale**: per-scene p_b (before the rule)"
+            }
+        }
+    }
 }
