@@ -188,6 +188,7 @@ fn wgsl_constants_equal_rust_values() {
         ("CTL_STEP", ctl::STEP as i64),
         ("CTL_OVER_STEP", ctl::OVER_STEP as i64),
         ("CTL_DONE", ctl::DONE as i64),
+        ("CTL_SCAN_MISS", ctl::SCAN_MISS as i64),
         ("NBR_SLOTS", NBR_SLOTS as i64),
         ("CAND_SLOTS", CAND_SLOTS as i64),
         ("NBR_WORDS_CELLS", mask_lists::NBR_WORDS_CELLS as i64),
@@ -220,6 +221,7 @@ fn wgsl_constants_equal_rust_values() {
     }
     assert!(
         (ctl::DONE as i64) < ctl::LEN as i64
+            && (ctl::SCAN_MISS as i64) < ctl::LEN as i64
             && (ctl::CONTACTS_MAX as i64) < ctl::LEN as i64
             && (vctl::NBR_EVAL as i64) < vctl::LEN as i64
     );

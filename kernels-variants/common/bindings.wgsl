@@ -44,6 +44,7 @@ const CTL_CONTACTS_MAX: u32 = 6u;   // largest contact count seen since the last
 const CTL_STEP: u32 = 7u;           // device clock: steps completed (src/gpu/clock.rs)
 const CTL_OVER_STEP: u32 = 8u;      // first step whose evaluations overflowed (0xFFFFFFFF: none)
 const CTL_DONE: u32 = 9u;           // workgroups done in a fused integrator stage or reduce_max (thread/integrate.wgsl)
+const CTL_SCAN_MISS: u32 = 10u;     // first step whose cell scan did not sum to n (0xFFFFFFFF: none; common/neighbours.wgsl)
 
 // Colour-gradient slot s (0 or 1) of particle i: one binding per slot, so neither passes the
 // storage-binding cap before the per-particle vec2 arrays do (src/plan/gpu.rs).

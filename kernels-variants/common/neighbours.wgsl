@@ -91,6 +91,22 @@ fn keep_start(c: u32, start: u32) {
     cell_start[c] = start;
 }
 
+// Writes the scan's total (the start after the last cell) and checks it: every particle is
+// counted once, so a total other than n means the scan read counts that were not all there —
+// in the fused scan below, a last workgroup that saw another workgroup's "done" before its
+// counts (relaxed atomics order nothing between addresses) — and the step is noted in
+// ctl[CTL_SCAN_MISS] for the host, which refuses the run (`gpu::solver::stepping`).
+fn scan_total(cells: u32, total: u32) {
+    keep_start(cells, total);
+    if total != params.n {
+        note_scan_miss();
+    }
+}
+
+fn note_scan_miss() {
+    atomicMin(&ctl[CTL_SCAN_MISS], atomicLoad(&ctl[CTL_STEP]));
+}
+
 // The stage table's `cell_scan` as the epilogue of an integrator stage: the exclusive prefix
 // sum of the counts into `cell_start`, by the whole last workgroup (thread t of GROUP_THREADS,
 // called in uniform control flow), each thread a contiguous chunk of cells; the counts are
@@ -115,15 +131,20 @@ fn scan_cells_in_group(t: u32) {
             scan_part[k] = run;
             run += v;
         }
-        keep_start(cells, run);
+        scan_total(cells, run);
     }
     workgroupBarrier();
-    var run = scan_part[t];
+    let first = scan_part[t];
+    var run = first;
     for (var c = a; c < e; c++) {
         let v = atomicLoad(&cell_counts[c]);
         keep_start(c, run);
         atomicStore(&cell_counts[c], 0u);
         run += v;
+    }
+    // A count that changed between the two reads (one arriving late) moved this chunk's starts.
+    if run - first != s {
+        note_scan_miss();
     }
 }
 

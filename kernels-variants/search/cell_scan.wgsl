@@ -50,7 +50,7 @@ fn scan_blocks(@builtin(local_invocation_index) t: u32) {
             part[k] = run;
             run += v;
         }
-        keep_start(cells, run);
+        scan_total(cells, run);
     }
     workgroupBarrier();
     var run = part[t];
@@ -82,7 +82,7 @@ fn scan_add(@builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: 
     if blocks > SCAN_BLOCK {
         offset = atomicLoad(&cell_counts[cells + b]);
     } else if t == 0u && b + 1u == blocks {
-        keep_start(cells, offset + atomicLoad(&cell_counts[cells + b]));
+        scan_total(cells, offset + atomicLoad(&cell_counts[cells + b]));
     }
     let v = count_or_zero(c, cells);
     part[t] = v;

@@ -155,6 +155,25 @@ impl<T: Real> GpuSolver<T> {
         Ok(())
     }
 
+    /// Runs the stage table's `cell_scan` as a pass of its own on `counts` (one per cell, with
+    /// the per-block sums the count kernels keep after them computed here) and returns the cell
+    /// starts it wrote with the control word [`ctl::SCAN_MISS`]: the scan and its check that the
+    /// counts sum to the particle count, on counts a test chooses (tests).
+    pub fn scan_counts(&self, counts: &[u32]) -> Result<(Vec<u32>, u32), GpuError> {
+        let cells = self.grid.cells();
+        assert_eq!(counts.len(), cells, "one count per cell");
+        let block = crate::gpu::plan::SCAN_BLOCK;
+        let mut words = counts.to_vec();
+        words.extend(counts.chunks(block).map(|c| c.iter().sum::<u32>()));
+        self.ctx.traffic.write();
+        self.ctx.queue.write_buffer(&self.b.cell_count.buffer, 0, bytemuck::cast_slice(&words));
+        self.reset_ctl()?;
+        self.submit(|enc| self.record(enc, Stage::CellScan))?;
+        self.ctx.wait_idle()?;
+        let starts = self.b.cell_start.read_range(&self.ctx, 0, cells + 1)?;
+        Ok((starts, self.b.ctl.read_back(&self.ctx)?[ctl::SCAN_MISS]))
+    }
+
     /// The neighbour structures of the last evaluation (for the exact comparison with the CPU),
     /// in original indices: `sorted` re-sorted within each cell, each list under its particle's
     /// original index, whatever the device order and list layout (slot- or particle-major).

@@ -32,6 +32,9 @@ pub mod ctl {
     /// Workgroups done in a fused integrator stage (the last one ticks the clock and scans the
     /// cell counts) or in `reduce_max` (the last one sets dt); back to 0 then.
     pub const DONE: usize = 9;
+    /// First step whose cell scan did not sum to the particle count (`u32::MAX`: none): the
+    /// scan read counts that were not all visible yet (`scan_total`, common/neighbours.wgsl).
+    pub const SCAN_MISS: usize = 10;
     /// Words in the buffer.
     pub const LEN: usize = 12;
 }

@@ -425,6 +425,7 @@ impl<T: Real> GpuSolver<T> {
         c[ctl::BAD_STEP] = u32::MAX;
         c[ctl::BAD] = u32::MAX;
         c[ctl::OVER_STEP] = u32::MAX;
+        c[ctl::SCAN_MISS] = u32::MAX;
         write_clock(&self.ctx, &self.vb, self.model.dt_fixed.max(0.0), 0.0);
         self.b.ctl.upload(&self.ctx, &c)
     }

@@ -25,6 +25,15 @@ impl<T: Real> GpuSolver<T> {
         if over != u32::MAX && over <= bad {
             self.vb.overflow_in(&self.ctx, c.vctl, over as u64).map_err(|e| self.to_original(e))?;
         }
+        if c.ctl[ctl::SCAN_MISS] != u32::MAX {
+            return Err(SolverError::Gpu(format!(
+                "step {}: the cell counts scanned did not sum to the {} particles; the neighbour lists of that \
+                 search are wrong, so the run is stopped (a fused scan that read the counts before every workgroup's \
+                 were visible: run the unfused engine to check)",
+                c.ctl[ctl::SCAN_MISS],
+                self.n
+            )));
+        }
         if c.ctl[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
             let count = c.ctl[ctl::CONTACTS_MAX] as usize;
             return Err(SolverError::ContactOverflow { step: self.step, count, cap: MAX_CONTACTS });
