@@ -62,6 +62,7 @@ const VP_C_MAX: u32 = 17u;
 const VP_NU_MAX: u32 = 18u;
 const VP_RHO_MEAN: u32 = 19u;
 const VP_SIGMA_MAX: u32 = 20u;
+const VP_ADAPTIVE: u32 = 21u;   // 1: adaptive dt (thread/integrate.wgsl `opening_dt`), 0: the host's fixed dt
 
 // Fixed-point field groups (index f above).
 const F_DENSITY: u32 = 0u;

@@ -7,8 +7,8 @@
 //
 // The device clock (src/gpu/clock.rs): the step counter is `ctl[CTL_STEP]`, dt and the time
 // (a compensated sum t + t_lo) are `vparams[VP_DT]`, `vparams[VP_T]`, `vparams[VP_T_LO]`, so many
-// steps run in one submission with no host write in between. `dt_compute` (the last workgroup
-// of `reduce_max`) sets an adaptive dt; `clock_tick` (one thread, first kernel of `check`) ends the
+// steps run in one submission with no host write in between. An adaptive dt is computed from
+// `reduce_max`'s maxima by the opening integrator stage (`opening_dt`); `clock_tick` (one thread, first kernel of `check`) ends the
 // step, or, with the check fused into the closing stage, the last workgroup of that stage does. Once a step has failed (NaN, escape, neighbour or fixed-point overflow) the device is
 // halted: the integrators and the clock stop, so positions, velocities, step and t stay those of
 // the failing step until the host reads the flags.
@@ -24,9 +24,27 @@ fn halted() -> bool {
     return atomicLoad(&ctl[CTL_BAD_STEP]) != 0xffffffffu || atomicLoad(&ctl[CTL_OVER_STEP]) != 0xffffffffu;
 }
 
-// dt of the step being taken (fixed: written once by the host; adaptive: by dt_compute).
+// dt of the step being taken (fixed: written once by the host; adaptive: by `opening_dt`).
 fn clock_dt() -> real {
     return vparams[VP_DT];
+}
+
+// dt in an opening integrator stage. Adaptive: `DtLimits::compute(...).min()` from the maxima
+// of `reduce_max`, a pass earlier, so every workgroup's maxima are visible (no last-workgroup
+// read of other workgroups' atomics), computed alike by every thread; thread 0 stores it for
+// the closing stage and the clock. Fixed dt, or a halted device: the stored dt.
+fn opening_dt(i: u32) -> real {
+    if vparams[VP_ADAPTIVE] == real(0.0) || halted() {
+        return vparams[VP_DT];
+    }
+    let v_max = real(bitcast<f32>(atomicLoad(&ctl[CTL_VMAX])));
+    let a_max = real(bitcast<f32>(atomicLoad(&ctl[CTL_AMAX])));
+    let dt = dt_limits_min(params.h, vparams[VP_CFL], vparams[VP_C_MAX], v_max, vparams[VP_NU_MAX], a_max,
+        vparams[VP_RHO_MEAN], vparams[VP_SIGMA_MAX]);
+    if i == 0u {
+        vparams[VP_DT] = dt;
+    }
+    return dt;
 }
 
 // Stores r, v of fluid particle i after the boundary fix.
@@ -57,10 +75,11 @@ fn moved_count(i: u32) {
 @compute @workgroup_size(GROUP_THREADS)
 fn midpoint_predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
+    let dt = opening_dt(i);
     if i < params.n_fluid && !halted() {
         pos0[i] = pos[i];
         vel0[i] = vel[i];
-        let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], clock_dt());
+        let s = integrate_predict(pos[i], vel[i], vt[i], acc[i], dt);
         store_fixed(i, s.r, s.v);
     }
     moved_count(i);
@@ -86,17 +105,18 @@ fn midpoint_correct(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
 @compute @workgroup_size(GROUP_THREADS)
 fn verlet_drift(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) t: u32) {
     let i = linear_id(gid, nwg);
+    let dt = opening_dt(i);
     if i < params.n_fluid && !halted() {
-        verlet_drift_at(i);
+        verlet_drift_at(i, dt);
     }
     moved_count(i);
     pass_end(t, nwg);
 }
 
-fn verlet_drift_at(i: u32) {
+fn verlet_drift_at(i: u32, dt: real) {
     let v0 = vel[i];
-    let vh = integrate_kick(v0, acc[i], clock_dt());
-    let r = integrate_drift(pos[i], vh + (vt[i] - v0), clock_dt());
+    let vh = integrate_kick(v0, acc[i], dt);
+    let r = integrate_drift(pos[i], vh + (vt[i] - v0), dt);
     // v_{n+½} (with the same mirror fix) waits in vel0[i] for the closing kick; the
     // evaluation sees the predicted v_n + dt·a_n (second order with viscosity, as the CPU's).
     var x = r.x;
@@ -106,7 +126,7 @@ fn verlet_drift_at(i: u32) {
     boundary_axis(params, 0u, params.lo_x, params.hi_x, &x, &hx);
     boundary_axis(params, 2u, params.lo_y, params.hi_y, &y, &hy);
     vel0[i] = real2(hx, hy);
-    store_fixed(i, r, integrate_kick(vh, acc[i], clock_dt()));
+    store_fixed(i, r, integrate_kick(vh, acc[i], dt));
 }
 
 @compute @workgroup_size(GROUP_THREADS)
@@ -259,25 +279,7 @@ fn reduce_max(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if t == 0u {
         atomicMax(&ctl[CTL_VMAX], wg_vmax[0]);
         atomicMax(&ctl[CTL_AMAX], wg_amax[0]);
-        // The last workgroup to finish (a count in ctl[CTL_DONE], reset by it) sets dt from
-        // every workgroup's maxima.
-        if atomicAdd(&ctl[CTL_DONE], 1u) + 1u == nwg.x * nwg.y * nwg.z {
-            atomicStore(&ctl[CTL_DONE], 0u);
-            dt_compute();
-        }
     }
-}
-
-// Adaptive dt from the maxima of reduce_max (`DtLimits::compute(...).min()`), by the last
-// workgroup of reduce_max.
-fn dt_compute() {
-    if halted() {
-        return;
-    }
-    let v_max = real(bitcast<f32>(atomicLoad(&ctl[CTL_VMAX])));
-    let a_max = real(bitcast<f32>(atomicLoad(&ctl[CTL_AMAX])));
-    vparams[VP_DT] = dt_limits_min(params.h, vparams[VP_CFL], vparams[VP_C_MAX], v_max, vparams[VP_NU_MAX], a_max,
-        vparams[VP_RHO_MEAN], vparams[VP_SIGMA_MAX]);
 }
 
 // End of a step (one thread, before `check`): step + 1, t + dt (two-sum: the rounding error of

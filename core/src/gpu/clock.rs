@@ -3,7 +3,7 @@
 //! **Clock.** The step counter is `ctl[STEP]` (u32), dt and the time are entries of `vparams`
 //! (`vparam::DT`, `vparam::T` plus its rounding error `vparam::T_LO`, in the storage precision).
 //! The host writes them only at construction and at a restart ([`write_clock`]); during steps the
-//! kernels advance them: `dt_compute` (adaptive dt, by the last workgroup of `reduce_max`) and
+//! kernels advance them: the opening integrator stage (adaptive dt, from `reduce_max`'s maxima) and
 //! `clock_tick` (end of each step, by the last workgroup of the fused closing stage) (`kernels-variants/thread/integrate.wgsl`). So k steps are recorded into one
 //! command encoder and one submission with no host write in between; the host mirrors step and
 //! t by counting (fixed dt) or takes them from the readback (adaptive dt).

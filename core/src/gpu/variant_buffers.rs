@@ -89,6 +89,8 @@ pub mod vparam {
     pub const T_LO: usize = 14;
     /// Adaptive dt: `time.cfl`, then c_max, ν_max, ρ̄, σ_max (the arguments of `DtLimits::compute`).
     pub const CFL: usize = 16;
+    /// 1 with an adaptive dt (computed on the device by the opening integrator stage), 0 fixed.
+    pub const ADAPTIVE: usize = 21;
     /// Entries.
     pub const LEN: usize = 24;
 }
@@ -176,6 +178,7 @@ impl<T: Real> VBufs<T> {
         for (k, c) in [m.cfl, m.c_max, m.nu_max, m.rho_mean, m.sigma_max].into_iter().enumerate() {
             v[vparam::CFL + k] = T::c(c);
         }
+        v[vparam::ADAPTIVE] = T::c(if m.dt_fixed <= 0.0 { 1.0 } else { 0.0 });
         v
     }
 
