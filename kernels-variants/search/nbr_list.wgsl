@@ -1,6 +1,6 @@
 // nbr_list.wgsl: the explicit neighbour lists of the block mappings and of the `cached` kernel
 // values (thesis §6.4.1 layout: at most NBR_SLOTS = 64 neighbours per particle; bitmasks with
-// `MASK_LISTS`, the cells and tracking searches with recomputed values), built every
+// `MASK_LISTS`, every search with recomputed values), built every
 // evaluation from the variant's search (direct, cells or tracking candidates, through
 // common/neighbours.wgsl) after the search kernels ran. counts[i] = neighbour count (may exceed
 // 64: the particle is then counted in vctl, the lowest such index noted, and the host reports
@@ -15,8 +15,32 @@
 #import common/neighbours
 
 #ifdef MASK_LISTS
-// The compact lists (common/mask_lists.wgsl): bit b of i's mask set when walk ordinal b (cells:
-// of the 3 × 3 box of this evaluation's sort) or candidate ordinal b (tracking) is a
+#ifdef DIRECT
+// Walk ordinal of neighbour j under image code `code`, found by the direct search, on the cells
+// walk of the 3 × 3 box around x_i over this evaluation's sort (the search's cell sort, run for
+// the masks' storage alone): j's slot in its cell, then the span of the walk that holds it;
+// 0xFFFFFFFF when the walk does not hold it (an overflow, reported like one past the mask).
+fn direct_ordinal(xi: real2, j: u32, code: u32) -> u32 {
+    let c = cell_of[j];
+    var slot = 0xFFFFFFFFu;
+    for (var s = cell_start[c]; s < cell_start[c + 1u]; s++) {
+        if sorted[s] == j {
+            slot = s;
+            break;
+        }
+    }
+    var walk = walk_begin(xi, 3u, false);
+    while walk_next(&walk) {
+        if walk.code == code && slot >= walk.s0 && slot < walk.s1 {
+            return walk.ord + (slot - walk.s0);
+        }
+    }
+    return 0xFFFFFFFFu;
+}
+#endif
+
+// The compact lists (common/mask_lists.wgsl): bit b of i's mask set when walk ordinal b (cells
+// and direct: of the 3 × 3 box of this evaluation's sort) or candidate ordinal b (tracking) is a
 // neighbour. counts[i] = the entries the mask holds; a particle with more than NBR_SLOTS
 // neighbours (the block layouts' 64 slots) or a neighbour past the mask is counted as
 // overflowing (V_NBR_NEED: the most mask bits a particle needed).
@@ -31,6 +55,18 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     var count = 0u;
     var kept = 0u;
     var need = 0u;
+#ifdef DIRECT
+    var it = nb_begin(i, xi);
+    while nb_next(&it) {
+        let b = direct_ordinal(xi, it.j, it.code);
+        if b < 32u * NBR_WORDS {
+            mk[b / 32u] |= 1u << (b % 32u);
+            kept += 1u;
+        }
+        count += 1u;
+        need = max(need, select(b + 1u, 0xFFFFFFFFu, b == 0xFFFFFFFFu));
+    }
+#else
 #ifdef TRACKING
     var it = nb_begin(i, xi);
     while nb_next(&it) {
@@ -58,6 +94,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
             }
         }
     }
+#endif
 #endif
     for (var w = 0u; w < NBR_WORDS; w++) {
         set_nbr_word(i, w, mk[w]);

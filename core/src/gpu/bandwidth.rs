@@ -173,7 +173,8 @@ pub fn stage_bytes(spec: &VariantSpec, stage: Stage, r: f64) -> (f64, u8) {
         // cells around it: 72; the list written, then sorted: 12); tracking adds the
         // displacement check (pos, ref_pos).
         Stage::NeighbourSearch => match spec.search {
-            SearchKind::Direct => (0.0, 0),
+            SearchKind::Direct if !spec.sorts_cells() => (0.0, 0),
+            SearchKind::Direct => (v + 104.0, 0),
             SearchKind::Cells => (v + 104.0, 0),
             SearchKind::Tracking => (3.0 * v + 104.0, 0),
         },

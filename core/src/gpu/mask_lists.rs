@@ -22,9 +22,10 @@ pub const CAND_WORDS: usize = 9;
 pub const CAND_LO_WORDS: usize = 4;
 
 /// True when `spec` keeps its lists and tracking candidates as bitmasks (the `MASK_LISTS`
-/// define): its list format is [`ListFormat::Masks`], which only the cells and tracking searches
-/// with recomputed kernel values take (`VariantSpec::list_format_matters`; the direct search has
-/// no cell order to index into, and cached values are stored per list slot anyway). An
+/// define): its list format is [`ListFormat::Masks`], which only the variants with recomputed
+/// kernel values take (`VariantSpec::list_format_matters`; cached values are stored per list
+/// slot anyway). The direct search has no cell order of its own: with masks it runs the cells
+/// search's counting sort for the lists' storage alone and keeps its all-pairs search. An
 /// unresolved [`ListFormat::Auto`] counts as slots: the solver resolves it by N first
 /// (`gpu::plan::resolve_lists`).
 pub fn uses_masks(spec: &VariantSpec) -> bool {

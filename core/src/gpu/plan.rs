@@ -223,8 +223,8 @@ impl GpuPlan {
     }
 
     /// Why a per-slot list buffer `b` over the per-buffer `cap` has no smaller form here (empty
-    /// for any other buffer): one entry per list slot, per pair, where only the cells and
-    /// tracking searches with recomputed kernel values have the compact masks.
+    /// for any other buffer): one entry per list slot, per pair; only the variants with
+    /// recomputed kernel values have the compact masks (a forced `.slots` keeps the slots).
     fn per_pair_note(&self, b: &BufferPlan, cap: u64) -> String {
         let slots = crate::gpu::variant_buffers::NBR_SLOTS as u64;
         let per_slot = b.bytes / (slots * self.n.max(1));
@@ -234,9 +234,9 @@ impl GpuPlan {
             return String::new();
         }
         format!(
-            " ({slots} list slots × {per_slot} B per particle: one binding holds {} particles; the direct \
-             search and cached kernel values keep per-pair storage, which has no compact form, only the \
-             cells and tracking searches with recomputed kernel values have mask lists)",
+            " ({slots} list slots × {per_slot} B per particle: one binding holds {} particles; cached \
+             kernel values keep per-pair storage, which has no compact form; with recomputed values \
+             the lists have masks unless `.slots` forces the slots)",
             cap / (slots * per_slot)
         )
     }
@@ -307,6 +307,11 @@ pub const LAVAPIPE_LOOP_ITERATIONS: u64 = 65_535;
 /// kernels-variants/common/neighbours.wgsl).
 pub const DIRECT_CHUNK: u64 = 8;
 
+/// Loop iterations that locate one neighbour of the direct search on the masks' walk: the
+/// slots of its cell (lattice cells of about a support hold ~13 particles) and the walk's spans
+/// (9 codes × 3 rows), with margin.
+const MASK_LOOKUP: u64 = 64;
+
 /// Invocations lavapipe runs in lockstep (256-bit vectors of 32-bit lanes).
 const LAVAPIPE_LANES: u64 = 8;
 
@@ -320,10 +325,13 @@ pub fn direct_loop_check(spec: &VariantSpec, n: u64, codes: u64, driver: &str) -
     if spec.search != SearchKind::Direct || !driver.to_ascii_lowercase().contains("llvmpipe") {
         return Ok(());
     }
-    let per_lane = (codes * n).div_ceil(DIRECT_CHUNK) + 2 * 64;
+    // With mask lists, each of up to 64 neighbours is then located in its cell and on the walk
+    // (`direct_ordinal`, search/nbr_list.wgsl): at most MASK_LOOKUP more iterations each.
+    let lookup = if crate::gpu::mask_lists::uses_masks(spec) { MASK_LOOKUP } else { 0 };
+    let per_lane = (codes * n).div_ceil(DIRECT_CHUNK) + (2 + lookup) * 64;
     let worst = LAVAPIPE_LANES * per_lane;
     if worst > LAVAPIPE_LOOP_ITERATIONS {
-        let max_n = (LAVAPIPE_LOOP_ITERATIONS / LAVAPIPE_LANES - 2 * 64) * DIRECT_CHUNK / codes.max(1);
+        let max_n = (LAVAPIPE_LOOP_ITERATIONS / LAVAPIPE_LANES - (2 + lookup) * 64) * DIRECT_CHUNK / codes.max(1);
         return Err(format!(
             "{spec} on lavapipe: the direct search scans {codes} image codes × {n} particles per thread; \
              lavapipe ends every loop after {LAVAPIPE_LOOP_ITERATIONS} iterations per invocation group \
@@ -399,7 +407,9 @@ mod tests {
         // Forced formats are kept; variants without the choice are left alone.
         assert_eq!(at("tracking.thread.recomputed.f32.masks", 1000, &lim), "masks");
         assert_eq!(at("tracking.thread.recomputed.f32.slots", 100_000_000, &lim), "slots");
-        assert_eq!(at("direct.subgroup.recomputed.f32", 100_000_000, &lim), "f32");
+        assert_eq!(at("direct.subgroup.recomputed.f32", (2u64 << 30) / 256, &lim), "slots");
+        assert_eq!(at("direct.subgroup.recomputed.f32", 100_000_000, &lim), "masks");
+        assert_eq!(at("direct.subgroup.cached.f32", 100_000_000, &lim), "f32");
         // The plan of an unresolved variant checks the format the solver would run.
         let auto: VariantSpec = "tracking.thread.recomputed.f32".parse().unwrap();
         assert!(GpuPlan::new(&auto, 100_000_000, 8_000_000).check(&lim).is_ok());
@@ -407,7 +417,7 @@ mod tests {
         assert!(e.unwrap_err().contains("`cand`"));
         assert!(max_particles(&auto, 0.08, &lim, 1 << 28) > 100_000_000);
         // Per-pair storage is named as such, with the most particles one binding holds.
-        let direct: VariantSpec = "direct.subgroup.recomputed.f32".parse().unwrap();
+        let direct: VariantSpec = "direct.subgroup.recomputed.f32.slots".parse().unwrap();
         let e = GpuPlan::new(&direct, 100_000_000, 8_000_000).check(&lim).unwrap_err();
         assert!(e.contains("`nbr`") && e.contains("64 list slots × 4 B") && e.contains("8388608 particles"), "{e}");
         let cached: VariantSpec = "tracking.thread.cached.f32".parse().unwrap();

@@ -13,7 +13,6 @@ use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
 use crate::model::MAX_CONTACTS;
-use crate::neighbours::SearchKind;
 use crate::neighbours::INDEX_MASK as PACK_MASK;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
@@ -182,7 +181,7 @@ impl<T: Real> GpuSolver<T> {
         let o = self.device_order()?;
         // (An index no particle has, e.g. a poisoned slot, reads as u32::MAX.)
         let orig = |e: u32| o.get((e & PACK_MASK) as usize).map_or(u32::MAX, |&d| d | (e & !PACK_MASK));
-        let (cell_start, sorted) = if self.spec.search == SearchKind::Direct {
+        let (cell_start, sorted) = if !self.spec.sorts_cells() {
             (Vec::new(), Vec::new())
         } else {
             let start = self.b.cell_start.read_range(ctx, 0, self.grid.cells() + 1)?;

@@ -173,6 +173,8 @@ pub fn pair_stage(spec: &VariantSpec, stage: Stage) -> Option<Vec<KernelDef>> {
 /// The kernels of every stage of a variant: `neighbour_search` first, then the table's order.
 pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     let mut search = match spec.search {
+        // The masks' walk needs this evaluation's cell sort (no renumbering).
+        SearchKind::Direct if spec.sorts_cells() => CELLS_SEARCH.to_vec(),
         SearchKind::Direct => Vec::new(),
         SearchKind::Cells => [CELLS_SEARCH, REORDER].concat(),
         SearchKind::Tracking => [TRACKING_PRE, CELLS_SEARCH, REORDER, TRACKING_POST].concat(),
@@ -182,7 +184,7 @@ pub fn kernel_table(spec: &VariantSpec) -> Vec<(Stage, Vec<KernelDef>)> {
     }
     let mut t = vec![(Stage::NeighbourSearch, search)];
     t.extend(THREAD_STAGES.iter().map(|(s, ks)| (*s, pair_stage(spec, *s).unwrap_or_else(|| ks.to_vec()))));
-    if spec.search == SearchKind::Direct {
+    if !spec.sorts_cells() {
         // No cells to count.
         t.retain(|(s, _)| !matches!(s, Stage::CellCount | Stage::CellScan));
     }

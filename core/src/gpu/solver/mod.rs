@@ -242,7 +242,7 @@ impl<T: Real> GpuSolver<T> {
         };
         let passes = with_kernels(model.stages.evaluation_passes())?;
         let cells = match spec.search {
-            crate::neighbours::SearchKind::Direct => CellEpilogues::None,
+            crate::neighbours::SearchKind::Direct if !spec.sorts_cells() => CellEpilogues::None,
             _ if grid.cells() <= crate::gpu::plan::FUSED_SCAN_CELLS => CellEpilogues::CountAndScan,
             _ => CellEpilogues::Count,
         };

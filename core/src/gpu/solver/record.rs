@@ -72,7 +72,7 @@ impl<T: Real> GpuSolver<T> {
         if stages.contains(&Stage::CellScan) {
             self.starts_fresh.set(true);
         }
-        if search && self.spec.search != crate::neighbours::SearchKind::Direct {
+        if search && self.spec.sorts_cells() {
             self.lists_kept.set(true);
         }
         for clear in stages.iter().flat_map(|s| s.def().clears) {
