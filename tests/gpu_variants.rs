@@ -189,6 +189,7 @@ fn neighbour_overflow_is_reported() {
     let ids = [
         "cells.block-atomic.cas.recomputed.f32",
         "cells.block-atomic.cas.recomputed.f32.masks",
+        "direct.block-tree.fixed.recomputed.f32.masks",
         "tracking.block-tree.fixed.cached.f32",
         "direct.thread.cached.f32",
         "tracking.thread.recomputed.f32",
