@@ -15,7 +15,7 @@ from pb_sweep import series  # noqa: E402
 
 LATE = (0.5, 1.0)
 
-NXS = [24, 30, 36, 45]
+NXS = [24, 30, 36, 45, 60]
 SEEDS = [1, 2, 3]
 
 
