@@ -8,8 +8,9 @@ set -euo pipefail
 out=${1:-out/rest-convergence}
 bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
-for nx in 24 30 36 45; do
+for nx in 24 30 36 45 60; do
   for seed in 0 1 2 3; do
+    [ "$nx" = 60 ] && [ "$seed" = 3 ] && continue
     d="$out/rest-nx$nx-seed$seed"
     [ -f "$d/summary.json" ] && continue
     jitter=()
