@@ -46,11 +46,15 @@ def main():
             m = statistics.mean(vals) if vals else None
             sd = statistics.stdev(vals) if len(vals) > 1 else None
             means.setdefault(key, {})[nx] = m
-            spread = f"{fmt(m, prec)} ± {fmt(sd, prec)} (n = {len(vals)})" if vals else "—"
+            spread = "—"
+            if len(vals) > 1:
+                spread = f"{fmt(m, prec)} ± {fmt(sd, prec)} (n = {len(vals)})"
+            elif vals:
+                spread = f"{fmt(m, prec)} (n = 1)"
             row += [fmt(lat[key] if lat else None, prec), spread]
         table.append(row)
-    print("| nx | R/Δx | jump error, lattice | jump error, jittered | max speed t ≥ 0.1, lattice | jittered "
-          "| max density error, lattice | jittered |")
+    print("| nx | R/Δx | jump error, lattice | jump error, jittered | max speed (mean over t ∈ [0.5, 1]), lattice "
+          "| jittered | max density error (t ∈ [0.5, 1]), lattice | jittered |")
     print("|---|---|---|---|---|---|---|---|")
     for r in table:
         print("| " + " | ".join(str(c) for c in r) + " |")
