@@ -39,6 +39,25 @@ fn direct_ordinal(xi: real2, j: u32, code: u32) -> u32 {
 }
 #endif
 
+// A particle's mask while it is built: the words, the entries kept in them, the neighbours
+// found and the most mask bits an entry needed (0xFFFFFFFF: one off the walk).
+struct Marks {
+    mk: array<u32, NBR_WORDS>,
+    kept: u32,
+    count: u32,
+    need: u32,
+}
+
+// Counts a neighbour at ordinal b, setting its bit when the mask holds it.
+fn mark(m: ptr<function, Marks>, b: u32) {
+    if b < 32u * NBR_WORDS {
+        (*m).mk[b / 32u] |= 1u << (b % 32u);
+        (*m).kept += 1u;
+    }
+    (*m).count += 1u;
+    (*m).need = max((*m).need, select(b + 1u, 0xFFFFFFFFu, b == 0xFFFFFFFFu));
+}
+
 // The compact lists (common/mask_lists.wgsl): bit b of i's mask set when walk ordinal b (cells
 // and direct: of the 3 × 3 box of this evaluation's sort) or candidate ordinal b (tracking) is a
 // neighbour. counts[i] = the entries the mask holds; a particle with more than NBR_SLOTS
@@ -51,32 +70,17 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         return;
     }
     let xi = pos[i];
-    var mk: array<u32, NBR_WORDS>;
-    var count = 0u;
-    var kept = 0u;
-    var need = 0u;
+    var m: Marks;
 #ifdef DIRECT
     var it = nb_begin(i, xi);
     while nb_next(&it) {
-        let b = direct_ordinal(xi, it.j, it.code);
-        if b < 32u * NBR_WORDS {
-            mk[b / 32u] |= 1u << (b % 32u);
-            kept += 1u;
-        }
-        count += 1u;
-        need = max(need, select(b + 1u, 0xFFFFFFFFu, b == 0xFFFFFFFFu));
+        mark(&m, direct_ordinal(xi, it.j, it.code));
     }
 #else
 #ifdef TRACKING
     var it = nb_begin(i, xi);
     while nb_next(&it) {
-        let b = it.m;
-        if b < 32u * NBR_WORDS {
-            mk[b / 32u] |= 1u << (b % 32u);
-            kept += 1u;
-        }
-        count += 1u;
-        need = b + 1u;
+        mark(&m, it.m);
     }
 #else
     var walk = walk_begin(xi, 3u, false);
@@ -84,26 +88,20 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         for (var s = walk.s0; s < walk.s1; s++) {
             let d = xi - image_pos(params, walk.code, pos[sorted[s]]);
             if d.x * d.x + d.y * d.y < params.support2 {
-                let b = walk.ord + (s - walk.s0);
-                if b < 32u * NBR_WORDS {
-                    mk[b / 32u] |= 1u << (b % 32u);
-                    kept += 1u;
-                }
-                count += 1u;
-                need = b + 1u;
+                mark(&m, walk.ord + (s - walk.s0));
             }
         }
     }
 #endif
 #endif
     for (var w = 0u; w < NBR_WORDS; w++) {
-        set_nbr_word(i, w, mk[w]);
+        set_nbr_word(i, w, m.mk[w]);
     }
-    counts[i] = kept;
-    if count > NBR_SLOTS || need > 32u * NBR_WORDS {
+    counts[i] = m.kept;
+    if m.count > NBR_SLOTS || m.need > 32u * NBR_WORDS {
         atomicAdd(&vctl[V_NBR_EVAL], 1u);
-        atomicMax(&vctl[V_NBR_MAX], count);
-        atomicMax(&vctl[V_NBR_NEED], need);
+        atomicMax(&vctl[V_NBR_MAX], m.count);
+        atomicMax(&vctl[V_NBR_NEED], m.need);
         note_overflow(i);
     }
 }

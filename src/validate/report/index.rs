@@ -12,7 +12,11 @@ pub fn write_index(
     _reps: &[CaseReport],
     failed: &[(String, String)],
 ) -> Result<(), ValidateError> {
-    let mut m = String::from("# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | analytic | difference | verdict`, the plots and the provenance of every run.\n\n| case | reference | full resolution | p_b and c0 | verdicts | run wall time (s) |\n|---|---|---|---|---|---|\n");
+    let mut m = String::from(concat!(
+        "# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | ",
+        "analytic | difference | verdict`, the plots and the provenance of every run.\n\n",
+        "| case | reference | full resolution | p_b and c0 | verdicts | run wall time (s) |\n|---|---|---|---|---|---|\n",
+    ));
     let mut not_full = Vec::new();
     let mut judged = String::new();
     for c in CASES {
@@ -32,7 +36,7 @@ pub fn write_index(
             "| [{c}]({c}/summary.md) | {} | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
             rep.reference.lines().next().unwrap_or(""),
             if rep.not_full.is_none() { "yes" } else { "no" },
-            pressure_rule(&opts.out.join(c), c, &rep),
+            pressure_rule(&opts.out.join(c), &rep),
             rep.rows.len() - pass - fail - inv,
             rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
         );
@@ -88,33 +92,35 @@ pub fn write_index(
     let _ = writeln!(
         m,
         "\nThe column p_b and c0 reads each case's run records (`runs/<id>/summary.json`): \"the capillary rule\" when \
-         its runs carry the rule's constants (docs/PHYSICS.md §3.1), \"**stale**\" for a capillary case whose runs were \
-         made under the per-scene background pressures before it (its numbers do not describe the current code)."
+         its runs carry the rule's constants (docs/PHYSICS.md §3.1), \"the scene's own\" when its scenes are ones the \
+         rule does not apply to (the impact: water's c0, p_b = B; PySPH's rod: PySPH's parameters), \"**stale**\" for \
+         a capillary case whose runs were made under the per-scene background pressures before it (its numbers do \
+         not describe the current code)."
     );
     std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
     let p = opts.out.join("index.md");
     std::fs::write(&p, m).map_err(|e| io(&p, e))
 }
 
-/// How case `name`'s runs set p_b and c0: the impact keeps water's, the cross-code check PySPH's;
-/// every other (capillary) case is under the capillary rule when one of its runs' records carries
-/// the rule's section, else stale (measured under the per-scene rules before it).
-fn pressure_rule(case_dir: &std::path::Path, name: &str, rep: &CaseReport) -> &'static str {
-    match name {
-        "impact" => "water's c0, p_b = B (not a capillary flow)",
-        "cross-code" => "PySPH's (scenes/pysph-rod.toml)",
-        _ => {
-            let ruled = rep.runs.iter().any(|r| {
-                std::fs::read_to_string(case_dir.join("runs").join(&r.id).join("summary.json"))
-                    .ok()
-                    .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-                    .is_some_and(|v| v["parameters"]["capillary_rule"].is_object())
-            });
-            if ruled {
-                "the capillary rule"
-            } else {
-                "**stale**: per-scene p_b (before the rule)"
-            }
-        }
+/// How case `name`'s runs set p_b and c0, read from their records: "the capillary rule" when one
+/// carries the rule's section; the scene's own when every run's scene is one the rule does not
+/// apply to (a built-in without the rule, e.g. the impact, or a scene file, e.g. PySPH's rod);
+/// else stale (a capillary built-in measured before the rule, or no record to tell).
+fn pressure_rule(case_dir: &std::path::Path, rep: &CaseReport) -> &'static str {
+    let records: Vec<serde_json::Value> = rep
+        .runs
+        .iter()
+        .filter_map(|r| std::fs::read_to_string(case_dir.join("runs").join(&r.id).join("summary.json")).ok())
+        .filter_map(|t| serde_json::from_str(&t).ok())
+        .collect();
+    let ruled_scene = |v: &serde_json::Value| {
+        v["scene"].as_str().and_then(crate::scene::builtin::builtin).is_some_and(|s| s.capillary_rule.is_some())
+    };
+    if records.iter().any(|v| v["parameters"]["capillary_rule"].is_object()) {
+        "the capillary rule"
+    } else if !records.is_empty() && !records.iter().any(ruled_scene) {
+        "the scene's own (the capillary rule does not apply)"
+    } else {
+        "**stale**: per-scene p_b (before the rule)"
     }
 }
