@@ -241,9 +241,11 @@ fn reordered(spec: VariantSpec, s: &Scene, layout: &Layout, every: u64) -> Box<d
     b
 }
 
-/// Cell-ordered particles (`GpuSolver::set_reorder_every`) on (every 16 steps) and off, from the
-/// lattice order of the E4 scene and from a shuffled fluid order (the state of a well-mixed flow),
-/// as `"{variant}.{lattice|shuffled}.reorder{k}"`.
+/// Cell-ordered particles (`GpuSolver::set_reorder_every`) on (tracking: every 16 steps; the
+/// cells search: at every evaluation, physical cell order with no `sorted` indirection) and off
+/// (the particles as loaded, reached through `sorted`), from the lattice order of the E4 scene
+/// and from a shuffled fluid order (the state of a well-mixed flow), as
+/// `"{variant}.{lattice|shuffled}.reorder{k}"`.
 fn bench_reorder(c: &mut Criterion) {
     if gpu().is_none() {
         return;

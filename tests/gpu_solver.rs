@@ -573,8 +573,8 @@ fn the_cell_merge_takes_a_particle_that_jumped_cells() {
     assert!(all.iter().enumerate().all(|(k, &j)| j as usize == k), "the cell lists are not a permutation");
 }
 
-/// The cell scan checks its own total: counts that sum to the particle count give their
-/// exclusive prefix and no flag; one count too many (a particle counted twice, or a fused scan
+/// The cell scan checks its own total: counts that sum to the fluid particle count (the walls
+/// are sorted once, by the host) give their exclusive prefix and no flag; one count too many (a particle counted twice, or a fused scan
 /// that read the counts before every workgroup's were visible) sets the scan-miss word, and the
 /// next step stops with that error instead of searching with wrong lists.
 #[test]
@@ -583,7 +583,7 @@ fn a_cell_scan_that_does_not_sum_to_n_stops_the_run() {
     let Some(ctx) = gpu_or_skip() else { return };
     let (s, l) = scene("oscillating-drop", &["domain.nx=24"]);
     let mut g = GpuSolver::<f32>::new(Arc::new(ctx), &s, &l, VariantSpec::default()).unwrap();
-    let (cells, n) = (g.cells(), l.pos.len());
+    let (cells, n) = (g.cells(), l.n_fluid);
     let mut counts = vec![0u32; cells];
     for k in 0..n {
         counts[(k * 7919) % cells] += 1;
@@ -595,11 +595,11 @@ fn a_cell_scan_that_does_not_sum_to_n_stops_the_run() {
         }))
         .collect();
     let (starts, miss) = g.scan_counts(&counts).unwrap();
-    assert_eq!((starts, miss), (prefix, u32::MAX), "a scan of n counts");
+    assert_eq!((starts, miss), (prefix, u32::MAX), "a scan of n_fluid counts");
     counts[cells / 2] += 1;
     let (starts, miss) = g.scan_counts(&counts).unwrap();
     assert_eq!(starts[cells] as usize, n + 1);
-    assert_ne!(miss, u32::MAX, "a total of n + 1 is flagged");
+    assert_ne!(miss, u32::MAX, "a total of n_fluid + 1 is flagged");
     let err = g.advance(1).expect_err("the run stops at the flagged scan").to_string();
     assert!(err.contains("did not sum to the"), "{err}");
 }

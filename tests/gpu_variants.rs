@@ -23,7 +23,7 @@ use sphlab::gpu::variant::{Accumulation, ListFormat, SumLayout, VariantSpec, SUB
 use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Precision;
-use sphlab::real::Real;
+use sphlab::real::{Real, V2};
 use sphlab::scene::build::Layout;
 use sphlab::scene::Scene;
 use sphlab::verify::field_error;
@@ -303,13 +303,14 @@ fn run_reordered<T: Real>(
     g
 }
 
-/// Cell-ordered particles (renumbered every 3 steps) on a moving drop, per search × mapping
-/// family and precision: the device order really differs from the original one (and the
-/// renumbering count follows the period), the trajectory stays with the CPU reference's and
-/// with the same variant run without renumbering, and an evaluation at the reached state, read
-/// back through the permutation, matches the CPU's fields (verify's tolerances) and neighbour
-/// lists (exactly). The slot-major lists of the thread mapping are read back through the
-/// same check.
+/// Cell-ordered particles (renumbered every 3 steps: tracking; at every evaluation, in physical
+/// cell order: cells) on a moving drop, per search × mapping family and precision: the device
+/// order really differs from the original one (and the renumbering count follows the period),
+/// the walls are renumbered among themselves into their cells' order (and the fluids too, in
+/// physical order, after an evaluation), the trajectory stays with the CPU reference's and with
+/// the same variant run without renumbering, and an evaluation at the reached state, read back
+/// through the permutation, matches the CPU's fields (verify's tolerances) and neighbour lists
+/// (exactly). The slot-major lists of the thread mapping are read back through the same check.
 #[test]
 fn reordered_variants_match_cpu_after_steps() {
     let _g = serial();
@@ -376,14 +377,23 @@ fn check_reordered<T: Real>(
     let (vs_off, vs_cpu) = (max_diff(&fg.pos, &foff.pos, nf, dx), max_diff(&fg.pos, &fc.pos, nf, dx));
     println!("{tag}: {moved} of {} particles renumbered, {count} renumberings; |Δx|/dx vs off {vs_off:.1e}, vs CPU {vs_cpu:.1e}", order.len());
     assert!(moved > nf / 2, "{tag}: the device order is (nearly) the original one");
-    assert!(order[nf..].iter().enumerate().all(|(k, &o)| o as usize == nf + k), "{tag}: walls moved");
+    let mut walls: Vec<u32> = order[nf..].to_vec();
+    walls.sort_unstable();
+    assert!(walls.iter().enumerate().all(|(k, &o)| o as usize == nf + k), "{tag}: walls left their range");
+    let in_cell_order = |g: &GpuSolver<T>, o: &[u32], pos: &[[f64; 2]], range: std::ops::Range<usize>| {
+        let cell = |d: usize| g.cell_of(V2::new(T::c(pos[o[d] as usize][0]), T::c(pos[o[d] as usize][1])));
+        range.clone().skip(1).all(|d| cell(d - 1) <= cell(d))
+    };
+    assert!(in_cell_order(&g, &order, &l.pos, nf..order.len()), "{tag}: walls not in cell order");
     assert!(off.device_order().unwrap().iter().enumerate().all(|(d, &o)| o as usize == d), "{tag}: off renumbered");
     assert_eq!(off.reorder_count().unwrap(), 0, "{tag}");
     // At the first evaluation, then every 3 steps' evaluations (Verlet: one per step, plus the
     // first step's extra evaluation), for every search; tracking rebuilds its lists then too.
     let midpoint = s.time.integrator == sphlab::scene::Integrator::Midpoint;
     let (evals, period) = if midpoint { (2 * steps, 6) } else { (steps + 1, 3) };
-    assert_eq!(count, evals.div_ceil(period), "{tag}: renumberings");
+    let physical = spec.search.name() == "cells";
+    assert_eq!(g.physical_order(), physical, "{tag}");
+    assert_eq!(count, if physical { evals } else { evals.div_ceil(period) }, "{tag}: renumberings");
     if spec.search.name() == "tracking" {
         assert!(count <= g.tracking_rebuilds().unwrap(), "{tag}: tracking rebuilds at its renumberings");
     }
@@ -395,6 +405,10 @@ fn check_reordered<T: Real>(
     let mut cpu_at = CpuSolver::<T>::new(s, &at, Exec::Parallel, SearchKind::Cells);
     cpu_at.evaluate().unwrap();
     g.evaluate_once().unwrap();
+    if physical {
+        let order = g.device_order().unwrap();
+        assert!(in_cell_order(&g, &order, &fg.pos, 0..nf), "{tag}: fluids not in physical cell order");
+    }
     assert_fields_match(tag, &cpu_at.model, nf, &cpu_at.f, &g.read_fields().unwrap(), None);
     // Neighbour structures in original indices: every particle once in the cell order, each
     // list equal to the CPU's (the cell ranges themselves are checked by the first-evaluation

@@ -147,7 +147,7 @@ fn wgsl_constants_equal_rust_values() {
     use sphlab::gpu::mask_lists;
     use sphlab::gpu::params::{code, flags};
     use sphlab::gpu::solver_buffers::ctl;
-    use sphlab::gpu::variant_buffers::{vctl, CAND_SLOTS, NBR_SLOTS};
+    use sphlab::gpu::variant_buffers::{vctl, vparam, CAND_SLOTS, NBR_SLOTS};
     use sphlab::model::{COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
     use sphlab::neighbours::{IMAGE_SHIFT, INDEX_MASK};
     use sphlab::physics::kernel::KernelKind;
@@ -211,12 +211,15 @@ fn wgsl_constants_equal_rust_values() {
         ("V_CAND_STALE", vctl::CAND_STALE as i64),
         ("V_NBR_EVAL", vctl::NBR_EVAL as i64),
         ("V_NBR_NEED", vctl::NBR_NEED as i64),
+        ("VP_ADAPTIVE", vparam::ADAPTIVE as i64),
+        ("VP_PHYSICAL", vparam::PHYSICAL as i64),
     ];
     for (name, value) in rust {
         assert_eq!(w.get(*name), Some(value), "WGSL `{name}` differs from Rust");
     }
     // Every stage flag, ctl and vctl word of WGSL is tied above.
-    for name in w.keys().filter(|n| n.starts_with("STAGE_") || n.starts_with("CTL_") || n.starts_with("V_")) {
+    let tied = |n: &str| ["STAGE_", "CTL_", "V_", "VP_ADAPTIVE", "VP_PHYSICAL"].iter().any(|p| n.starts_with(p));
+    for name in w.keys().filter(|n| tied(n)) {
         assert!(rust.iter().any(|(r, _)| r == name), "WGSL `{name}` has no Rust twin in this test");
     }
     assert!(

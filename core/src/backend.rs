@@ -176,6 +176,8 @@ pub struct EngineCounters {
     pub dispatches: u64,
     /// Host writes into device buffers (uploads, the clock at a restart).
     pub writes: u64,
+    /// Buffer-to-buffer copies on the device (a renumbering's copy-back, ṽ = v).
+    pub copies: u64,
     /// Time steps taken (relaxation included; restarts do not reset it).
     pub steps: u64,
 }
@@ -188,6 +190,7 @@ impl EngineCounters {
             readbacks: self.readbacks - earlier.readbacks,
             dispatches: self.dispatches - earlier.dispatches,
             writes: self.writes - earlier.writes,
+            copies: self.copies - earlier.copies,
             steps: self.steps - earlier.steps,
         }
     }
@@ -199,11 +202,12 @@ impl EngineCounters {
             readbacks: self.readbacks + more.readbacks,
             dispatches: self.dispatches + more.dispatches,
             writes: self.writes + more.writes,
+            copies: self.copies + more.copies,
             steps: self.steps + more.steps,
         }
     }
 
-    /// Submits, readbacks, dispatches and writes per step (0 without steps).
+    /// Submits, readbacks, dispatches, writes and copies per step (0 without steps).
     pub fn per_step(&self) -> EnginePerStep {
         let s = self.steps.max(1) as f64;
         let f = |x: u64| if self.steps == 0 { 0.0 } else { x as f64 / s };
@@ -212,6 +216,7 @@ impl EngineCounters {
             readbacks: f(self.readbacks),
             dispatches: f(self.dispatches),
             writes: f(self.writes),
+            copies: f(self.copies),
         }
     }
 }
@@ -227,6 +232,8 @@ pub struct EnginePerStep {
     pub dispatches: f64,
     /// Host writes per step.
     pub writes: f64,
+    /// Device buffer copies per step.
+    pub copies: f64,
 }
 
 /// A solver the run driver can step.

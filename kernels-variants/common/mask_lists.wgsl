@@ -2,8 +2,9 @@
 // tracking searches with recomputed kernel values; twin of `gpu::mask_lists`). A particle's
 // candidates are the cells of a square box around its (inversely imaged) cell, walked code by
 // code (existing image codes in order), row by row; the cells of one row are adjacent in the
-// counting sort, so each row is one contiguous span of `sorted`, and the walk numbers the
-// candidates 0, 1, 2, … in that order. A list is a bitmask over these walk ordinals, a few
+// counting sort of the fluids and in the walls' static sort, so each row is two contiguous
+// spans of slots (its fluids, then its walls: common/neighbours.wgsl), and the walk numbers
+// the candidates 0, 1, 2, … in that order. A list is a bitmask over these walk ordinals, a few
 // words per particle instead of one index per entry:
 // * explicit lists (`nbr`, cells): bit b set when walk ordinal b of the 3 × 3 box around the
 //   cell of x_i, over this evaluation's sort, is a neighbour; NBR_WORDS_CELLS words, the first
@@ -49,6 +50,7 @@ struct Walk {
     xi: real2,     // the query point (inversely imaged per code)
     code: u32,     // current image code
     row: u32,      // current row of the box
+    half: u32,     // 0: the row's fluid span, 1: its wall span
     w: u32,        // box width (3 or 4)
     corner: vec2<i32>,
     s0: u32,       // current span [s0, s1) of the sort
@@ -62,6 +64,7 @@ fn walk_begin(xi: real2, w: u32, snap: bool) -> Walk {
     k.xi = xi;
     k.code = 0xFFFFFFFFu;
     k.row = w - 1u;
+    k.half = 1u;
     k.w = w;
     k.corner = vec2<i32>(0, 0);
     k.s0 = 0u;
@@ -81,21 +84,24 @@ fn span_start(snap: bool, c: u32) -> u32 {
     return cell_start[c];
 }
 
-// `sorted` of this evaluation, or of the tracking build.
+// `sorted` of this evaluation, or of the tracking build (the walls' slots are static).
 fn sorted_at(snap: bool, s: u32) -> u32 {
 #ifdef TRACKING
     if snap {
         return cand[CAND_LO_WORDS * params.n + s];
     }
 #endif
-    return sorted[s];
+    return slot_particle(s);
 }
 
 // Advances to the next non-empty span; false at the end of the walk.
 fn walk_next(k: ptr<function, Walk>) -> bool {
     (*k).ord += (*k).s1 - (*k).s0;
     loop {
-        (*k).row += 1u;
+        (*k).half ^= 1u;
+        if (*k).half == 0u {
+            (*k).row += 1u;
+        }
         if (*k).row >= (*k).w {
             var c = (*k).code + 1u;
             while c < 9u && !image_exists(params, c) {
@@ -117,8 +123,13 @@ fn walk_next(k: ptr<function, Walk>) -> bool {
             continue;
         }
         let r = u32(i32(params.grid_nx) * y);
-        (*k).s0 = span_start((*k).snap, r + u32(x0));
-        (*k).s1 = span_start((*k).snap, r + u32(x1) + 1u);
+        if (*k).half == 0u {
+            (*k).s0 = span_start((*k).snap, r + u32(x0));
+            (*k).s1 = span_start((*k).snap, r + u32(x1) + 1u);
+        } else {
+            (*k).s0 = wall_start(r + u32(x0));
+            (*k).s1 = wall_start(r + u32(x1) + 1u);
+        }
         if (*k).s1 > (*k).s0 {
             return true;
         }

@@ -7,9 +7,12 @@
 // `plan::gpu::LAVAPIPE_LOOP_CANDIDATES` there); `TRACKING` defined = the particle's tracking
 // candidates (kernels-variants/search/tracking.wgsl; with `MASK_LISTS` the set bits of its
 // candidate mask, common/mask_lists.wgsl) under the exact distance test; otherwise the 3×3 cells around
-// `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*, walked as three
-// contiguous slot ranges of `sorted`, one per row (DualSPHysics' "range" loops; the same order
-// as cell by cell: rows, then x, then index). A neighbour is
+// `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*, walked row by row as
+// two contiguous slot ranges each (DualSPHysics' "range" loops): the row's fluid slots (the
+// counting sort of the fluids, slots 0..n_fluid) then its wall slots (the walls' static sort,
+// slots n_fluid..n, `wall_start`). A slot holds particle `sorted[s]`; in physical cell order
+// (`VP_PHYSICAL`: the particles themselves renumbered in cell order at every search,
+// search/reorder.wgsl) slot s IS particle s and the loop reads no `sorted`. A neighbour is
 // (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of `neighbours::within`), self
 // included. Usage: `var it = nb_begin(i, xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
 // Shared include (needs common/bindings: pos, sorted, cell_start; common/variant_bindings:
@@ -27,7 +30,7 @@ struct Nb {
     xi: real2,     // the query particle
     cur: u32,      // cursor (index in DIRECT, slot of `sorted` otherwise)
     end: u32,
-    k: u32,        // row of the 3×3 block (cells)
+    k: u32,        // span of the 3×3 block (cells): row k / 2, fluid (even) or wall (odd) slots
     cx: i32,
     cy: i32,
     mask: u32,     // DIRECT: hits of the current chunk not yet returned (bit k = candidate base + k)
@@ -64,7 +67,8 @@ fn cell_index(p: real2) -> u32 {
 // Cells per block of the cell scan (twin of search/cell_scan.wgsl's SCAN_BLOCK, plan::SCAN_BLOCK).
 const COUNT_SCAN_BLOCK: u32 = 256u;
 
-// The first step of the counting sort for particle i: its cell, the cell's count and the scan's
+// The first step of the counting sort for fluid particle i (walls are sorted once, by the host:
+// `wall_start`): its cell, the cell's count and the scan's
 // block sum (kept after the counts), on counts the host cleared. Run by search/cell_count.wgsl,
 // or at the end of an integrator stage (the stage table's `cell_count` epilogue) by the thread
 // that has just moved the particle.
@@ -91,14 +95,14 @@ fn keep_start(c: u32, start: u32) {
     cell_start[c] = start;
 }
 
-// Writes the scan's total (the start after the last cell) and checks it: every particle is
-// counted once, so a total other than n means the scan read counts that were not all there —
+// Writes the scan's total (the start after the last cell) and checks it: every fluid particle
+// is counted once, so a total other than n_fluid means the scan read counts that were not all there —
 // in the fused scan below, a last workgroup that saw another workgroup's "done" before its
 // counts (relaxed atomics order nothing between addresses) — and the step is noted in
 // ctl[CTL_SCAN_MISS] for the host, which refuses the run (`gpu::solver::stepping`).
 fn scan_total(cells: u32, total: u32) {
     keep_start(cells, total);
-    if total != params.n {
+    if total != params.n_fluid {
         note_scan_miss();
     }
 }
@@ -250,7 +254,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             let j = e & PACK_MASK;
             (*it).code = e >> PACK_SHIFT;
 #else
-            let j = sorted[(*it).cur];
+            let j = slot_particle((*it).cur);
 #endif
             (*it).cur += 1u;
             let xj = image_pos(params, (*it).code, pos[j]);
@@ -265,10 +269,11 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
 #ifdef TRACKING
         return false;
 #else
-        // Next row of the 3×3 block: its (up to) three cells, clamped to the grid, are one
-        // contiguous range of `sorted` (cells along x are adjacent in the counting sort).
+        // Next span of the 3×3 block: a row's (up to) three cells, clamped to the grid, are one
+        // contiguous range of the fluid slots, then one of the wall slots (cells along x are
+        // adjacent in both sorts).
         (*it).k += 1u;
-        if (*it).k >= 3u {
+        if (*it).k >= 6u {
             if !nb_next_code(it) {
                 return false;
             }
@@ -277,15 +282,20 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             (*it).cy = c.y;
             (*it).k = 0u;
         }
-        let y = (*it).cy - 1 + i32((*it).k);
+        let y = (*it).cy - 1 + i32((*it).k / 2u);
         let x0 = max((*it).cx - 1, 0);
         let x1 = min((*it).cx + 1, i32(params.grid_nx) - 1);
         if y < 0 || y >= i32(params.grid_ny) || x0 > x1 {
             continue;
         }
         let row = u32(i32(params.grid_nx) * y);
-        (*it).cur = cell_start[row + u32(x0)];
-        (*it).end = cell_start[row + u32(x1) + 1u];
+        if ((*it).k & 1u) == 0u {
+            (*it).cur = cell_start[row + u32(x0)];
+            (*it).end = cell_start[row + u32(x1) + 1u];
+        } else {
+            (*it).cur = wall_start(row + u32(x0));
+            (*it).end = wall_start(row + u32(x1) + 1u);
+        }
 #endif
     }
     return false;

@@ -63,6 +63,7 @@ const VP_NU_MAX: u32 = 18u;
 const VP_RHO_MEAN: u32 = 19u;
 const VP_SIGMA_MAX: u32 = 20u;
 const VP_ADAPTIVE: u32 = 21u;   // 1: adaptive dt (thread/integrate.wgsl `opening_dt`), 0: the host's fixed dt
+const VP_PHYSICAL: u32 = 22u;   // 1: particles in physical cell order (slot s = particle s; search/reorder.wgsl)
 
 // Fixed-point field groups (index f above).
 const F_DENSITY: u32 = 0u;
@@ -90,4 +91,19 @@ fn nbr_slot(i: u32, k: u32) -> u32 {
 #else
     return i * NBR_SLOTS + k;
 #endif
+}
+
+// `cell_start` holds this search's fluid starts (cells + 1), the last search's (kept for the
+// merge) and the walls' static starts (cells + 1, absolute slots from n_fluid; twin of
+// `gpu::solver_buffers::wall_cells`).
+fn wall_start(c: u32) -> u32 {
+    return cell_start[2u * (params.grid_nx * params.grid_ny + 1u) + c];
+}
+
+// The particle in slot s of the sort: s itself in physical cell order, else `sorted[s]`.
+fn slot_particle(s: u32) -> u32 {
+    if vparams[VP_PHYSICAL] != real(0.0) {
+        return s;
+    }
+    return sorted[s];
 }

@@ -18,12 +18,16 @@
 #ifdef DIRECT
 // Walk ordinal of neighbour j under image code `code`, found by the direct search, on the cells
 // walk of the 3 × 3 box around x_i over this evaluation's sort (the search's cell sort, run for
-// the masks' storage alone): j's slot in its cell, then the span of the walk that holds it;
+// the masks' storage alone; the walls' static sort): j's slot in its cell, then the span of the
+// walk that holds it;
 // 0xFFFFFFFF when the walk does not hold it (an overflow, reported like one past the mask).
 fn direct_ordinal(xi: real2, j: u32, code: u32) -> u32 {
     let c = cell_of[j];
     var slot = 0xFFFFFFFFu;
-    for (var s = cell_start[c]; s < cell_start[c + 1u]; s++) {
+    let wall = j >= params.n_fluid;
+    let a = select(cell_start[c], wall_start(c), wall);
+    let e = select(cell_start[c + 1u], wall_start(c + 1u), wall);
+    for (var s = a; s < e; s++) {
         if sorted[s] == j {
             slot = s;
             break;
@@ -86,7 +90,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     var walk = walk_begin(xi, 3u, false);
     while walk_next(&walk) {
         for (var s = walk.s0; s < walk.s1; s++) {
-            let d = xi - image_pos(params, walk.code, pos[sorted[s]]);
+            let d = xi - image_pos(params, walk.code, pos[slot_particle(s)]);
             if d.x * d.x + d.y * d.y < params.support2 {
                 mark(&m, walk.ord + (s - walk.s0));
             }

@@ -81,7 +81,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     var walk = walk_begin(xi, 4u, false);
     while walk_next(&walk) {
         for (var s = walk.s0; s < walk.s1; s++) {
-            let d = xi - image_pos(params, walk.code, pos[sorted[s]]);
+            let d = xi - image_pos(params, walk.code, pos[slot_particle(s)]);
             if d.x * d.x + d.y * d.y < r2 {
                 let b = walk.ord + (s - walk.s0);
                 if b < 32u * CAND_WORDS {
@@ -118,14 +118,19 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
                 continue;
             }
             let cell = u32(x + i32(params.grid_nx) * y);
-            for (var s = cell_start[cell]; s < cell_start[cell + 1u]; s++) {
-                let j = sorted[s];
-                let d = xi - image_pos(params, code, pos[j]);
-                if d.x * d.x + d.y * d.y < r2 {
-                    if count < CAND_SLOTS {
-                        cand[i * CAND_SLOTS + count] = pack_nb(j, code);
+            // The cell's fluid slots, then its wall slots.
+            for (var h = 0u; h < 2u; h++) {
+                let a = select(wall_start(cell), cell_start[cell], h == 0u);
+                let e = select(wall_start(cell + 1u), cell_start[cell + 1u], h == 0u);
+                for (var s = a; s < e; s++) {
+                    let j = slot_particle(s);
+                    let d = xi - image_pos(params, code, pos[j]);
+                    if d.x * d.x + d.y * d.y < r2 {
+                        if count < CAND_SLOTS {
+                            cand[i * CAND_SLOTS + count] = pack_nb(j, code);
+                        }
+                        count += 1u;
                     }
-                    count += 1u;
                 }
             }
         }

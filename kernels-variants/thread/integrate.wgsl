@@ -60,13 +60,13 @@ fn store_fixed(i: u32, r: real2, v: real2) {
 }
 
 // With `FUSE_CELL_COUNT` (the stage table's `cell_count` as the epilogue of an integrator
-// stage) the kernel runs over every particle: fluids are integrated, then every particle's cell
-// is counted where it now stands (walls and a halted device's particles where they are); with
+// stage) the kernel runs over every particle: fluids are integrated, then every fluid's cell
+// is counted where it now stands (a halted device's particles where they are); with
 // `FUSE_CELL_SCAN` the last workgroup then scans the counts into the cell starts (`pass_end`),
 // so the integrator stages have no early return.
 fn moved_count(i: u32) {
 #ifdef FUSE_CELL_COUNT
-    if i < params.n {
+    if i < params.n_fluid {
         cell_count_at(i);
     }
 #endif

@@ -163,12 +163,13 @@ fn say_done(summary: &Summary, wall: f64, out: &Path) {
     if let Some(e) = &summary.engine {
         let (p, o) = (e.per_step, e.per_step_with_output);
         eprintln!(
-            "engine: {:.4} submits, {:.4} readbacks, {:.1} dispatches, {:.4} host writes per step \
-             ({} steps, at most {} per submit); with the output frames {:.3} submits, {:.3} readbacks per step",
+            "engine: {:.4} submits, {:.4} readbacks, {:.1} dispatches, {:.4} host writes, {:.1} device copies \
+             per step ({} steps, at most {} per submit); with the output frames {:.3} submits, {:.3} readbacks per step",
             p.submits,
             p.readbacks,
             p.dispatches,
             p.writes,
+            p.copies,
             e.counters.steps,
             e.steps_per_submit,
             o.submits,

@@ -1,6 +1,6 @@
 //! What the engine does to the device, counted where it happens: queue submissions, blocking
-//! readbacks (a buffer mapped and waited for), compute dispatches and host writes
-//! (`Queue::write_buffer`). One [`Traffic`] lives in each [`super::GpuContext`]; a solver reports
+//! readbacks (a buffer mapped and waited for), compute dispatches, host writes
+//! (`Queue::write_buffer`) and copies between device buffers. One [`Traffic`] lives in each [`super::GpuContext`]; a solver reports
 //! the difference since it was built ([`super::solver::GpuSolver::engine_counters`]).
 //!
 //! The contract: those figures are the solver's own only while it is the one solver alive on its
@@ -21,6 +21,7 @@ pub struct Traffic {
     readbacks: AtomicU64,
     dispatches: AtomicU64,
     writes: AtomicU64,
+    copies: AtomicU64,
     /// Solvers alive on the context.
     live: AtomicU64,
     /// Solvers built on the context so far.
@@ -74,6 +75,10 @@ impl Traffic {
     pub fn write(&self) {
         self.writes.fetch_add(1, Relaxed);
     }
+    /// One buffer-to-buffer copy recorded on the device.
+    pub fn copy(&self) {
+        self.copies.fetch_add(1, Relaxed);
+    }
     /// The totals so far (`steps` left 0: the solver fills it).
     pub fn totals(&self) -> EngineCounters {
         EngineCounters {
@@ -81,6 +86,7 @@ impl Traffic {
             readbacks: self.readbacks.load(Relaxed),
             dispatches: self.dispatches.load(Relaxed),
             writes: self.writes.load(Relaxed),
+            copies: self.copies.load(Relaxed),
             steps: 0,
         }
     }

@@ -83,9 +83,15 @@ pub fn list_words(spec: &VariantSpec, n: usize, cells: usize, real: usize) -> Li
     }
 }
 
-/// The non-empty spans `(code, s0, s1)` of the walk of the `w` × `w` box around `xi`, over
-/// `start` (twin of `walk_next`).
-fn walk<T: Real>(grid: &CellBox<T>, images: &Images<T>, xi: V2<T>, w: i64, start: &[u32]) -> Vec<(u32, u32, u32)> {
+/// The non-empty spans `(code, s0, s1)` of the walk of the `w` × `w` box around `xi`, each row
+/// its fluid span over `start` then its wall span over `walls` (twin of `walk_next`).
+fn walk<T: Real>(
+    grid: &CellBox<T>,
+    images: &Images<T>,
+    xi: V2<T>,
+    w: i64,
+    (start, walls): (&[u32], &[u32]),
+) -> Vec<(u32, u32, u32)> {
     let (nx, ny) = (grid.nx as i64, grid.ny as i64);
     let mut spans = Vec::new();
     for code in images.codes() {
@@ -111,9 +117,11 @@ fn walk<T: Real>(grid: &CellBox<T>, images: &Images<T>, xi: V2<T>, w: i64, start
                 continue;
             }
             let r = (nx * y) as usize;
-            let (s0, s1) = (start[r + x0 as usize], start[r + x1 as usize + 1]);
-            if s1 > s0 {
-                spans.push((code, s0, s1));
+            for starts in [start, walls] {
+                let (s0, s1) = (starts[r + x0 as usize], starts[r + x1 as usize + 1]);
+                if s1 > s0 {
+                    spans.push((code, s0, s1));
+                }
             }
         }
     }
@@ -146,7 +154,8 @@ pub struct MaskBuffers<'a, T> {
     pub pos: &'a [V2<T>],
     /// Reference positions of the tracking build.
     pub ref_pos: &'a [V2<T>],
-    /// This evaluation's `cell_start` and `sorted`.
+    /// This evaluation's `cell_start` (all of it: the fluids' starts, the previous ones, the
+    /// walls') and the particle in each slot.
     pub cell_start: &'a [u32],
     pub sorted: &'a [u32],
     /// Bindings 3, 6 and 5.
@@ -159,12 +168,14 @@ pub struct MaskBuffers<'a, T> {
 /// a list variant with [`uses_masks`].
 pub fn decode<T: Real>(spec: &VariantSpec, grid: &CellBox<T>, images: &Images<T>, b: &MaskBuffers<T>) -> Vec<Vec<u32>> {
     let n = b.pos.len();
+    let cells = grid.cells();
+    let (fluid, walls) = (&b.cell_start[..cells + 1], &b.cell_start[2 * (cells + 1)..3 * (cells + 1)]);
     (0..n)
         .map(|d| {
             if spec.search == SearchKind::Tracking {
                 let snap_sorted = &b.cand[CAND_LO_WORDS * n..(CAND_LO_WORDS + 1) * n];
                 let snap_start = &b.cand[(CAND_LO_WORDS + 1) * n..];
-                let spans = walk(grid, images, b.ref_pos[d], 4, snap_start);
+                let spans = walk(grid, images, b.ref_pos[d], 4, (snap_start, walls));
                 let cw = |w: usize| {
                     if w < CAND_LO_WORDS {
                         b.cand[w * n + d]
@@ -175,7 +186,7 @@ pub fn decode<T: Real>(spec: &VariantSpec, grid: &CellBox<T>, images: &Images<T>
                 let cands = locate(&spans, snap_sorted, &bits(CAND_WORDS, cw));
                 bits(NBR_WORDS_TRACK, |w| b.nbr[w * n + d]).into_iter().filter_map(|m| cands.get(m).copied()).collect()
             } else {
-                let spans = walk(grid, images, b.pos[d], 3, b.cell_start);
+                let spans = walk(grid, images, b.pos[d], 3, (fluid, walls));
                 let half = NBR_WORDS_CELLS / 2;
                 let nw = |w: usize| if w < half { b.nbr[w * n + d] } else { b.cand[(w - half) * n + d] };
                 locate(&spans, b.sorted, &bits(NBR_WORDS_CELLS, nw))

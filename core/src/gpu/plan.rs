@@ -171,8 +171,7 @@ impl GpuPlan {
         } as u64)
             .max(16)
             .next_multiple_of(16);
-        let reorder =
-            crate::gpu::reorder::len(tracking || spec.search == SearchKind::Cells, n as usize, cells as usize);
+        let reorder = crate::gpu::reorder::len(tracking || spec.search == SearchKind::Cells, n as usize);
         let list: [(&'static str, u64, u64); 33] = [
             ("pos", n, v2),
             ("vel", n, v2),
@@ -193,7 +192,7 @@ impl GpuPlan {
             ("contacts", 4 * MAX_CONTACTS as u64, r),
             ("ctl", CTL_WORDS as u64, 4),
             ("cell_count", cells + blocks, 4),
-            ("cell_start", 2 * (cells + 1), 4),
+            ("cell_start", 3 * (cells + 1), 4),
             ("sorted", 2 * n, 4),
             ("cell_of", n, 4),
             ("vctl", vctl::LEN as u64, 4),
@@ -207,8 +206,8 @@ impl GpuPlan {
             ("accum", w.accum as u64, 4),
             ("params", 1, params),
             // Cell ordering (gpu::reorder): control words, and for the cells and tracking
-            // searches the per-cell wall prefix and the permutation (the gathers' scratch is
-            // counts, grad0 and grad1).
+            // searches the permutation (the renumbering's scratch is arrays above:
+            // `GpuSolver::record_renumbered`).
             ("reorder", reorder as u64, 4),
         ];
         let buffers: Vec<BufferPlan> =
@@ -439,8 +438,9 @@ mod tests {
         let lim = DeviceLimits::stated(1 << 40, 128 << 20, "test");
         // The per-particle vec2 arrays (N × 8 B, pos first) are the largest buffers: 128 MiB at
         // N = 16,777,216 (r⁰, v⁰ and the two gradient slots are separate bindings; the
-        // renumbering keeps 4 B per particle in the one reorder buffer, its scratch is counts
-        // and the gradient slots). nx = 3000 of the drop (9,048,064 particles) fits.
+        // renumbering keeps 4 B per particle in the one reorder buffer, its scratch is arrays
+        // the evaluation recomputes: `GpuSolver::record_renumbered`). nx = 3000 of the drop
+        // (9,048,064 particles) fits.
         assert!(GpuPlan::new(&spec, 16_777_216, 1000).check(&lim).is_ok());
         assert!(GpuPlan::new(&spec, 9_048_064, 9_000_000).check(&lim).is_ok());
         let e = GpuPlan::new(&spec, 16_777_217, 1000).check(&lim).unwrap_err();
@@ -450,7 +450,7 @@ mod tests {
         assert_eq!(max_particles(&f64_spec, 0.0, &lim, 1 << 28), 8_388_608);
         let reorder =
             |p: &GpuPlan| p.buffers.iter().filter(|b| b.name.starts_with("reorder")).map(|b| b.bytes).sum::<u64>();
-        assert_eq!(reorder(&GpuPlan::new(&spec, 1000, 10)), 4 * (1000 + 8 + 10 + 1), "permutation + control words");
+        assert_eq!(reorder(&GpuPlan::new(&spec, 1000, 10)), 4 * (1000 + 8), "permutation + control words");
         // The direct search never renumbers: the control words alone.
         let direct: VariantSpec = "direct.thread.recomputed.f32".parse().unwrap();
         assert_eq!(reorder(&GpuPlan::new(&direct, 1000, 10)), 4 * 8);

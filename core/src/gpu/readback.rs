@@ -89,15 +89,17 @@ impl<T: Real> GpuSolver<T> {
             return Err(GpuError::Unsupported(format!("{}: no stage `{stage}`", self.spec)));
         }
         self.vb.invalidate(ctx)?;
-        // No renumbering here: the uploaded per-evaluation inputs (σ, p, ∇C, …) do not move.
-        let every = std::mem::replace(&mut self.reorder_every, 0);
+        // No renumbering here: the uploaded per-evaluation inputs (σ, p, ∇C, …) do not move
+        // (the slots hold their particles through `sorted`, not in physical order).
+        let every = self.reorder_every;
+        self.set_reorder_every(0)?;
         let done = self.submit(|enc| {
             self.record(enc, Stage::NeighbourSearch);
             if stage != Stage::NeighbourSearch {
                 self.record(enc, stage);
             }
         });
-        self.reorder_every = every;
+        self.set_reorder_every(every)?;
         done?;
         self.ctx.wait_idle()?;
         self.vb.overflow(&self.ctx, self.step).map_err(|e| self.to_original(e))?;
@@ -144,11 +146,11 @@ impl<T: Real> GpuSolver<T> {
         })
     }
 
-    /// Fills the cell lists of the next search (`sorted[0..n)`, not the previous lists kept
-    /// after them for the merge) with an index no particle has, so a slot the next search does
-    /// not write fails every comparison (tests).
+    /// Fills the fluids' cell lists of the next search (`sorted[0..n_fluid)`: not the walls'
+    /// static lists, nor the previous lists kept after them for the merge) with an index no
+    /// particle has, so a slot the next search does not write fails every comparison (tests).
     pub fn poison_cell_lists(&self) -> Result<(), GpuError> {
-        let poison = vec![u32::MAX; self.n];
+        let poison = vec![u32::MAX; self.n_fluid];
         self.ctx.traffic.write();
         self.ctx.queue.write_buffer(&self.b.sorted.buffer, 0, bytemuck::cast_slice(&poison));
         Ok(())
@@ -181,28 +183,36 @@ impl<T: Real> GpuSolver<T> {
         let o = self.device_order()?;
         // (An index no particle has, e.g. a poisoned slot, reads as u32::MAX.)
         let orig = |e: u32| o.get((e & PACK_MASK) as usize).map_or(u32::MAX, |&d| d | (e & !PACK_MASK));
+        let starts = if self.spec.sorts_cells() { self.b.cell_start.read_back(ctx)? } else { Vec::new() };
+        let slots = if self.spec.sorts_cells() { self.b.sorted.read_range(ctx, 0, self.n)? } else { Vec::new() };
         let (cell_start, sorted) = if !self.spec.sorts_cells() {
             (Vec::new(), Vec::new())
         } else {
-            let start = self.b.cell_start.read_range(ctx, 0, self.grid.cells() + 1)?;
-            let mut sorted: Vec<u32> = self.b.sorted.read_range(ctx, 0, self.n)?.into_iter().map(orig).collect();
-            for c in start.windows(2) {
-                sorted[c[0] as usize..c[1] as usize].sort_unstable();
+            // Each cell's fluid slots, then its wall slots, as one list per cell.
+            let cells = self.grid.cells();
+            let (fluid, wall) = (&starts[..cells + 1], &starts[2 * (cells + 1)..3 * (cells + 1)]);
+            let mut start = vec![0u32];
+            let mut sorted = Vec::with_capacity(self.n);
+            for c in 0..cells {
+                for (a, e) in [(fluid[c], fluid[c + 1]), (wall[c], wall[c + 1])] {
+                    sorted.extend(slots[(a as usize).min(self.n)..(e as usize).min(self.n)].iter().map(|&j| orig(j)));
+                }
+                let k = start[c] as usize;
+                sorted[k..].sort_unstable();
+                start.push(sorted.len() as u32);
             }
             (start, sorted)
         };
         let lists = if self.spec.has_lists() && uses_masks(&self.spec) {
             let (pos, ref_pos) = (self.b.pos.read_back(ctx)?, self.vb.ref_pos.read_back(ctx)?);
-            let (cell_start, sorted) = (
-                self.b.cell_start.read_range(ctx, 0, self.grid.cells() + 1)?,
-                self.b.sorted.read_range(ctx, 0, self.n)?,
-            );
+            // The slots as the kernels read them (`slot_particle`): s itself in physical order.
+            let sorted: Vec<u32> = if self.physical_order() { (0..self.n as u32).collect() } else { slots };
             let (nbr, cand, cand_hi) =
                 (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cache_xj.read_back(ctx)?);
             let bufs = MaskBuffers {
                 pos: &pos,
                 ref_pos: &ref_pos,
-                cell_start: &cell_start,
+                cell_start: &starts,
                 sorted: &sorted,
                 nbr: &nbr,
                 cand: &cand,

@@ -1,15 +1,17 @@
-//! Cell-ordered particles (twin of `kernels-variants/search/reorder.wgsl`, bind group 2, bound
-//! only by the reorder pipelines): ONE buffer holding the control words, the per-cell wall
-//! prefix and the device permutation `orig_of[device]` (one binding: with the state's 22 and the
-//! variant's 9 that is lavapipe's 32 per stage; the gathers' scratch is `counts`, `grad0` and
-//! `grad1`, free at that point of an evaluation), plus the host side of the permutation. The
+//! Particles renumbered in cell order (twin of `kernels-variants/search/reorder.wgsl`, bind
+//! group 2, bound only by the reorder pipelines): ONE buffer holding the control words and the
+//! device permutation `orig_of[device]` (one binding: with the state's 22 and the variant's 9
+//! that is lavapipe's 32 per stage), plus the host side of the permutation and the copies that
+//! put the renumbered particles back (`GpuSolver::record_renumbered`, twin of `to_scratch` in
+//! reorder.wgsl). In the evaluations the host says (a `cells`
+//! search: every one, so the particles stay in physical cell order; tracking: every
+//! [`RBufs::set_every`] evaluations, rebuilding its lists then) the search's last kernel writes
+//! every particle into the scratch at its slot, and the host copies the scratch back right after
+//! (`GpuSolver::record_pass`). The walls are renumbered once, with the first renumbering. The
 //! direct search never renumbers: it allocates the control words alone and its permutation is
-//! the identity. The device renumbers the fluid particles in cell order every
-//! [`RBufs::set_every`] evaluations inside `neighbour_search` (the host records the reorder
-//! kernels only in those evaluations; tracking variants rebuild their lists then); walls keep
-//! their indices. Everything the host reads or writes goes
-//! through [`to_original`] / [`to_device`], so outputs, snapshots, `verify` and the CPU
-//! comparison see particles in their original order.
+//! the identity. Everything the host reads or writes goes through [`to_original`] /
+//! [`to_device`], so outputs, snapshots, `verify` and the CPU comparison see particles in their
+//! original order.
 
 use super::{GpuContext, GpuError, GpuVec};
 use crate::real::Real;
@@ -27,21 +29,18 @@ pub mod rctl {
     pub const EVERY: usize = 2;
     /// Renumberings so far.
     pub const COUNT: usize = 3;
-    /// 1 once the per-cell wall prefix is computed.
-    pub const WALLS_READY: usize = 4;
-    /// Control words; the per-cell wall prefix (cells + 1 words) and `orig_of` (n) follow.
+    /// Control words; `orig_of` (n) follows.
     pub const LEN: usize = 8;
 }
 
 /// Storage buffers of group 2 (one: with groups 0 and 1 that is 32, lavapipe's per-stage maximum).
 pub const N_RSTORAGE: u32 = 1;
 
-/// Words of the `reorder` buffer for `n` particles on `cells` cells: the control words, the
-/// wall prefix (cells + 1) and `orig_of` (n); the control words alone when the search never
-/// renumbers. The memory plan's twin.
-pub fn len(renumbers: bool, n: usize, cells: usize) -> usize {
+/// Words of the `reorder` buffer for `n` particles: the control words and `orig_of` (n); the
+/// control words alone when the search never renumbers. The memory plan's twin.
+pub fn len(renumbers: bool, n: usize) -> usize {
     if renumbers {
-        rctl::LEN + cells + 1 + n
+        rctl::LEN + n
     } else {
         rctl::LEN
     }
@@ -52,19 +51,17 @@ pub struct RBufs<T: Real> {
     /// Control words ([`rctl`]), the per-cell wall prefix, `orig_of`.
     pub buf: GpuVec<u32>,
     n: usize,
-    cells: usize,
     renumbers: bool,
     _real: std::marker::PhantomData<T>,
 }
 
 impl<T: Real> RBufs<T> {
-    /// Allocates the permutation (identity) of `n` particles on a grid of `cells` cells when the
-    /// search `renumbers` (stand-ins otherwise); renumbering every `every` evaluations (0: never).
-    pub fn new(ctx: &GpuContext, n: usize, cells: usize, every: u32, renumbers: bool) -> Result<Self, GpuError> {
+    /// Allocates the permutation (identity) of `n` particles when the search `renumbers`
+    /// (stand-ins otherwise); renumbering every `every` evaluations (0: never).
+    pub fn new(ctx: &GpuContext, n: usize, every: u32, renumbers: bool) -> Result<Self, GpuError> {
         let b = Self {
-            buf: GpuVec::new(ctx, "sphlab.reorder", len(renumbers, n, cells))?,
+            buf: GpuVec::new(ctx, "sphlab.reorder", len(renumbers, n))?,
             n,
-            cells,
             renumbers,
             _real: std::marker::PhantomData,
         };
@@ -80,7 +77,7 @@ impl<T: Real> RBufs<T> {
     }
 
     /// Renumbers every `every` evaluations from now on, the first at the next evaluation
-    /// (0: never), keeping the count and the wall prefix.
+    /// (0: never), keeping the count.
     pub fn set_every(&self, ctx: &GpuContext, every: u32) -> Result<(), GpuError> {
         let mut c = self.buf.read_range(ctx, 0, rctl::LEN)?;
         c[rctl::NOW] = 0;
@@ -91,14 +88,24 @@ impl<T: Real> RBufs<T> {
         Ok(())
     }
 
+    /// Puts the permutation back to the identity (particles loaded in their original order).
+    pub fn reset_order(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+        if self.renumbers {
+            let id: Vec<u32> = (0..self.n as u32).collect();
+            ctx.queue.write_buffer(&self.buf.buffer, 4 * self.orig_at() as u64, bytemuck::cast_slice(&id));
+            ctx.traffic.write();
+        }
+        Ok(())
+    }
+
     /// Renumberings so far.
     pub fn count(&self, ctx: &GpuContext) -> Result<u64, GpuError> {
         Ok(self.buf.read_range(ctx, rctl::COUNT, 1)?[0] as u64)
     }
 
-    /// Word where `orig_of` starts (`orig_word` in reorder.wgsl).
-    fn orig_at(&self) -> usize {
-        rctl::LEN + self.cells + 1
+    /// Word where `orig_of` starts (`R_ORIG` in reorder.wgsl).
+    pub fn orig_at(&self) -> usize {
+        rctl::LEN
     }
 
     /// `orig_of`: the original index of each device index.

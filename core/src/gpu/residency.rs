@@ -8,7 +8,7 @@
 
 use super::buffers::GpuVec;
 use super::solver::GpuSolver;
-use super::solver_buffers::{ctl, sigma_of, sigma_pairs};
+use super::solver_buffers::{cell_of_pos, ctl, sigma_of, sigma_pairs, wall_cells};
 use super::{GpuContext, GpuError};
 use crate::fields::{Field, Fields};
 use crate::model::{COLOUR_WALL, NO_COLOUR};
@@ -28,14 +28,15 @@ pub enum Part {
     Field(Field),
 }
 
-/// The GPU `cells` neighbour structure built on the host (same grid, same order).
+/// The GPU `cells` neighbour structure of the fluids built on the host (same grid, same order;
+/// the walls' static sort is the solver's own, `solver_buffers::WallCells`).
 #[derive(Clone, Debug, Default)]
 pub struct HostCells {
     /// Offsets of each cell in `sorted` (cells + 1).
     pub cell_start: Vec<u32>,
-    /// Particles by cell, increasing within a cell.
+    /// Fluid particles by cell, increasing within a cell.
     pub sorted: Vec<u32>,
-    /// The cell of each particle.
+    /// The cell of each fluid particle.
     pub cell_of: Vec<u32>,
 }
 
@@ -178,20 +179,12 @@ impl<T: Real> GpuSolver<T> {
         })
     }
 
-    /// The `cells` structure of `pos` on this solver's grid, built on the host exactly as the
-    /// GPU counting sort builds it (`cell_index` clamps into the grid; index order in a cell).
+    /// The fluids' `cells` structure of `pos` on this solver's grid, built on the host exactly
+    /// as the GPU counting sort builds it (`cell_index` clamps into the grid; index order in a
+    /// cell).
     pub fn host_cells(&self, pos: &[V2<T>]) -> HostCells {
-        let g = &self.grid;
-        let (nx, ny) = (g.nx as i64, g.ny as i64);
-        let cell_of: Vec<u32> = pos
-            .iter()
-            .map(|p| {
-                let fx = ((p.x - g.origin.x) * g.inv_cell).f64().floor() as i64;
-                let fy = ((p.y - g.origin.y) * g.inv_cell).f64().floor() as i64;
-                (fx.clamp(0, nx - 1) + nx * fy.clamp(0, ny - 1)) as u32
-            })
-            .collect();
-        let cells = g.cells();
+        let cell_of: Vec<u32> = pos[..self.n_fluid].iter().map(|&p| cell_of_pos(&self.grid, p)).collect();
+        let cells = self.grid.cells();
         let mut cell_start = vec![0u32; cells + 1];
         for &c in &cell_of {
             cell_start[c as usize + 1] += 1;
@@ -200,7 +193,7 @@ impl<T: Real> GpuSolver<T> {
             cell_start[c + 1] += cell_start[c];
         }
         let mut cursor = cell_start.clone();
-        let mut sorted = vec![0u32; pos.len()];
+        let mut sorted = vec![0u32; cell_of.len()];
         for (i, &c) in cell_of.iter().enumerate() {
             sorted[cursor[c as usize] as usize] = i as u32;
             cursor[c as usize] += 1;
@@ -276,6 +269,12 @@ impl<T: Real> GpuSolver<T> {
             + write_prefix(ctx, &self.b.phase, phase)?
             + write_prefix(ctx, &self.b.colour, &colour)?
             + write_prefix(ctx, &self.b.mass, &mass)?;
+        // The walls' static sort of this set, in its (original) order.
+        let walls = wall_cells(&self.grid, pos, n_fluid);
+        self.b.upload_walls(ctx, &walls, self.grid.cells(), n_fluid);
+        bytes += 4 * (walls.start.len() + walls.list.len() + walls.cell_of.len()) as u64;
+        self.rb.reset_order(ctx)?;
+        self.walls_ordered.set(false);
         self.reset_ctl()?;
         bytes += (ctl::LEN * 4 + 3 * size_of::<T>()) as u64;
         self.n = n;

@@ -7,6 +7,7 @@
 use super::params::Params;
 use super::{GpuContext, GpuError, GpuVec, Uniform};
 use crate::model::MAX_CONTACTS;
+use crate::neighbours::cells::CellBox;
 use crate::real::{Real, V2};
 
 /// Words of the control buffer (`CTL_*` in `shaders/bindings.wgsl`).
@@ -32,7 +33,7 @@ pub mod ctl {
     /// Workgroups done in a fused integrator stage (the last one ticks the clock and scans the
     /// cell counts) or in `reduce_max` (the last one sets dt); back to 0 then.
     pub const DONE: usize = 9;
-    /// First step whose cell scan did not sum to the particle count (`u32::MAX`: none): the
+    /// First step whose cell scan did not sum to the fluid count (`u32::MAX`: none): the
     /// scan read counts that were not all visible yet (`scan_total`, common/neighbours.wgsl).
     pub const SCAN_MISS: usize = 10;
     /// Words in the buffer.
@@ -52,6 +53,48 @@ pub fn sigma_pairs<T: Real>(sigma: &[T]) -> Vec<V2<T>> {
 /// The number densities of the device's σ records.
 pub fn sigma_of<T: Real>(records: Vec<V2<T>>) -> Vec<T> {
     records.into_iter().map(|r| r.x).collect()
+}
+
+/// The cell of `p` on `grid` (clamped into it), exactly as `cell_index` in
+/// common/neighbours.wgsl computes it (a subtraction, a multiplication and a floor in `T`).
+pub fn cell_of_pos<T: Real>(grid: &CellBox<T>, p: V2<T>) -> u32 {
+    let (nx, ny) = (grid.nx as i64, grid.ny as i64);
+    let fx = ((p.x - grid.origin.x) * grid.inv_cell).f64().floor() as i64;
+    let fy = ((p.y - grid.origin.y) * grid.inv_cell).f64().floor() as i64;
+    (fx.clamp(0, nx - 1) + nx * fy.clamp(0, ny - 1)) as u32
+}
+
+/// The walls' static sort: walls never move, so the host sorts them once (by cell, then index)
+/// into the slots n_fluid..n after the fluids' counting sort; the neighbour loops walk a row's
+/// fluid slots, then its wall slots (common/neighbours.wgsl).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WallCells {
+    /// Each cell's first wall slot (cells + 1, absolute: from n_fluid).
+    pub start: Vec<u32>,
+    /// The wall in each wall slot (`sorted[n_fluid..n]`).
+    pub list: Vec<u32>,
+    /// Each wall's cell (`cell_of[n_fluid..n]`).
+    pub cell_of: Vec<u32>,
+}
+
+/// The walls' static sort of `pos` (fluids first, `n_fluid` of them) on `grid`.
+pub fn wall_cells<T: Real>(grid: &CellBox<T>, pos: &[V2<T>], n_fluid: usize) -> WallCells {
+    let cell_of: Vec<u32> = pos[n_fluid..].iter().map(|&p| cell_of_pos(grid, p)).collect();
+    let mut start = vec![0u32; grid.cells() + 1];
+    for &c in &cell_of {
+        start[c as usize + 1] += 1;
+    }
+    start[0] = n_fluid as u32;
+    for c in 0..grid.cells() {
+        start[c + 1] += start[c];
+    }
+    let mut cursor = start.clone();
+    let mut list = vec![0u32; cell_of.len()];
+    for (w, &c) in cell_of.iter().enumerate() {
+        list[(cursor[c as usize] - n_fluid as u32) as usize] = (n_fluid + w) as u32;
+        cursor[c as usize] += 1;
+    }
+    WallCells { start, list, cell_of }
 }
 
 /// The buffers (fluids first, then walls).
@@ -115,12 +158,26 @@ impl<T: Real> Bufs<T> {
             ctl: u("ctl", ctl::LEN)?,
             // The counts, then the block sums of the parallel scan (search/cell_scan.wgsl).
             cell_count: u("cell_count", cells + crate::gpu::plan::scan_blocks(cells))?,
-            // This search's starts and lists, then the previous search's (kept by the cell
-            // scan and the count for the merge of search/cell_scatter.wgsl).
-            cell_start: u("cell_start", 2 * (cells + 1))?,
+            // This search's fluid starts and lists, then the previous search's (kept by the
+            // cell scan and the count for the merge of common/cell_lists.wgsl); the walls'
+            // static starts after the starts, their list in the slots n_fluid..n ([`WallCells`]).
+            cell_start: u("cell_start", 3 * (cells + 1))?,
             sorted: u("sorted", 2 * n)?,
             cell_of: u("cell_of", n)?,
         })
+    }
+
+    /// Writes the walls' static sort (`cells` cells, `n_fluid` fluids first).
+    pub fn upload_walls(&self, ctx: &GpuContext, w: &WallCells, cells: usize, n_fluid: usize) {
+        let put = |v: &GpuVec<u32>, at: usize, data: &[u32]| {
+            if !data.is_empty() {
+                ctx.queue.write_buffer(&v.buffer, 4 * at as u64, bytemuck::cast_slice(data));
+                ctx.traffic.write();
+            }
+        };
+        put(&self.cell_start, 2 * (cells + 1), &w.start);
+        put(&self.sorted, n_fluid, &w.list);
+        put(&self.cell_of, n_fluid, &w.cell_of);
     }
 
     /// The storage buffers in binding order 1..=22.

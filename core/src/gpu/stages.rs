@@ -87,24 +87,20 @@ const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
     k(s.name(), file, domain)
 }
 
-/// Cell-ordered particles, right after the cell sort (`gpu::reorder`; group 2 bound): the
-/// per-cell wall prefix ([`REORDER_WALLS`], recorded with the first renumbering only: walls never
-/// move), the renumbering, then gather and put back of every persistent per-particle array, each
-/// kernel putting back the pair of fields the one before gathered. Every thread returns at once
-/// when a halted device vetoes the renumbering.
+/// Particles renumbered in cell order (`gpu::reorder`; group 2 bound), in the evaluations the
+/// host says: the walls once ([`REORDER_WALLS`], with the first renumbering), then the cell
+/// lists built and every fluid written into the scratch at its slot, by `reorder_sort` or
+/// `reorder_merge` in place of the search's `cell_sort` or [`CELL_MERGE`] (the host records the
+/// one that replaces the kernel the search would have run, then copies the scratch back). A
+/// halted device vetoes: every particle is copied to its own slot.
 pub const REORDER: &[KernelDef] = &[
-    k("reorder_wall_count", super::reorder::FILE, Domain::Wall),
-    k("reorder_wall_scan", super::reorder::FILE, Domain::One),
-    k("reorder_perm", super::reorder::FILE, Domain::All),
-    k("reorder_gather_state", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_state_gather_tags", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_tags_gather_rates", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_rates_gather_start", super::reorder::FILE, Domain::Fluid),
-    k("reorder_put_start", super::reorder::FILE, Domain::Fluid),
+    k(REORDER_WALLS, super::reorder::FILE, Domain::Wall),
+    k("reorder_sort", super::reorder::FILE, Domain::Cells),
+    k("reorder_merge", super::reorder::FILE, Domain::Cells),
 ];
 
-/// The kernels of [`REORDER`] that compute the per-cell wall prefix (once).
-pub const REORDER_WALLS: [&str; 2] = ["reorder_wall_count", "reorder_wall_scan"];
+/// The kernel of [`REORDER`] that renumbers the walls (once).
+pub const REORDER_WALLS: &str = "reorder_walls";
 
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
 pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[

@@ -91,6 +91,9 @@ pub mod vparam {
     pub const CFL: usize = 16;
     /// 1 with an adaptive dt (computed on the device by the opening integrator stage), 0 fixed.
     pub const ADAPTIVE: usize = 21;
+    /// 1 while the particles are in physical cell order (every search renumbers them: slot s
+    /// holds particle s, `GpuSolver::set_reorder_every` on a `cells` search), 0 otherwise.
+    pub const PHYSICAL: usize = 22;
     /// Entries.
     pub const LEN: usize = 24;
 }
@@ -136,6 +139,8 @@ impl<T: Real> VBufs<T> {
         let b = Self {
             vctl: u("vctl", vctl::LEN)?,
             vparams: GpuVec::new(ctx, "sphlab.vparams", vparam::LEN)?,
+            // List or candidate counts (0..n, n..2n); a renumbering's scratch for phase and
+            // orig_of (`GpuSolver::record_renumbered`).
             counts: u("counts", 2 * n.max(1))?,
             nbr: u("nbr", w.nbr)?,
             cache_wf: u(b4, w.b4)?,
@@ -180,6 +185,14 @@ impl<T: Real> VBufs<T> {
         }
         v[vparam::ADAPTIVE] = T::c(if m.dt_fixed <= 0.0 { 1.0 } else { 0.0 });
         v
+    }
+
+    /// Says whether the particles are in physical cell order (`vparam::PHYSICAL`).
+    pub fn set_physical(&self, ctx: &GpuContext, on: bool) {
+        let v = [T::c(if on { 1.0 } else { 0.0 })];
+        let at = (vparam::PHYSICAL * size_of::<T>()) as u64;
+        ctx.queue.write_buffer(&self.vparams.buffer, at, bytemuck::cast_slice(&v));
+        ctx.traffic.write();
     }
 
     /// Clears the control words and forces a tracking rebuild at the next evaluation.

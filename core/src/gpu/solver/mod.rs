@@ -26,7 +26,7 @@
 use super::clock::{write_clock, Control, ControlReader, BATCHES_IN_FLIGHT};
 use super::params::Params;
 use super::reorder::{self, RBufs};
-use super::solver_buffers::{ctl, Bufs};
+use super::solver_buffers::{ctl, wall_cells, Bufs};
 use super::stages::{Compiled, Domain, Pipelines};
 use super::timing::Timestamps;
 use super::variant::VariantSpec;
@@ -79,7 +79,7 @@ pub struct GpuSolver<T: Real> {
     /// starts, as the previous lists by the next count and scan), so a search after a fresh
     /// count merges them instead of scattering and sorting.
     pub(super) lists_kept: std::cell::Cell<bool>,
-    /// The per-cell wall prefix of the renumbering has been recorded (walls never move).
+    /// The walls' renumbering has been recorded (walls never move: once).
     pub(super) walls_ordered: std::cell::Cell<bool>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
     pub(super) fused: bool,
@@ -229,7 +229,7 @@ impl<T: Real> GpuSolver<T> {
         let vb = VBufs::new(&ctx, spec, &model, n, grid.cells())?;
         let evals = Self::evaluations_per_step(scene.time.integrator);
         let renumbers = spec.search != crate::neighbours::SearchKind::Direct;
-        let rb = RBufs::new(&ctx, n, grid.cells(), (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
+        let rb = RBufs::new(&ctx, n, (DEFAULT_REORDER_EVERY * evals) as u32, renumbers)?;
         let compiled = ctx.pipelines.get(&ctx, &spec, lanes)?;
         let pipes = compiled.pipes.clone();
         let with_kernels = |list: Vec<Vec<Stage>>| -> Result<Vec<_>, GpuError> {
@@ -254,11 +254,12 @@ impl<T: Real> GpuSolver<T> {
         b.pos.upload(&ctx, &pos)?;
         b.vel.upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;
+        b.upload_walls(&ctx, &wall_cells(&grid, &pos, n_fluid), grid.cells(), n_fluid);
         let ctx_groups = ctx.limits.max_compute_workgroups_per_dimension;
         let control = ControlReader::new::<T>(&ctx);
         let traffic0 = ctx.traffic.totals();
         let claim = super::counters::Claim::new(ctx.clone());
-        let s = Self {
+        let mut s = Self {
             ctx,
             spec,
             model,
@@ -301,6 +302,7 @@ impl<T: Real> GpuSolver<T> {
         };
         s.upload_static_colours()?;
         s.reset_ctl()?;
+        s.set_reorder_every(DEFAULT_REORDER_EVERY)?;
         Ok(s)
     }
 
@@ -350,15 +352,28 @@ impl<T: Real> GpuSolver<T> {
         }
     }
 
-    /// Renumbers the fluid particles in cell order on the device every `k` steps from the next
-    /// evaluation on (0: never; the `direct` search never does). Tracking variants renumber on
-    /// the same cadence and rebuild their candidate lists then (the lists hold indices).
+    /// Renumbers the particles in cell order on the device from the next evaluation on (0:
+    /// never; the `direct` search never does). A `cells` search renumbers at every evaluation
+    /// whatever k > 0 says, so the particles stay in physical cell order (slot s of the sort is
+    /// particle s, `vparam::PHYSICAL`): the search sorts at every evaluation anyway, and the
+    /// renumbering costs no kernel. Tracking variants renumber every `k` steps and rebuild
+    /// their candidate lists then (the lists hold indices).
     pub fn set_reorder_every(&mut self, k: u64) -> Result<(), GpuError> {
-        let every = k.saturating_mul(Self::evaluations_per_step(self.integrator)).min(u32::MAX as u64);
-        self.rb.set_every(&self.ctx, every as u32)?;
+        let every = self.reorder_evaluations(k);
+        self.rb.set_every(&self.ctx, every.min(u32::MAX as u64) as u32)?;
         self.reorder_every = k;
+        self.vb.set_physical(&self.ctx, self.physical_order());
         self.reorder_since.set(u64::MAX);
         Ok(())
+    }
+
+    /// Evaluations between renumberings for a period of `k` steps (0: never).
+    fn reorder_evaluations(&self, k: u64) -> u64 {
+        match self.spec.search {
+            _ if k == 0 => 0,
+            crate::neighbours::SearchKind::Cells => 1,
+            _ => k.saturating_mul(Self::evaluations_per_step(self.integrator)),
+        }
     }
 
     /// True when the evaluation being recorded renumbers (the host's cadence, every
@@ -368,7 +383,7 @@ impl<T: Real> GpuSolver<T> {
         if self.reorder_every == 0 || self.spec.search == crate::neighbours::SearchKind::Direct {
             return false;
         }
-        let every = self.reorder_every.saturating_mul(Self::evaluations_per_step(self.integrator));
+        let every = self.reorder_evaluations(self.reorder_every);
         let due = self.reorder_since.get() >= every;
         self.reorder_since.set(if due { 1 } else { self.reorder_since.get() + 1 });
         due
@@ -389,6 +404,12 @@ impl<T: Real> GpuSolver<T> {
     /// mode; `stage::passes`).
     pub fn set_fused(&mut self, on: bool) {
         self.fused = on;
+    }
+
+    /// True while the particles are kept in physical cell order (a `cells` search renumbering
+    /// at every evaluation: slot s of the sort is particle s).
+    pub fn physical_order(&self) -> bool {
+        self.reorder_every != 0 && self.spec.search == crate::neighbours::SearchKind::Cells
     }
 
     /// The renumbering period in steps (0: off).
@@ -447,6 +468,11 @@ impl<T: Real> GpuSolver<T> {
     /// Cells of the search grid.
     pub fn cells(&self) -> usize {
         self.grid.cells()
+    }
+
+    /// The cell of `p` on the search grid, as the device computes it.
+    pub fn cell_of(&self, p: V2<T>) -> u32 {
+        super::solver_buffers::cell_of_pos(&self.grid, p)
     }
 
     /// The variant constants (fixed-point quanta, tracking radii; `gpu::variant_buffers`).

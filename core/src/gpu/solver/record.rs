@@ -65,7 +65,7 @@ impl<T: Real> GpuSolver<T> {
         let search = stages[0] == Stage::NeighbourSearch;
         let renumber = search && self.reorder_due();
         let counted = search && self.counts_fresh.replace(false);
-        let skips = self.search_skips(search, counted);
+        let skips = self.search_skips(search, counted, renumber);
         if stages.contains(&Stage::CellCount) {
             self.counts_fresh.set(true);
         }
@@ -93,8 +93,44 @@ impl<T: Real> GpuSolver<T> {
         }
         let label = crate::stage::pass_label(stages);
         let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain)[0] > 0);
-        let timestamp_writes = if dispatches { self.ts.writes(&label) } else { None };
-        let desc = wgpu::ComputePassDescriptor { label: Some(&label), timestamp_writes };
+        let ts = if dispatches { self.ts.writes(&label) } else { None };
+        // A renumbering ends the pass after the reorder kernels: the scratch is copied back
+        // before the rest of the search (the tracking build, the lists) reads the particles.
+        let (head, tail) = match kernels.iter().rposition(|(kd, _)| kd.file == reorder::FILE) {
+            Some(last) if renumber => kernels.split_at(last + 1),
+            _ => (&kernels[..], &kernels[..0]),
+        };
+        let walls = renumber && !self.walls_ordered.replace(true);
+        let split = |begin: bool| {
+            ts.as_ref().map(|w| wgpu::ComputePassTimestampWrites {
+                query_set: w.query_set,
+                beginning_of_pass_write_index: if begin { w.beginning_of_pass_write_index } else { None },
+                end_of_pass_write_index: if begin { None } else { w.end_of_pass_write_index },
+            })
+        };
+        let (first, last) = if tail.is_empty() { (ts.clone(), None) } else { (split(true), split(false)) };
+        self.record_kernels(enc, &label, first, head, &skips, (renumber, walls));
+        if renumber {
+            self.record_renumbered(enc, walls);
+        }
+        if !tail.is_empty() {
+            self.record_kernels(enc, &label, last, tail, &skips, (renumber, walls));
+        }
+    }
+
+    /// One compute pass over `kernels` (the bind groups, then each kernel's dispatch): the
+    /// reorder kernels only with a renumbering (`renumber.0`; the walls' too when `renumber.1`),
+    /// none of `skips`.
+    fn record_kernels(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        label: &str,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        kernels: &[(crate::gpu::stages::KernelDef, wgpu::ComputePipeline)],
+        skips: &[&str],
+        (renumber, renumber_walls): (bool, bool),
+    ) {
+        let desc = wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes };
         let mut pass = enc.begin_compute_pass(&desc);
         pass.set_bind_group(0, &self.bg, &[]);
         pass.set_bind_group(1, &self.vbg, &[]);
@@ -102,12 +138,10 @@ impl<T: Real> GpuSolver<T> {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
         for (kd, p) in kernels {
-            let walls_done = self.walls_ordered.get() && crate::gpu::stages::REORDER_WALLS.contains(&kd.entry);
-            if (kd.file == reorder::FILE && (!renumber || walls_done)) || skips.contains(&kd.entry) {
+            let reorder = kd.file == reorder::FILE;
+            let walls_done = kd.entry == crate::gpu::stages::REORDER_WALLS && !renumber_walls;
+            if (reorder && (!renumber || walls_done)) || skips.contains(&kd.entry) {
                 continue;
-            }
-            if kd.entry == crate::gpu::stages::REORDER_WALLS[1] {
-                self.walls_ordered.set(true);
             }
             let [gx, gy, gz] = self.groups(kd.domain);
             if gx > 0 {
@@ -118,11 +152,42 @@ impl<T: Real> GpuSolver<T> {
         }
     }
 
+    /// After a renumbering's kernels: the scratch copied back over the persistent arrays
+    /// (twin of `to_scratch` in reorder.wgsl; the fluids, and the walls too the first time) and cleared.
+    fn record_renumbered(&self, enc: &mut wgpu::CommandEncoder, walls: bool) {
+        let m = if walls { self.n } else { self.n_fluid } as u64;
+        let (v2, r) = (size_of::<V2<T>>() as u64, size_of::<T>() as u64);
+        let n = self.n as u64;
+        let b = &self.b;
+        let counts = &self.vb.counts.buffer;
+        let copies: [(&wgpu::Buffer, u64, &wgpu::Buffer, u64, u64); 8] = [
+            (&b.grad0.buffer, 0, &b.pos.buffer, 0, m * v2),
+            (&b.grad1.buffer, 0, &b.vel.buffer, 0, m * v2),
+            (&b.pi.buffer, 0, &b.pos0.buffer, 0, m * v2),
+            (&b.sigma.buffer, 0, &b.vel0.buffer, 0, m * v2),
+            (&b.rho.buffer, 0, &b.mass.buffer, 0, m * r),
+            (counts, 0, &b.phase.buffer, 0, 4 * m),
+            (counts, 0, &b.colour.buffer, 0, 4 * self.n_fluid as u64),
+            (counts, 4 * n, &self.rb.buf.buffer, 4 * self.rb.orig_at() as u64, 4 * m),
+        ];
+        for (src, at, dst, to, bytes) in copies {
+            if bytes > 0 {
+                enc.copy_buffer_to_buffer(src, at, dst, to, bytes);
+                self.ctx.traffic.copy();
+            }
+        }
+        // Where no colour gradient or stress is computed they are read as zero.
+        for g in [&b.grad0.buffer, &b.grad1.buffer, &b.pi.buffer] {
+            enc.clear_buffer(g, 0, None);
+        }
+    }
+
     /// The search kernels a search pass skips (none for another pass, `counted`: a cell count
     /// stage counted the particles where they are): the count when counted; the scan when a
     /// `cell_scan` stage scanned those counts; the merge of the previous lists unless counted
-    /// and the lists kept ([`GpuSolver::lists_kept`]), else the scatter and sort.
-    fn search_skips(&self, search: bool, counted: bool) -> Vec<&'static str> {
+    /// and the lists kept ([`GpuSolver::lists_kept`]), else the scatter and sort; with a
+    /// renumbering, the list kernel its reorder kernel replaces (`gpu::stages::REORDER`).
+    fn search_skips(&self, search: bool, counted: bool, renumber: bool) -> Vec<&'static str> {
         let mut skip = Vec::new();
         if !search {
             return skip;
@@ -134,10 +199,14 @@ impl<T: Real> GpuSolver<T> {
         if scanned {
             skip.extend(crate::gpu::stages::CELL_SCAN.iter().map(|kd| kd.entry));
         }
-        if counted && self.lists_kept.get() {
-            skip.extend(["cell_scatter", "cell_sort"]);
+        let merge = counted && self.lists_kept.get();
+        if merge {
+            skip.extend(["cell_scatter", "cell_sort", "reorder_sort"]);
         } else {
-            skip.push(crate::gpu::stages::CELL_MERGE);
+            skip.extend([crate::gpu::stages::CELL_MERGE, "reorder_merge"]);
+        }
+        if renumber {
+            skip.push(if merge { crate::gpu::stages::CELL_MERGE } else { "cell_sort" });
         }
         skip
     }
@@ -151,6 +220,7 @@ impl<T: Real> GpuSolver<T> {
             let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
             if bytes > 0 {
                 enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes);
+                self.ctx.traffic.copy();
             }
         }
     }

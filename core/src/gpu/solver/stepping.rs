@@ -27,11 +27,11 @@ impl<T: Real> GpuSolver<T> {
         }
         if c.ctl[ctl::SCAN_MISS] != u32::MAX {
             return Err(SolverError::Gpu(format!(
-                "step {}: the cell counts scanned did not sum to the {} particles; the neighbour lists of that \
+                "step {}: the cell counts scanned did not sum to the {} fluid particles; the neighbour lists of that \
                  search are wrong, so the run is stopped (a fused scan that read the counts before every workgroup's \
                  were visible: run the unfused engine to check)",
                 c.ctl[ctl::SCAN_MISS],
-                self.n
+                self.n_fluid
             )));
         }
         if c.ctl[ctl::CONTACTS_MAX] as usize > MAX_CONTACTS {
