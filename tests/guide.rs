@@ -163,8 +163,8 @@ impl<T: Real> Device<T> {
         let (state, _) = solver_buffers::layouts(ctx).expect("state layout");
         let (strategy, layout) = variant_buffers::layouts(ctx, &state).expect("pipeline layout");
         let groups = [b.bind_group(ctx, &state).expect("group 0"), vb.bind_group(ctx, &strategy).expect("group 1")];
-        b.pos.upload(ctx, &cpu.pos).unwrap();
-        b.vel.upload(ctx, &cpu.vel).unwrap();
+        b.pos().upload(ctx, &cpu.pos).unwrap();
+        b.vel().upload(ctx, &cpu.vel).unwrap();
         b.phase.upload(ctx, &cpu.phase).unwrap();
         Self { b, groups, layout }
     }
@@ -173,24 +173,24 @@ impl<T: Real> Device<T> {
     /// NaN in the stage's outputs.
     fn load(&self, ctx: &GpuContext, f: &Fields<T>, stage: Stage) {
         let b = &self.b;
-        b.sigma.upload(ctx, &solver_buffers::sigma_pairs(&f.sigma)).unwrap();
+        b.sigma().upload(ctx, &solver_buffers::sigma_pairs(&f.sigma)).unwrap();
         b.chi.upload(ctx, &f.chi).unwrap();
-        b.mass.upload(ctx, &f.mass).unwrap();
+        b.mass().upload(ctx, &f.mass).unwrap();
         b.colour.upload(ctx, &f.colour).unwrap();
-        b.rho.upload(ctx, &f.rho).unwrap();
+        b.rho().upload(ctx, &f.rho).unwrap();
         b.p.upload(ctx, &f.p).unwrap();
-        b.grad0.upload(ctx, &f.grad.iter().map(|g| g[0]).collect::<Vec<_>>()).unwrap();
-        b.grad1.upload(ctx, &f.grad.iter().map(|g| g[1]).collect::<Vec<_>>()).unwrap();
-        b.pi.upload(ctx, &f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect::<Vec<_>>()).unwrap();
+        b.grad0().upload(ctx, &f.grad.iter().map(|g| g[0]).collect::<Vec<_>>()).unwrap();
+        b.grad1().upload(ctx, &f.grad.iter().map(|g| g[1]).collect::<Vec<_>>()).unwrap();
+        b.pi().upload(ctx, &f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect::<Vec<_>>()).unwrap();
         b.acc.upload(ctx, &f.acc).unwrap();
         let (nan, nan2) = (T::nan(), V2::new(T::nan(), T::nan()));
         for field in stage.pure_outputs() {
             match field {
-                Field::Sigma => b.sigma.fill(ctx, nan2).unwrap(),
+                Field::Sigma => b.sigma().fill(ctx, nan2).unwrap(),
                 Field::Chi => b.chi.fill(ctx, nan).unwrap(),
                 Field::Grad => {
-                    b.grad0.fill(ctx, nan2).unwrap();
-                    b.grad1.fill(ctx, nan2).unwrap();
+                    b.grad0().fill(ctx, nan2).unwrap();
+                    b.grad1().fill(ctx, nan2).unwrap();
                 }
                 Field::Acc => b.acc.fill(ctx, nan2).unwrap(),
                 other => panic!("{stage} writes {other:?}, which this test does not read back"),
@@ -203,10 +203,10 @@ impl<T: Real> Device<T> {
         let mut g = f.clone();
         for field in stage.outputs() {
             match field {
-                Field::Sigma => g.sigma = solver_buffers::sigma_of(self.b.sigma.read_back(ctx).unwrap()),
+                Field::Sigma => g.sigma = solver_buffers::sigma_of(self.b.sigma().read_back(ctx).unwrap()),
                 Field::Chi => g.chi = self.b.chi.read_back(ctx).unwrap(),
                 Field::Grad => {
-                    let (a, c) = (self.b.grad0.read_back(ctx).unwrap(), self.b.grad1.read_back(ctx).unwrap());
+                    let (a, c) = (self.b.grad0().read_back(ctx).unwrap(), self.b.grad1().read_back(ctx).unwrap());
                     g.grad = a.into_iter().zip(c).map(|(a, c)| [a, c]).collect();
                 }
                 Field::Acc => g.acc = self.b.acc.read_back(ctx).unwrap(),

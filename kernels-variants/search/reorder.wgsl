@@ -3,14 +3,15 @@
 // `sorted`, `VP_PHYSICAL`; tracking: every `EVERY` evaluations, then the lists are rebuilt)
 // `reorder_sort` / `reorder_merge` replace the search's `cell_sort` / `cell_merge`: one thread
 // per cell builds its list (common/cell_lists.wgsl) and writes each of its particles, in that
-// order, into the scratch at its slot: every per-particle array that persists across the
-// search (pos, vel, the step's start r⁰ and v⁰, mass, phase and the permutation `orig_of`;
-// colour follows phase) goes into an array that the evaluation recomputes after the search
-// (`to_scratch` below), and the host copies the scratch back over the originals right after
-// this pass and clears the scratch (`GpuSolver::record_renumbered`), so no binding is added
-// and no kernel. ṽ and a are outputs of every evaluation and are not moved. Fluids stay in
-// 0..n_fluid; the walls (static, sorted once by the host: `wall_start`) are renumbered once, by
-// `reorder_walls`, with the first renumbering. Twin of `gpu::reorder::{R_*, RBufs}` (group 2,
+// order, into its slot of the twin arrays: each per-particle array that persists across the
+// search (pos, vel, the step's start r⁰ and v⁰, mass) has a twin the evaluation recomputes
+// after the search (grad0, grad1, pi, sigma, rho), and after this pass the host swaps their
+// roles (the next passes bind the other group 0); phase and the permutation `orig_of` go into
+// `counts` and the host copies them back, the fluids' colour being their phase
+// (`GpuSolver::record_renumbered`). No binding is added and no kernel. ṽ and a are outputs of
+// every evaluation and are not moved. Fluids stay in 0..n_fluid, walls in n_fluid..n: the first
+// renumbering puts the walls in their static sort's order (the host's, `wall_start`), and every
+// later one copies them to their own slots. Twin of `gpu::reorder::{R_*, RBufs}` (group 2,
 // bound only by these pipelines).
 
 #import common/bindings
@@ -54,10 +55,10 @@ fn renumbering_noted() {
 #endif
 }
 
-// The scratch of slot s (twin of `GpuSolver::record_renumbered`): r → grad0, v → grad1, r⁰ → pi,
-// v⁰ → sigma, m → rho, and in `counts` (2n words) phase and orig_of. A fluid's colour is its
-// phase (the host copies the phases over the fluids' colours); the walls' colour and mass are
-// the same for every wall, or typed again by every evaluation (Mode A's wall typing).
+// Particle j into slot s of the twins (twin of `GpuSolver::record_renumbered`): r → grad0,
+// v → grad1, r⁰ → pi, v⁰ → sigma, m → rho, and in `counts` (2n words) phase and orig_of. A
+// fluid's colour is its phase (the host copies the phases over the fluids' colours); the walls'
+// colour is the same for every wall, or typed again by every evaluation (Mode A's wall typing).
 fn to_scratch(s: u32, j: u32) {
     grad0[s] = pos[j];
     grad1[s] = vel[j];
@@ -78,12 +79,17 @@ fn renumber_slot(s: u32, due: bool) {
     }
 }
 
+// Cell c's fluid slots, then its wall slots (the walls' static sort: the first renumbering
+// puts the walls in its order, every later one keeps them where they are).
 fn renumber_cell(c: u32) {
     let due = now();
     if c == 0u && due {
         renumbering_noted();
     }
     for (var s = cell_start[c]; s < cell_start[c + 1u]; s++) {
+        renumber_slot(s, due);
+    }
+    for (var s = wall_start(c); s < wall_start(c + 1u); s++) {
         renumber_slot(s, due);
     }
 }
@@ -103,14 +109,5 @@ fn reorder_merge(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     if c < params.grid_nx * params.grid_ny {
         merge_cell(c);
         renumber_cell(c);
-    }
-}
-
-// The walls in their static sort's order (once, with the first renumbering).
-@compute @workgroup_size(GROUP_THREADS)
-fn reorder_walls(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let s = params.n_fluid + linear_id(gid, nwg);
-    if s < params.n {
-        renumber_slot(s, now());
     }
 }

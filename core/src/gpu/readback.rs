@@ -46,22 +46,22 @@ impl<T: Real> GpuSolver<T> {
         let ctx = &*self.ctx;
         let b = &self.b;
         let o = self.device_order()?;
-        b.pos.upload(ctx, &to_device(pos, 1, &o))?;
+        b.pos().upload(ctx, &to_device(pos, 1, &o))?;
         self.counts_fresh.set(false);
         self.lists_kept.set(false);
-        b.vel.upload(ctx, &to_device(vel, 1, &o))?;
-        b.sigma.upload(ctx, &to_device(&sigma_pairs(&f.sigma), 1, &o))?;
+        b.vel().upload(ctx, &to_device(vel, 1, &o))?;
+        b.sigma().upload(ctx, &to_device(&sigma_pairs(&f.sigma), 1, &o))?;
         b.chi.upload(ctx, &to_device(&f.chi, 1, &o))?;
-        b.mass.upload(ctx, &to_device(&f.mass, 1, &o))?;
+        b.mass().upload(ctx, &to_device(&f.mass, 1, &o))?;
         b.colour.upload(ctx, &to_device(&f.colour, 1, &o))?;
-        b.rho.upload(ctx, &to_device(&f.rho, 1, &o))?;
+        b.rho().upload(ctx, &to_device(&f.rho, 1, &o))?;
         b.p.upload(ctx, &to_device(&f.p, 1, &o))?;
-        for (s, slot) in [&b.grad0, &b.grad1].into_iter().enumerate() {
+        for (s, slot) in [b.grad0(), b.grad1()].into_iter().enumerate() {
             let g: Vec<V2<T>> = f.grad.iter().map(|g| g[s]).collect();
             slot.upload(ctx, &to_device(&g, 1, &o))?;
         }
         let pi: Vec<V2<T>> = f.pi.iter().map(|t| V2::new(t.xx, t.xy)).collect();
-        b.pi.upload(ctx, &to_device(&pi, 1, &o))?;
+        b.pi().upload(ctx, &to_device(&pi, 1, &o))?;
         b.acc.upload(ctx, &to_device(&f.acc, 1, &o))?;
         b.vt.upload(ctx, &to_device(&f.vt, 1, &o))?;
         self.upload_contacts(&f.contacts)?;
@@ -69,16 +69,16 @@ impl<T: Real> GpuSolver<T> {
         let nan2 = V2::new(nan, nan);
         for field in stage.pure_outputs() {
             match field {
-                Field::Sigma => b.sigma.fill(ctx, nan2)?,
+                Field::Sigma => b.sigma().fill(ctx, nan2)?,
                 Field::Chi => b.chi.fill(ctx, nan)?,
-                Field::Mass => b.mass.fill(ctx, nan)?,
-                Field::Rho => b.rho.fill(ctx, nan)?,
+                Field::Mass => b.mass().fill(ctx, nan)?,
+                Field::Rho => b.rho().fill(ctx, nan)?,
                 Field::P => b.p.fill(ctx, nan)?,
                 Field::Grad => {
-                    b.grad0.fill(ctx, nan2)?;
-                    b.grad1.fill(ctx, nan2)?
+                    b.grad0().fill(ctx, nan2)?;
+                    b.grad1().fill(ctx, nan2)?
                 }
-                Field::Pi => b.pi.fill(ctx, nan2)?,
+                Field::Pi => b.pi().fill(ctx, nan2)?,
                 Field::Acc => b.acc.fill(ctx, nan2)?,
                 Field::Vt => b.vt.fill(ctx, nan2)?,
                 Field::Contacts => b.contacts.fill(ctx, nan)?,
@@ -126,16 +126,16 @@ impl<T: Real> GpuSolver<T> {
         let raw = b.contacts.read_back(ctx)?;
         let kept = (w[ctl::CONTACTS_FOUND] as usize).min(MAX_CONTACTS);
         let o = self.device_order()?;
-        let (g0, g1) = (to_original(b.grad0.read_back(ctx)?, 1, &o), to_original(b.grad1.read_back(ctx)?, 1, &o));
+        let (g0, g1) = (to_original(b.grad0().read_back(ctx)?, 1, &o), to_original(b.grad1().read_back(ctx)?, 1, &o));
         Ok(Fields {
-            sigma: to_original(sigma_of(b.sigma.read_back(ctx)?), 1, &o),
+            sigma: to_original(sigma_of(b.sigma().read_back(ctx)?), 1, &o),
             chi: to_original(b.chi.read_back(ctx)?, 1, &o),
-            mass: to_original(b.mass.read_back(ctx)?, 1, &o),
+            mass: to_original(b.mass().read_back(ctx)?, 1, &o),
             colour: to_original(b.colour.read_back(ctx)?, 1, &o),
-            rho: to_original(b.rho.read_back(ctx)?, 1, &o),
+            rho: to_original(b.rho().read_back(ctx)?, 1, &o),
             p: to_original(b.p.read_back(ctx)?, 1, &o),
             grad: g0.into_iter().zip(g1).map(|(a, c)| [a, c]).collect(),
-            pi: to_original(b.pi.read_back(ctx)?, 1, &o).iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
+            pi: to_original(b.pi().read_back(ctx)?, 1, &o).iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
             acc: to_original(b.acc.read_back(ctx)?, 1, &o),
             vt: to_original(b.vt.read_back(ctx)?, 1, &o),
             contacts: sorted_contacts(
@@ -204,7 +204,7 @@ impl<T: Real> GpuSolver<T> {
             (start, sorted)
         };
         let lists = if self.spec.has_lists() && uses_masks(&self.spec) {
-            let (pos, ref_pos) = (self.b.pos.read_back(ctx)?, self.vb.ref_pos.read_back(ctx)?);
+            let (pos, ref_pos) = (self.b.pos().read_back(ctx)?, self.vb.ref_pos.read_back(ctx)?);
             // The slots as the kernels read them (`slot_particle`): s itself in physical order.
             let sorted: Vec<u32> = if self.physical_order() { (0..self.n as u32).collect() } else { slots };
             let (nbr, cand, cand_hi) =
@@ -249,7 +249,7 @@ impl<T: Real> GpuSolver<T> {
     /// Positions and velocities.
     pub fn read_state(&self) -> Result<PosVel<T>, GpuError> {
         let o = self.device_order()?;
-        let (pos, vel) = (self.b.pos.read_back(&self.ctx)?, self.b.vel.read_back(&self.ctx)?);
+        let (pos, vel) = (self.b.pos().read_back(&self.ctx)?, self.b.vel().read_back(&self.ctx)?);
         Ok((to_original(pos, 1, &o), to_original(vel, 1, &o)))
     }
 }

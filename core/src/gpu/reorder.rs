@@ -1,17 +1,16 @@
 //! Particles renumbered in cell order (twin of `kernels-variants/search/reorder.wgsl`, bind
 //! group 2, bound only by the reorder pipelines): ONE buffer holding the control words and the
 //! device permutation `orig_of[device]` (one binding: with the state's 22 and the variant's 9
-//! that is lavapipe's 32 per stage), plus the host side of the permutation and the copies that
-//! put the renumbered particles back (`GpuSolver::record_renumbered`, twin of `to_scratch` in
-//! reorder.wgsl). In the evaluations the host says (a `cells`
-//! search: every one, so the particles stay in physical cell order; tracking: every
-//! [`RBufs::set_every`] evaluations, rebuilding its lists then) the search's last kernel writes
-//! every particle into the scratch at its slot, and the host copies the scratch back right after
-//! (`GpuSolver::record_pass`). The walls are renumbered once, with the first renumbering. The
-//! direct search never renumbers: it allocates the control words alone and its permutation is
-//! the identity. Everything the host reads or writes goes through [`to_original`] /
-//! [`to_device`], so outputs, snapshots, `verify` and the CPU comparison see particles in their
-//! original order.
+//! that is lavapipe's 32 per stage), plus the host side of the permutation. In the evaluations
+//! the host says (a `cells` search: every one, so the particles stay in physical cell order;
+//! tracking: every [`RBufs::set_every`] evaluations, rebuilding its lists then) the search's
+//! last kernel writes every particle at its slot into the twins of the persistent arrays, and
+//! the host swaps their roles and copies phase and `orig_of` back
+//! (`GpuSolver::record_renumbered`). The first renumbering puts the walls in their static
+//! sort's order. The direct search never renumbers: it allocates the control words alone and
+//! its permutation is the identity. Everything the host reads or writes goes through
+//! [`to_original`] / [`to_device`], so outputs, snapshots, `verify` and the CPU comparison see
+//! particles in their original order.
 
 use super::{GpuContext, GpuError, GpuVec};
 use crate::real::Real;

@@ -82,7 +82,7 @@ impl<T: Real> GpuSolver<T> {
 
     /// Particles the buffers hold.
     pub fn capacity(&self) -> usize {
-        self.b.pos.len()
+        self.b.pos().len()
     }
 
     /// Uploads `part` of the first `rows` particles from host arrays; the bytes written.
@@ -98,22 +98,22 @@ impl<T: Real> GpuSolver<T> {
         let (ctx, b) = (&*self.ctx, &self.b);
         let r = rows;
         match part {
-            Part::Pos => write_prefix(ctx, &b.pos, &pos[..r]),
-            Part::Vel => write_prefix(ctx, &b.vel, &vel[..r]),
+            Part::Pos => write_prefix(ctx, b.pos(), &pos[..r]),
+            Part::Vel => write_prefix(ctx, b.vel(), &vel[..r]),
             Part::Field(field) => match field {
-                Field::Sigma => write_prefix(ctx, &b.sigma, &sigma_pairs(&f.sigma[..r])),
+                Field::Sigma => write_prefix(ctx, b.sigma(), &sigma_pairs(&f.sigma[..r])),
                 Field::Chi => write_prefix(ctx, &b.chi, &f.chi[..r]),
-                Field::Mass => write_prefix(ctx, &b.mass, &f.mass[..r]),
+                Field::Mass => write_prefix(ctx, b.mass(), &f.mass[..r]),
                 Field::Colour => write_prefix(ctx, &b.colour, &f.colour[..r]),
-                Field::Rho => write_prefix(ctx, &b.rho, &f.rho[..r]),
+                Field::Rho => write_prefix(ctx, b.rho(), &f.rho[..r]),
                 Field::P => write_prefix(ctx, &b.p, &f.p[..r]),
                 Field::Grad => {
                     let slot = |s: usize| f.grad[..r].iter().map(|g| g[s]).collect::<Vec<V2<T>>>();
-                    Ok(write_prefix(ctx, &b.grad0, &slot(0))? + write_prefix(ctx, &b.grad1, &slot(1))?)
+                    Ok(write_prefix(ctx, b.grad0(), &slot(0))? + write_prefix(ctx, b.grad1(), &slot(1))?)
                 }
                 Field::Pi => {
                     let p: Vec<V2<T>> = f.pi[..r].iter().map(|t| V2::new(t.xx, t.xy)).collect();
-                    write_prefix(ctx, &b.pi, &p)
+                    write_prefix(ctx, b.pi(), &p)
                 }
                 Field::Acc => write_prefix(ctx, &b.acc, &f.acc[..r]),
                 Field::Vt => write_prefix(ctx, &b.vt, &f.vt[..r]),
@@ -141,30 +141,30 @@ impl<T: Real> GpuSolver<T> {
             (src.len() * size_of::<P>()) as u64
         }
         Ok(match part {
-            Part::Pos => put(&mut pos[..r], read_prefix(ctx, &b.pos, r)?),
-            Part::Vel => put(&mut vel[..r], read_prefix(ctx, &b.vel, r)?),
+            Part::Pos => put(&mut pos[..r], read_prefix(ctx, b.pos(), r)?),
+            Part::Vel => put(&mut vel[..r], read_prefix(ctx, b.vel(), r)?),
             Part::Field(field) => match field {
                 Field::Sigma => {
                     // The bytes moved are the records' (σ, 1/σ²).
-                    let records = read_prefix(ctx, &b.sigma, r)?;
+                    let records = read_prefix(ctx, b.sigma(), r)?;
                     let bytes = (records.len() * size_of::<V2<T>>()) as u64;
                     put(&mut f.sigma[..r], sigma_of(records));
                     bytes
                 }
                 Field::Chi => put(&mut f.chi[..r], read_prefix(ctx, &b.chi, r)?),
-                Field::Mass => put(&mut f.mass[..r], read_prefix(ctx, &b.mass, r)?),
+                Field::Mass => put(&mut f.mass[..r], read_prefix(ctx, b.mass(), r)?),
                 Field::Colour => put(&mut f.colour[..r], read_prefix(ctx, &b.colour, r)?),
-                Field::Rho => put(&mut f.rho[..r], read_prefix(ctx, &b.rho, r)?),
+                Field::Rho => put(&mut f.rho[..r], read_prefix(ctx, b.rho(), r)?),
                 Field::P => put(&mut f.p[..r], read_prefix(ctx, &b.p, r)?),
                 Field::Grad => {
-                    let (g0, g1) = (read_prefix(ctx, &b.grad0, r)?, read_prefix(ctx, &b.grad1, r)?);
+                    let (g0, g1) = (read_prefix(ctx, b.grad0(), r)?, read_prefix(ctx, b.grad1(), r)?);
                     for (i, (a, c)) in g0.iter().zip(&g1).enumerate() {
                         f.grad[i] = [*a, *c];
                     }
                     ((g0.len() + g1.len()) * size_of::<V2<T>>()) as u64
                 }
                 Field::Pi => {
-                    let p = read_prefix(ctx, &b.pi, r)?;
+                    let p = read_prefix(ctx, b.pi(), r)?;
                     for (i, t) in p.iter().enumerate() {
                         f.pi[i] = Sym2 { xx: t.x, xy: t.y };
                     }
@@ -237,7 +237,7 @@ impl<T: Real> GpuSolver<T> {
         if bytes == 0 {
             return Ok(());
         }
-        self.submit(|enc| enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes)).map(|_| ())
+        self.submit(|enc| enc.copy_buffer_to_buffer(&self.b.vel().buffer, 0, &self.b.vt.buffer, 0, bytes)).map(|_| ())
     }
 
     /// Loads another particle set (fluids first, `n_fluid` of them, then walls) into a solver
@@ -264,17 +264,16 @@ impl<T: Real> GpuSolver<T> {
         let colour: Vec<i32> = (0..n).map(|i| if i < n_fluid { phase[i] as i32 } else { wall_colour }).collect();
         let mass: Vec<T> =
             (0..n).map(|i| m.phases[if i < n_fluid { phase[i] as usize } else { m.wall_phase }].mass).collect();
-        let mut bytes = write_prefix(ctx, &self.b.pos, pos)?
-            + write_prefix(ctx, &self.b.vel, vel)?
+        let mut bytes = write_prefix(ctx, self.b.pos(), pos)?
+            + write_prefix(ctx, self.b.vel(), vel)?
             + write_prefix(ctx, &self.b.phase, phase)?
             + write_prefix(ctx, &self.b.colour, &colour)?
-            + write_prefix(ctx, &self.b.mass, &mass)?;
+            + write_prefix(ctx, self.b.mass(), &mass)?;
         // The walls' static sort of this set, in its (original) order.
         let walls = wall_cells(&self.grid, pos, n_fluid);
         self.b.upload_walls(ctx, &walls, self.grid.cells(), n_fluid);
         bytes += 4 * (walls.start.len() + walls.list.len() + walls.cell_of.len()) as u64;
         self.rb.reset_order(ctx)?;
-        self.walls_ordered.set(false);
         self.reset_ctl()?;
         bytes += (ctl::LEN * 4 + 3 * size_of::<T>()) as u64;
         self.n = n;

@@ -97,29 +97,27 @@ pub fn wall_cells<T: Real>(grid: &CellBox<T>, pos: &[V2<T>], n_fluid: usize) -> 
     WallCells { start, list, cell_of }
 }
 
-/// The buffers (fluids first, then walls).
+/// A persistent array and its twin, in their first roles.
+type Twins<X> = (GpuVec<X>, GpuVec<X>);
+
+/// The buffers (fluids first, then walls). Five arrays that persist across the neighbour search
+/// come with a twin the evaluation recomputes after it — (pos, grad0), (vel, grad1), (pos0, pi),
+/// (vel0, sigma), (mass, rho) — and a renumbering writes each particle into the twin at its slot
+/// (search/reorder.wgsl), after which the two swap roles ([`Bufs::swap_twins`]): the solver binds
+/// the group of the current roles ([`Bufs::bind_group`] of each), and the accessors name the
+/// buffer that now plays each role.
 pub struct Bufs<T: Real> {
     pub params: Uniform<Params<T>>,
-    pub pos: GpuVec<V2<T>>,
-    pub vel: GpuVec<V2<T>>,
+    /// (pos, grad0), (vel, grad1), (pos0, pi), (vel0, sigma) in their first roles.
+    twins: [Twins<V2<T>>; 4],
+    /// (mass, rho) in their first roles.
+    mass_rho: Twins<T>,
+    /// The twins have swapped roles (an odd number of renumberings recorded).
+    swapped: std::cell::Cell<bool>,
     pub phase: GpuVec<u32>,
-    /// r⁰ of the midpoint step.
-    pub pos0: GpuVec<V2<T>>,
-    /// v⁰ of the midpoint step, v_{n+½} of Verlet's.
-    pub vel0: GpuVec<V2<T>>,
-    /// (σ, 1/σ²) of each particle: the number-density pass writes both, so the pair sums read
-    /// 1/σ_j² instead of dividing per pair ([`sigma_pairs`], [`sigma_of`]).
-    pub sigma: GpuVec<V2<T>>,
     pub chi: GpuVec<T>,
-    pub mass: GpuVec<T>,
     pub colour: GpuVec<i32>,
-    pub rho: GpuVec<T>,
     pub p: GpuVec<T>,
-    /// Colour-gradient slot 0 (one binding per slot: `grad_at` in bindings.wgsl).
-    pub grad0: GpuVec<V2<T>>,
-    /// Colour-gradient slot 1.
-    pub grad1: GpuVec<V2<T>>,
-    pub pi: GpuVec<V2<T>>,
     pub acc: GpuVec<V2<T>>,
     pub vt: GpuVec<V2<T>>,
     pub contacts: GpuVec<T>,
@@ -138,20 +136,18 @@ impl<T: Real> Bufs<T> {
         let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
         Ok(Self {
             params: Uniform::new(ctx, "sphlab.params", params),
-            pos: v2("pos", n)?,
-            vel: v2("vel", n)?,
+            twins: [
+                (v2("pos", n)?, v2("grad0", n)?),
+                (v2("vel", n)?, v2("grad1", n)?),
+                (v2("pos0", n)?, v2("pi", n)?),
+                (v2("vel0", n)?, v2("sigma", n)?),
+            ],
+            mass_rho: (s("mass", n)?, s("rho", n)?),
+            swapped: std::cell::Cell::new(false),
             phase: u("phase", n)?,
-            pos0: v2("pos0", n)?,
-            vel0: v2("vel0", n)?,
-            sigma: v2("sigma", n)?,
             chi: s("chi", n)?,
-            mass: s("mass", n)?,
             colour: GpuVec::new(ctx, "sphlab.colour", n)?,
-            rho: s("rho", n)?,
             p: s("p", n)?,
-            grad0: v2("grad0", n)?,
-            grad1: v2("grad1", n)?,
-            pi: v2("pi", n)?,
             acc: v2("acc", n)?,
             vt: v2("vt", n)?,
             contacts: s("contacts", 4 * MAX_CONTACTS)?,
@@ -167,6 +163,69 @@ impl<T: Real> Bufs<T> {
         })
     }
 
+    /// The buffer playing the first (`first`) or second role of a twin pair, with the roles
+    /// swapped when `swapped`.
+    fn role<X>(pair: &(X, X), first: bool, swapped: bool) -> &X {
+        if first != swapped {
+            &pair.0
+        } else {
+            &pair.1
+        }
+    }
+
+    /// Positions.
+    pub fn pos(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[0], true, self.swapped.get())
+    }
+    /// Velocities.
+    pub fn vel(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[1], true, self.swapped.get())
+    }
+    /// r⁰ of the midpoint step.
+    pub fn pos0(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[2], true, self.swapped.get())
+    }
+    /// v⁰ of the midpoint step, v_{n+½} of Verlet's.
+    pub fn vel0(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[3], true, self.swapped.get())
+    }
+    /// Particle masses.
+    pub fn mass(&self) -> &GpuVec<T> {
+        Self::role(&self.mass_rho, true, self.swapped.get())
+    }
+    /// Colour-gradient slot 0 (one binding per slot: `grad_at` in bindings.wgsl).
+    pub fn grad0(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[0], false, self.swapped.get())
+    }
+    /// Colour-gradient slot 1.
+    pub fn grad1(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[1], false, self.swapped.get())
+    }
+    /// (Π_xx, Π_xy).
+    pub fn pi(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[2], false, self.swapped.get())
+    }
+    /// (σ, 1/σ²) of each particle: the number-density pass writes both, so the pair sums read
+    /// 1/σ_j² instead of dividing per pair ([`sigma_pairs`], [`sigma_of`]).
+    pub fn sigma(&self) -> &GpuVec<V2<T>> {
+        Self::role(&self.twins[3], false, self.swapped.get())
+    }
+    /// Densities.
+    pub fn rho(&self) -> &GpuVec<T> {
+        Self::role(&self.mass_rho, false, self.swapped.get())
+    }
+
+    /// Swaps the roles of every twin pair (after a renumbering wrote the particles into the
+    /// second ones); the bind group of the new roles is [`Self::roles_swapped`]'s.
+    pub fn swap_twins(&self) {
+        self.swapped.set(!self.swapped.get());
+    }
+
+    /// True while the twins play swapped roles (index of the solver's bind group).
+    pub fn roles_swapped(&self) -> bool {
+        self.swapped.get()
+    }
+
     /// Writes the walls' static sort (`cells` cells, `n_fluid` fluids first).
     pub fn upload_walls(&self, ctx: &GpuContext, w: &WallCells, cells: usize, n_fluid: usize) {
         let put = |v: &GpuVec<u32>, at: usize, data: &[u32]| {
@@ -180,23 +239,25 @@ impl<T: Real> Bufs<T> {
         put(&self.cell_of, n_fluid, &w.cell_of);
     }
 
-    /// The storage buffers in binding order 1..=22.
-    pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_STORAGE as usize] {
+    /// The storage buffers in binding order 1..=22, the twins in their roles when `swapped`.
+    pub(crate) fn storage_with(&self, swapped: bool) -> [&wgpu::Buffer; N_STORAGE as usize] {
+        let (t, m) = (&self.twins, &self.mass_rho);
+        let at = |k: usize, first: bool| &Self::role(&t[k], first, swapped).buffer;
         [
-            &self.pos.buffer,
-            &self.vel.buffer,
+            at(0, true),
+            at(1, true),
             &self.phase.buffer,
-            &self.pos0.buffer,
-            &self.vel0.buffer,
-            &self.sigma.buffer,
+            at(2, true),
+            at(3, true),
+            at(3, false),
             &self.chi.buffer,
-            &self.mass.buffer,
+            &Self::role(m, true, swapped).buffer,
             &self.colour.buffer,
-            &self.rho.buffer,
+            &Self::role(m, false, swapped).buffer,
             &self.p.buffer,
-            &self.grad0.buffer,
-            &self.grad1.buffer,
-            &self.pi.buffer,
+            at(0, false),
+            at(1, false),
+            at(2, false),
             &self.acc.buffer,
             &self.vt.buffer,
             &self.contacts.buffer,
@@ -208,10 +269,33 @@ impl<T: Real> Bufs<T> {
         ]
     }
 
-    /// The bind group of `layout` over these buffers.
+    /// The storage buffers in binding order 1..=22, the twins in their current roles.
+    pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_STORAGE as usize] {
+        self.storage_with(self.swapped.get())
+    }
+
+    /// The bind group of `layout` over these buffers, the twins in their current roles.
     pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> Result<wgpu::BindGroup, GpuError> {
+        self.bind_group_with(ctx, layout, self.swapped.get())
+    }
+
+    /// The bind groups of `layout` with the twins in their first roles, then swapped.
+    pub fn bind_groups(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+    ) -> Result<[wgpu::BindGroup; 2], GpuError> {
+        Ok([self.bind_group_with(ctx, layout, false)?, self.bind_group_with(ctx, layout, true)?])
+    }
+
+    fn bind_group_with(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        swapped: bool,
+    ) -> Result<wgpu::BindGroup, GpuError> {
         let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: self.params.buffer.as_entire_binding() }];
-        for (k, b) in self.storage().into_iter().enumerate() {
+        for (k, b) in self.storage_with(swapped).into_iter().enumerate() {
             entries.push(wgpu::BindGroupEntry { binding: k as u32 + 1, resource: b.as_entire_binding() });
         }
         ctx.scoped(|d| {

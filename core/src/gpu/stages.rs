@@ -88,19 +88,13 @@ const fn t(s: Stage, file: &'static str, domain: Domain) -> KernelDef {
 }
 
 /// Particles renumbered in cell order (`gpu::reorder`; group 2 bound), in the evaluations the
-/// host says: the walls once ([`REORDER_WALLS`], with the first renumbering), then the cell
-/// lists built and every fluid written into the scratch at its slot, by `reorder_sort` or
-/// `reorder_merge` in place of the search's `cell_sort` or [`CELL_MERGE`] (the host records the
-/// one that replaces the kernel the search would have run, then copies the scratch back). A
-/// halted device vetoes: every particle is copied to its own slot.
-pub const REORDER: &[KernelDef] = &[
-    k(REORDER_WALLS, super::reorder::FILE, Domain::Wall),
-    k("reorder_sort", super::reorder::FILE, Domain::Cells),
-    k("reorder_merge", super::reorder::FILE, Domain::Cells),
-];
-
-/// The kernel of [`REORDER`] that renumbers the walls (once).
-pub const REORDER_WALLS: &str = "reorder_walls";
+/// host says: the cell lists built and every particle written into the twin arrays at its slot
+/// (the walls into their static sort's order), by `reorder_sort` or `reorder_merge` in place of
+/// the search's `cell_sort` or [`CELL_MERGE`] (the host records the one that replaces the
+/// kernel the search would have run, then swaps the twins' roles). A halted device vetoes:
+/// every particle is copied to its own slot.
+pub const REORDER: &[KernelDef] =
+    &[k("reorder_sort", super::reorder::FILE, Domain::Cells), k("reorder_merge", super::reorder::FILE, Domain::Cells)];
 
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
 pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[

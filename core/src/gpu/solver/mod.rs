@@ -57,7 +57,8 @@ pub struct GpuSolver<T: Real> {
     pub(super) vb: VBufs<T>,
     pub(super) rb: RBufs<T>,
     pub(super) pipes: Arc<Pipelines>,
-    pub(super) bg: wgpu::BindGroup,
+    /// Group 0 with the twin arrays in their first roles, then swapped (`Bufs::roles_swapped`).
+    pub(super) bgs: [wgpu::BindGroup; 2],
     pub(super) vbg: wgpu::BindGroup,
     pub(super) rbg: wgpu::BindGroup,
     /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
@@ -79,8 +80,6 @@ pub struct GpuSolver<T: Real> {
     /// starts, as the previous lists by the next count and scan), so a search after a fresh
     /// count merges them instead of scattering and sorting.
     pub(super) lists_kept: std::cell::Cell<bool>,
-    /// The walls' renumbering has been recorded (walls never move: once).
-    pub(super) walls_ordered: std::cell::Cell<bool>,
     /// Record the fused passes (false: every stage its own pass, the debug mode).
     pub(super) fused: bool,
     /// Renumber the particles in cell order every this many steps (0: never).
@@ -248,11 +247,11 @@ impl<T: Real> GpuSolver<T> {
         };
         let opening = with_kernels(Stage::opening_passes(scene.time.integrator, cells))?;
         let closing = with_kernels(Stage::closing_passes(scene.time.integrator, cells))?;
-        let bg = b.bind_group(&ctx, &compiled.state_layout)?;
+        let bgs = b.bind_groups(&ctx, &compiled.state_layout)?;
         let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
         let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
-        b.pos.upload(&ctx, &pos)?;
-        b.vel.upload(&ctx, &vel)?;
+        b.pos().upload(&ctx, &pos)?;
+        b.vel().upload(&ctx, &vel)?;
         b.phase.upload(&ctx, &layout.phase)?;
         b.upload_walls(&ctx, &wall_cells(&grid, &pos, n_fluid), grid.cells(), n_fluid);
         let ctx_groups = ctx.limits.max_compute_workgroups_per_dimension;
@@ -268,7 +267,7 @@ impl<T: Real> GpuSolver<T> {
             vb,
             rb,
             pipes,
-            bg,
+            bgs,
             vbg,
             rbg,
             passes,
@@ -277,7 +276,6 @@ impl<T: Real> GpuSolver<T> {
             counts_fresh: std::cell::Cell::new(false),
             starts_fresh: std::cell::Cell::new(false),
             lists_kept: std::cell::Cell::new(false),
-            walls_ordered: std::cell::Cell::new(false),
             fused: true,
             reorder_every: DEFAULT_REORDER_EVERY,
             reorder_since: std::cell::Cell::new(u64::MAX),
@@ -437,7 +435,7 @@ impl<T: Real> GpuSolver<T> {
             .map(|i| m.phases[if i < self.n_fluid { self.phase[i] as usize } else { m.wall_phase }].mass)
             .collect();
         self.b.colour.upload(&self.ctx, &colour)?;
-        self.b.mass.upload(&self.ctx, &mass)
+        self.b.mass().upload(&self.ctx, &mass)
     }
 
     /// Clears the control words and sets the clock to step 0, t = 0 (dt: the fixed one).

@@ -100,7 +100,6 @@ impl<T: Real> GpuSolver<T> {
             Some(last) if renumber => kernels.split_at(last + 1),
             _ => (&kernels[..], &kernels[..0]),
         };
-        let walls = renumber && !self.walls_ordered.replace(true);
         let split = |begin: bool| {
             ts.as_ref().map(|w| wgpu::ComputePassTimestampWrites {
                 query_set: w.query_set,
@@ -109,18 +108,17 @@ impl<T: Real> GpuSolver<T> {
             })
         };
         let (first, last) = if tail.is_empty() { (ts.clone(), None) } else { (split(true), split(false)) };
-        self.record_kernels(enc, &label, first, head, &skips, (renumber, walls));
+        self.record_kernels(enc, &label, first, head, &skips, renumber);
         if renumber {
-            self.record_renumbered(enc, walls);
+            self.record_renumbered(enc);
         }
         if !tail.is_empty() {
-            self.record_kernels(enc, &label, last, tail, &skips, (renumber, walls));
+            self.record_kernels(enc, &label, last, tail, &skips, renumber);
         }
     }
 
     /// One compute pass over `kernels` (the bind groups, then each kernel's dispatch): the
-    /// reorder kernels only with a renumbering (`renumber.0`; the walls' too when `renumber.1`),
-    /// none of `skips`.
+    /// reorder kernels only with a `renumber`ing, none of `skips`.
     fn record_kernels(
         &self,
         enc: &mut wgpu::CommandEncoder,
@@ -128,19 +126,17 @@ impl<T: Real> GpuSolver<T> {
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
         kernels: &[(crate::gpu::stages::KernelDef, wgpu::ComputePipeline)],
         skips: &[&str],
-        (renumber, renumber_walls): (bool, bool),
+        renumber: bool,
     ) {
         let desc = wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes };
         let mut pass = enc.begin_compute_pass(&desc);
-        pass.set_bind_group(0, &self.bg, &[]);
+        pass.set_bind_group(0, &self.bgs[usize::from(self.b.roles_swapped())], &[]);
         pass.set_bind_group(1, &self.vbg, &[]);
         if renumber {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
         for (kd, p) in kernels {
-            let reorder = kd.file == reorder::FILE;
-            let walls_done = kd.entry == crate::gpu::stages::REORDER_WALLS && !renumber_walls;
-            if (reorder && (!renumber || walls_done)) || skips.contains(&kd.entry) {
+            if (kd.file == reorder::FILE && !renumber) || skips.contains(&kd.entry) {
                 continue;
             }
             let [gx, gy, gz] = self.groups(kd.domain);
@@ -152,33 +148,29 @@ impl<T: Real> GpuSolver<T> {
         }
     }
 
-    /// After a renumbering's kernels: the scratch copied back over the persistent arrays
-    /// (twin of `to_scratch` in reorder.wgsl; the fluids, and the walls too the first time) and cleared.
-    fn record_renumbered(&self, enc: &mut wgpu::CommandEncoder, walls: bool) {
-        let m = if walls { self.n } else { self.n_fluid } as u64;
-        let (v2, r) = (size_of::<V2<T>>() as u64, size_of::<T>() as u64);
-        let n = self.n as u64;
-        let b = &self.b;
-        let counts = &self.vb.counts.buffer;
-        let copies: [(&wgpu::Buffer, u64, &wgpu::Buffer, u64, u64); 8] = [
-            (&b.grad0.buffer, 0, &b.pos.buffer, 0, m * v2),
-            (&b.grad1.buffer, 0, &b.vel.buffer, 0, m * v2),
-            (&b.pi.buffer, 0, &b.pos0.buffer, 0, m * v2),
-            (&b.sigma.buffer, 0, &b.vel0.buffer, 0, m * v2),
-            (&b.rho.buffer, 0, &b.mass.buffer, 0, m * r),
-            (counts, 0, &b.phase.buffer, 0, 4 * m),
-            (counts, 0, &b.colour.buffer, 0, 4 * self.n_fluid as u64),
-            (counts, 4 * n, &self.rb.buf.buffer, 4 * self.rb.orig_at() as u64, 4 * m),
+    /// After a renumbering's kernels (search/reorder.wgsl wrote every particle at its slot into
+    /// the twins of the persistent arrays, `to_scratch`): the twins swap roles (the next
+    /// passes bind the other group 0), phase, the fluids' colour (their phase) and `orig_of`
+    /// are copied back from `counts`, and the
+    /// arrays now in the roles of ∇C and Π are cleared (where no colour gradient or stress is
+    /// computed they are read as zero).
+    fn record_renumbered(&self, enc: &mut wgpu::CommandEncoder) {
+        self.b.swap_twins();
+        let m = self.n as u64;
+        let (b, n, counts) = (&self.b, self.n as u64, &self.vb.counts.buffer);
+        let copies: [(u64, &wgpu::Buffer, u64, u64); 3] = [
+            (0, &b.phase.buffer, 0, m),
+            (0, &b.colour.buffer, 0, self.n_fluid as u64),
+            (n, &self.rb.buf.buffer, self.rb.orig_at() as u64, m),
         ];
-        for (src, at, dst, to, bytes) in copies {
-            if bytes > 0 {
-                enc.copy_buffer_to_buffer(src, at, dst, to, bytes);
+        for (at, dst, to, words) in copies {
+            if words > 0 {
+                enc.copy_buffer_to_buffer(counts, 4 * at, dst, 4 * to, 4 * words);
                 self.ctx.traffic.copy();
             }
         }
-        // Where no colour gradient or stress is computed they are read as zero.
-        for g in [&b.grad0.buffer, &b.grad1.buffer, &b.pi.buffer] {
-            enc.clear_buffer(g, 0, None);
+        for g in [b.grad0(), b.grad1(), b.pi()] {
+            enc.clear_buffer(&g.buffer, 0, None);
         }
     }
 
@@ -219,7 +211,7 @@ impl<T: Real> GpuSolver<T> {
         if !self.model.stages.xsph {
             let bytes = (self.n_fluid * size_of::<V2<T>>()) as u64;
             if bytes > 0 {
-                enc.copy_buffer_to_buffer(&self.b.vel.buffer, 0, &self.b.vt.buffer, 0, bytes);
+                enc.copy_buffer_to_buffer(&self.b.vel().buffer, 0, &self.b.vt.buffer, 0, bytes);
                 self.ctx.traffic.copy();
             }
         }

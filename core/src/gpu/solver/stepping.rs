@@ -228,7 +228,7 @@ impl<T: Real> Backend for GpuSolver<T> {
                 v[i] = v2(x);
             }
             if let Ok(orig_of) = self.device_order() {
-                let _ = self.b.vel.upload(&self.ctx, &reorder::to_device(&v, 1, &orig_of));
+                let _ = self.b.vel().upload(&self.ctx, &reorder::to_device(&v, 1, &orig_of));
             }
         }
         self.t = 0.0;
