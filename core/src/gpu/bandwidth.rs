@@ -171,11 +171,14 @@ pub fn stage_bytes(spec: &VariantSpec, stage: Stage, r: f64) -> (f64, u8) {
         // cell_count (pos → cell_of, count RMW, the list slot kept: 20), then, in every
         // evaluation after a step, the merge (each kept slot and its cell_of read by the 3×3
         // cells around it: 72; the list written, then sorted: 12); tracking adds the
-        // displacement check (pos, ref_pos).
+        // displacement check (pos, ref_pos). The cells search renumbers at every evaluation
+        // (physical cell order): each particle's r, v, r⁰, v⁰, m, phase and orig_of read and
+        // written into the twins, phase and orig_of (and the fluids' colour) copied back, three
+        // vec2 twins cleared; tracking's renumbering every 16 steps is left out.
         Stage::NeighbourSearch => match spec.search {
             SearchKind::Direct if !spec.sorts_cells() => (0.0, 0),
             SearchKind::Direct => (v + 104.0, 0),
-            SearchKind::Cells => (v + 104.0, 0),
+            SearchKind::Cells => (v + 104.0 + 2.0 * (4.0 * v + r + 8.0) + 24.0 + 3.0 * v, 0),
             SearchKind::Tracking => (3.0 * v + 104.0, 0),
         },
         // σ is stored with 1/σ² (a real2 record).

@@ -4,6 +4,7 @@
 
 // The solver's own imports (state, buffers, stage table, errors).
 use super::*;
+use crate::fields::Field;
 
 impl<T: Real> GpuSolver<T> {
     /// The workgroup grid of a kernel over `d`: the groups a 1-D dispatch would need, spread
@@ -152,8 +153,8 @@ impl<T: Real> GpuSolver<T> {
     /// the twins of the persistent arrays, `to_scratch`): the twins swap roles (the next
     /// passes bind the other group 0), phase, the fluids' colour (their phase) and `orig_of`
     /// are copied back from `counts`, and the
-    /// arrays now in the roles of ∇C and Π are cleared (where no colour gradient or stress is
-    /// computed they are read as zero).
+    /// arrays now in the roles of ∇C and Π are cleared where no stage of the evaluation
+    /// rewrites them (they are read as zero there).
     fn record_renumbered(&self, enc: &mut wgpu::CommandEncoder) {
         self.b.swap_twins();
         let m = self.n as u64;
@@ -169,8 +170,13 @@ impl<T: Real> GpuSolver<T> {
                 self.ctx.traffic.copy();
             }
         }
-        for g in [b.grad0(), b.grad1(), b.pi()] {
-            enc.clear_buffer(&g.buffer, 0, None);
+        // Zero, unless an evaluation stage writes every particle's value (`stage::TABLE`).
+        let stages = self.model.stages.evaluation();
+        let rewritten = |f: Field| stages.iter().any(|s| s.pure_outputs().any(|w| w == f));
+        for (g, f) in [(b.grad0(), Field::Grad), (b.grad1(), Field::Grad), (b.pi(), Field::Pi)] {
+            if !rewritten(f) {
+                enc.clear_buffer(&g.buffer, 0, None);
+            }
         }
     }
 
