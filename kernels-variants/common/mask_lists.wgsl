@@ -57,6 +57,7 @@ struct Walk {
     s1: u32,
     ord: u32,      // walk ordinal of s0
     snap: bool,    // true: the tracking build's copy of the sort
+    phys: bool,    // physical cell order (`physical_order`, read once)
 }
 
 fn walk_begin(xi: real2, w: u32, snap: bool) -> Walk {
@@ -71,6 +72,7 @@ fn walk_begin(xi: real2, w: u32, snap: bool) -> Walk {
     k.s1 = 0u;
     k.ord = 0u;
     k.snap = snap;
+    k.phys = physical_order();
     return k;
 }
 
@@ -84,14 +86,15 @@ fn span_start(snap: bool, c: u32) -> u32 {
     return cell_start[c];
 }
 
-// `sorted` of this evaluation, or of the tracking build (the walls' slots are static).
-fn sorted_at(snap: bool, s: u32) -> u32 {
+// The particle in slot s of walk k's sort: this evaluation's, or the tracking build's copy
+// (the walls' slots are static).
+fn walk_particle(k: ptr<function, Walk>, s: u32) -> u32 {
 #ifdef TRACKING
-    if snap {
+    if (*k).snap {
         return cand[CAND_LO_WORDS * params.n + s];
     }
 #endif
-    return slot_particle(s);
+    return slot_at(s, (*k).phys);
 }
 
 // Advances to the next non-empty span; false at the end of the walk.
@@ -145,7 +148,7 @@ fn walk_to(k: ptr<function, Walk>, b: u32) -> u32 {
             return 0xFFFFFFFFu;
         }
     }
-    return sorted_at((*k).snap, (*k).s0 + (b - (*k).ord));
+    return walk_particle(k, (*k).s0 + (b - (*k).ord));
 }
 
 // Position of the t-th (from 0) set bit of m (t < countOneBits(m)).

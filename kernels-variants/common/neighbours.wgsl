@@ -11,7 +11,7 @@
 // two contiguous slot ranges each (DualSPHysics' "range" loops): the row's fluid slots (the
 // counting sort of the fluids, slots 0..n_fluid) then its wall slots (the walls' static sort,
 // slots n_fluid..n, `wall_start`). A slot holds particle `sorted[s]`; in physical cell order
-// (`VP_PHYSICAL`: the particles themselves renumbered in cell order at every search,
+// (`physical_order`: the particles themselves renumbered in cell order at every search,
 // search/reorder.wgsl) slot s IS particle s and the loop reads no `sorted`. A neighbour is
 // (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of `neighbours::within`), self
 // included. Usage: `var it = nb_begin(i, xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
@@ -30,12 +30,15 @@ struct Nb {
     xi: real2,     // the query particle
     cur: u32,      // cursor (index in DIRECT, slot of `sorted` otherwise)
     end: u32,
-    k: u32,        // span of the 3×3 block (cells): row k / 2, fluid (even) or wall (odd) slots
+    k: u32,        // row of the 3×3 block (cells)
+    wall_cur: u32, // the row's wall span, walked after its fluid span
+    wall_end: u32,
     cx: i32,
     cy: i32,
     mask: u32,     // DIRECT: hits of the current chunk not yet returned (bit k = candidate base + k)
     base: u32,     // DIRECT: flat cursor (code·n + j) of the current chunk's first candidate
     i: u32,        // the query particle's index
+    phys: bool,    // physical cell order: slot s is particle s (`physical_order`)
     m: u32,        // TRACKING with MASK_LISTS: candidate ordinal of the current candidate
 #ifdef MASK_LISTS
     walk: Walk,    // TRACKING: the walk of the build's box (common/mask_lists.wgsl)
@@ -158,8 +161,11 @@ fn nb_begin(i: u32, xi: real2) -> Nb {
     it.code = 0u;
     it.cur = 0u;
     it.end = 0u;
+    it.wall_cur = 0u;
+    it.wall_end = 0u;
     it.i = i;
     it.m = 0xFFFFFFFFu;
+    it.phys = physical_order();
 #ifdef DIRECT
     it.end = 9u * params.n; // flat cursor: code·n + j over the nine codes
 #else
@@ -254,7 +260,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             let j = e & PACK_MASK;
             (*it).code = e >> PACK_SHIFT;
 #else
-            let j = slot_particle((*it).cur);
+            let j = slot_at((*it).cur, (*it).phys);
 #endif
             (*it).cur += 1u;
             let xj = image_pos(params, (*it).code, pos[j]);
@@ -269,11 +275,18 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
 #ifdef TRACKING
         return false;
 #else
-        // Next span of the 3×3 block: a row's (up to) three cells, clamped to the grid, are one
-        // contiguous range of the fluid slots, then one of the wall slots (cells along x are
+        // The row's wall span after its fluid span.
+        if (*it).wall_cur < (*it).wall_end {
+            (*it).cur = (*it).wall_cur;
+            (*it).end = (*it).wall_end;
+            (*it).wall_cur = (*it).wall_end;
+            continue;
+        }
+        // Next row of the 3×3 block: its (up to) three cells, clamped to the grid, are one
+        // contiguous range of the fluid slots and one of the wall slots (cells along x are
         // adjacent in both sorts).
         (*it).k += 1u;
-        if (*it).k >= 6u {
+        if (*it).k >= 3u {
             if !nb_next_code(it) {
                 return false;
             }
@@ -282,20 +295,17 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             (*it).cy = c.y;
             (*it).k = 0u;
         }
-        let y = (*it).cy - 1 + i32((*it).k / 2u);
+        let y = (*it).cy - 1 + i32((*it).k);
         let x0 = max((*it).cx - 1, 0);
         let x1 = min((*it).cx + 1, i32(params.grid_nx) - 1);
         if y < 0 || y >= i32(params.grid_ny) || x0 > x1 {
             continue;
         }
         let row = u32(i32(params.grid_nx) * y);
-        if ((*it).k & 1u) == 0u {
-            (*it).cur = cell_start[row + u32(x0)];
-            (*it).end = cell_start[row + u32(x1) + 1u];
-        } else {
-            (*it).cur = wall_start(row + u32(x0));
-            (*it).end = wall_start(row + u32(x1) + 1u);
-        }
+        (*it).cur = cell_start[row + u32(x0)];
+        (*it).end = cell_start[row + u32(x1) + 1u];
+        (*it).wall_cur = wall_start(row + u32(x0));
+        (*it).wall_end = wall_start(row + u32(x1) + 1u);
 #endif
     }
     return false;

@@ -100,9 +100,14 @@ fn wall_start(c: u32) -> u32 {
     return cell_start[2u * (params.grid_nx * params.grid_ny + 1u) + c];
 }
 
-// The particle in slot s of the sort: s itself in physical cell order, else `sorted[s]`.
-fn slot_particle(s: u32) -> u32 {
-    if vparams[VP_PHYSICAL] != real(0.0) {
+// True while the particles are in physical cell order (read once per walk, not per candidate).
+fn physical_order() -> bool {
+    return vparams[VP_PHYSICAL] != real(0.0);
+}
+
+// The particle in slot s of the sort: s itself in physical cell order (`phys`), else `sorted[s]`.
+fn slot_at(s: u32, phys: bool) -> u32 {
+    if phys {
         return s;
     }
     return sorted[s];

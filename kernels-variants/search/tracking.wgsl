@@ -81,7 +81,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     var walk = walk_begin(xi, 4u, false);
     while walk_next(&walk) {
         for (var s = walk.s0; s < walk.s1; s++) {
-            let d = xi - image_pos(params, walk.code, pos[slot_particle(s)]);
+            let d = xi - image_pos(params, walk.code, pos[slot_at(s, walk.phys)]);
             if d.x * d.x + d.y * d.y < r2 {
                 let b = walk.ord + (s - walk.s0);
                 if b < 32u * CAND_WORDS {
@@ -106,6 +106,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     // Cell size ≥ support and support + skin ≤ 2 cells: the 5×5 block around the cell of the
     // (inversely imaged) query point holds every candidate.
     var count = 0u;
+    let phys = physical_order();
     for (var code = 0u; code < 9u; code++) {
         if !image_exists(params, code) {
             continue;
@@ -123,7 +124,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
                 let a = select(wall_start(cell), cell_start[cell], h == 0u);
                 let e = select(wall_start(cell + 1u), cell_start[cell + 1u], h == 0u);
                 for (var s = a; s < e; s++) {
-                    let j = slot_particle(s);
+                    let j = slot_at(s, phys);
                     let d = xi - image_pos(params, code, pos[j]);
                     if d.x * d.x + d.y * d.y < r2 {
                         if count < CAND_SLOTS {

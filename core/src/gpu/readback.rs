@@ -205,7 +205,7 @@ impl<T: Real> GpuSolver<T> {
         };
         let lists = if self.spec.has_lists() && uses_masks(&self.spec) {
             let (pos, ref_pos) = (self.b.pos().read_back(ctx)?, self.vb.ref_pos.read_back(ctx)?);
-            // The slots as the kernels read them (`slot_particle`): s itself in physical order.
+            // The slots as the kernels read them (`slot_at`): s itself in physical order.
             let sorted: Vec<u32> = if self.physical_order() { (0..self.n as u32).collect() } else { slots };
             let (nbr, cand, cand_hi) =
                 (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cache_xj.read_back(ctx)?);
