@@ -9,7 +9,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::axes::{axis_label, axis_range, drawable, segments, snap_span};
-use super::{msg, svg_area, Area, Marker, PlotSpec, Style, LEGEND_WIDTH, PALETTE, PLOT_SIZE};
+use super::{msg, palette, svg_area, Area, Marker, PlotSpec, Style, LEGEND_WIDTH, PLOT_SIZE};
 use crate::output::{OutputError, Result};
 
 /// Draws `spec` on `root` in the coordinates `xc`, `yc` (linear or log).
@@ -90,7 +90,7 @@ where
         }
     }
     for (j, r) in spec.refs.iter().enumerate() {
-        let color = PALETTE[(spec.series.len() + j) % PALETTE.len()];
+        let color = palette(spec.series.len() + j);
         let style = color.stroke_width(2);
         let line = if r.horizontal && drawable(r.value, spec.log_y) {
             Some(vec![(xr.0, r.value), (xr.1, r.value)])
@@ -152,7 +152,7 @@ fn draw_legend_column(area: &Area<'_>, spec: &PlotSpec) -> std::result::Result<(
         row(&s.label, s.colour(k), s.style == Style::Points, (s.style != Style::Line).then_some(s.marker))?;
     }
     for (j, r) in spec.refs.iter().enumerate() {
-        row(&r.label, PALETTE[(spec.series.len() + j) % PALETTE.len()], true, None)?;
+        row(&r.label, palette(spec.series.len() + j), true, None)?;
     }
     Ok(())
 }

@@ -49,6 +49,18 @@ pub(crate) const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
+/// Colour k of a series or a stack segment: the ten of [`PALETTE`], then the same hues darker,
+/// then lighter, so that up to 30 entries never share a colour.
+pub(crate) fn palette(k: usize) -> RGBColor {
+    let RGBColor(r, g, b) = PALETTE[k % PALETTE.len()];
+    let shade = |c: u8| match (k / PALETTE.len()) % 3 {
+        0 => c,
+        1 => (f64::from(c) * 0.55).round() as u8,
+        _ => (f64::from(c) + (255.0 - f64::from(c)) * 0.55).round() as u8,
+    };
+    RGBColor(shade(r), shade(g), shade(b))
+}
+
 /// The shape of a series' points.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Marker {
@@ -163,7 +175,7 @@ impl Series {
     }
     /// The colour it is drawn in as the `k`-th series.
     pub(crate) fn colour(&self, k: usize) -> RGBColor {
-        self.colour.map_or(PALETTE[k % PALETTE.len()], |(r, g, b)| RGBColor(r, g, b))
+        self.colour.map_or(palette(k), |(r, g, b)| RGBColor(r, g, b))
     }
     /// A connected line.
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {

@@ -8,7 +8,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::axes::{auto_range, axis_label, drawable, snap_span};
-use super::{msg, svg_area, Area, PALETTE};
+use super::{msg, palette, svg_area, Area};
 use crate::output::{OutputError, Result};
 
 /// Draws labelled points `(x, y, label)` on `root` in the coordinates `xc`, `yc`.
@@ -54,7 +54,7 @@ where
         .map_err(msg)?;
     chart
         .draw_series(pts.iter().enumerate().map(|(k, (x, y, label))| {
-            let color = PALETTE[k % PALETTE.len()];
+            let color = palette(k);
             EmptyElement::at((*x, *y))
                 + Circle::new((0, 0), 5, color.filled())
                 + Text::new(label.clone(), (8, -14), ("sans-serif", 14).into_font())

@@ -6,7 +6,7 @@
 
 use super::look;
 use super::Record;
-use crate::plot::{line_plot_svg, PlotSpec, Series, PALETTE};
+use crate::plot::{line_plot_svg, palette, PlotSpec, Series};
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -177,7 +177,7 @@ fn draw_stacks(
         .axis_desc_style(("sans-serif", 15))
         .draw()
         .map_err(|e| m(&e))?;
-    let colour = |j: usize| PALETTE[j % PALETTE.len()];
+    let colour = palette;
     for (i, stack) in stacks.iter().enumerate() {
         let mut y = 0.0;
         for (j, v) in stack.iter().enumerate().filter(|(_, v)| **v > 0.0) {
