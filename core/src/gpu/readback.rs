@@ -91,15 +91,16 @@ impl<T: Real> GpuSolver<T> {
         self.vb.invalidate(ctx)?;
         // No renumbering here: the uploaded per-evaluation inputs (σ, p, ∇C, …) do not move
         // (the slots hold their particles through `sorted`, not in physical order).
-        let every = self.reorder_every;
-        self.set_reorder_every(0)?;
+        let every = std::mem::replace(&mut self.reorder_every, 0);
+        self.vb.set_physical(&self.ctx, false);
         let done = self.submit(|enc| {
             self.record(enc, Stage::NeighbourSearch);
             if stage != Stage::NeighbourSearch {
                 self.record(enc, stage);
             }
         });
-        self.set_reorder_every(every)?;
+        self.reorder_every = every;
+        self.vb.set_physical(&self.ctx, self.physical_order());
         done?;
         self.ctx.wait_idle()?;
         self.vb.overflow(&self.ctx, self.step).map_err(|e| self.to_original(e))?;

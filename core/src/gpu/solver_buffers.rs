@@ -128,6 +128,41 @@ pub struct Bufs<T: Real> {
     pub cell_of: GpuVec<u32>,
 }
 
+/// The accessors of the twin roles: `name: element type = pair, first role?` each, with its doc.
+macro_rules! twin_roles {
+    ($($(#[$doc:meta])* $name:ident: $x:ty = $pair:ident $([$k:literal])?, $first:literal;)*) => {
+        impl<T: Real> Bufs<T> {
+            $($(#[$doc])* pub fn $name(&self) -> &GpuVec<$x> {
+                Self::role(&self.$pair$([$k])?, $first, self.swapped.get())
+            })*
+        }
+    };
+}
+
+twin_roles! {
+    /// Positions.
+    pos: V2<T> = twins[0], true;
+    /// Velocities.
+    vel: V2<T> = twins[1], true;
+    /// r⁰ of the midpoint step.
+    pos0: V2<T> = twins[2], true;
+    /// v⁰ of the midpoint step, v_{n+½} of Verlet's.
+    vel0: V2<T> = twins[3], true;
+    /// Particle masses.
+    mass: T = mass_rho, true;
+    /// Colour-gradient slot 0 (one binding per slot: `grad_at` in bindings.wgsl).
+    grad0: V2<T> = twins[0], false;
+    /// Colour-gradient slot 1.
+    grad1: V2<T> = twins[1], false;
+    /// (Π_xx, Π_xy).
+    pi: V2<T> = twins[2], false;
+    /// (σ, 1/σ²) of each particle: the number-density pass writes both, so the pair sums read
+    /// 1/σ_j² instead of dividing per pair ([`sigma_pairs`], [`sigma_of`]).
+    sigma: V2<T> = twins[3], false;
+    /// Densities.
+    rho: T = mass_rho, false;
+}
+
 impl<T: Real> Bufs<T> {
     /// Allocates the state of `n` particles on a grid of `cells` cells.
     pub fn new(ctx: &GpuContext, params: &Params<T>, n: usize, cells: usize) -> Result<Self, GpuError> {
@@ -171,48 +206,6 @@ impl<T: Real> Bufs<T> {
         } else {
             &pair.1
         }
-    }
-
-    /// Positions.
-    pub fn pos(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[0], true, self.swapped.get())
-    }
-    /// Velocities.
-    pub fn vel(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[1], true, self.swapped.get())
-    }
-    /// r⁰ of the midpoint step.
-    pub fn pos0(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[2], true, self.swapped.get())
-    }
-    /// v⁰ of the midpoint step, v_{n+½} of Verlet's.
-    pub fn vel0(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[3], true, self.swapped.get())
-    }
-    /// Particle masses.
-    pub fn mass(&self) -> &GpuVec<T> {
-        Self::role(&self.mass_rho, true, self.swapped.get())
-    }
-    /// Colour-gradient slot 0 (one binding per slot: `grad_at` in bindings.wgsl).
-    pub fn grad0(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[0], false, self.swapped.get())
-    }
-    /// Colour-gradient slot 1.
-    pub fn grad1(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[1], false, self.swapped.get())
-    }
-    /// (Π_xx, Π_xy).
-    pub fn pi(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[2], false, self.swapped.get())
-    }
-    /// (σ, 1/σ²) of each particle: the number-density pass writes both, so the pair sums read
-    /// 1/σ_j² instead of dividing per pair ([`sigma_pairs`], [`sigma_of`]).
-    pub fn sigma(&self) -> &GpuVec<V2<T>> {
-        Self::role(&self.twins[3], false, self.swapped.get())
-    }
-    /// Densities.
-    pub fn rho(&self) -> &GpuVec<T> {
-        Self::role(&self.mass_rho, false, self.swapped.get())
     }
 
     /// Swaps the roles of every twin pair (after a renumbering wrote the particles into the

@@ -95,8 +95,8 @@ impl<T: Real> GpuSolver<T> {
         let label = crate::stage::pass_label(stages);
         let dispatches = kernels.iter().any(|(kd, _)| self.groups(kd.domain)[0] > 0);
         let ts = if dispatches { self.ts.writes(&label) } else { None };
-        // A renumbering ends the pass after the reorder kernels: the scratch is copied back
-        // before the rest of the search (the tracking build, the lists) reads the particles.
+        // A renumbering ends the pass after the reorder kernels: the twins swap roles before
+        // the rest of the search (the tracking build, the lists) reads the particles.
         let (head, tail) = match kernels.iter().rposition(|(kd, _)| kd.file == reorder::FILE) {
             Some(last) if renumber => kernels.split_at(last + 1),
             _ => (&kernels[..], &kernels[..0]),
@@ -157,12 +157,11 @@ impl<T: Real> GpuSolver<T> {
     /// rewrites them (they are read as zero there).
     fn record_renumbered(&self, enc: &mut wgpu::CommandEncoder) {
         self.b.swap_twins();
-        let m = self.n as u64;
         let (b, n, counts) = (&self.b, self.n as u64, &self.vb.counts.buffer);
         let copies: [(u64, &wgpu::Buffer, u64, u64); 3] = [
-            (0, &b.phase.buffer, 0, m),
+            (0, &b.phase.buffer, 0, n),
             (0, &b.colour.buffer, 0, self.n_fluid as u64),
-            (n, &self.rb.buf.buffer, self.rb.orig_at() as u64, m),
+            (n, &self.rb.buf.buffer, self.rb.orig_at() as u64, n),
         ];
         for (at, dst, to, words) in copies {
             if words > 0 {
@@ -171,8 +170,8 @@ impl<T: Real> GpuSolver<T> {
             }
         }
         // Zero, unless an evaluation stage writes every particle's value (`stage::TABLE`).
-        let stages = self.model.stages.evaluation();
-        let rewritten = |f: Field| stages.iter().any(|s| s.pure_outputs().any(|w| w == f));
+        let stages = || self.passes.iter().flat_map(|(pass, _)| pass);
+        let rewritten = |f: Field| stages().any(|s| s.pure_outputs().any(|w| w == f));
         for (g, f) in [(b.grad0(), Field::Grad), (b.grad1(), Field::Grad), (b.pi(), Field::Pi)] {
             if !rewritten(f) {
                 enc.clear_buffer(&g.buffer, 0, None);
