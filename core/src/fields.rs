@@ -106,6 +106,10 @@ pub struct Fields<T> {
     /// Background-pressure shift acceleration a_b of the fluids (transport-velocity formulation,
     /// CPU only; empty otherwise): the drift moves with ṽ + (dt/2)·a_b.
     pub shift: Vec<V2<T>>,
+    /// ṽ − v of the fluids' last advection from the shift, `(dt/2)·a_b` (transport-velocity
+    /// formulation; empty before the first advection and otherwise): the lagged `ṽ − v` of the
+    /// artificial stress `A = ρ v ⊗ (ṽ − v)` the next evaluation sums.
+    pub shift_dv: Vec<V2<T>>,
 }
 
 impl<T: Real> Fields<T> {
@@ -125,6 +129,7 @@ impl<T: Real> Fields<T> {
             contacts: Vec::new(),
             contact_overflow: 0,
             shift: Vec::new(),
+            shift_dv: Vec::new(),
         }
     }
     /// Sum of the colour-gradient slots (the gradient towards every other colour).

@@ -266,6 +266,10 @@ pub struct Model<T> {
     /// the shift acceleration `a_b` ([`crate::scene::Background::Transport`]). `None`: p_b is in
     /// the momentum equation.
     pub transport_p_b: Option<Vec<T>>,
+    /// The transport-velocity formulation's artificial stress `A = ρ v ⊗ (ṽ − v)` in the
+    /// momentum equation (`time.background = "transport"`; off for `transport-shift-only` and the
+    /// momentum form).
+    pub artificial_stress: bool,
 }
 
 /// χ − ½ of a particle at Δx/2 above a flat wall (lattice sum in f64), the Holmes floor.
@@ -296,7 +300,7 @@ impl<T: Real> Model<T> {
         let kernel = KernelParams::<T>::new(kind, h);
         let support = scene.support();
         let sigma0 = lattice_sum(kind, h, dx);
-        let transport = scene.time.background == crate::scene::Background::Transport;
+        let transport = scene.time.background.is_transport();
         let transport_p_b = transport.then(|| scene.phases.iter().map(|p| T::c(p.p_b)).collect());
         let phases: Vec<PhaseConst<T>> = scene
             .phases
@@ -401,6 +405,7 @@ impl<T: Real> Model<T> {
             single_field_colour: surface
                 && scene.surface_tension.as_ref().is_some_and(|s| s.colour_gradient == ColourGradient::SingleField),
             transport_p_b,
+            artificial_stress: scene.time.background == crate::scene::Background::Transport,
         }
     }
 

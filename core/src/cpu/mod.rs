@@ -273,11 +273,14 @@ impl<T: Real> CpuSolver<T> {
     }
 
     /// The advection velocity of the evaluation for a step of `dt`: ṽ (v or XSPH), plus
-    /// (dt/2)·a_b with the transport-velocity formulation (Adami, Hu & Adams 2013, eq. 10).
-    fn advection(&self, dt: T) -> Vec<V2<T>> {
+    /// (dt/2)·a_b with the transport-velocity formulation (Adami, Hu & Adams 2013, eq. 10),
+    /// whose (dt/2)·a_b is kept for the next evaluation's artificial stress ([`Fields::shift_dv`]).
+    fn advection(&mut self, dt: T) -> Vec<V2<T>> {
+        let half = T::c(0.5) * dt;
+        self.f.shift_dv = self.f.shift.iter().map(|a| *a * half).collect();
         let mut vt = self.f.vt.clone();
-        for (v, a) in vt.iter_mut().zip(&self.f.shift) {
-            *v += *a * (T::c(0.5) * dt);
+        for (v, d) in vt.iter_mut().zip(&self.f.shift_dv) {
+            *v += *d;
         }
         vt
     }

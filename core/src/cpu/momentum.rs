@@ -44,8 +44,12 @@ pub enum PairTerm {
     Viscous,
     /// Surface stress (T76).
     Surface,
-    /// The transport-velocity shift a_b (not a force; zero unless `time.background = "transport"`).
+    /// The transport-velocity shift a_b (not a force; zero unless `time.background` is a
+    /// transport form).
     TransportShift,
+    /// The transport-velocity formulation's artificial stress `½(A_i + A_j)·∇_iW_ij` with
+    /// `A = ρ v ⊗ (ṽ − v)` (fluid pairs; zero unless `time.background = "transport"`).
+    ArtificialStress,
 }
 
 /// The pair terms of fluid particle `i`'s acceleration, handed to `sink(j, x_j, term, value)`
@@ -73,6 +77,8 @@ pub fn acceleration_pairs<T: Real>(
     // Transport-velocity shift a_b (Adami, Hu & Adams 2013, eq. 13): the pressure term (T68)
     // of a uniform p_b, summed in the same walk.
     let p_b = m.transport_p_b.as_ref().map_or(T::zero(), |p| p[c.phase[i] as usize]);
+    // Artificial stress (their eq. 12) from the lagged ṽ − v of the last advection.
+    let stress = m.artificial_stress && fr.shift_dv.len() == c.n_fluid;
     for &e in c.nbrs.of(i) {
         let (j, code) = unpack(e);
         let xj = m.images.image_pos(code, c.pos[j]);
@@ -88,6 +94,11 @@ pub fn acceleration_pairs<T: Real>(
         sink(j, xj, PairTerm::Pressure, pressure_acc_ij(fr.p[i], inv_s2_i, fr.p[j], inv_s2_j, gw));
         if p_b != T::zero() {
             sink(j, xj, PairTerm::TransportShift, pressure_acc_ij(p_b, inv_s2_i, p_b, inv_s2_j, gw));
+        }
+        if stress && j < c.n_fluid {
+            let (v_j, dv_j) = (m.images.image_vec(code, c.vel[j]), m.images.image_vec(code, fr.shift_dv[j]));
+            let (a_i, a_j) = (vi * (fr.rho[i] * fr.shift_dv[i].dot(gw)), v_j * (fr.rho[j] * dv_j.dot(gw)));
+            sink(j, xj, PairTerm::ArtificialStress, artificial_stress_acc_ij(a_i, inv_s2_i, a_j, inv_s2_j));
         }
         if st.viscosity {
             let fac = viscous_fac_ij(dwdr, r, kp.h);

@@ -144,6 +144,7 @@ impl<T: Real> GpuSolver<T> {
             ),
             contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
             shift: Vec::new(),
+            shift_dv: Vec::new(),
         })
     }
 

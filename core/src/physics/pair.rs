@@ -74,6 +74,15 @@ pub fn surface_acc_ij<T: Real>(pi_i: Sym2<T>, inv_s2_i: T, pi_j: Sym2<T>, inv_s2
     (pi_i * inv_s2_i + pi_j * inv_s2_j).mul_vec(grad_w)
 }
 
+/// Artificial-stress term of the transport-velocity formulation (Adami, Hu & Adams 2013,
+/// eq. 12; docs/PHYSICS.md §7.5): `(1/σ_i² + 1/σ_j²) ½(A_i + A_j)·∇_iW_ij`, given
+/// `A_k·∇_iW_ij = ρ_k v_k ((ṽ_k − v_k)·∇_iW_ij)` for both particles. Sum over fluid j, then
+/// × 1/m_i. CPU only: the transport-velocity formulation has no WGSL path.
+#[inline(always)]
+pub fn artificial_stress_acc_ij<T: Real>(a_i_gw: V2<T>, inv_s2_i: T, a_j_gw: V2<T>, inv_s2_j: T) -> V2<T> {
+    (a_i_gw + a_j_gw) * (T::c(0.5) * (inv_s2_i + inv_s2_j))
+}
+
 /// XSPH term of (T51) restricted to same-phase fluid neighbours:
 /// `2 m_j/(ρ_i + ρ_j) (v_j − v_i) W_ij`. Sum over j, then × ε.
 #[inline(always)]

@@ -323,15 +323,24 @@ pub enum Background {
     /// the momentum equation see no p_b; particles move with the transport velocity
     /// `ṽ = v + (dt/2)·a_b`, `a_b,i = −(p_b,i/m_i) Σ_j (V_i² + V_j²) ∇_iW_ij` over every
     /// neighbour (walls included), which keeps the particle set regular without a force on the
-    /// fluid. The artificial stress `A = ρv(ṽ − v)` of their eq. 12 is left out (second order in
-    /// the shift; `reports/validation/pb-sweep/summary.md`). CPU only.
+    /// fluid; and the momentum equation carries their artificial stress `A = ρ v ⊗ (ṽ − v)`
+    /// (eq. 12; docs/PHYSICS.md §7.5), the momentum flux of the advection's departure from v.
+    /// CPU only.
     Transport,
+    /// The same shift without the artificial stress (the form sphlab had before it): kept to
+    /// measure what the stress term changes. CPU only.
+    TransportShiftOnly,
 }
 
 impl Background {
     /// True for the default, p_b in the momentum equation.
     pub fn is_momentum(&self) -> bool {
         *self == Background::Momentum
+    }
+
+    /// True for the transport-velocity forms (p_b moves the particles, not the fluid).
+    pub fn is_transport(&self) -> bool {
+        matches!(self, Background::Transport | Background::TransportShiftOnly)
     }
 }
 
