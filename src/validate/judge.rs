@@ -17,7 +17,7 @@ mod sensitivity;
 mod tests;
 
 use rule::{alpha_band, nx_band, rule_text};
-use sensitivity::{relax_pb_band, sessile_pb_band};
+use sensitivity::{relax_rule_band, sessile_pb_band};
 
 /// Young's angle of relax-60 (deg).
 const YOUNG_DEG: f64 = 60.0;
@@ -190,11 +190,15 @@ fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
     let rule = rule_text("relax-60", Some(nx));
     for label in RELAX_FROM_90 {
         let mode_a = label.starts_with("Mode A");
-        let why = if mode_a { "; Mode A's equilibrium off Young's angle: mode-a-check/README.md" } else { "" };
+        let why = if mode_a {
+            "; Mode A under the rule, both starts and θ_Y 60°–120°: ../capillary-rule/README.md"
+        } else {
+            ""
+        };
         let two_point = rep.row(&format!("{label} θ − 60°, two-point, {window}")).map(|r| r.value + YOUNG_DEG);
         let circle = format!("{label} θ − 60°, circle fit, {window}");
         let spread = format!("{label} D/D0 at the wall, {window}");
-        let pb = if label == "Mode B, no-slip:" && nx == 65 { relax_pb_band(root) } else { None };
+        let pb = if label == "Mode B, no-slip:" { relax_rule_band(root) } else { None };
         let depends = match label {
             "Mode B, no-slip, transport velocity:" => {
                 format!("p_b = ρ0c0² in the transport velocity only, c0 of {rule}, μ = 0.05")
@@ -223,7 +227,7 @@ fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
         let mid = r.value;
         *r = r.clone().check(
             mid.abs() < ANGLE_TOL_DEG,
-            "|midpoint − 60°| < 3°: Young's angle, from either side; mode-a-check/README.md",
+            "|midpoint − 60°| < 3°: Young's angle, from either side; ../capillary-rule/README.md",
         );
     }
     for r in rows(rep, "Mode B, no-slip: end angle approached from both sides") {
@@ -260,8 +264,9 @@ fn convergence(root: &Path, rep: &mut CaseReport) {
     if fine.len() == 3 {
         let err: Vec<f64> = fine.iter().map(|p| (p.1 - YOUNG_DEG).abs()).collect();
         let nxs: Vec<String> = fine.iter().map(|p| p.0.to_string()).collect();
-        let fixed = fixed_pb_angle(root, fine[2].0)
-            .map_or(String::new(), |t| format!("; at nx = {} with p_b = 45 held: {t:.2}° (pb-check/runs)", fine[2].0));
+        let fixed = fixed_pb_angle(root, fine[2].0).map_or(String::new(), |t| {
+            format!("; at nx = {} before the rule (c0 = 20, p_b = 45 held): {t:.2}° (pb-check/runs)", fine[2].0)
+        });
         let text = err.iter().map(|e| format!("{e:.2}")).collect::<Vec<_>>().join(" → ");
         rep.rows.push(
             Row::new(

@@ -1,31 +1,33 @@
-//! Sensitivity bands read from the committed background-pressure runs made before the capillary
-//! rule (docs/PHYSICS.md §3.1; the rule's own bands are in `rule.rs`): relax-60 Mode B at nx = 65 with p_b 30 / 45 / 65
-//! (`convergence/pb-check/runs`, `convergence/runs/nx65`) and sessile-90 Mode B at nx = 45 with
-//! p_b 45 / 90 (`sessile-90/pb-check/runs`).
+//! Sensitivity bands read from committed runs: relax-60 Mode B at nx = 33 with the capillary
+//! rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1; `capillary-rule/relax-60`), and sessile-90
+//! Mode B at nx = 45 with p_b 45 / 90 (`sessile-90/pb-check/runs`, made before the rule). The
+//! drop's bands of the rule are in `rule.rs`.
 
 use crate::validate::data::{col, read_series, window_stats};
 use crate::validate::report::Band;
 use std::path::Path;
 
-/// relax-60 Mode B no-slip at nx = 65 with p_b 30, 45 (its rule then) and 65, over t ∈ [4.3, 4.5]:
-/// `[θ − 60° by the circle fit, D/D0 at the wall]`, each with the case's bound.
-pub(super) fn relax_pb_band(root: &Path) -> Option<[Band; 2]> {
-    let dirs = ["convergence/pb-check/runs/nx65-pb30", "convergence/runs/nx65", "convergence/pb-check/runs/nx65-pb65"];
-    let dx = 0.5 / 65.0;
+/// relax-60 Mode B no-slip from 90° at nx = 33 with the capillary rule's α × 0.5 / × 1 / × 2
+/// (`capillary-rule/relax-60/nx33-b-from90-alpha1`, `nx33-b-from90`, `nx33-b-from90-alpha4`, the
+/// runs of `examples/analysis/relax_start_angle.sh`), over t ∈ [4.3, 4.5]: `[θ − 60° by the circle
+/// fit, D/D0 at the wall]`, each with the case's bound. At nx = 33, not the headline's 65: an
+/// nx = 65 run costs about 17 CPU minutes, one at 33 about 2.
+pub(super) fn relax_rule_band(root: &Path) -> Option<[Band; 2]> {
+    let runs = ["nx33-b-from90-alpha1", "nx33-b-from90", "nx33-b-from90-alpha4"];
+    let dx = 0.5 / 33.0;
     let d_an = crate::validate::relax::analytic_spread();
     let mut theta = Vec::new();
     let mut spread = Vec::new();
-    for d in dirs {
-        let rows = read_series(&root.join(d));
+    for d in runs {
+        let rows = read_series(&root.join("capillary-rule/relax-60").join(d));
         theta.push(window_stats(&col(&rows, |r| r.theta_circle_fit.map(|v| v - 60.0)), 4.3, 4.5)?.0);
         spread.push(window_stats(&crate::validate::relax::wall_spread(&rows, dx), 4.3, 4.5)?.0);
     }
+    let source = runs.map(|r| format!("../capillary-rule/relax-60/{r}")).join(", ");
     let band = |values: &[f64], holds: bool, prec: usize| Band {
-        varied: "p_b 30 / 45 / 65 at nx = 65, c0 = 20 (runs before the capillary rule, p_b 45 its rule then)".into(),
+        varied: "the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode B from 90°, no-slip)".into(),
         values: values.iter().map(|v| format!("{v:.prec$}")).collect(),
-        source:
-            "../convergence/pb-check/runs/nx65-pb30, ../convergence/runs/nx65, ../convergence/pb-check/runs/nx65-pb65"
-                .into(),
+        source: source.clone(),
         holds: Some(holds),
     };
     Some([
