@@ -30,7 +30,7 @@ use super::{run_job, stats, study_scene_with, Record, Start, StudyOptions, DIREC
 use crate::backend::Backend;
 use crate::backend_id::BackendId;
 use crate::exec::Exec;
-use crate::gpu::bandwidth::{measure_bandwidth, Bandwidth, EngineTraffic, PROBE_BYTES};
+use crate::gpu::bandwidth::{measure_bandwidth_within, Bandwidth, EngineTraffic, PROBE_BYTES};
 use crate::gpu::solver::{EngineMode, GpuSolver};
 use crate::gpu::variant::VariantSpec;
 use crate::gpu::GpuContext;
@@ -209,7 +209,8 @@ pub fn run(opts: &StudyOptions, gpu: Option<&Arc<GpuContext>>, out: &mut Vec<Rec
         eprintln!("engine: GPU rows skipped: no GPU adapter");
         return Ok(());
     };
-    let bandwidth = measure_bandwidth(ctx, PROBE_BYTES).map_err(|e| format!("engine: bandwidth probe: {e}"))?;
+    let bandwidth = measure_bandwidth_within(ctx, PROBE_BYTES, opts.budget_s)
+        .map_err(|e| format!("engine: bandwidth probe: {e}"))?;
     let runs = Runs { common: c, ctx, start: &s, opts, bandwidth, references };
     let mut specs = if opts.variants.is_empty() { VariantSpec::all() } else { opts.variants.clone() };
     let thread: VariantSpec = THREAD_RECOMPUTED.parse()?;

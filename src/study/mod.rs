@@ -224,7 +224,7 @@ fn probe_variant(jobs: &[Job]) -> Option<VariantSpec> {
 }
 
 /// The adapter's streaming bandwidth, measured once per run (when GPU jobs will run), before the
-/// budget is shared out.
+/// budget is shared out; under a budget the probe is sized to a small share of it.
 fn run_bandwidth(
     opts: &StudyOptions,
     gpu: Option<&Arc<GpuContext>>,
@@ -232,7 +232,8 @@ fn run_bandwidth(
 ) -> Result<Option<crate::gpu::bandwidth::Bandwidth>, Error> {
     match gpu {
         Some(g) if !opts.dry_run && jobs.iter().any(|j| matches!(j.id, BackendId::Gpu(_))) => {
-            let b = crate::gpu::bandwidth::measure_bandwidth(g, crate::gpu::bandwidth::PROBE_BYTES);
+            let bytes = crate::gpu::bandwidth::PROBE_BYTES;
+            let b = crate::gpu::bandwidth::measure_bandwidth_within(g, bytes, opts.budget_s);
             b.map_err(|e| Error::Failed(format!("bandwidth probe: {e}")))
         }
         _ => Ok(None),

@@ -342,17 +342,8 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
                 break;
             };
             if largest == smallest {
-                // One size left and it alone overruns: each of its jobs in run order (the
-                // reference first) that still fits, rather than nothing.
-                let mut t = spent_s;
                 let before = jobs.len();
-                jobs.retain(|j| {
-                    let fits = t + j.est_s <= budget;
-                    if fits {
-                        t += j.est_s;
-                    }
-                    fits
-                });
+                jobs = keep_by_rank(jobs, budget - spent_s);
                 dropped_jobs = before - jobs.len();
                 break;
             }
@@ -391,6 +382,33 @@ pub fn select(all: &[Job], opts: &StudyOptions, spent_s: f64) -> Selected {
     }
     let est_s = jobs.iter().map(|j| j.est_s).sum();
     Selected { jobs, dropped_sizes, dropped_jobs, est_s, est_all_s, by_size, repeats }
+}
+
+/// Where a job stands when one size alone overruns the budget: the references (one-thread CPU
+/// cells, what every row is judged and sped up against) first, then the GPU rows (the study's
+/// subject), then the other CPU rows (comparisons a starved study can do without).
+fn rank(j: &Job) -> u8 {
+    match j.id {
+        BackendId::Cpu { exec: Exec::Serial, search: SearchKind::Cells, .. } => 0,
+        BackendId::Gpu(_) => 1,
+        BackendId::Cpu { .. } => 2,
+    }
+}
+
+/// The jobs of one size that fit `left_s`: taken rank by rank ([`rank`]), each job in run order
+/// that still fits (a costly job does not shut out cheaper ones after it), and run in that rank
+/// order, so a study running later than estimated skips the least needed rows, not the GPU's.
+fn keep_by_rank(mut jobs: Vec<Job>, left_s: f64) -> Vec<Job> {
+    jobs.sort_by_key(rank);
+    let mut t = 0.0;
+    jobs.retain(|j| {
+        let fits = t + j.est_s <= left_s;
+        if fits {
+            t += j.est_s;
+        }
+        fits
+    });
+    jobs
 }
 
 /// How many timed blocks `job` runs when it comes up with `left_s` of the budget left: its
@@ -457,7 +475,7 @@ pub fn describe(opts: &StudyOptions, sel: &Selected, notes: &[String], probe_s: 
         if sel.dropped_jobs > 0 {
             let _ = writeln!(
                 s,
-                "* budget: the smallest size alone overruns it: {} of its jobs dropped (in run order, each that no longer fitted)",
+                "* budget: the smallest size alone overruns it: {} of its jobs dropped (kept and run in this order: the one-thread CPU references, the GPU rows, the other CPU rows, each while it fits)",
                 sel.dropped_jobs
             );
         }

@@ -133,7 +133,7 @@ fn header(recs: &[Record], adapter: Option<String>, notes: &RunNotes, adapters: 
          the blocks; beside it the sum of the stage passes of one more block with every stage in a pass of its own (the \
          unfused debug mode{}). **Modelled GB/s** = the bytes a step must move at least (`gpu::bandwidth`'s model, \
          a lower bound) ÷ ms/step, and its share of the streaming bandwidth this run measured once (copy kernel over \
-         2 × {}, timestamps). Errors: kinetic energy (relative) and centroid (in Δx) after the \
+         2 buffers of up to {} each, smaller under a short budget — the plan names the size; timestamps). Errors: kinetic energy (relative) and centroid (in Δx) after the \
          first K steps, against the CPU f64 one-thread run. **Status**: `ok` (ranked), `inaccurate` (K-step \
          observables or first-evaluation fields beyond `verify`'s tolerances against the CPU run of the same \
          precision), `loaded` (other processes used more than a quarter of the cores), `overflow`, `blown-up`, `failed`, `skipped`; a run \

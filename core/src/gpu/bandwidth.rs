@@ -66,6 +66,43 @@ pub struct Bandwidth {
     pub method: String,
 }
 
+/// Share of a run's time budget the full-size probe may take; beyond it the probe shrinks.
+pub const PROBE_BUDGET_SHARE: f64 = 0.05;
+
+/// [`measure_bandwidth`] at up to `max_bytes` per buffer within `budget_s` seconds (`None`: no
+/// limit, the full size at once). Under a budget the quick probe runs first; its rate gives
+/// each size's cost (the buffers' first fill plus every pass, 2 × bytes each), and the largest
+/// power-of-two halving of `max_bytes` whose cost fits [`PROBE_BUDGET_SHARE`] of the budget is
+/// measured next — none above the quick size fitting, the quick probe's result stands. Its
+/// `method` names the size it used.
+pub fn measure_bandwidth_within(
+    ctx: &GpuContext,
+    max_bytes: u64,
+    budget_s: Option<f64>,
+) -> Result<Option<Bandwidth>, GpuError> {
+    let Some(budget) = budget_s else { return measure_bandwidth(ctx, max_bytes) };
+    let Some(quick) = measure_bandwidth(ctx, QUICK_PROBE_BYTES.min(max_bytes))? else { return Ok(None) };
+    match probe_bytes_within(max_bytes, quick.gb_per_s, PROBE_BUDGET_SHARE * budget) {
+        Some(bytes) if bytes > quick.buffer_bytes => measure_bandwidth(ctx, bytes),
+        _ => Ok(Some(quick)),
+    }
+}
+
+/// The largest `max_bytes >> k` (at least [`QUICK_PROBE_BYTES`]) whose probe — the buffers'
+/// first fill and `PROBE_REPEATS + 1` passes, each moving 2 × bytes at `gb_per_s` — takes at
+/// most `seconds`; `None` if not even the quick size does.
+pub fn probe_bytes_within(max_bytes: u64, gb_per_s: f64, seconds: f64) -> Option<u64> {
+    let cost = |b: u64| f64::from(PROBE_REPEATS + 2) * 2.0 * b as f64 / (gb_per_s * 1e9);
+    let mut bytes = max_bytes;
+    while bytes >= QUICK_PROBE_BYTES.min(max_bytes) && bytes > 0 {
+        if cost(bytes) <= seconds {
+            return Some(bytes);
+        }
+        bytes /= 2;
+    }
+    None
+}
+
 /// Times the copy kernel on `ctx` over two buffers of `bytes` each (capped by the adapter's
 /// buffer size); `None` without `TIMESTAMP_QUERY`.
 pub fn measure_bandwidth(ctx: &GpuContext, bytes: u64) -> Result<Option<Bandwidth>, GpuError> {

@@ -120,6 +120,28 @@ fn a_budget_below_the_smallest_size_keeps_the_jobs_that_fit() {
 }
 
 #[test]
+fn a_starved_size_keeps_references_then_gpu_rows_before_other_cpu_rows() {
+    let with = |id: &str, est_s: f64| Job { id: id.parse().unwrap(), ..job(45, est_s, 0.1) };
+    // Run order: the all-core CPU, the two references, a second CPU search, two GPU variants.
+    let all = vec![
+        with("cpu.cells.f64", 2.0),
+        with("cpu1.cells.f32", 1.0),
+        with("cpu1.cells.f64", 1.0),
+        with("cpu1.tracking.f64", 1.0),
+        with("direct.thread.recomputed.f32", 50.0),
+        with("cells.thread.recomputed.f32", 4.0),
+    ];
+    let opts = StudyOptions { budget_s: Some(8.0), ..StudyOptions::default() };
+    let sel = select(&all, &opts, 1.0);
+    let kept: Vec<String> = sel.jobs.iter().map(|j| j.id.to_string()).collect();
+    // 7 s left: the references (2 s), the GPU row that fits (4 s), then one CPU row (1 s);
+    // the all-core row (2 s) no longer fits.
+    // They run in that order: a study running late skips the last, least needed rows.
+    assert_eq!(kept, ["cpu1.cells.f32", "cpu1.cells.f64", "cells.thread.recomputed.f32", "cpu1.tracking.f64"]);
+    assert_eq!(sel.dropped_jobs, 2);
+}
+
+#[test]
 fn the_fill_stops_at_the_repeat_cap() {
     let all = vec![job(16, 1.0, 0.01), job(96, 100.0, 1.0)];
     let opts = StudyOptions { budget_s: Some(20.0), ..StudyOptions::default() };
