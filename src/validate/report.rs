@@ -221,6 +221,13 @@ impl RunRecord {
         // (summaries from before `time.dt_policy` existed stay reusable).
         let applied = crate::scene::dt_policy::apply(scene).map_or_else(|_| scene.clone(), |a| a.scene);
         let mut want = serde_json::to_value(&applied).ok()?;
+        // Read back through the scene type, so a field added since the run was written takes its
+        // default (what the run ran with), as a scene file without it would.
+        if let Ok(read) = serde_json::from_value::<Scene>(v["parameters"].clone()) {
+            if let Ok(filled) = serde_json::to_value(&read) {
+                v["parameters"] = filled;
+            }
+        }
         for j in [&mut v["parameters"]["time"], &mut want["time"]] {
             if let Some(t) = j.as_object_mut() {
                 t.remove("dt_policy");
