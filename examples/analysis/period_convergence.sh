@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The oscillating drop (quintic h = 1.2Δx, relax 0.5, T84 field, t = 0.6) under the capillary
-# rule at nx 24, 30, 36, 45, 60: the lattice start and, at nx <= 36, jittered realisations
+# rule at nx 24, 30, 36, 45, 60, 120: the lattice start and, at nx <= 36, jittered realisations
 # (domain.jitter 0.05, seeds 1-3), for the period and damping against R/Δx
 # (reports/validation/capillary-rule/README.md). nx 30 and 45 lattice runs are the rule's own
 # (capillary-rule/runs/osc-nx{30,45}-quintic-a2.0); finished points are skipped.
@@ -9,7 +9,7 @@ set -euo pipefail
 out=${1:-out/period-convergence}
 bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
-points=("24 0" "36 0" "24 1" "24 2" "24 3" "30 1" "30 2" "30 3" "36 1" "36 2" "36 3" "60 0")
+points=("24 0" "36 0" "24 1" "24 2" "24 3" "30 1" "30 2" "30 3" "36 1" "36 2" "36 3" "60 0" "120 0")
 for p in "${points[@]}"; do
   set -- $p
   nx=$1 seed=$2
