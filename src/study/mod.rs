@@ -232,8 +232,8 @@ fn run_bandwidth(
 ) -> Result<Option<crate::gpu::bandwidth::Bandwidth>, Error> {
     match gpu {
         Some(g) if !opts.dry_run && jobs.iter().any(|j| matches!(j.id, BackendId::Gpu(_))) => {
-            let bytes = crate::gpu::bandwidth::PROBE_BYTES;
-            let b = crate::gpu::bandwidth::measure_bandwidth_within(g, bytes, opts.budget_s);
+            let b =
+                crate::gpu::bandwidth::measure_bandwidth_within(g, crate::gpu::bandwidth::PROBE_BYTES, opts.budget_s);
             b.map_err(|e| Error::Failed(format!("bandwidth probe: {e}")))
         }
         _ => Ok(None),

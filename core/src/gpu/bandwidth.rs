@@ -94,7 +94,7 @@ pub fn measure_bandwidth_within(
 pub fn probe_bytes_within(max_bytes: u64, gb_per_s: f64, seconds: f64) -> Option<u64> {
     let cost = |b: u64| f64::from(PROBE_REPEATS + 2) * 2.0 * b as f64 / (gb_per_s * 1e9);
     let mut bytes = max_bytes;
-    while bytes >= QUICK_PROBE_BYTES.min(max_bytes) && bytes > 0 {
+    while bytes > 0 && bytes >= QUICK_PROBE_BYTES.min(max_bytes) {
         if cost(bytes) <= seconds {
             return Some(bytes);
         }

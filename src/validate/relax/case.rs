@@ -109,7 +109,6 @@ impl Relax {
         );
         angle.refs = vec![RefLine::horizontal("target 60°", 0.0)];
         angle.y_range = Some((-20.0, 50.0));
-        angle.legend_outside = true;
         let mut spread = PlotSpec::new(
             "Relaxation 90° → 60°: spread factor D/D0 at the first row (Fig. 4.13)",
             "t (nondimensional)",
@@ -120,13 +119,12 @@ impl Relax {
             RefLine::horizontal(format!("analytic cap at the first row's height {d_row:.3}"), d_row),
             RefLine::horizontal("thesis Fig. 4.13 upper bound 1.4", THESIS_SPREAD_MAX),
         ];
-        spread.legend_outside = true;
         let mut shear = PlotSpec::new(
             "Relaxation 90° → 60°: wall shear rate along the wall",
             "fraction of the wall (0 = drop centre, 1 = right wall)",
             "average |∂u/∂y| (1/time)",
         );
-        (shear.log_y, shear.legend_outside) = (true, true);
+        shear.log_y = true;
         [(ANGLE_PLOT, angle), (SPREAD_PLOT, spread), (SHEAR_PLOT, shear)]
             .into_iter()
             .map(|(file, plot)| CasePlot { file, plot })
