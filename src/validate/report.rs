@@ -25,8 +25,14 @@ pub struct Row {
     pub difference: String,
     /// pass / FAIL / invariant / info, with the criterion.
     pub verdict: String,
-    /// The value as a number (for tests; NaN if none).
+    /// The value as a number (for tests; NaN if none, written as `null` and read back as NaN).
+    #[serde(deserialize_with = "nan_if_null")]
     pub value: f64,
+}
+
+/// A number, or NaN for the `null` serde_json writes for a non-finite one.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl Row {
@@ -439,4 +445,21 @@ pub fn plot(ctx: &Ctx, rep: &mut CaseReport, name: &str, spec: &crate::plot::Plo
     crate::plot::line_plot_svg(&p, spec).map_err(|e| io(&p, e))?;
     rep.plots.push(name.into());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Row;
+
+    #[test]
+    fn a_row_without_a_value_reads_back_as_nan() {
+        let row = Row::new("an extrapolation with no order", f64::NAN, 2, None, None);
+        let text = serde_json::to_string(&row).unwrap();
+        assert!(text.contains("\"value\":null"), "{text}");
+        let back: Row = serde_json::from_str(&text).unwrap();
+        assert!(back.value.is_nan());
+        let finite: Row =
+            serde_json::from_str(&serde_json::to_string(&Row::new("x", 1.5, 1, None, None)).unwrap()).unwrap();
+        assert_eq!(finite.value, 1.5);
+    }
 }

@@ -86,7 +86,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     )?;
     let cctx = Ctx::new(ctx.opts, "convergence");
     let mut crep = CaseReport::new("convergence", "", quick);
-    let pts = convergence::study(&cctx, &mut crep)?;
+    let (pts, _) = convergence::study(&cctx, &mut crep)?;
     if let Some(w) = crep.not_full {
         rep.not_full_because(format!("convergence: {w}"));
     }

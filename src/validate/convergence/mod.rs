@@ -1,9 +1,11 @@
 //! Case `convergence` (docs/PHYSICS.md §9(d), thesis §4.2.4): relax-60, Mode B, no-slip, at
-//! Δx = 0.5/45, 0.5/65, 0.5/85, 0.5/105 with `time.dt_policy = "scale"` (7e-5 at 65; the
-//! viscous limit binds, so dt ∝ Δx²). D/D0 and θ at the end against the analytic cap, and time to solution
+//! Δx = 0.5/33 (below the thesis's range) and the thesis's 0.5/45, 0.5/65, 0.5/85, 0.5/105 with
+//! `time.dt_policy = "scale"` (7e-5 at 65; the viscous limit binds, so dt ∝ Δx²). D/D0 and θ at
+//! the end against the analytic cap, realisations from jittered starts at the coarser
+//! resolutions (`realisations`), observed orders and Richardson estimates, and time to solution
 //! against error. Thesis: all but 0.5/45 converge in D/D0 and θ.
 
-use super::data::{col, read_series, window_stats};
+use super::data::{col, read_series};
 use super::relax::{analytic_spread, wall_spread};
 use super::report::{plot, write_csv, CaseReport, Row};
 use super::sessile::shear_window;
@@ -11,8 +13,11 @@ use super::{Ctx, RunSpec, ValidateError};
 use crate::plot::{PlotSpec, RefLine, Series};
 use std::path::PathBuf;
 
+mod realisations;
+use realisations::{capillary_rule_dir, end_values, End};
+
 /// Resolutions (particles across 0.5) of the full study.
-pub const FULL_NX: [u32; 4] = [45, 65, 85, 105];
+pub const FULL_NX: [u32; 5] = [33, 45, 65, 85, 105];
 /// Resolutions of the quick study.
 pub const QUICK_NX: [u32; 3] = [20, 26, 33];
 
@@ -54,11 +59,15 @@ pub fn spec(nx: u32, quick: bool, t_end: f64) -> RunSpec<'static> {
     RunSpec::new(format!("nx{nx}"), "relax-60", &sets, Some(t_end), if quick { 0 } else { 10 })
 }
 
+/// The lattice runs' end states by resolution, coarse to fine.
+pub type Ends = Vec<(u32, End)>;
+
 /// One point of the speed/error study: `(label, wall time s, ms/step, |D/D0 − analytic|/analytic, θ error deg)`.
 pub type Point = (String, f64, f64, f64, f64);
 
-/// Runs (or reuses) the study and returns its points; fills `rep` if given.
-pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateError> {
+/// Runs (or reuses) the lattice runs and returns their points and end states (by resolution,
+/// coarse to fine); fills `rep`.
+pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<(Vec<Point>, Ends), ValidateError> {
     let quick = ctx.opts.quick;
     let t_end = ctx.opts.long_t_end(0.3);
     let (wa, wb, wtext) = shear_window(t_end);
@@ -69,10 +78,11 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
     let mut angle = PlotSpec::new("Convergence: θ (circle fit) vs time (§4.2.4)", "t (nondimensional)", "θ (degrees)");
     let mut pts = Vec::new();
     let mut csv = Vec::new();
+    let mut ends = Vec::new();
     for nx in nxs {
         let s = spec(nx, quick, t_end);
         let relax_dir = ctx.opts.out.join("relax-60").join("runs").join("b-noslip");
-        let rec = match ctx.run(&s, &[relax_dir]) {
+        let rec = match ctx.run(&s, &[relax_dir, capillary_rule_dir(&ctx.opts.out, nx, None)]) {
             Ok(r) => r,
             Err(ValidateError::Skipped(id)) => {
                 rep.not_full_because(format!("{id} not run (CPU time)"));
@@ -85,8 +95,9 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
         let th = col(&rows, |r| r.theta_circle_fit);
         spread.series.push(Series::line(format!("Δx = 0.5/{nx}"), d.clone()));
         angle.series.push(Series::line(format!("Δx = 0.5/{nx}"), th.clone()));
-        let d_end = window_stats(&d, wa, wb).map_or(f64::NAN, |s| s.0);
-        let th_end = window_stats(&th, wa, wb).map_or(f64::NAN, |s| s.0);
+        let end = end_values(&PathBuf::from(&rec.dir), nx, wa, wb);
+        let (d_end, th_end) = (end.spread, end.theta);
+        ends.push((nx, end));
         let err = (d_end / d_an - 1.0).abs();
         rep.rows.push(Row::new(
             &format!("Δx = 0.5/{nx}: D/D0 at the wall, mean over {wtext}"),
@@ -103,6 +114,16 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
             Some(60.0),
         ));
         rep.rows.push(Row::new(
+            &format!(
+                "Δx = 0.5/{nx}: θ by the thesis's two-point metric (rows 1–2 at the wall), mean over {wtext} (deg)"
+            ),
+            end.two_point,
+            2,
+            None,
+            Some(60.0),
+        ));
+        rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: max |ρ/ρ0 − 1| for t ≥ 1"), end.density, 4, None, None));
+        rep.rows.push(Row::new(
             &format!("Δx = 0.5/{nx}: wall time (s) at {:.2} ms/step", rec.ms_per_step),
             rec.wall_time_s,
             1,
@@ -113,21 +134,22 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
         pts.push((format!("relax-60 nx={nx}"), rec.wall_time_s, rec.ms_per_step, err, (th_end - 60.0).abs()));
         rep.runs.push(rec);
     }
-    let ends: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[4], r[3])).collect();
-    let pbs: Vec<String> = ends.iter().map(|e| format!("{:.2} at nx = {}", pb_for(e.0 as u32), e.0)).collect();
+    let end_list: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[4], r[3])).collect();
+    let pbs: Vec<String> = end_list.iter().map(|e| format!("{:.2} at nx = {}", pb_for(e.0 as u32), e.0)).collect();
     rep.notes.push(format!(
         "Background pressure: the capillary rule p_b = 2·σ|∇C|_max/2 with c0 from σ|∇C|_max/2 = 1 % of ρ0c0² \
          (docs/PHYSICS.md §3.1, ../capillary-rule/README.md): p_b {}. Under the earlier rule p_b = σ/(2Δx) \
          at c0 = 20, θ ended at 61.6°, 66.5°, 68.8°, 70.3° at nx = 45, 65, 85, 105 (pb-check/README.md).",
         pbs.join(", ")
     ));
-    if ends.len() >= 2 {
+    if end_list.len() >= 2 {
         let span = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
-            ends.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+            end_list.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
         };
         let ((t0, t1), (d0, d1)) = (span(&|e| e.1), span(&|e| e.2));
-        let list: Vec<String> = ends.iter().map(|(nx, th, d)| format!("nx = {nx}: θ {th:.2}°, D/D0 {d:.3}")).collect();
-        let trend = if ends.len() >= 3 && ends.windows(2).all(|w| w[1].1 > w[0].1) {
+        let list: Vec<String> =
+            end_list.iter().map(|(nx, th, d)| format!("nx = {nx}: θ {th:.2}°, D/D0 {d:.3}")).collect();
+        let trend = if end_list.len() >= 3 && end_list.windows(2).all(|w| w[1].1 > w[0].1) {
             "; θ rises with every refinement, away from 60°"
         } else {
             ""
@@ -151,7 +173,7 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<Vec<Point>, ValidateErro
         "nx,dt,p_b,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step",
         &csv,
     )?;
-    Ok(pts)
+    Ok((pts, ends))
 }
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
@@ -165,7 +187,10 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     if !quick && t_end < 5.0 {
         rep.not_full_because(format!("t_end = {t_end} instead of the thesis's 5 (CPU time)"));
     }
-    let pts = study(ctx, &mut rep)?;
+    let (pts, lattice) = study(ctx, &mut rep)?;
+    if !quick {
+        realisations::add(ctx, &mut rep, &lattice, t_end)?;
+    }
     let sc: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.1, p.3.max(1e-6), p.0.clone())).collect();
     let path = ctx.path("time_vs_error.svg");
     crate::plot::scatter_labeled_svg(
