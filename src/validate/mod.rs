@@ -22,6 +22,7 @@ mod cross_code;
 mod impact;
 pub mod oscillation;
 mod relax;
+mod retime;
 mod richardson;
 mod sessile;
 mod speed;
