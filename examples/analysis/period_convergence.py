@@ -3,7 +3,8 @@
 period (the pb_sweep method: the first two maxima of the 5-sample moving average of centroid_x)
 and damping rate (log decrement of the first two maxima above the late mean, over their time
 apart), the lattice start beside the mean ± standard deviation of the jittered realisations,
-and the Richardson estimate of the period from the three finest lattice points. The nx = 30 and
+and the Richardson estimates of the period and damping from the three finest lattice points and
+from nx = 30, 60, 120. The nx = 30 and
 45 lattice runs are the rule's own (capillary-rule/runs). Prints a markdown table (stdlib only).
 Usage: examples/analysis/period_convergence.py RUNDIR RULE_RUNDIR"""
 import math, os, statistics, sys
@@ -12,7 +13,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from capillary_rule import status  # noqa: E402
 from pb_sweep import osc, series  # noqa: E402
 
-NXS = [24, 30, 36, 45, 60]
+NXS = [24, 30, 36, 45, 60, 120]
 SEEDS = [1, 2, 3]
 
 
@@ -64,27 +65,34 @@ def main():
             cells += [fmt(p[key] if p else None), spread]
         print(f"| {nx} | {0.1875 * nx / 0.5:.2f} | " + " | ".join(cells) + " |")
     fine = [nx for nx in NXS if lat.get(nx)][-3:]
-    if len(fine) < 3:
-        print(f"\nRichardson needs three lattice points; have {fine}")
-        return
-    f = [lat[nx]["period"] for nx in fine]
-    h = [1.0 / nx for nx in fine]
+    for pts in [fine, [30, 60, 120]]:
+        if all(lat.get(nx) for nx in pts) and len(pts) == 3:
+            for key in ["period", "gamma"]:
+                richardson(pts, [lat[nx][key] for nx in pts], key)
+        else:
+            print(f"\nRichardson needs three lattice points of {pts}; have {[nx for nx in pts if lat.get(nx)]}")
+
+
+def richardson(nxs, f, key):
+    """f = f* + C h^p through three points (h = 1/nx, ratios need not be equal): p by bisection."""
+    h = [1.0 / nx for nx in nxs]
+    vals = ", ".join(f"{v:.4f}" for v in f)
     ratio = (f[1] - f[0]) / (f[2] - f[1]) if f[2] != f[1] else math.nan
-    # f = f* + C h^p: (f1 − f0)/(f2 − f1) = (h1^p − h0^p)/(h2^p − h1^p), solved for p by bisection.
-    g = lambda q: (h[1] ** q - h[0] ** q) / (h[2] ** q - h[1] ** q) - ratio
     if not ratio > 0:
-        print(f"\nRichardson on nx = {fine}: periods {', '.join(f'{v:.4f}' for v in f)} are not monotone: no order")
+        print(f"\nRichardson on nx = {nxs}: {key} {vals} not monotone: no order")
         return
+    g = lambda q: (h[1] ** q - h[0] ** q) / (h[2] ** q - h[1] ** q) - ratio
     lo, hi = 0.05, 8.0
     if g(lo) * g(hi) > 0:
-        print(f"\nRichardson on nx = {fine}: no order in [{lo}, {hi}] fits (ratio {ratio:.3f})")
+        print(f"\nRichardson on nx = {nxs}: {key} {vals}: no order in [{lo}, {hi}] fits (ratio {ratio:.3f})")
         return
     for _ in range(100):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if g(lo) * g(mid) > 0 else (lo, mid)
     q = 0.5 * (lo + hi)
     c = (f[2] - f[1]) / (h[2] ** q - h[1] ** q)
-    print(f"\nRichardson on nx = {fine}: observed order {q:.2f}, extrapolated period {f[2] - c * h[2] ** q:.4f}")
+    print(f"\nRichardson on nx = {nxs}: {key} {vals}: observed order {q:.2f}, extrapolated {f[2] - c * h[2] ** q:.4f}")
+
 
 if __name__ == "__main__":
     main()
