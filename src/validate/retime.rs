@@ -8,20 +8,31 @@ use super::report::RunRecord;
 use super::{RunSpec, ValidateError};
 use crate::run::{RunError, RunOptions};
 
-/// Steps timed per configuration (after the scene's set-up; relaxation switched off).
+/// Steps timed per repeat (after the scene's set-up; relaxation switched off).
 pub const RETIME_STEPS: u64 = 200;
+/// Repeats per configuration; the median is kept.
+pub const RETIME_REPEATS: usize = 3;
 
 /// A configuration's cost measured now.
 #[derive(Clone, Copy, Debug)]
 pub struct Retimed {
-    /// ms per step over [`RETIME_STEPS`] steps.
+    /// ms per step: the median over [`RETIME_REPEATS`] repeats of [`RETIME_STEPS`] steps.
     pub ms_per_step: f64,
-    /// The long run's steps times that: its time to solution on this machine now (s).
+    /// The fastest and slowest repeat (ms per step).
+    pub range: (f64, f64),
+    /// The long run's steps times the median: its time to solution on this machine now (s).
     pub time_to_solution_s: f64,
 }
 
-/// Times `spec`'s scene on `backend` for [`RETIME_STEPS`] steps into a scratch directory
-/// (removed afterwards) and scales by the steps of `long`.
+impl Retimed {
+    /// "X ms/step (median of n, lo–hi)".
+    pub fn text(&self) -> String {
+        format!("{:.2} ms/step (median of {RETIME_REPEATS}, {:.2}–{:.2})", self.ms_per_step, self.range.0, self.range.1)
+    }
+}
+
+/// Times `spec`'s scene on `backend`, [`RETIME_REPEATS`] runs of [`RETIME_STEPS`] steps into a
+/// scratch directory (removed afterwards), and scales the median by the steps of `long`.
 pub fn retime(
     spec: &RunSpec,
     long: &RunRecord,
@@ -40,8 +51,19 @@ pub fn retime(
         quiet: true,
         ..RunOptions::default()
     };
-    let result = crate::run::run(&scene, &opts);
-    let _ = std::fs::remove_dir_all(&dir);
-    let summary = result.map_err(|err: RunError| ValidateError::Run { id: format!("{} (timing)", spec.id), err })?;
-    Ok(Retimed { ms_per_step: summary.ms_per_step, time_to_solution_s: 1e-3 * summary.ms_per_step * long.steps as f64 })
+    let mut ms = Vec::with_capacity(RETIME_REPEATS);
+    for _ in 0..RETIME_REPEATS {
+        let result = crate::run::run(&scene, &opts);
+        let _ = std::fs::remove_dir_all(&dir);
+        let summary =
+            result.map_err(|err: RunError| ValidateError::Run { id: format!("{} (timing)", spec.id), err })?;
+        ms.push(summary.ms_per_step);
+    }
+    ms.sort_by(f64::total_cmp);
+    let median = ms[ms.len() / 2];
+    Ok(Retimed {
+        ms_per_step: median,
+        range: (ms[0], ms[ms.len() - 1]),
+        time_to_solution_s: 1e-3 * median * long.steps as f64,
+    })
 }

@@ -68,7 +68,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
             None,
         ));
         rep.rows.push(Row::new(
-            &format!("{label}: time to solution (s) timed now, {:.3} ms/step × {} steps", cost.ms_per_step, rec.steps),
+            &format!("{label}: time to solution (s) timed now, {} × {} steps", cost.text(), rec.steps),
             cost.time_to_solution_s,
             1,
             None,

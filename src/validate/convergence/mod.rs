@@ -136,10 +136,7 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<(Vec<Point>, Ends), Vali
             None,
         ));
         rep.rows.push(Row::new(
-            &format!(
-                "Δx = 0.5/{nx}: time to solution (s) timed now, {:.2} ms/step × {} steps",
-                cost.ms_per_step, rec.steps
-            ),
+            &format!("Δx = 0.5/{nx}: time to solution (s) timed now, {} × {} steps", cost.text(), rec.steps),
             cost.time_to_solution_s,
             1,
             None,
@@ -239,10 +236,11 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 /// How the time-to-solution rows and plots are measured (shared with `speed-vs-error`).
 pub fn retime_note() -> String {
     format!(
-        "Time to solution: each configuration's scene stepped {} steps in this `validate` process, one \
-         configuration after the other, relaxation off (../provenance.json names the machine and date); times the \
-         long run's steps. The long runs' own wall times (the Runs table) come from machines and loads of their own \
-         and are not compared.",
+        "Time to solution: each configuration's scene stepped {} times {} steps in this `validate` process, one \
+         configuration after the other, relaxation off (../provenance.json names the machine and date); the median \
+         ms/step times the long run's steps. The long runs' own wall times (the Runs table) come from machines and \
+         loads of their own and are not compared.",
+        super::retime::RETIME_REPEATS,
         super::retime::RETIME_STEPS
     )
 }

@@ -110,7 +110,13 @@ fn pressure_rule(case_dir: &std::path::Path, rep: &CaseReport) -> &'static str {
     let records: Vec<serde_json::Value> = rep
         .runs
         .iter()
-        .filter_map(|r| std::fs::read_to_string(case_dir.join("runs").join(&r.id).join("summary.json")).ok())
+        .filter_map(|r| {
+            // where the run is (a reused run may sit in another case's directory), else the
+            // case's own runs/<id>
+            [std::path::PathBuf::from(&r.dir), case_dir.join("runs").join(&r.id)]
+                .iter()
+                .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())
+        })
         .filter_map(|t| serde_json::from_str(&t).ok())
         .collect();
     let ruled_scene = |v: &serde_json::Value| {
