@@ -37,7 +37,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let quick = ctx.opts.quick;
     let mut rep = CaseReport::new(
         "speed-vs-error",
-        "Wall time vs error: kernels on the oscillating drop, resolutions on relax-60",
+        "Time to solution vs error: kernels on the oscillating drop, resolutions on relax-60",
         quick,
     );
     let mut osc = Vec::new();
