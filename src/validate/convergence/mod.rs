@@ -7,7 +7,8 @@
 
 use super::data::{col, read_series};
 use super::relax::{analytic_spread, wall_spread};
-use super::report::{plot, write_csv, CaseReport, Row};
+use super::report::{plot, write_csv, CaseReport, Row, RunRecord};
+use super::retime::Retimed;
 use super::sessile::shear_window;
 use super::{Ctx, RunSpec, ValidateError};
 use crate::plot::{PlotSpec, RefLine, Series};
@@ -101,47 +102,7 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<(Vec<Point>, Ends), Vali
         let (d_end, th_end) = (end.spread, end.theta);
         ends.push((nx, end));
         let err = (d_end / d_an - 1.0).abs();
-        rep.rows.push(Row::new(
-            &format!("Δx = 0.5/{nx}: D/D0 at the wall, mean over {wtext}"),
-            d_end,
-            3,
-            None,
-            Some(d_an),
-        ));
-        rep.rows.push(Row::new(
-            &format!("Δx = 0.5/{nx}: θ circle fit, mean over {wtext} (deg)"),
-            th_end,
-            2,
-            None,
-            Some(60.0),
-        ));
-        rep.rows.push(Row::new(
-            &format!(
-                "Δx = 0.5/{nx}: θ by the thesis's two-point metric (rows 1–2 at the wall), mean over {wtext} (deg)"
-            ),
-            end.two_point,
-            2,
-            None,
-            Some(60.0),
-        ));
-        rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: max |ρ/ρ0 − 1| for t ≥ 1"), end.density, 4, None, None));
-        rep.rows.push(Row::new(
-            &format!(
-                "Δx = 0.5/{nx}: the run's own wall time (s) at {:.2} ms/step (its machine and load)",
-                rec.ms_per_step
-            ),
-            rec.wall_time_s,
-            1,
-            None,
-            None,
-        ));
-        rep.rows.push(Row::new(
-            &format!("Δx = 0.5/{nx}: time to solution (s) timed now, {} × {} steps", cost.text(), rec.steps),
-            cost.time_to_solution_s,
-            1,
-            None,
-            None,
-        ));
+        resolution_rows(rep, nx, &end, &rec, &cost, &wtext, d_an);
         csv.push(vec![
             nx as f64,
             dt_for(nx, quick),
@@ -158,6 +119,60 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<(Vec<Point>, Ends), Vali
         rep.runs.push(rec);
     }
     let end_list: Vec<(f64, f64, f64)> = csv.iter().map(|r| (r[0], r[4], r[3])).collect();
+    end_notes(rep, &end_list, &wtext, d_an);
+    spread.refs = vec![RefLine::horizontal(format!("analytic equilibrium {d_an:.3}"), d_an)];
+    angle.refs = vec![RefLine::horizontal("target 60°", 60.0)];
+    plot(ctx, rep, "spread_factor_vs_resolution.svg", &spread)?;
+    plot(ctx, rep, "angle_vs_resolution.svg", &angle)?;
+    write_csv(
+        ctx,
+        rep,
+        "convergence.csv",
+        "nx,dt,p_b,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step,ms_per_step_now,time_to_solution_now_s",
+        &csv,
+    )?;
+    Ok((pts, ends))
+}
+
+/// The rows of one lattice resolution: its end values, the thesis's two-point angle, the density
+/// error, the run's own wall time and the time to solution timed now.
+fn resolution_rows(rep: &mut CaseReport, nx: u32, end: &End, rec: &RunRecord, cost: &Retimed, wtext: &str, d_an: f64) {
+    let (d_end, th_end) = (end.spread, end.theta);
+    rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: D/D0 at the wall, mean over {wtext}"), d_end, 3, None, Some(d_an)));
+    rep.rows.push(Row::new(
+        &format!("Δx = 0.5/{nx}: θ circle fit, mean over {wtext} (deg)"),
+        th_end,
+        2,
+        None,
+        Some(60.0),
+    ));
+    rep.rows.push(Row::new(
+        &format!("Δx = 0.5/{nx}: θ by the thesis's two-point metric (rows 1–2 at the wall), mean over {wtext} (deg)"),
+        end.two_point,
+        2,
+        None,
+        Some(60.0),
+    ));
+    rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: max |ρ/ρ0 − 1| for t ≥ 1"), end.density, 4, None, None));
+    rep.rows.push(Row::new(
+        &format!("Δx = 0.5/{nx}: the run's own wall time (s) at {:.2} ms/step (its machine and load)", rec.ms_per_step),
+        rec.wall_time_s,
+        1,
+        None,
+        None,
+    ));
+    rep.rows.push(Row::new(
+        &format!("Δx = 0.5/{nx}: time to solution (s) timed now, {} × {} steps", cost.text(), rec.steps),
+        cost.time_to_solution_s,
+        1,
+        None,
+        None,
+    ));
+}
+
+/// The notes on the background pressure at each resolution and on the spread of the end values;
+/// `end_list` holds `(nx, θ, D/D0)` by resolution.
+fn end_notes(rep: &mut CaseReport, end_list: &[(f64, f64, f64)], wtext: &str, d_an: f64) {
     let pbs: Vec<String> = end_list.iter().map(|e| format!("{:.2} at nx = {}", pb_for(e.0 as u32), e.0)).collect();
     rep.notes.push(format!(
         "Background pressure: the capillary rule p_b = 2·σ|∇C|_max/2 with c0 from σ|∇C|_max/2 = 1 % of ρ0c0² \
@@ -185,18 +200,6 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<(Vec<Point>, Ends), Vali
             100.0 * (d1 - d0) / d_an
         ));
     }
-    spread.refs = vec![RefLine::horizontal(format!("analytic equilibrium {d_an:.3}"), d_an)];
-    angle.refs = vec![RefLine::horizontal("target 60°", 60.0)];
-    plot(ctx, rep, "spread_factor_vs_resolution.svg", &spread)?;
-    plot(ctx, rep, "angle_vs_resolution.svg", &angle)?;
-    write_csv(
-        ctx,
-        rep,
-        "convergence.csv",
-        "nx,dt,p_b,spread_end,theta_circle_end,spread_rel_error,wall_time_s,ms_per_step,ms_per_step_now,time_to_solution_now_s",
-        &csv,
-    )?;
-    Ok((pts, ends))
 }
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
