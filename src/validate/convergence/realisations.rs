@@ -278,3 +278,39 @@ fn end_angle_plot(
     spec.refs = vec![RefLine::horizontal("Young's angle 60°", YOUNG_DEG)];
     plot(ctx, rep, "end_angle_vs_resolution.svg", &spec)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn groups(thetas: &[(u32, &[f64])]) -> Vec<Group> {
+        thetas
+            .iter()
+            .map(|(nx, th)| Group {
+                nx: *nx,
+                ends: th
+                    .iter()
+                    .map(|&theta| End { theta, two_point: f64::NAN, spread: 1.385, density: 0.01 })
+                    .collect(),
+            })
+            .collect()
+    }
+
+    fn verdict(thetas: &[(u32, &[f64])]) -> String {
+        let mut rep = CaseReport::new("convergence", "", false);
+        trend_row(&mut rep, &groups(thetas));
+        rep.rows.last().map(|r| r.verdict.clone()).unwrap_or_default()
+    }
+
+    #[test]
+    fn the_realisations_trend_passes_only_near_young_without_a_rise_beyond_the_scatter() {
+        // within 3° and a change smaller than the scatter
+        assert!(verdict(&[(33, &[60.0, 60.5, 59.5]), (45, &[60.2, 60.8, 59.6])]).starts_with("pass"));
+        // a rise far beyond two standard errors, though within 3°
+        assert!(verdict(&[(33, &[60.0, 60.1, 59.9]), (45, &[62.5, 62.6, 62.4])]).starts_with("FAIL"));
+        // the finest resolution outside 3°
+        assert!(verdict(&[(33, &[63.5, 63.0, 64.0]), (45, &[63.2, 63.8, 63.3])]).starts_with("FAIL"));
+        // one realisation per resolution gives no scatter: no row
+        assert_eq!(verdict(&[(33, &[60.0]), (45, &[60.1])]), "");
+    }
+}
