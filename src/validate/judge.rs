@@ -20,9 +20,9 @@ use rule::{alpha_band, nx_band, rule_text};
 use sensitivity::{relax_rule_band, sessile_pb_band};
 
 /// Young's angle of relax-60 (deg).
-const YOUNG_DEG: f64 = 60.0;
+pub(super) const YOUNG_DEG: f64 = 60.0;
 /// The bound on a relax-60 angle, as the case's Mode B rows (deg).
-const ANGLE_TOL_DEG: f64 = 3.0;
+pub(super) const ANGLE_TOL_DEG: f64 = 3.0;
 /// The bound on D/D0 at the wall, as the case's Mode B rows.
 const SPREAD_TOL: f64 = 0.03;
 /// The thesis's Mode A / Mode B peak wall shear ratio is met within this factor.

@@ -5,6 +5,7 @@
 //! (docs/PHYSICS.md §9(d)).
 
 use super::super::data::{col, read_series, window_stats};
+use super::super::judge::{ANGLE_TOL_DEG, YOUNG_DEG};
 use super::super::relax::wall_spread;
 use super::super::report::{plot, write_csv, CaseReport, Row};
 use super::super::richardson::{extrapolate, Extrapolation};
@@ -18,9 +19,6 @@ pub const JITTER: f64 = 0.05;
 pub const SEEDS: [u64; 3] = [1, 2, 3];
 /// Resolutions with realisations: those where one run costs at most about an hour of a core.
 pub const REALISATION_NX: [u32; 3] = [33, 45, 65];
-/// Young's angle of relax-60 (deg) and the bound on an end angle (deg).
-const YOUNG_DEG: f64 = 60.0;
-const ANGLE_TOL_DEG: f64 = 3.0;
 
 /// A run's end state: means over the window, and the density error over t ≥ 1.
 #[derive(Clone, Copy, Debug)]
