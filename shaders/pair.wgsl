@@ -44,6 +44,15 @@ fn viscous_acc_ij(eta_ij: real, inv_s2_i: real, inv_s2_j: real, fac: real, v_ij:
     return v_ij * (eta_ij * (inv_s2_i + inv_s2_j) * fac);
 }
 
+// Projected viscous term (docs/PHYSICS.md §4.1): viscous_acc_ij with v_ij replaced by
+// (d + 2)(v_ij·x_ij) x_ij / r² (d = 2). Sum over j, then × 1/m_i. Zero for r² = 0.
+fn viscous_projected_acc_ij(eta_ij: real, inv_s2_i: real, inv_s2_j: real, fac: real, v_ij: real2, x_ij: real2, r2: real) -> real2 {
+    if r2 > real(0.0) {
+        return x_ij * (eta_ij * (inv_s2_i + inv_s2_j) * fac * real(4.0) * dot(v_ij, x_ij) / r2);
+    }
+    return real2(real(0.0), real(0.0));
+}
+
 // Colour-gradient term of (T71): ∇_iW_ij / σ_j² for j of the other phase. Sum, then × σ_i.
 fn colour_gradient_ij(inv_s2_j: real, grad_w: real2) -> real2 {
     return grad_w * inv_s2_j;

@@ -24,6 +24,9 @@ const IMAGE_SHIFT: u32 = 2u;
 const WALL_VELOCITY_MORRIS: u32 = 0u;
 const WALL_VELOCITY_HOLMES: u32 = 1u;
 
+const VISCOUS_FORM_LAPLACIAN: u32 = 0u;
+const VISCOUS_FORM_PROJECTED: u32 = 1u;
+
 const CONTACT_MODE_NONE: u32 = 0u;
 const CONTACT_MODE_A: u32 = 1u;
 const CONTACT_MODE_B: u32 = 2u;
@@ -45,7 +48,7 @@ struct Params {
     grid_nx: u32,
     grid_ny: u32,
     n_phases: u32,
-    pad0: u32,
+    viscous_form: u32,
     pad1: u32,
     pad2: u32,
     pad3: u32,

@@ -5,7 +5,7 @@
 
 use crate::physics::kernel::{kernel_w, lattice_sum, KernelKind, KernelParams};
 use crate::real::{Real, Sym2, V2};
-use crate::scene::{ColourGradient, ContactMode, Scene, Side, WallPressure, WallVelocity};
+use crate::scene::{ColourGradient, ContactMode, Scene, Side, ViscousForm, WallPressure, WallVelocity};
 
 /// Number of colours: fluid phases 0 and 1, and the wall phase S (Mode A).
 pub const N_COLOURS: usize = 3;
@@ -247,6 +247,8 @@ pub struct Model<T> {
     pub wall_pressure: WallPressure,
     /// Wall velocity option.
     pub wall_velocity: WallVelocity,
+    /// Viscous pair form (docs/PHYSICS.md §4.1).
+    pub viscous_form: ViscousForm,
     /// Max sound speed (for dt).
     pub c_max: f64,
     /// Max kinematic viscosity (for dt).
@@ -396,6 +398,7 @@ impl<T: Real> Model<T> {
             stages,
             wall_pressure: scene.walls.pressure,
             wall_velocity: scene.walls.velocity,
+            viscous_form: scene.viscous_form,
             c_max: scene.phases.iter().map(|p| p.c0).fold(0.0, f64::max),
             nu_max: scene.phases.iter().map(|p| p.mu / p.rho0).fold(0.0, f64::max),
             rho_mean: scene.phases.iter().map(|p| p.rho0).sum::<f64>() / scene.phases.len() as f64,

@@ -226,7 +226,11 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
             }
             v_ij = wall_relative_velocity(c.vi, beta, params.wall_free_slip[c.wall] != 0u, wall_normal(params, c.wall));
         }
-        sum += viscous_acc_ij(eta_ij, c.inv_s2_i, inv_s2_j, fac, v_ij);
+        if params.viscous_form == VISCOUS_FORM_PROJECTED {
+            sum += viscous_projected_acc_ij(eta_ij, c.inv_s2_i, inv_s2_j, fac, v_ij, p.x_ij, p.r2);
+        } else {
+            sum += viscous_acc_ij(eta_ij, c.inv_s2_i, inv_s2_j, fac, v_ij);
+        }
     }
     if params_has(params, STAGE_SURFACE) {
         let pi_j = image_sym(params, p.code, Sym2(pi[j].x, pi[j].y));

@@ -110,6 +110,33 @@ pub fn pair_twins<T: Real>(ctx: &GpuContext) {
         mv(a, a).to_vec()
     });
 
+    // viscous_projected_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij, x_ij, r2): the same
+    // cases with a pair vector x_ij and r2 = |x_ij|²; edge x_ij = 0 (r2 = 0 → zero).
+    let cases: Vec<Case<T>> = cases
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let x: Vec<T> = if k == 0 { vec![T::zero(); 2] } else { rand_vec(&mut rng, 1e-5, 0.03) };
+            let r2 = x[0] * x[0] + x[1] * x[1];
+            let mut args = c.args.clone();
+            args.extend([x[0], x[1], r2]);
+            Case::new(args, vec![])
+        })
+        .collect();
+    let body = "put2(i, 0u, viscous_projected_acc_ij(a(i, 0u), a(i, 1u), a(i, 2u), a(i, 3u), a2(i, 4u), a2(i, 6u), a(i, 8u)));";
+    check(ctx, pair("viscous_projected_acc_ij", body, 2), &cases, tol, |c| {
+        let a = |k: usize| c.args[k];
+        let (v, x) = (v2(c, 4), v2(c, 6));
+        let got = pair::viscous_projected_acc_ij(a(0), a(1), a(2), a(3), v, x, a(8));
+        // Magnitude without the cancellation of v·x: |η(…)·fac·4| (|v_x x_x| + |v_y x_y|) |x| / r².
+        let s = if a(8) > T::zero() {
+            (a(0) * (a(1) + a(2)) * a(3) * T::c(4.0)).abs() * ((v.x * x.x).abs() + (v.y * x.y).abs()) / a(8)
+        } else {
+            T::zero()
+        };
+        mv(got, V2::new(x.x.abs() * s, x.y.abs() * s)).to_vec()
+    });
+
     // colour_gradient_ij(inv_s2_j, grad_w), surface_acc_ij(Π_i, s_i, Π_j, s_j, grad_w).
     let cases: Vec<Case<T>> = grads
         .iter()

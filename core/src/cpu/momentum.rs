@@ -12,7 +12,7 @@ use crate::physics::kernel::{kernel_dwdr, kernel_w};
 use crate::physics::pair::*;
 use crate::physics::wall::{holmes_beta, lj_wall_acc, noslip_beta, wall_relative_velocity};
 use crate::real::{Real, V2};
-use crate::scene::WallVelocity;
+use crate::scene::{ViscousForm, WallVelocity};
 
 /// Lennard-Jones repulsion of the boundary points (spacing Δx/2 on each wall line, r0 = Δx/2);
 /// twin of WGSL `lennard_jones` in shaders/geometry.wgsl.
@@ -114,7 +114,11 @@ pub fn acceleration_pairs<T: Real>(
             } else {
                 (eta_i, vi)
             };
-            sink(j, xj, PairTerm::Viscous, viscous_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij));
+            let a = match m.viscous_form {
+                ViscousForm::Laplacian => viscous_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij),
+                ViscousForm::Projected => viscous_projected_acc_ij(eta_ij, inv_s2_i, inv_s2_j, fac, v_ij, x_ij, r2),
+            };
+            sink(j, xj, PairTerm::Viscous, a);
         }
         if st.surface_tension {
             sink(

@@ -9,7 +9,7 @@
 use crate::model::{AxisMap, Model};
 use crate::neighbours::cells::CellBox;
 use crate::real::Real;
-use crate::scene::{ContactMode, WallVelocity};
+use crate::scene::{ContactMode, ViscousForm, WallVelocity};
 
 /// Stage flag bits (`STAGE_*` in `shaders/types.wgsl`).
 pub mod flags {
@@ -33,7 +33,7 @@ pub mod flags {
     pub const XSPH: u32 = 256;
 }
 
-/// Codes of the enumerated `Params` words (`IMAGE_*`, `CONTACT_MODE_*`, `WALL_VELOCITY_*` in
+/// Codes of the enumerated `Params` words (`IMAGE_*`, `CONTACT_MODE_*`, `WALL_VELOCITY_*`, `VISCOUS_FORM_*` in
 /// `shaders/types.wgsl`).
 pub mod code {
     /// No image across this side.
@@ -52,6 +52,10 @@ pub mod code {
     pub const WALL_VELOCITY_MORRIS: u32 = 0;
     /// Holmes wall ghost velocities.
     pub const WALL_VELOCITY_HOLMES: u32 = 1;
+    /// T70's viscous sum.
+    pub const VISCOUS_FORM_LAPLACIAN: u32 = 0;
+    /// The projected viscous sum (docs/PHYSICS.md §4.1).
+    pub const VISCOUS_FORM_PROJECTED: u32 = 1;
 }
 
 /// The uniform. `#[repr(C)]`, every field a u32 or `T` or `[_; 4]`; the u32 block is 32 words so
@@ -71,7 +75,8 @@ pub struct Params<T> {
     pub grid_nx: u32,
     pub grid_ny: u32,
     pub n_phases: u32,
-    pub pad0: [u32; 4],
+    pub viscous_form: u32,
+    pub pad0: [u32; 3],
     pub image_kind: [u32; 4],
     pub wall_axis: [u32; 4],
     pub wall_free_slip: [u32; 4],
@@ -162,6 +167,10 @@ impl<T: Real> Params<T> {
             WallVelocity::Morris => code::WALL_VELOCITY_MORRIS,
             WallVelocity::Holmes => code::WALL_VELOCITY_HOLMES,
         };
+        p.viscous_form = match m.viscous_form {
+            ViscousForm::Laplacian => code::VISCOUS_FORM_LAPLACIAN,
+            ViscousForm::Projected => code::VISCOUS_FORM_PROJECTED,
+        };
         (p.grid_nx, p.grid_ny) = (grid.nx, grid.ny);
         p.n_phases = m.phases.len().min(4) as u32;
         let sides = [m.images.x[0], m.images.x[1], m.images.y[0], m.images.y[1]];
@@ -211,7 +220,7 @@ pub fn field_offsets<T: Real>() -> Vec<(&'static str, usize)> {
         ($($f:ident),*) => { vec![$((stringify!($f), std::mem::offset_of!(Params<T>, $f))),*] };
     }
     let mut v = offs!(kernel_kind, n, n_fluid, wall_phase, contact_mode, n_walls, stages, step, wall_velocity);
-    v.extend(offs!(grid_nx, grid_ny, n_phases, image_kind, wall_axis, wall_free_slip, pad4, h, inv_h, alpha));
+    v.extend(offs!(grid_nx, grid_ny, n_phases, viscous_form, image_kind, wall_axis, wall_free_slip, pad4, h, inv_h, alpha));
     v.extend(offs!(support, support2, dx, sin_theta, cos_theta, band, y_wall, beta_max, chi_floor, lj_strength));
     v.extend(offs!(xsph, gravity_x, gravity_y, lo_x, lo_y, hi_x, hi_y, dt, grid_origin_x, grid_origin_y));
     v.extend(offs!(grid_inv_cell, image_value, wall_coord, wall_sign, rho0, mass, stiffness, gamma, p_b, eta));

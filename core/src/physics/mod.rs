@@ -7,7 +7,7 @@
 //! |---|---|---|
 //! | `kernel::kernel_f`, `kernel_df`, `kernel_w`, `kernel_dwdr` | `kernel.wgsl` | T40–T43 |
 //! | `eos::eos_pressure` | `eos.wgsl` | T34–T36 |
-//! | `pair::grad_w_ij`, `pressure_acc_ij`, `harmonic_viscosity`, `viscous_fac_ij`, `viscous_acc_ij`, `colour_gradient_ij`, `colour_gradient_single_ij`, `surface_acc_ij`, `xsph_ij` | `pair.wgsl` | T67–T71, T76, T51 |
+//! | `pair::grad_w_ij`, `pressure_acc_ij`, `harmonic_viscosity`, `viscous_fac_ij`, `viscous_acc_ij`, `viscous_projected_acc_ij`, `colour_gradient_ij`, `colour_gradient_single_ij`, `surface_acc_ij`, `xsph_ij` | `pair.wgsl` | T67–T71, T76, T51 |
 //! | `stress::stress_tensor` | `stress.wgsl` | T73–T74 |
 //! | `wall::noslip_beta`, `wall_relative_velocity`, `holmes_beta`, `lj_wall_acc` | `wall.wgsl` | T44–T49 |
 //! | `contact::contact_normal`, `contact_side`, `corrected_normal` | `contact.wgsl` | T81–T83 |

@@ -53,6 +53,26 @@ pub fn viscous_acc_ij<T: Real>(eta_ij: T, inv_s2_i: T, inv_s2_j: T, fac: T, v_ij
     v_ij * (eta_ij * (inv_s2_i + inv_s2_j) * fac)
 }
 
+/// Projected viscous term (docs/PHYSICS.md §4.1): [`viscous_acc_ij`] with `v_ij` replaced by
+/// `(d + 2)(v_ij·x_ij) x_ij / r²` (d = 2). Same bulk Laplacian for a divergence-free field; its
+/// pair power is `2η e:e`, T70's `η|∇v|²`. Sum over j, then × 1/m_i. Zero for r² = 0.
+#[inline(always)]
+pub fn viscous_projected_acc_ij<T: Real>(
+    eta_ij: T,
+    inv_s2_i: T,
+    inv_s2_j: T,
+    fac: T,
+    v_ij: V2<T>,
+    x_ij: V2<T>,
+    r2: T,
+) -> V2<T> {
+    if r2 > T::zero() {
+        x_ij * (eta_ij * (inv_s2_i + inv_s2_j) * fac * T::c(4.0) * v_ij.dot(x_ij) / r2)
+    } else {
+        V2::zero()
+    }
+}
+
 /// Colour-gradient term of (T71): `∇_iW_ij / σ_j²` for j of the other phase. Sum, then × σ_i.
 #[inline(always)]
 pub fn colour_gradient_ij<T: Real>(inv_s2_j: T, grad_w: V2<T>) -> V2<T> {

@@ -117,6 +117,7 @@ pub fn oscillating_drop() -> Scene {
         }),
         interface_wave: None,
         capillary_rule: None,
+        viscous_form: Default::default(),
         output: Output { every: 20 },
     })
 }
@@ -173,6 +174,7 @@ pub fn sessile(theta_deg: f64) -> Scene {
         initial_velocity: None,
         interface_wave: None,
         capillary_rule: None,
+        viscous_form: Default::default(),
         output: Output { every: 500 },
     });
     let c_max = s.phases.iter().map(|p| p.c0).fold(0.0, f64::max);
@@ -245,6 +247,7 @@ pub fn impact(theta_deg: f64) -> Scene {
         initial_velocity: None,
         interface_wave: None,
         capillary_rule: None,
+        viscous_form: Default::default(),
         output: Output { every: 2000 },
     }
 }
@@ -281,6 +284,7 @@ pub fn poiseuille() -> Scene {
         initial_velocity: None,
         interface_wave: None,
         capillary_rule: None,
+        viscous_form: Default::default(),
         output: Output { every: 100 },
     }
 }
@@ -350,6 +354,7 @@ pub fn capillary_wave(density_ratio: f64) -> Scene {
         initial_velocity: None,
         interface_wave: Some(InterfaceWave { y0: 0.0, amplitude: WAVE_A0, wavelength: WAVE_LAMBDA }),
         capillary_rule: None,
+        viscous_form: Default::default(),
         output: Output { every: if density_ratio == 1.0 { 20 } else { 200 } },
     })
 }

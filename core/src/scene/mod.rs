@@ -11,9 +11,11 @@ pub mod initial;
 pub(crate) mod lattice;
 pub mod overrides;
 pub mod validate;
+mod viscosity;
 mod walls;
 pub mod wave;
 
+pub use viscosity::ViscousForm;
 pub use walls::{Contact, ContactMode, WallPressure, WallVelocity, Walls};
 pub use wave::InterfaceWave;
 
@@ -32,6 +34,11 @@ pub struct Scene {
     /// One line saying what the scene is and where it comes from.
     #[serde(default)]
     pub description: String,
+    /// The viscous pair form ([`ViscousForm`]; docs/PHYSICS.md §4.1): `laplacian` (T70, the
+    /// default) or `projected`. Not written when `laplacian`, so summaries of earlier runs
+    /// still match (`validate --reuse`).
+    #[serde(default, skip_serializing_if = "ViscousForm::is_laplacian")]
+    pub viscous_form: ViscousForm,
     /// Box, resolution and the type of each side.
     pub domain: Domain,
     /// Smoothing kernel.
