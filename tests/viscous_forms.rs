@@ -19,7 +19,9 @@
 
 use sphlab::physics::kernel::{kernel_dwdr, KernelKind, KernelParams};
 use sphlab::physics::pair::{viscous_acc_ij, viscous_fac_ij, viscous_projected_acc_ij};
+use sphlab::diagnostics::viscous_share::potential_wave_share;
 use sphlab::real::V2;
+use sphlab::scene::ViscousForm;
 
 #[derive(Clone, Copy, PartialEq)]
 enum Form {
@@ -152,44 +154,6 @@ fn viscous_forms_sum_to_the_laplacian_in_the_bulk() {
     }
 }
 
-/// Pair power of one form per wavelength under the potential flow of a standing wave,
-/// φ = cos kx e^{ky} in the liquid y < 0 (free surface y = 0, depth λ/2, x periodic, Δx = 1),
-/// over the continuum's 2η∫e:e = 2ηk³λ.
-fn wave_dissipation_ratio(kp: &KernelParams<f64>, form: Form, nx: i64) -> f64 {
-    let lambda = nx as f64;
-    let k = 2.0 * std::f64::consts::PI / lambda;
-    let ny = nx / 2;
-    let v = |x: V2<f64>| V2::new(-k * (k * x.x).sin() * (k * x.y).exp(), k * (k * x.x).cos() * (k * x.y).exp());
-    let at = |a: i64, b: i64| V2::new(a as f64 + 0.5, -(b as f64) - 0.5);
-    let reach = kp.support.ceil() as i64;
-    let mut p = 0.0;
-    for a in 0..nx {
-        for b in 0..ny {
-            let (xi, vi) = (at(a, b), v(at(a, b)));
-            let mut sum = V2::zero();
-            for c in a - reach..=a + reach {
-                for d in (b - reach).max(0)..(b + reach + 1).min(ny) {
-                    let xj = at(c, d); // x periodic: the image's velocity is the field's there
-                    let x_ij = xi - xj;
-                    let r2 = x_ij.norm2();
-                    let r = r2.sqrt();
-                    if r2 == 0.0 || r >= kp.support {
-                        continue;
-                    }
-                    let fac = viscous_fac_ij(kernel_dwdr(kp, r), r, kp.h);
-                    let v_ij = vi - v(xj);
-                    sum += match form {
-                        Form::Laplacian => viscous_acc_ij(1.0, 1.0, 1.0, fac, v_ij),
-                        Form::Projected => viscous_projected_acc_ij(1.0, 1.0, 1.0, fac, v_ij, x_ij, r2),
-                    };
-                }
-            }
-            p -= vi.dot(sum);
-        }
-    }
-    p / (2.0 * k.powi(3) * lambda)
-}
-
 /// The capillary-wave case's flow (docs/PHYSICS.md §4.1, §9(f)): at λ/22, 44, 88, 176 the
 /// quintic's pair sums take out, of the continuum's 2η∫e:e, T70 0.375, 0.431, 0.462, 0.478 and
 /// the projected form 0.750, 0.862, 0.923, 0.956: exactly twice T70, and short of it by a
@@ -201,7 +165,7 @@ fn standing_wave_dissipation_on_the_lattice() {
     let kp = KernelParams::<f64>::new(KernelKind::Quintic, 1.2);
     let mut loss = Vec::new();
     for nx in [22, 44, 88, 176] {
-        let (lap, proj) = (wave_dissipation_ratio(&kp, Form::Laplacian, nx), wave_dissipation_ratio(&kp, Form::Projected, nx));
+        let (lap, proj) = (potential_wave_share(&kp, ViscousForm::Laplacian, nx), potential_wave_share(&kp, ViscousForm::Projected, nx));
         eprintln!("λ/{nx}: T70 {lap:.4}, projected {proj:.4} of 2η∫e:e");
         assert!((proj / lap - 2.0).abs() < 0.02, "λ/{nx}: projected / T70 = {} ≠ 2", proj / lap);
         assert!(proj < 1.0 && lap < 0.5, "λ/{nx}: above the continuum's value: {lap}, {proj}");

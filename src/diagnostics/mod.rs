@@ -1,5 +1,5 @@
 //! Diagnostics: pure measurements on particle data (docs/PHYSICS.md §9 validation scenes, §10
-//! contact-angle measurement, [`wave`]: the capillary wave's amplitude) and analytic reference
+//! contact-angle measurement, [`wave`]: the capillary wave's amplitude; [`viscous_share`]: what a viscous form takes out of it) and analytic reference
 //! solutions. No solver dependency; all
 //! inputs are plain `f64` slices with the phase convention of [`crate::scene::build`]
 //! (0 = liquid, 1 = gas, [`crate::scene::build::WALL`] = wall particle).
@@ -9,6 +9,7 @@ pub mod contact_angle;
 pub mod flow;
 mod gas_grid;
 pub mod rod;
+pub mod viscous_share;
 pub mod wave;
 
 pub use analytic_flows::{drop_mode2_period, equilibrium_cap, poiseuille_max, poiseuille_velocity, Cap};

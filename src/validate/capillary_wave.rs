@@ -16,7 +16,9 @@ use super::{Ctx, RunSpec, ValidateError};
 use crate::analytic::capillary_wave::{Prosperetti, WaveParams};
 use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
 use crate::plot::{PlotSpec, RefLine, Series};
-use crate::scene::Scene;
+use crate::diagnostics::viscous_share::potential_wave_share;
+use crate::physics::kernel::{KernelKind, KernelParams};
+use crate::scene::{Scene, ViscousForm};
 
 /// Acceptance: rms of a/a0 − Prosperetti over the first [`ACCEPT_PERIODS`] inviscid periods.
 pub const RMS_TOL: f64 = 0.05;
@@ -31,6 +33,9 @@ pub const PROJECTED_DAMPING_TOL: f64 = 0.15;
 /// The projected form's damping rate at density ratio 1 against T70's, relative: §4.1 predicts
 /// the same rate where the viscosity is continuous across the interface.
 pub const SAME_DAMPING_TOL: f64 = 0.05;
+/// The coarser resolution of the density-ratio-1000 pair (both viscous forms), for the damping's
+/// trend with Δx.
+const COARSE_NX: u32 = 32;
 /// Quick mode's resolution.
 const QUICK_NX: u32 = 24;
 const TABLE: &str = "amplitude.csv";
@@ -66,11 +71,13 @@ pub(super) struct CapillaryWave {
     rms: Vec<(String, f64)>,
     /// Per main run: (id, fitted damping rate, Prosperetti's by the same fit).
     damping: Vec<(String, f64, f64)>,
+    /// The waves' kernel and h/Δx (for the potential-flow shares).
+    kernel: Option<(KernelKind, f64)>,
 }
 
 impl CapillaryWave {
     pub(super) fn new(ctx: &Ctx) -> Self {
-        CapillaryWave { quick: ctx.opts.quick, rms: Vec::new(), damping: Vec::new() }
+        CapillaryWave { quick: ctx.opts.quick, rms: Vec::new(), damping: Vec::new(), kernel: None }
     }
 
     fn runs(&self) -> Vec<CaseRun> {
@@ -89,6 +96,13 @@ impl CapillaryWave {
             runs.push(CaseRun::new(RunSpec::new(id, scene, &s, t, 0), label));
         }
         if !q {
+            for (id, form, label) in [
+                ("ratio1000-nx32", vec![], "density ratio 1000, Δx = λ/32"),
+                ("ratio1000-nx32-projected", vec!["viscous_form=projected".to_string()], "projected viscous form, density ratio 1000, Δx = λ/32"),
+            ] {
+                let s: Vec<String> = [vec![format!("domain.nx={COARSE_NX}")], form].concat();
+                runs.push(CaseRun::new(RunSpec::new(id, "capillary-wave-1000", &s, None, 0), label));
+            }
             let nx = crate::scene::builtin::builtin("capillary-wave").map_or(44, |s| s.domain.nx);
             for (id, f, label) in [
                 ("ratio1-pb-half", 0.5, "density ratio 1, p_b × 0.5"),
@@ -190,6 +204,16 @@ impl Case for CapillaryWave {
             (true, true) => row.check(ok && rms <= QUICK_RMS_TOL, &format!("≤ {QUICK_RMS_TOL} (quick: rough size)")),
             _ => row,
         });
+        if main || id.starts_with("ratio1000-nx") {
+            let w0 = p.params.omega0();
+            let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));
+            let fit = |what: &str| format!("{what} (damped-cosine fit, t ≤ {window:.3}), {label}");
+            let tau = 2.0 * std::f64::consts::PI;
+            out.rep.rows.push(Row::new(&fit("period 2π/ω"), tau / fs.0, 4, None, Some(tau / fa.0)));
+            out.rep.rows.push(Row::new(&fit("damping rate γ"), fs.1, 3, None, Some(fa.1)));
+            self.damping.push((id.to_string(), fs.1, fa.1));
+            self.kernel = Some((scene.kernel.kind, scene.kernel.h_ratio));
+        }
         if main {
             let whole = Row::new(
                 &format!(
@@ -207,24 +231,6 @@ impl Case for CapillaryWave {
             } else {
                 whole.check(ok && rms_all <= RMS_TOL, &format!("≤ {RMS_TOL} over the whole record"))
             });
-            let w0 = p.params.omega0();
-            let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));
-            let tau = 2.0 * std::f64::consts::PI;
-            out.rep.rows.push(Row::new(
-                &format!("period 2π/ω (damped-cosine fit, t ≤ {window:.3}), {label}"),
-                tau / fs.0,
-                4,
-                None,
-                Some(tau / fa.0),
-            ));
-            self.damping.push((id.to_string(), fs.1, fa.1));
-            out.rep.rows.push(Row::new(
-                &format!("damping rate γ (damped-cosine fit, t ≤ {window:.3}), {label}"),
-                fs.1,
-                3,
-                None,
-                Some(fa.1),
-            ));
             out.rep.rows.push(Row::new(
                 &format!("a(0)/a0 of the displaced lattice, {label}"),
                 sph.first().map_or(f64::NAN, |q| q.1),
@@ -247,19 +253,7 @@ impl Case for CapillaryWave {
                 scene.phases[0].p_b,
                 scene.phases[1].c0
             ));
-            let file = if id.starts_with("ratio1000") { "amplitude_ratio1000.svg" } else { "amplitude_ratio1.svg" };
-            let plot = out.plot(file);
-            if id.ends_with(PROJECTED) {
-                let name = format!("sphlab, projected viscous form ({}, Δx = λ/{})", rec.backend, scene.domain.nx);
-                plot.series.push(Series::line(name, sph));
-            } else {
-                let fine: Vec<(f64, f64)> =
-                    (0..=1000).map(|i| t_end * i as f64 / 1000.0).map(|t| (t, p.amplitude(t))).collect();
-                plot.series.push(Series::line("Prosperetti 1981", fine));
-                let name = format!("sphlab, T70 viscous form ({}, Δx = λ/{})", rec.backend, scene.domain.nx);
-                plot.series.push(Series::line(name, sph));
-                plot.refs.push(RefLine::vertical(format!("acceptance window {ACCEPT_PERIODS} periods"), window));
-            }
+            plot_curves(out, id, &format!("{}, Δx = λ/{}", rec.backend, scene.domain.nx), &p, sph, window);
         }
         if !ok {
             out.rep.notes.push(format!("{label}: the run did not finish: {}.", rec.status));
@@ -310,6 +304,31 @@ impl CapillaryWave {
             );
             out.rep.rows.push(if quick { row } else { row.check(rel.abs() <= PROJECTED_DAMPING_TOL, &bound) });
         }
+        let share = |form, nx| self.kernel.map_or(f64::NAN, |(k, h)| potential_wave_share(&KernelParams::new(k, h), form, nx));
+        if let (Some((l32, a32)), Some((p32, _)), Some((l44, a44)), Some((p44, _))) =
+            (get("ratio1000-nx32"), get("ratio1000-nx32-projected"), get("ratio1000"), get("ratio1000-projected"))
+        {
+            let nx = crate::scene::builtin::builtin("capillary-wave-1000").map_or(44, |s| s.domain.nx);
+            let (sl32, sp32) = (share(ViscousForm::Laplacian, COARSE_NX), share(ViscousForm::Projected, COARSE_NX));
+            let (sl, sp) = (share(ViscousForm::Laplacian, nx), share(ViscousForm::Projected, nx));
+            out.rep.rows.push(
+                Row::new(
+                    &format!("damping rate γ / Prosperetti's, density ratio 1000, Δx = λ/{COARSE_NX} → λ/{nx}: T70; projected"),
+                    p44 / a44,
+                    3,
+                    None,
+                    Some(1.0),
+                )
+                .sphlab_text(format!(
+                    "T70 {:.3} → {:.3}; projected {:.3} → {:.3} (the rest lattice's potential-flow share of 2η∫e:e, \
+                     diagnostics::viscous_share: T70 {sl32:.3} → {sl:.3}; projected {sp32:.3} → {sp:.3})",
+                    l32 / a32,
+                    l44 / a44,
+                    p32 / a32,
+                    p44 / a44
+                )),
+            );
+        }
         if let (Some((lap, ana)), Some((proj, _))) = (get("ratio1"), get("ratio1-projected")) {
             let rel = proj / lap - 1.0;
             let row = Row::new(
@@ -326,6 +345,22 @@ impl CapillaryWave {
             );
             out.rep.rows.push(if quick { row } else { row.check(rel.abs() <= SAME_DAMPING_TOL, &bound) });
         }
+    }
+}
+
+/// The run's curve on its density ratio's plot; a T70 run also draws Prosperetti's curve and
+/// the acceptance window.
+fn plot_curves(out: &mut CaseOutput, id: &str, what: &str, p: &Prosperetti, sph: Vec<(f64, f64)>, window: f64) {
+    let t_end = sph.last().map_or(0.0, |q| q.0);
+    let file = if id.starts_with("ratio1000") { "amplitude_ratio1000.svg" } else { "amplitude_ratio1.svg" };
+    let plot = out.plot(file);
+    if id.ends_with(PROJECTED) {
+        plot.series.push(Series::line(format!("sphlab, projected viscous form ({what})"), sph));
+    } else {
+        let fine: Vec<(f64, f64)> = (0..=1000).map(|i| t_end * i as f64 / 1000.0).map(|t| (t, p.amplitude(t))).collect();
+        plot.series.push(Series::line("Prosperetti 1981", fine));
+        plot.series.push(Series::line(format!("sphlab, T70 viscous form ({what})"), sph));
+        plot.refs.push(RefLine::vertical(format!("acceptance window {ACCEPT_PERIODS} periods"), window));
     }
 }
 
