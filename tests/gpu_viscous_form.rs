@@ -7,7 +7,6 @@
 mod common;
 
 use common::{assert_fields_match, gpu_or_skip, scene, serial};
-use sphlab::backend::Backend;
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::fields::Field;

@@ -17,9 +17,9 @@
 //! every check averages the field over eight orientations θ = kπ/16, which removes that part
 //! exactly and leaves the isotropic value the equations are about.
 
+use sphlab::diagnostics::viscous_share::potential_wave_share;
 use sphlab::physics::kernel::{kernel_dwdr, KernelKind, KernelParams};
 use sphlab::physics::pair::{viscous_acc_ij, viscous_fac_ij, viscous_projected_acc_ij};
-use sphlab::diagnostics::viscous_share::potential_wave_share;
 use sphlab::real::V2;
 use sphlab::scene::ViscousForm;
 
@@ -149,7 +149,11 @@ fn viscous_forms_sum_to_the_laplacian_in_the_bulk() {
                 mean += turn(pair_sum(&kp, form, n, a, b, &v), -th) * 0.125;
             }
             eprintln!("{} case {k}: ({:.5}, {:.1e}), want ({want}, 0)", kind.name(), mean.x, mean.y);
-            assert!((mean.x / want - 1.0).abs() < 0.03 && mean.y.abs() < 1e-9, "{} case {k}: {mean:?} ≠ ({want}, 0)", kind.name());
+            assert!(
+                (mean.x / want - 1.0).abs() < 0.03 && mean.y.abs() < 1e-9,
+                "{} case {k}: {mean:?} ≠ ({want}, 0)",
+                kind.name()
+            );
         }
     }
 }
@@ -165,7 +169,10 @@ fn standing_wave_dissipation_on_the_lattice() {
     let kp = KernelParams::<f64>::new(KernelKind::Quintic, 1.2);
     let mut loss = Vec::new();
     for nx in [22, 44, 88, 176] {
-        let (lap, proj) = (potential_wave_share(&kp, ViscousForm::Laplacian, nx), potential_wave_share(&kp, ViscousForm::Projected, nx));
+        let (lap, proj) = (
+            potential_wave_share(&kp, ViscousForm::Laplacian, nx),
+            potential_wave_share(&kp, ViscousForm::Projected, nx),
+        );
         eprintln!("λ/{nx}: T70 {lap:.4}, projected {proj:.4} of 2η∫e:e");
         assert!((proj / lap - 2.0).abs() < 0.02, "λ/{nx}: projected / T70 = {} ≠ 2", proj / lap);
         assert!(proj < 1.0 && lap < 0.5, "λ/{nx}: above the continuum's value: {lap}, {proj}");

@@ -14,10 +14,10 @@ use super::data::{col, read_series};
 use super::report::{Row, RunRecord};
 use super::{Ctx, RunSpec, ValidateError};
 use crate::analytic::capillary_wave::{Prosperetti, WaveParams};
-use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
-use crate::plot::{PlotSpec, RefLine, Series};
 use crate::diagnostics::viscous_share::potential_wave_share;
+use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
 use crate::physics::kernel::{KernelKind, KernelParams};
+use crate::plot::{PlotSpec, RefLine, Series};
 use crate::scene::{Scene, ViscousForm};
 
 /// Acceptance: rms of a/a0 − Prosperetti over the first [`ACCEPT_PERIODS`] inviscid periods.
@@ -98,7 +98,11 @@ impl CapillaryWave {
         if !q {
             for (id, form, label) in [
                 ("ratio1000-nx32", vec![], "density ratio 1000, Δx = λ/32"),
-                ("ratio1000-nx32-projected", vec!["viscous_form=projected".to_string()], "projected viscous form, density ratio 1000, Δx = λ/32"),
+                (
+                    "ratio1000-nx32-projected",
+                    vec!["viscous_form=projected".to_string()],
+                    "projected viscous form, density ratio 1000, Δx = λ/32",
+                ),
             ] {
                 let s: Vec<String> = [vec![format!("domain.nx={COARSE_NX}")], form].concat();
                 runs.push(CaseRun::new(RunSpec::new(id, "capillary-wave-1000", &s, None, 0), label));
@@ -304,7 +308,8 @@ impl CapillaryWave {
             );
             out.rep.rows.push(if quick { row } else { row.check(rel.abs() <= PROJECTED_DAMPING_TOL, &bound) });
         }
-        let share = |form, nx| self.kernel.map_or(f64::NAN, |(k, h)| potential_wave_share(&KernelParams::new(k, h), form, nx));
+        let share =
+            |form, nx| self.kernel.map_or(f64::NAN, |(k, h)| potential_wave_share(&KernelParams::new(k, h), form, nx));
         if let (Some((l32, a32)), Some((p32, _)), Some((l44, a44)), Some((p44, _))) =
             (get("ratio1000-nx32"), get("ratio1000-nx32-projected"), get("ratio1000"), get("ratio1000-projected"))
         {
@@ -357,7 +362,8 @@ fn plot_curves(out: &mut CaseOutput, id: &str, what: &str, p: &Prosperetti, sph:
     if id.ends_with(PROJECTED) {
         plot.series.push(Series::line(format!("sphlab, projected viscous form ({what})"), sph));
     } else {
-        let fine: Vec<(f64, f64)> = (0..=1000).map(|i| t_end * i as f64 / 1000.0).map(|t| (t, p.amplitude(t))).collect();
+        let fine: Vec<(f64, f64)> =
+            (0..=1000).map(|i| t_end * i as f64 / 1000.0).map(|t| (t, p.amplitude(t))).collect();
         plot.series.push(Series::line("Prosperetti 1981", fine));
         plot.series.push(Series::line(format!("sphlab, T70 viscous form ({what})"), sph));
         plot.refs.push(RefLine::vertical(format!("acceptance window {ACCEPT_PERIODS} periods"), window));

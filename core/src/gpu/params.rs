@@ -220,7 +220,8 @@ pub fn field_offsets<T: Real>() -> Vec<(&'static str, usize)> {
         ($($f:ident),*) => { vec![$((stringify!($f), std::mem::offset_of!(Params<T>, $f))),*] };
     }
     let mut v = offs!(kernel_kind, n, n_fluid, wall_phase, contact_mode, n_walls, stages, step, wall_velocity);
-    v.extend(offs!(grid_nx, grid_ny, n_phases, viscous_form, image_kind, wall_axis, wall_free_slip, pad4, h, inv_h, alpha));
+    v.extend(offs!(grid_nx, grid_ny, n_phases, viscous_form, image_kind, wall_axis, wall_free_slip, pad4, h));
+    v.extend(offs!(inv_h, alpha));
     v.extend(offs!(support, support2, dx, sin_theta, cos_theta, band, y_wall, beta_max, chi_floor, lj_strength));
     v.extend(offs!(xsph, gravity_x, gravity_y, lo_x, lo_y, hi_x, hi_y, dt, grid_origin_x, grid_origin_y));
     v.extend(offs!(grid_inv_cell, image_value, wall_coord, wall_sign, rho0, mass, stiffness, gamma, p_b, eta));
