@@ -36,6 +36,8 @@ pub const SAME_DAMPING_TOL: f64 = 0.05;
 /// The coarser resolution of the density-ratio-1000 pair (both viscous forms), for the damping's
 /// trend with Δx.
 const COARSE_NX: u32 = 32;
+/// The finer resolution of the projected form's damping trend at density ratio 1000.
+const FINE_NX: u32 = 64;
 /// Quick mode's resolution.
 const QUICK_NX: u32 = 24;
 const TABLE: &str = "amplitude.csv";
@@ -107,6 +109,12 @@ impl CapillaryWave {
                 let s: Vec<String> = [vec![format!("domain.nx={COARSE_NX}")], form].concat();
                 runs.push(CaseRun::new(RunSpec::new(id, "capillary-wave-1000", &s, None, 0), label));
             }
+            let s = vec![format!("domain.nx={FINE_NX}"), "viscous_form=projected".to_string()];
+            let label = "projected viscous form, density ratio 1000, Δx = λ/64";
+            runs.push(CaseRun::new(
+                RunSpec::new("ratio1000-nx64-projected", "capillary-wave-1000", &s, None, 0),
+                label,
+            ));
             let nx = crate::scene::builtin::builtin("capillary-wave").map_or(44, |s| s.domain.nx);
             for (id, f, label) in [
                 ("ratio1-pb-half", 0.5, "density ratio 1, p_b × 0.5"),
@@ -333,6 +341,18 @@ impl CapillaryWave {
                     p44 / a44
                 )),
             );
+        }
+        if let (Some((p64, a64)), Some((p44, a44))) = (get("ratio1000-nx64-projected"), get("ratio1000-projected")) {
+            let nx = crate::scene::builtin::builtin("capillary-wave-1000").map_or(44, |s| s.domain.nx);
+            let (s44, s64) = (share(ViscousForm::Projected, nx), share(ViscousForm::Projected, FINE_NX));
+            let what = format!(
+                "damping rate γ / Prosperetti's, density ratio 1000, projected viscous form, Δx = λ/{nx} → λ/{FINE_NX}"
+            );
+            out.rep.rows.push(Row::new(&what, p64 / a64, 3, None, Some(1.0)).sphlab_text(format!(
+                "{:.3} → {:.3} (the rest lattice's potential-flow share: {s44:.3} → {s64:.3})",
+                p44 / a44,
+                p64 / a64
+            )));
         }
         if let (Some((lap, ana)), Some((proj, _))) = (get("ratio1"), get("ratio1-projected")) {
             let rel = proj / lap - 1.0;
