@@ -17,17 +17,10 @@
 //! every check averages the field over eight orientations θ = kπ/16, which removes that part
 //! exactly and leaves the isotropic value the equations are about.
 
-use sphlab::diagnostics::viscous_share::potential_wave_share;
-use sphlab::physics::kernel::{kernel_dwdr, KernelKind, KernelParams};
-use sphlab::physics::pair::{viscous_acc_ij, viscous_fac_ij, viscous_projected_acc_ij};
+use sphlab::diagnostics::viscous_share::{potential_wave_share, unit_pair_term};
+use sphlab::physics::kernel::{KernelKind, KernelParams};
 use sphlab::real::V2;
 use sphlab::scene::ViscousForm;
-
-#[derive(Clone, Copy, PartialEq)]
-enum Form {
-    Laplacian,
-    Projected,
-}
 
 type Field<'a> = &'a dyn Fn(V2<f64>) -> V2<f64>;
 
@@ -52,7 +45,7 @@ fn turn(u: V2<f64>, th: f64) -> V2<f64> {
 }
 
 /// Σ_j of one form's pair term for particle (a, b) of an n × n lattice (Δx = 1), velocity field v.
-fn pair_sum(kp: &KernelParams<f64>, form: Form, n: i64, a: i64, b: i64, v: Field) -> V2<f64> {
+fn pair_sum(kp: &KernelParams<f64>, form: ViscousForm, n: i64, a: i64, b: i64, v: Field) -> V2<f64> {
     let at = |a: i64, b: i64| V2::new(a as f64 + 0.5, b as f64 + 0.5);
     let (xi, vi) = (at(a, b), v(at(a, b)));
     let reach = kp.support.ceil() as i64;
@@ -60,25 +53,14 @@ fn pair_sum(kp: &KernelParams<f64>, form: Form, n: i64, a: i64, b: i64, v: Field
     for c in (a - reach).max(0)..(a + reach + 1).min(n) {
         for d in (b - reach).max(0)..(b + reach + 1).min(n) {
             let xj = at(c, d);
-            let x_ij = xi - xj;
-            let r2 = x_ij.norm2();
-            let r = r2.sqrt();
-            if r2 == 0.0 || r >= kp.support {
-                continue;
-            }
-            let fac = viscous_fac_ij(kernel_dwdr(kp, r), r, kp.h);
-            let v_ij = vi - v(xj);
-            sum += match form {
-                Form::Laplacian => viscous_acc_ij(1.0, 1.0, 1.0, fac, v_ij),
-                Form::Projected => viscous_projected_acc_ij(1.0, 1.0, 1.0, fac, v_ij, x_ij, r2),
-            };
+            sum += unit_pair_term(kp, form, xi - xj, vi - v(xj));
         }
     }
     sum
 }
 
 /// Pair power per unit area, −Σ_i v_i·Σ_j term / n², of v = R G Rᵀ x on an n × n patch.
-fn dissipation(kp: &KernelParams<f64>, form: Form, n: i64, g: [[f64; 2]; 2], th: f64) -> f64 {
+fn dissipation(kp: &KernelParams<f64>, form: ViscousForm, n: i64, g: [[f64; 2]; 2], th: f64) -> f64 {
     let v = move |x: V2<f64>| {
         let y = turn(x, -th);
         turn(V2::new(g[0][0] * y.x + g[0][1] * y.y, g[1][0] * y.x + g[1][1] * y.y), th)
@@ -95,7 +77,7 @@ fn dissipation(kp: &KernelParams<f64>, form: Form, n: i64, g: [[f64; 2]; 2], th:
 
 /// The dissipation averaged over the orientations and extrapolated to L/h → ∞ from n = 40 and
 /// 80 (edge loss ∝ 1/n); also the spread (max − min) over the orientations at n = 80.
-fn bulk_dissipation(kp: &KernelParams<f64>, form: Form, g: [[f64; 2]; 2]) -> (f64, f64) {
+fn bulk_dissipation(kp: &KernelParams<f64>, form: ViscousForm, g: [[f64; 2]; 2]) -> (f64, f64) {
     let (mut sum, mut lo, mut hi) = (0.0, f64::INFINITY, f64::NEG_INFINITY);
     for th in angles() {
         let (d40, d80) = (dissipation(kp, form, 40, g, th), dissipation(kp, form, 80, g, th));
@@ -112,13 +94,17 @@ fn viscous_forms_dissipate_by_the_strain_rate() {
     for (kind, h) in KERNELS {
         let kp = KernelParams::<f64>::new(kind, h);
         let name = kind.name();
-        let ((lap, lap_spread), (proj, proj_spread)) =
-            (bulk_dissipation(&kp, Form::Laplacian, strain), bulk_dissipation(&kp, Form::Projected, strain));
+        let ((lap, lap_spread), (proj, proj_spread)) = (
+            bulk_dissipation(&kp, ViscousForm::Laplacian, strain),
+            bulk_dissipation(&kp, ViscousForm::Projected, strain),
+        );
         eprintln!("{name}: strain T70 {lap:.4} (spread {lap_spread:.3}), projected {proj:.4} (spread {proj_spread:.3}); continuum 4");
         assert!((proj / lap - 2.0).abs() < 0.01, "{name}: projected / T70 strain dissipation {proj} / {lap} ≠ 2");
         assert!((proj / 4.0 - 1.0).abs() < 0.03, "{name}: projected strain dissipation {proj} ≠ 2η e:e = 4");
-        let ((lap, _), (proj, _)) =
-            (bulk_dissipation(&kp, Form::Laplacian, shear), bulk_dissipation(&kp, Form::Projected, shear));
+        let ((lap, _), (proj, _)) = (
+            bulk_dissipation(&kp, ViscousForm::Laplacian, shear),
+            bulk_dissipation(&kp, ViscousForm::Projected, shear),
+        );
         eprintln!("{name}: shear T70 {lap:.4}, projected {proj:.4}; continuum 1");
         assert!((proj / lap - 1.0).abs() < 0.01, "{name}: projected / T70 shear dissipation {proj} / {lap} ≠ 1");
         assert!((proj - 1.0).abs() < 0.03, "{name}: shear dissipation {proj} ≠ η|G|² = 2η e:e = 1");
@@ -135,11 +121,11 @@ fn viscous_forms_sum_to_the_laplacian_in_the_bulk() {
     let compressive = |y: V2<f64>| V2::new(y.x * y.x, 0.0);
     for (kind, h) in KERNELS {
         let kp = KernelParams::<f64>::new(kind, h);
-        let cases: [(Form, Field, f64); 4] = [
-            (Form::Laplacian, &div_free, 2.0),
-            (Form::Projected, &div_free, 2.0),
-            (Form::Laplacian, &compressive, 2.0),
-            (Form::Projected, &compressive, 6.0),
+        let cases: [(ViscousForm, Field, f64); 4] = [
+            (ViscousForm::Laplacian, &div_free, 2.0),
+            (ViscousForm::Projected, &div_free, 2.0),
+            (ViscousForm::Laplacian, &compressive, 2.0),
+            (ViscousForm::Projected, &compressive, 6.0),
         ];
         for (k, (form, f, want)) in cases.into_iter().enumerate() {
             // The field turned by θ about the particle, v(x) = R f(Rᵀ(x − x_c)); its sum turned back.

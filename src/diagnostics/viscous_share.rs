@@ -28,22 +28,26 @@ pub fn potential_wave_share(kp: &KernelParams<f64>, form: ViscousForm, nx: u32) 
             for c in a - reach..=a + reach {
                 for d in (b - reach).max(0)..(b + reach + 1).min(ny) {
                     let xj = at(c, d);
-                    let x_ij = xi - xj;
-                    let r2 = x_ij.norm2();
-                    let r = r2.sqrt();
-                    if r2 == 0.0 || r >= kp.support {
-                        continue;
-                    }
-                    let fac = viscous_fac_ij(kernel_dwdr(kp, r), r, kp.h);
-                    let v_ij = vi - v(xj);
-                    sum += match form {
-                        ViscousForm::Laplacian => viscous_acc_ij(1.0, 1.0, 1.0, fac, v_ij),
-                        ViscousForm::Projected => viscous_projected_acc_ij(1.0, 1.0, 1.0, fac, v_ij, x_ij, r2),
-                    };
+                    sum += unit_pair_term(kp, form, xi - xj, vi - v(xj));
                 }
             }
             power -= vi.dot(sum);
         }
     }
     power / (2.0 * k.powi(3) * nx as f64)
+}
+
+/// One pair's viscous term of `form` with η = 1 and 1/σ² = 1 on both sides (Δx = 1): zero for
+/// the self pair and beyond the support.
+pub fn unit_pair_term(kp: &KernelParams<f64>, form: ViscousForm, x_ij: V2<f64>, v_ij: V2<f64>) -> V2<f64> {
+    let r2 = x_ij.norm2();
+    let r = r2.sqrt();
+    if r2 == 0.0 || r >= kp.support {
+        return V2::zero();
+    }
+    let fac = viscous_fac_ij(kernel_dwdr(kp, r), r, kp.h);
+    match form {
+        ViscousForm::Laplacian => viscous_acc_ij(1.0, 1.0, 1.0, fac, v_ij),
+        ViscousForm::Projected => viscous_projected_acc_ij(1.0, 1.0, 1.0, fac, v_ij, x_ij, r2),
+    }
 }
