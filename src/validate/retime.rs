@@ -2,11 +2,15 @@
 //! scene is stepped for a short while in this process, one configuration after the other, so
 //! that the study's times come from one machine state whatever machine and load its long runs
 //! (reused or not) had. The error still comes from the long run; its time to solution is the
-//! ms/step measured here times the long run's step count.
+//! ms/step measured here times the long run's step count. A configuration timed once is not
+//! timed again in the same process (`validate all` reaches relax-60's resolutions from both the
+//! convergence case and speed-vs-error): both cases then quote the same measurement.
 
 use super::report::RunRecord;
 use super::{RunSpec, ValidateError};
 use crate::run::{RunError, RunOptions};
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
 
 /// Steps timed per repeat (after the scene's set-up; relaxation switched off).
 pub const RETIME_STEPS: u64 = 200;
@@ -31,15 +35,46 @@ impl Retimed {
     }
 }
 
+/// This process's timings by configuration (the timed scene and backend): ms/step median and range.
+fn timed() -> &'static Mutex<HashMap<String, (f64, (f64, f64))>> {
+    static TIMED: OnceLock<Mutex<HashMap<String, (f64, (f64, f64))>>> = OnceLock::new();
+    TIMED.get_or_init(Default::default)
+}
+
 /// Times `spec`'s scene on `backend`, [`RETIME_REPEATS`] runs of [`RETIME_STEPS`] steps into a
-/// scratch directory (removed afterwards), and scales the median by the steps of `long`.
+/// scratch directory (removed afterwards), and scales the median by the steps of `long`. A
+/// configuration already timed in this process is not timed again.
 pub fn retime(
     spec: &RunSpec,
     long: &RunRecord,
     backend: crate::backend_id::BackendId,
 ) -> Result<Retimed, ValidateError> {
+    let (median, range) = ms_per_step(spec, backend)?;
+    Ok(Retimed { ms_per_step: median, range, time_to_solution_s: 1e-3 * median * long.steps as f64 })
+}
+
+/// `spec`'s ms/step on `backend` (median, range), from this process's earlier timing of the
+/// same scene and backend where there is one.
+fn ms_per_step(spec: &RunSpec, backend: crate::backend_id::BackendId) -> Result<(f64, (f64, f64)), ValidateError> {
     let mut scene = spec.scene()?;
     scene.relax = None;
+    let key = format!("{backend:?}\n{}", scene.to_toml());
+    if let Some(t) = timed().lock().ok().and_then(|m| m.get(&key).copied()) {
+        return Ok(t);
+    }
+    let t = time_now(spec, &scene, backend)?;
+    if let Ok(mut m) = timed().lock() {
+        m.insert(key, t);
+    }
+    Ok(t)
+}
+
+/// The median and range of [`RETIME_REPEATS`] timings of `scene` (ms/step).
+fn time_now(
+    spec: &RunSpec,
+    scene: &crate::scene::Scene,
+    backend: crate::backend_id::BackendId,
+) -> Result<(f64, (f64, f64)), ValidateError> {
     let dir = std::env::temp_dir().join(format!("sphlab-retime-{}-{}", std::process::id(), spec.id));
     let opts = RunOptions {
         backend,
@@ -53,17 +88,32 @@ pub fn retime(
     };
     let mut ms = Vec::with_capacity(RETIME_REPEATS);
     for _ in 0..RETIME_REPEATS {
-        let result = crate::run::run(&scene, &opts);
+        let result = crate::run::run(scene, &opts);
         let _ = std::fs::remove_dir_all(&dir);
         let summary =
             result.map_err(|err: RunError| ValidateError::Run { id: format!("{} (timing)", spec.id), err })?;
         ms.push(summary.ms_per_step);
     }
     ms.sort_by(f64::total_cmp);
-    let median = ms[ms.len() / 2];
-    Ok(Retimed {
-        ms_per_step: median,
-        range: (ms[0], ms[ms.len() - 1]),
-        time_to_solution_s: 1e-3 * median * long.steps as f64,
-    })
+    Ok((ms[ms.len() / 2], (ms[0], ms[ms.len() - 1])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend_id::BackendId;
+
+    fn spec(nx: u32) -> RunSpec<'static> {
+        RunSpec::new(format!("retime-test-{nx}"), "oscillating-drop", &[format!("domain.nx={nx}")], None, 0)
+    }
+
+    #[test]
+    fn a_configuration_is_timed_once_per_process() {
+        let first = ms_per_step(&spec(10), "cpu1.cells.f64".parse::<BackendId>().unwrap()).unwrap();
+        let again = ms_per_step(&spec(10), "cpu1.cells.f64".parse::<BackendId>().unwrap()).unwrap();
+        assert_eq!(first, again, "the same configuration must quote the same timing");
+        let other = ms_per_step(&spec(12), "cpu1.cells.f64".parse::<BackendId>().unwrap()).unwrap();
+        assert_ne!(first, other, "another scene is timed on its own");
+        assert!(first.0 > 0.0 && first.1 .0 <= first.0 && first.0 <= first.1 .1);
+    }
 }
