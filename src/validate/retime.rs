@@ -35,9 +35,12 @@ impl Retimed {
     }
 }
 
-/// This process's timings by configuration (the timed scene and backend): ms/step median and range.
-fn timed() -> &'static Mutex<HashMap<String, (f64, (f64, f64))>> {
-    static TIMED: OnceLock<Mutex<HashMap<String, (f64, (f64, f64))>>> = OnceLock::new();
+/// One configuration's timing: the median ms/step and the fastest and slowest repeat.
+type Timing = (f64, (f64, f64));
+
+/// This process's timings by configuration (the timed scene and backend).
+fn timed() -> &'static Mutex<HashMap<String, Timing>> {
+    static TIMED: OnceLock<Mutex<HashMap<String, Timing>>> = OnceLock::new();
     TIMED.get_or_init(Default::default)
 }
 
@@ -55,7 +58,7 @@ pub fn retime(
 
 /// `spec`'s ms/step on `backend` (median, range), from this process's earlier timing of the
 /// same scene and backend where there is one.
-fn ms_per_step(spec: &RunSpec, backend: crate::backend_id::BackendId) -> Result<(f64, (f64, f64)), ValidateError> {
+fn ms_per_step(spec: &RunSpec, backend: crate::backend_id::BackendId) -> Result<Timing, ValidateError> {
     let mut scene = spec.scene()?;
     scene.relax = None;
     let key = format!("{backend:?}\n{}", scene.to_toml());
@@ -74,7 +77,7 @@ fn time_now(
     spec: &RunSpec,
     scene: &crate::scene::Scene,
     backend: crate::backend_id::BackendId,
-) -> Result<(f64, (f64, f64)), ValidateError> {
+) -> Result<Timing, ValidateError> {
     let dir = std::env::temp_dir().join(format!("sphlab-retime-{}-{}", std::process::id(), spec.id));
     let opts = RunOptions {
         backend,
