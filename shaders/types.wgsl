@@ -34,6 +34,7 @@ const CONTACT_MODE_B: u32 = 2u;
 const NO_COLOUR: i32 = -1;
 const COLOUR_WALL: i32 = 2;
 const MAX_CONTACTS: u32 = 32u;
+const SIDE_WALL_HALF_DX: u32 = 3u; // a first-row particle this near a side wall meets it (§8.4)
 
 struct Params {
     kernel_kind: u32,

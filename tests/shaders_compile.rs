@@ -148,7 +148,7 @@ fn wgsl_constants_equal_rust_values() {
     use sphlab::gpu::params::{code, flags};
     use sphlab::gpu::solver_buffers::ctl;
     use sphlab::gpu::variant_buffers::{vctl, vparam, CAND_SLOTS, NBR_SLOTS};
-    use sphlab::model::{COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
+    use sphlab::model::{COLOUR_WALL, MAX_CONTACTS, NO_COLOUR, SIDE_WALL_HALF_DX};
     use sphlab::neighbours::{IMAGE_SHIFT, INDEX_MASK};
     use sphlab::physics::kernel::KernelKind;
     let w = wgsl_constants("#import common/variant_bindings\n");
@@ -173,6 +173,7 @@ fn wgsl_constants_equal_rust_values() {
         ("NO_COLOUR", NO_COLOUR as i64),
         ("COLOUR_WALL", COLOUR_WALL as i64),
         ("MAX_CONTACTS", MAX_CONTACTS as i64),
+        ("SIDE_WALL_HALF_DX", SIDE_WALL_HALF_DX as i64),
         ("KERNEL_CUBIC_SPLINE", KernelKind::CubicSpline.id() as i64),
         ("KERNEL_QUINTIC", KernelKind::Quintic.id() as i64),
         ("KERNEL_JOHNSON", KernelKind::Johnson.id() as i64),

@@ -15,6 +15,11 @@ pub const COLOUR_WALL: i32 = 2;
 pub const NO_COLOUR: i32 = -1;
 /// Most contact points one evaluation may hold.
 pub const MAX_CONTACTS: usize = 32;
+/// A first-row particle nearer a side wall than this many half Δx has no room for another
+/// particle beside it on that side (the nearest fluid column stands Δx/2 off a wall, the next
+/// one Δx further): with no band neighbour there it meets the wall, it is no free edge of the
+/// liquid, so no contact point is made there (docs/PHYSICS.md §8.4 step 2).
+pub const SIDE_WALL_HALF_DX: u32 = 3;
 /// The share of a Mode A wall band's tension its fluid side carries (docs/PHYSICS.md §8.2.1):
 /// ½ for every kernel, the wall lattice being the fluid lattice mirrored in the wall surface;
 /// `tests/force_balance.rs` measures it on a flat layer.

@@ -1,5 +1,6 @@
 // contact_line.wgsl (thread mapping): contact points of the liquid (phase 0) in the first-row
-// band (§8.4 step 2), twin of `cpu::stages::contact_line`. `contact_line`: one thread per fluid
+// band (§8.4 step 2; no point where the liquid meets a side wall), twin of
+// `cpu::stages::contact_line`. `contact_line`: one thread per fluid
 // particle finds its predecessor/successor among its band neighbours and appends points through
 // an atomic counter (capacity MAX_CONTACTS; the largest count is kept for the overflow error).
 // The points stay in the order of the appends: their one use, `nearest_contact`
@@ -12,6 +13,20 @@
 fn in_band(y: real) -> bool {
     let d = y - params.y_wall;
     return d > real(0.0) && d <= params.band;
+}
+
+// A side wall (a wall line across x) faces p on the side `side` (+1: +x) nearer than
+// SIDE_WALL_HALF_DX half Δx: a band particle with no band neighbour there meets the wall, it is
+// no free edge (twin of `cpu::stages::at_side_wall`).
+fn at_side_wall(p: real2, side: real) -> bool {
+    let reach = real(0.5) * real(SIDE_WALL_HALF_DX) * params.dx;
+    for (var w = 0u; w < params.n_walls; w++) {
+        if params.wall_axis[w] == 0u && params.wall_sign[w] * side < real(0.0)
+            && wall_distance(params, w, p) < reach {
+            return true;
+        }
+    }
+    return false;
 }
 
 fn push_contact(x: real, s: real) {
@@ -57,12 +72,16 @@ fn contact_line(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     }
     let half = real(0.5);
     if !has_succ {
-        push_contact(xi + half * params.dx, real(1.0));
+        if !at_side_wall(pos[i], real(1.0)) {
+            push_contact(xi + half * params.dx, real(1.0));
+        }
     } else if succ_phase != 0u {
         push_contact(half * (xi + succ), real(1.0));
     }
     if !has_pred {
-        push_contact(xi - half * params.dx, real(-1.0));
+        if !at_side_wall(pos[i], real(-1.0)) {
+            push_contact(xi - half * params.dx, real(-1.0));
+        }
     } else if pred_phase != 0u {
         push_contact(half * (xi + pred), real(-1.0));
     }

@@ -6,7 +6,7 @@
 use super::momentum::{acceleration, xsph};
 use crate::exec::{self, Exec};
 pub use crate::fields::{ContactPoint, Fields};
-use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR};
+use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR, SIDE_WALL_HALF_DX};
 use crate::neighbours::{unpack, NeighbourList};
 use crate::physics::contact::{contact_normal, contact_side, corrected_normal};
 use crate::physics::eos::eos_pressure;
@@ -124,10 +124,21 @@ fn in_band<T: Real>(m: &Model<T>, y: T) -> bool {
     d > T::zero() && d <= m.band
 }
 
+/// True when a side wall (a wall line across x) faces `p` on the side `side` (+1: +x) nearer
+/// than [`SIDE_WALL_HALF_DX`] half Δx: a band particle with no band neighbour on that side then
+/// meets the wall, it is no free edge (§8.4 step 2). Twin of `at_side_wall` in
+/// kernels-variants/thread/contact_line.wgsl.
+#[inline(always)]
+pub fn at_side_wall<T: Real>(m: &Model<T>, p: V2<T>, side: T) -> bool {
+    let reach = T::c(0.5 * SIDE_WALL_HALF_DX as f64) * m.dx;
+    m.walls.iter().any(|w| w.axis == 0 && w.sign * side < T::zero() && w.wall_distance(p) < reach)
+}
+
 /// `contact_line`: contact points of the liquid (phase 0) in the first-row band (§8.4 step 2).
 /// For each liquid band particle, its predecessor and successor are the nearest band particles
 /// (images included) on either side among its neighbours; a gas neighbour there makes a contact
-/// point at the midpoint, no neighbour at all a point Δx/2 beyond the particle. The point lies on
+/// point at the midpoint, no neighbour at all a point Δx/2 beyond the particle (a free edge),
+/// unless a side wall stands there ([`at_side_wall`]). The point lies on
 /// the wall surface (docs/PHYSICS.md §8 ambiguity 2): anchoring the line at the first row's height or
 /// at a particle centre moved relax-60's equilibrium by less than the run-to-run scatter
 /// (`reports/validation/relax-60/anchor-check/README.md`).
@@ -157,13 +168,18 @@ pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             }
         }
         let mut out = Vec::new();
+        let free_edge = |side: T| !at_side_wall(m, c.pos[i], side);
         match succ {
-            None => out.push(ContactPoint { r: V2::new(xi + half * m.dx, m.y_wall), s: T::one() }),
+            None if free_edge(T::one()) => {
+                out.push(ContactPoint { r: V2::new(xi + half * m.dx, m.y_wall), s: T::one() })
+            }
             Some((x, ph)) if ph != 0 => out.push(ContactPoint { r: V2::new(half * (xi + x), m.y_wall), s: T::one() }),
             _ => {}
         }
         match pred {
-            None => out.push(ContactPoint { r: V2::new(xi - half * m.dx, m.y_wall), s: -T::one() }),
+            None if free_edge(-T::one()) => {
+                out.push(ContactPoint { r: V2::new(xi - half * m.dx, m.y_wall), s: -T::one() })
+            }
             Some((x, ph)) if ph != 0 => out.push(ContactPoint { r: V2::new(half * (xi + x), m.y_wall), s: -T::one() }),
             _ => {}
         }
