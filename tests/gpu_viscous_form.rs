@@ -6,11 +6,10 @@
 
 mod common;
 
-use common::{assert_fields_match, gpu_or_skip, scene, serial};
+use common::{assert_gpu_evaluation_matches, gpu_or_skip, scene, serial};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::fields::Field;
-use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::variant::VariantSpec;
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Real;
@@ -51,15 +50,6 @@ fn projected_viscous_form_matches_cpu_on_the_gpu() {
             println!("unsupported on this adapter: {why}");
             continue;
         }
-        let tag = format!("projected {id}");
-        if id.ends_with("f64") {
-            let mut g = GpuSolver::<f64>::new(ctx.clone(), &s, &l, spec).unwrap();
-            g.evaluate_once().unwrap();
-            assert_fields_match(&tag, &c64.model, nf, &c64.f, &g.read_fields().unwrap(), None);
-        } else {
-            let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
-            g.evaluate_once().unwrap();
-            assert_fields_match(&tag, &c32.model, nf, &c32.f, &g.read_fields().unwrap(), None);
-        }
+        assert_gpu_evaluation_matches(&format!("projected {id}"), &ctx, &s, &l, id, &c64, &c32);
     }
 }

@@ -14,12 +14,10 @@
 
 mod common;
 
-use common::{assert_fields_match, gpu_or_skip, serial};
+use common::{assert_gpu_evaluation_matches, gpu_or_skip, serial};
 use sphlab::backend::Backend;
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
-use sphlab::gpu::solver::GpuSolver;
-use sphlab::gpu::variant::VariantSpec;
 use sphlab::neighbours::SearchKind;
 use sphlab::scene::build::build_layout;
 use sphlab::scene::{builtin, ContactMode, DtPolicy, Scene};
@@ -114,18 +112,7 @@ fn gpu_contact_line_makes_no_point_where_the_liquid_meets_a_side_wall() {
     assert_eq!(xs.len(), 1, "the gas cap has one contact point, the liquid at the right wall none: {xs:?}");
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    let nf = c64.n_fluid;
     for id in ["cells.thread.recomputed.f32", "cells.thread.recomputed.f64"] {
-        let spec: VariantSpec = id.parse().unwrap();
-        let tag = format!("swapped Mode B {id}");
-        if id.ends_with("f64") {
-            let mut g = GpuSolver::<f64>::new(ctx.clone(), &sc, &layout, spec).unwrap();
-            g.evaluate_once().unwrap();
-            assert_fields_match(&tag, &c64.model, nf, &c64.f, &g.read_fields().unwrap(), None);
-        } else {
-            let mut g = GpuSolver::<f32>::new(ctx.clone(), &sc, &layout, spec).unwrap();
-            g.evaluate_once().unwrap();
-            assert_fields_match(&tag, &c32.model, nf, &c32.f, &g.read_fields().unwrap(), None);
-        }
+        assert_gpu_evaluation_matches(&format!("swapped Mode B {id}"), &ctx, &sc, &layout, id, &c64, &c32);
     }
 }

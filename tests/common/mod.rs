@@ -249,6 +249,30 @@ pub fn assert_fields_match<T: Real>(
     checks.iter().fold((0.0, 0.0), |(m, l), c| (m.max(c.max_rel), l.max(finite(c.rel_l2))))
 }
 
+/// One force evaluation of GPU variant `id` (its precision read from the id) on `scene` matches
+/// the CPU's of the same precision (`c64` or `c32`, already evaluated), by [`assert_fields_match`].
+pub fn assert_gpu_evaluation_matches(
+    tag: &str,
+    ctx: &std::sync::Arc<GpuContext>,
+    scene: &sphlab::scene::Scene,
+    layout: &sphlab::scene::build::Layout,
+    id: &str,
+    c64: &CpuSolver<f64>,
+    c32: &CpuSolver<f32>,
+) {
+    let spec: sphlab::gpu::variant::VariantSpec = id.parse().unwrap();
+    let nf = c64.n_fluid;
+    if id.ends_with("f64") {
+        let mut g = GpuSolver::<f64>::new(ctx.clone(), scene, layout, spec).unwrap();
+        g.evaluate_once().unwrap();
+        assert_fields_match(tag, &c64.model, nf, &c64.f, &g.read_fields().unwrap(), None);
+    } else {
+        let mut g = GpuSolver::<f32>::new(ctx.clone(), scene, layout, spec).unwrap();
+        g.evaluate_once().unwrap();
+        assert_fields_match(tag, &c32.model, nf, &c32.f, &g.read_fields().unwrap(), None);
+    }
+}
+
 /// The GPU neighbour structures equal the CPU's exactly: the cell ranges of the `cells` grid
 /// (same counting sort over the same grid) and, for list variants, every particle's list as a set.
 pub fn assert_neighbours_match<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &GpuSolver<T>) {
