@@ -332,7 +332,8 @@ fn across_angles(
                 .thesis_text("falls with θ (Fig. 5.5)"),
         );
     }
-    if let (Some(a), Some(b)) = (at_end.first(), at_end.last()) {
+    // The direction needs two angles (a part of the GPU report runs one).
+    if let (Some(a), Some(b), true) = (at_end.first(), at_end.last(), at_end.len() >= 2) {
         rep.rows.push(
             Row::new(
                 &format!("D/D0 at t = {:.2} ms: θ = {:.0}° minus θ = {:.0}°", t_end * 1e3, a.0, b.0),

@@ -150,3 +150,14 @@ fn the_fill_stops_at_the_repeat_cap() {
     let cap = MAX_REPEAT_FACTOR * opts.protocol.repeats;
     assert_eq!(sel.repeats + sel.jobs[0].extra_blocks, cap);
 }
+
+#[test]
+fn a_direct_search_multiplies_the_per_particle_term_only() {
+    // A GPU-like fit: a 1 ms floor and 0.1 µs per particle at the cell search's ~50 candidates.
+    let f = Fit { a_ms: 1.0, b_ms: 1e-4 };
+    assert!((f.ms(5000.0, false) - 1.5).abs() < 1e-12);
+    // 100× the candidates: 1 + 0.5 × 100, not (1 + 0.5) × 100.
+    assert!((f.ms(5000.0, true) - 51.0).abs() < 1e-9);
+    // Below NEIGHBOURS particles a direct search visits no more than the cell search.
+    assert!((f.ms(20.0, true) - f.ms(20.0, false)).abs() < 1e-12);
+}

@@ -48,7 +48,9 @@ impl Outcome {
 }
 
 /// What a finished part produced, in one line: records and how many are `ok` for a study,
-/// the verdicts for a verification, the last lines of its log otherwise.
+/// the verdicts for a verification, each run's status, steps, simulated time and ms/step for a
+/// validation (`<case>/runs/<id>/summary.json`: a blow-up is named, not hidden), the last lines
+/// of its log otherwise.
 pub fn result_line(dir: &Path) -> String {
     let records = ["records.csv", super::super::report::JOURNAL].iter().map(|f| dir.join(f)).find(|p| p.exists());
     if let Some(p) = records {
@@ -70,12 +72,45 @@ pub fn result_line(dir: &Path) -> String {
             return format!("verify: {}", parts.join(", "));
         }
     }
+    let runs = validation_runs(dir);
+    if !runs.is_empty() {
+        return runs.join(" / ");
+    }
     let log = last_lines(&dir.join("log.txt"), 2);
     if log.is_empty() {
         "no output yet".into()
     } else {
         log
     }
+}
+
+/// One line per run of a validation part (`<case>/runs/<id>/summary.json`), in name order:
+/// `case id: status, steps to t = … s, ms/step` (the status cut at its first sentence).
+fn validation_runs(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cases: Vec<PathBuf> = std::fs::read_dir(dir).into_iter().flatten().flatten().map(|e| e.path()).collect();
+    cases.sort();
+    for case in cases.iter().filter(|c| c.join("runs").is_dir()) {
+        let mut runs: Vec<PathBuf> =
+            std::fs::read_dir(case.join("runs")).into_iter().flatten().flatten().map(|e| e.path()).collect();
+        runs.sort();
+        for run in runs {
+            let Ok(text) = std::fs::read_to_string(run.join("summary.json")) else { continue };
+            let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else { continue };
+            let name = |p: &Path| p.file_name().map(|f| f.to_string_lossy().to_string()).unwrap_or_default();
+            let status = v["status"].as_str().unwrap_or("?");
+            let status = status.split(": at the output rows").next().unwrap_or(status);
+            out.push(format!(
+                "{} {}: {status}; {} steps to t = {:.3e} s, {:.3} ms/step",
+                name(case),
+                name(&run),
+                v["steps"].as_u64().unwrap_or(0),
+                v["t_final"].as_f64().unwrap_or(f64::NAN),
+                v["ms_per_step"].as_f64().unwrap_or(f64::NAN)
+            ));
+        }
+    }
+    out
 }
 
 /// The last `n` non-empty lines of a log, joined by " / ".
@@ -216,5 +251,22 @@ mod tests {
         assert_eq!(std::fs::read_to_string(out.join("summary.md")).unwrap(), "# s\n");
         assert_eq!(result_line(&rep.join("parts/01-smoke")), "verify: 2 pass");
         assert!(!out.join(format!("{ARCHIVE}.tmp")).exists());
+    }
+
+    #[test]
+    fn a_validation_part_names_each_runs_status() {
+        let d = tempfile::tempdir().unwrap();
+        let run = d.path().join("impact/runs/theta50");
+        std::fs::create_dir_all(&run).unwrap();
+        std::fs::write(d.path().join("log.txt"), "").unwrap();
+        let status = "blow-up: blow-up at step 24452 (t = 2.488312e-4): particle 0 left the domain: at the output \
+                      rows before it: largest CFL number 0.252";
+        let json = serde_json::json!({"status": status, "steps": 24452, "t_final": 2.488e-4, "ms_per_step": 1.517});
+        std::fs::write(run.join("summary.json"), json.to_string()).unwrap();
+        assert_eq!(
+            result_line(d.path()),
+            "impact theta50: blow-up: blow-up at step 24452 (t = 2.488312e-4): particle 0 left the domain; 24452 \
+             steps to t = 2.488e-4 s, 1.517 ms/step"
+        );
     }
 }

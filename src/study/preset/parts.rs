@@ -4,8 +4,9 @@
 //! smoke → scaling of the leading variants → E4 (2,025 and 10,000 fluid particles) → E1 → E3 →
 //! E2 → verify every variant on one scene → impact at full resolution, one part per angle.
 //!
-//! Two scales: `gpu` (the thesis's sizes; scaling from N ≈ 10⁵ to the largest N whose buffers
-//! fit, probed at its two smallest sizes) and `rehearsal` (a CPU adapter under
+//! Two scales: `gpu` (the thesis's sizes; scaling from the E4 size N ≈ 10⁴, where the one-thread
+//! CPU references are measured, to the largest N whose buffers fit, probed at 10⁵ and 10⁶, with
+//! CPU rows only at the E4 size so the budget goes to GPU rows) and `rehearsal` (a CPU adapter under
 //! `--allow-cpu-adapter`: every part at a size lavapipe runs in seconds, so the whole pipeline
 //! is exercised; its times are no measurement).
 
@@ -40,12 +41,21 @@ pub const SMOKE_MAX_S: f64 = 60.0;
 pub const MIN_SHARE_S: f64 = 4.0;
 /// The smoke test's variants: the default one-particle-per-thread variant and a block variant.
 pub const SMOKE_VARIANTS: [&str; 2] = ["cells.thread.recomputed.f32", "cells.block-tree.fixed.recomputed.f32"];
-/// Impact angles at full resolution (run ids of `validate impact`), one part each.
-pub const IMPACT_RUNS: [&str; 3] = ["theta50", "theta90", "theta160"];
+/// Impact angles at full resolution (run ids of `validate impact`), one part each: the two
+/// extremes of the thesis's angles.
+pub const IMPACT_RUNS: [&str; 2] = ["theta50", "theta160"];
 /// Scaling resolutions (N ≈ nx²: 10³ … 4·10⁷); the `gpu` scale starts at [`GPU_SCALING_FROM_NX`].
 pub const SCALING_NX: [u32; 9] = [32, 100, 316, 1000, 1414, 2000, 3162, 4472, 6324];
-/// First scaling resolution of the `gpu` scale (N ≈ 10⁵).
-pub const GPU_SCALING_FROM_NX: u32 = 316;
+/// First scaling resolution of the `gpu` scale (the E4 size, N = 11,664).
+pub const GPU_SCALING_FROM_NX: u32 = 100;
+/// Probe resolutions of the `gpu` scale's scaling part (N ≈ 10⁵ and 10⁶: a GPU's step at 10⁴ is
+/// mostly its fixed floor, which says nothing of the cost per particle).
+pub const GPU_SCALING_PROBE_NX: [u32; 2] = [316, 1000];
+/// CPU rows of the `gpu` scale's scaling part only up to this many particles (the E4 size):
+/// larger GPU rows compare with them scaled by N, and the budget goes to the GPU rows (a
+/// one-thread CPU step at N ≈ 10⁵ takes about a third of a second, so its rows alone would
+/// fill the part's share).
+pub const GPU_SCALING_CPU_MAX_N: usize = 12_000;
 /// Scaling resolutions of the `rehearsal` scale.
 pub const REHEARSAL_SCALING_NX: [u32; 3] = [16, 32, 64];
 /// CPU rows of the study parts only up to this many particles.
@@ -60,6 +70,10 @@ pub struct Scale {
     pub protocol: [&'static str; 6],
     /// Scaling resolutions that fit this adapter (ascending).
     pub scaling_nx: Vec<u32>,
+    /// The scaling part's probe resolutions.
+    pub scaling_probe_nx: Vec<u32>,
+    /// The scaling part's `--cpu-max-n`.
+    pub scaling_cpu_max_n: usize,
     /// The scaling part's variants.
     pub leading: Vec<VariantSpec>,
     /// E4 resolutions.
@@ -79,6 +93,8 @@ impl Scale {
             name: "gpu",
             protocol: ["--steps", "20", "--repeats", "5", "--warmup", "0.2"],
             scaling_nx: fitting.iter().copied().filter(|&n| n >= GPU_SCALING_FROM_NX).collect(),
+            scaling_probe_nx: GPU_SCALING_PROBE_NX.iter().copied().filter(|n| fitting.contains(n)).collect(),
+            scaling_cpu_max_n: GPU_SCALING_CPU_MAX_N,
             leading: leading_variants(),
             e4_nx: "45,100",
             e2: vec![],
@@ -93,6 +109,8 @@ impl Scale {
             name: "rehearsal",
             protocol: ["--steps", "2", "--repeats", "2", "--warmup", "0.1"],
             scaling_nx: REHEARSAL_SCALING_NX.to_vec(),
+            scaling_probe_nx: REHEARSAL_SCALING_NX[..2].to_vec(),
+            scaling_cpu_max_n: CPU_MAX_N,
             leading: leading_variants().into_iter().filter(|v| v.precision.name() == "f32").collect(),
             e4_nx: "45",
             e2: vec!["--e2-nx", "20"],
@@ -135,43 +153,51 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
         false,
         true,
     );
-    let study = |experiment: &str, extra: Vec<String>| {
+    let study_capped = |experiment: &str, extra: Vec<String>, cpu_max_n: usize| {
         let mut a = strs(&["study", "--experiments", experiment]);
         a.extend(strs(&scale.protocol));
         a.extend(extra);
-        a.extend(strs(&["--cpu-max-n", &CPU_MAX_N.to_string(), "--budget", BUDGET, "--out", OUT]));
+        a.extend(strs(&["--cpu-max-n", &cpu_max_n.to_string(), "--budget", BUDGET, "--out", OUT]));
         a
     };
+    let study = |experiment: &str, extra: Vec<String>| study_capped(experiment, extra, CPU_MAX_N);
     let sizes: Vec<String> = scale.scaling_nx.iter().map(|n| n.to_string()).collect();
-    if sizes.len() >= 2 {
+    let probe: Vec<String> = scale.scaling_probe_nx.iter().map(|n| n.to_string()).collect();
+    if sizes.len() >= 2 && probe.len() == 2 {
         let leading: Vec<String> = scale.leading.iter().map(|v| v.to_string()).collect();
         let extra = vec![
             "--sizes".into(),
             sizes.join(","),
             "--probe-sizes".into(),
-            sizes[..2].join(","),
+            probe.join(","),
             "--variants".into(),
             leading.join(","),
         ];
-        let what = format!("scaling of {} at nx {} (probed at the first two)", leading.join(", "), sizes.join(", "));
-        push(what, 25.0, study("scaling", extra), true, false);
+        let what = format!(
+            "scaling of {} at nx {} (probed at nx {}; CPU rows up to N = {})",
+            leading.join(", "),
+            sizes.join(", "),
+            probe.join(", "),
+            scale.scaling_cpu_max_n
+        );
+        push(what, 25.0, study_capped("scaling", extra, scale.scaling_cpu_max_n), true, false);
     }
     push(
         format!("E4: every variant at nx {}", scale.e4_nx),
-        22.0,
+        32.0,
         study("e4", strs(&["--e4-sizes", scale.e4_nx])),
         true,
         false,
     );
-    push("E1: searches × CPU one thread and GPU at nx 45".into(), 7.0, study("e1", vec![]), true, false);
+    push("E1: searches × CPU one thread and GPU at nx 45".into(), 5.0, study("e1", vec![]), true, false);
     for (e, w, what, extra) in [
         ("e3", 7.0, "E3: subdomains (thesis ○ ∆ □)", &scale.e3),
-        ("e2", 5.0, "E2: CPU/GPU residency hybrids", &scale.e2),
+        ("e2", 4.0, "E2: CPU/GPU residency hybrids", &scale.e2),
     ] {
         let sizes = if extra.is_empty() { "thesis sizes".to_string() } else { extra.join(" ") };
         push(format!("{what}, {sizes}"), w, study(e, strs(extra)), true, false);
     }
-    push("verify every variant on oscillating-drop".into(), 14.0, verify("all"), false, false);
+    push("verify every variant on oscillating-drop".into(), 10.0, verify("all"), false, false);
     let variant = VariantSpec::default().to_string();
     let impact = |extra: &[&str]| {
         let mut a = strs(&["validate", "impact", "--backend", "gpu", "--variant", &variant, "--quiet", "--out", OUT]);
@@ -182,14 +208,14 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
         for id in IMPACT_RUNS {
             push(
                 format!("impact at full resolution: {id}"),
-                20.0 / 3.0,
+                17.0 / IMPACT_RUNS.len() as f64,
                 impact(&["--full-impact", "--only", id]),
                 false,
                 false,
             );
         }
     } else {
-        push("impact, quick case (coarse, short)".into(), 20.0, impact(&["--quick"]), false, false);
+        push("impact, quick case (coarse, short)".into(), 17.0, impact(&["--quick"]), false, false);
     }
     out
 }
@@ -248,15 +274,19 @@ mod tests {
                 "06-e2",
                 "07-verify",
                 "08-impact-theta50",
-                "09-impact-theta90",
-                "10-impact-theta160"
+                "09-impact-theta160"
             ]
         );
         assert!(p[0].gate && p.iter().skip(1).all(|p| !p.gate));
         let scaling = command(&p[1], 123.4, Path::new("x"));
         let at = |f: &str| scaling[scaling.iter().position(|a| a == f).unwrap() + 1].clone();
-        assert_eq!(at("--sizes"), "316,1000,1414,2000,3162,4472,6324");
-        assert_eq!(at("--probe-sizes"), "316,1000", "probed near 10⁵–10⁶, not at 10³");
+        assert_eq!(at("--sizes"), "100,316,1000,1414,2000,3162,4472,6324");
+        assert_eq!(at("--probe-sizes"), "316,1000", "probed near 10⁵–10⁶, not at the floor of 10⁴");
+        assert_eq!(at("--cpu-max-n"), "12000", "CPU rows at the E4 size only");
+        let e4 = command(&p[2], 1.0, Path::new("x"));
+        assert_eq!(e4[e4.iter().position(|a| a == "--cpu-max-n").unwrap() + 1], CPU_MAX_N.to_string());
+        let weights: f64 = p.iter().map(|p| p.weight).sum();
+        assert!((weights - 100.0).abs() < 1e-9, "the weights are percentages of the budget: {weights}");
         assert_eq!((at("--budget").as_str(), at("--out").as_str()), ("123s", "x"));
     }
 
