@@ -123,7 +123,10 @@ fn rehearsal_without_cargo_returns_every_part() {
     let verdicts: Vec<&str> =
         smoke["variants"].as_array().unwrap().iter().map(|v| v["status"].as_str().unwrap()).collect();
     assert_eq!(verdicts, ["pass", "pass"], "{smoke}");
-    let scaling = rows(file(&files, "parts/02-scaling/records.csv"));
+    // The walk probe: four forms × two accesses at each of its two sides.
+    let walk = rows(file(&files, "parts/02-walk/walk.csv"));
+    assert_eq!(walk.len(), 16, "{walk:?}");
+    let scaling = rows(file(&files, "parts/03-scaling/records.csv"));
     let mut gpu_sizes: Vec<&str> =
         scaling.iter().filter(|r| r["backend"] == "gpu" && measured(r)).map(|r| r["nx"].as_str()).collect();
     gpu_sizes.dedup();
@@ -132,14 +135,14 @@ fn rehearsal_without_cargo_returns_every_part() {
         // How many sizes fit the part's share depends on the machine's speed at the time; a size
         // not timed must be one the budget dropped (the plan) or skipped while running (the
         // outcome), or the part was cut at the end of its share.
-        let cut = parts_json(&files).iter().any(|p| p["name"] == "02-scaling" && p["status"] == "cut");
+        let cut = parts_json(&files).iter().any(|p| p["name"] == "03-scaling" && p["status"] == "cut");
         let said = files
             .iter()
-            .filter(|(k, _)| k.ends_with("parts/02-scaling/summary.md"))
+            .filter(|(k, _)| k.ends_with("parts/03-scaling/summary.md"))
             .any(|(_, s)| s.contains("dropped for it") || s.contains("Not run because"));
         assert!(cut || said, "scaling: GPU records at {gpu_sizes:?} only, and nothing says why");
     }
-    let e4 = rows(file(&files, "parts/03-e4/records.csv"));
+    let e4 = rows(file(&files, "parts/04-e4/records.csv"));
     // A GPU row timed; or, on a machine others load (the CPU rows say so), every GPU row dropped
     // by the plan for the budget, which the calibration sizes on that load.
     let gpu_timed = e4.iter().any(|r| r["experiment"] == "e4" && measured(r) && r["backend"] == "gpu");
@@ -150,7 +153,7 @@ fn rehearsal_without_cargo_returns_every_part() {
     assert!(gpu_timed || (loaded && all_dropped), "e4: no GPU row timed: {e4:?}");
     // Every part: done with its output, or a reason it has none.
     let parts = parts_json(&files);
-    assert_eq!(parts.len(), 8, "{parts:?}");
+    assert_eq!(parts.len(), 9, "{parts:?}");
     for p in &parts {
         let (name, status, note) =
             (p["name"].as_str().unwrap(), p["status"].as_str().unwrap(), p["note"].as_str().unwrap());
@@ -237,11 +240,13 @@ fn preset_refuses_a_cpu_adapter_and_dry_runs_its_plan() {
         "limits: ",
         "budget: 90 s; scale: rehearsal",
         "01-smoke share",
-        "02-scaling share",
+        "02-walk share",
+        "walk-probe --sides 16,32",
+        "03-scaling share",
         "--sizes 16,32,64 --probe-sizes 16,32",
-        "03-e4 share",
+        "04-e4 share",
         "--e4-sizes 45",
-        "07-verify share",
+        "08-verify share",
         "sphlab validate impact",
     ] {
         assert!(e.contains(needle), "plan lacks `{needle}`: {e}");

@@ -16,6 +16,7 @@ mod study_options;
 mod validate;
 mod variants;
 mod verify;
+mod walk_probe;
 
 use clap::{Parser, Subcommand};
 use sphlab::error::Error;
@@ -65,6 +66,9 @@ enum Cmd {
     /// (pressure, viscous, surface) and partner (same phase, other phase, wall), summed in a
     /// window around the right contact point, by row (CPU f64, one evaluation).
     Forces(forces::ForcesArgs),
+    /// Time the bare neighbour walk on the GPU (no physics): cell ranges, through an index, through
+    /// the engine's by-value `Params` call, with a pair sum; read and read_write bindings.
+    WalkProbe(walk_probe::WalkProbeArgs),
     /// The machine: build commit, CPU and threads, memory, every GPU adapter with its features and limits.
     Info {
         /// JSON output.
@@ -91,6 +95,7 @@ pub fn dispatch(cli: Cli) -> Result<(), Error> {
         Cmd::Verify(a) => verify::run(a),
         Cmd::Validate(a) => validate::run(a),
         Cmd::Info { json } => info::run(json),
+        Cmd::WalkProbe(a) => walk_probe::run(a),
         Cmd::Forces(a) => forces::run(a, cli.threads),
         Cmd::Stability(a) => stability::run(a),
     }

@@ -23,6 +23,7 @@ pub(crate) mod staging;
 pub(crate) mod timing;
 pub mod variant;
 pub mod variant_buffers;
+pub mod walk_probe;
 
 pub use buffers::{GpuVec, Uniform};
 pub use compose::{compose, compose_variant, Composed};
@@ -60,6 +61,9 @@ pub enum GpuError {
     /// The solver detected a condition that invalidates the results (neighbour overflow).
     #[error(transparent)]
     Solver(#[from] crate::backend::SolverError),
+    /// A kernel's output differs from the host's computation of it (no time is reported).
+    #[error("{0}")]
+    Mismatch(String),
     /// A buffer would exceed a device limit.
     #[error("{what}: {bytes} bytes exceeds the device limit of {limit} bytes")]
     TooLarge {

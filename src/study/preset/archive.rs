@@ -48,7 +48,7 @@ impl Outcome {
 }
 
 /// What a finished part produced, in one line: records and how many are `ok` for a study,
-/// the verdicts for a verification, each run's status, steps, simulated time and ms/step for a
+/// the verdicts for a verification, the timings of the walk probe, each run's status, steps, simulated time and ms/step for a
 /// validation (`<case>/runs/<id>/summary.json`: a blow-up is named, not hidden), the last lines
 /// of its log otherwise.
 pub fn result_line(dir: &Path) -> String {
@@ -71,6 +71,9 @@ pub fn result_line(dir: &Path) -> String {
             let parts: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
             return format!("verify: {}", parts.join(", "));
         }
+    }
+    if let Ok(mut r) = csv::Reader::from_path(dir.join("walk.csv")) {
+        return format!("{} walk timings in walk.csv", r.records().filter_map(Result::ok).count());
     }
     let runs = validation_runs(dir);
     if !runs.is_empty() {

@@ -1,7 +1,7 @@
 //! The parts of `sphlab study --preset gpu`, most valuable first, each a `sphlab` command of its
 //! own with a weight (its share of the budget) and a floor below which it is skipped:
 //!
-//! smoke → scaling of the leading variants → E4 (2,025 and 10,000 fluid particles) → E1 → E3 →
+//! smoke → the bare neighbour walk (`walk-probe`) → scaling of the leading variants → E4 (2,025 and 10,000 fluid particles) → E1 → E3 →
 //! E2 → verify every variant on one scene → impact at full resolution, one part per angle.
 //!
 //! Two scales: `gpu` (the thesis's sizes; scaling from the E4 size N ≈ 10⁴, where the one-thread
@@ -58,6 +58,12 @@ pub const GPU_SCALING_PROBE_NX: [u32; 2] = [316, 1000];
 pub const GPU_SCALING_CPU_MAX_N: usize = 12_000;
 /// Scaling resolutions of the `rehearsal` scale.
 pub const REHEARSAL_SCALING_NX: [u32; 3] = [16, 32, 64];
+/// Lattice sides of the walk probe on a GPU (N ≈ 10⁴ … 10⁷). The part takes seconds: its weight,
+/// 10, is mostly handed on to the parts after it, but keeps a rehearsal's share above
+/// [`MIN_SHARE_S`].
+pub const GPU_WALK_SIDES: &str = "100,316,1000,3162";
+/// Lattice sides of the walk probe in a rehearsal.
+pub const REHEARSAL_WALK_SIDES: &str = "16,32";
 /// CPU rows of the study parts only up to this many particles.
 pub const CPU_MAX_N: usize = 200_000;
 
@@ -84,6 +90,8 @@ pub struct Scale {
     pub e3: Vec<&'static str>,
     /// Scene overrides and steps of the verification parts (smoke and verify).
     pub verify: Vec<&'static str>,
+    /// `--sides` of the walk probe.
+    pub walk_sides: &'static str,
 }
 
 impl Scale {
@@ -100,6 +108,7 @@ impl Scale {
             e2: vec![],
             e3: vec![],
             verify: vec!["--steps", "20"],
+            walk_sides: GPU_WALK_SIDES,
         }
     }
 
@@ -116,6 +125,7 @@ impl Scale {
             e2: vec!["--e2-nx", "20"],
             e3: vec!["--e3-nx", "30", "--e3-steps", "5", "--e3-budgets", "300,600"],
             verify: vec!["--set", "domain.nx=24", "--steps", "3"],
+            walk_sides: REHEARSAL_WALK_SIDES,
         }
     }
 }
@@ -153,6 +163,13 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
         false,
         true,
     );
+    push(
+        format!("the bare neighbour walk in four forms, lattice sides {}", scale.walk_sides),
+        10.0,
+        strs(&["walk-probe", "--sides", scale.walk_sides, "--out", OUT]),
+        false,
+        false,
+    );
     let study_capped = |experiment: &str, extra: Vec<String>, cpu_max_n: usize| {
         let mut a = strs(&["study", "--experiments", experiment]);
         a.extend(strs(&scale.protocol));
@@ -180,24 +197,24 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
             probe.join(", "),
             scale.scaling_cpu_max_n
         );
-        push(what, 25.0, study_capped("scaling", extra, scale.scaling_cpu_max_n), true, false);
+        push(what, 23.0, study_capped("scaling", extra, scale.scaling_cpu_max_n), true, false);
     }
     push(
         format!("E4: every variant at nx {}", scale.e4_nx),
-        32.0,
+        28.0,
         study("e4", strs(&["--e4-sizes", scale.e4_nx])),
         true,
         false,
     );
-    push("E1: searches × CPU one thread and GPU at nx 45".into(), 5.0, study("e1", vec![]), true, false);
+    push("E1: searches × CPU one thread and GPU at nx 45".into(), 4.0, study("e1", vec![]), true, false);
     for (e, w, what, extra) in [
-        ("e3", 7.0, "E3: subdomains (thesis ○ ∆ □)", &scale.e3),
+        ("e3", 6.0, "E3: subdomains (thesis ○ ∆ □)", &scale.e3),
         ("e2", 4.0, "E2: CPU/GPU residency hybrids", &scale.e2),
     ] {
         let sizes = if extra.is_empty() { "thesis sizes".to_string() } else { extra.join(" ") };
         push(format!("{what}, {sizes}"), w, study(e, strs(extra)), true, false);
     }
-    push("verify every variant on oscillating-drop".into(), 10.0, verify("all"), false, false);
+    push("verify every variant on oscillating-drop".into(), 8.0, verify("all"), false, false);
     let variant = VariantSpec::default().to_string();
     let impact = |extra: &[&str]| {
         let mut a = strs(&["validate", "impact", "--backend", "gpu", "--variant", &variant, "--quiet", "--out", OUT]);
@@ -227,6 +244,7 @@ fn args_name(args: &[String]) -> String {
         "verify" if get("--variants").as_deref() == Some("all") => "verify".into(),
         "verify" => "smoke".into(),
         "study" => get("--experiments").unwrap_or_default(),
+        "walk-probe" => "walk".into(),
         _ => match get("--only") {
             Some(id) => format!("impact-{id}"),
             None => "impact".into(),
@@ -267,23 +285,26 @@ mod tests {
             names,
             [
                 "01-smoke",
-                "02-scaling",
-                "03-e4",
-                "04-e1",
-                "05-e3",
-                "06-e2",
-                "07-verify",
-                "08-impact-theta50",
-                "09-impact-theta160"
+                "02-walk",
+                "03-scaling",
+                "04-e4",
+                "05-e1",
+                "06-e3",
+                "07-e2",
+                "08-verify",
+                "09-impact-theta50",
+                "10-impact-theta160"
             ]
         );
         assert!(p[0].gate && p.iter().skip(1).all(|p| !p.gate));
-        let scaling = command(&p[1], 123.4, Path::new("x"));
+        let walk = command(&p[1], 1.0, Path::new("x"));
+        assert_eq!(walk, ["walk-probe", "--sides", GPU_WALK_SIDES, "--out", "x"]);
+        let scaling = command(&p[2], 123.4, Path::new("x"));
         let at = |f: &str| scaling[scaling.iter().position(|a| a == f).unwrap() + 1].clone();
         assert_eq!(at("--sizes"), "100,316,1000,1414,2000,3162,4472,6324");
         assert_eq!(at("--probe-sizes"), "316,1000", "probed near 10⁵–10⁶, not at the floor of 10⁴");
         assert_eq!(at("--cpu-max-n"), "12000", "CPU rows at the E4 size only");
-        let e4 = command(&p[2], 1.0, Path::new("x"));
+        let e4 = command(&p[3], 1.0, Path::new("x"));
         assert_eq!(e4[e4.iter().position(|a| a == "--cpu-max-n").unwrap() + 1], CPU_MAX_N.to_string());
         let weights: f64 = p.iter().map(|p| p.weight).sum();
         assert!((weights - 100.0).abs() < 1e-9, "the weights are percentages of the budget: {weights}");
