@@ -143,13 +143,18 @@ fn rehearsal_without_cargo_returns_every_part() {
         assert!(cut || said, "scaling: GPU records at {gpu_sizes:?} only, and nothing says why");
     }
     let e4 = rows(file(&files, "parts/04-e4/records.csv"));
-    // A GPU row timed; or, on a machine others load (the CPU rows say so), every GPU row dropped
-    // by the plan for the budget, which the calibration sizes on that load.
+    // A GPU row timed; or, on a machine others load (the CPU rows say so), every GPU row left
+    // out for the budget: dropped by the plan, which the calibration sizes on that load, or not
+    // started because the running estimate (the loaded CPU rows' overrun) said it would not fit.
     let gpu_timed = e4.iter().any(|r| r["experiment"] == "e4" && measured(r) && r["backend"] == "gpu");
     let loaded = e4.iter().any(|r| r["backend"] != "gpu" && r["status"] == "loaded");
     let gpu_rows: Vec<_> = e4.iter().filter(|r| r["backend"] == "gpu").collect();
     let all_dropped = !gpu_rows.is_empty()
-        && gpu_rows.iter().all(|r| r["status"] == "skipped" && r["reason"].starts_with("dropped by the plan"));
+        && gpu_rows.iter().all(|r| {
+            r["status"] == "skipped"
+                && (r["reason"].starts_with("dropped by the plan")
+                    || r["reason"].starts_with("not run: the running estimate would have overrun"))
+        });
     assert!(gpu_timed || (loaded && all_dropped), "e4: no GPU row timed: {e4:?}");
     // Every part: done with its output, or a reason it has none.
     let parts = parts_json(&files);
