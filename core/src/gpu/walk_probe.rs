@@ -11,9 +11,10 @@
 //! * `indirect`: the particles are stored in a random order and slot s names its particle,
 //!   `pos_perm[order[s]]` (the engine's `sorted[]` before physical ordering);
 //! * `params-by-value`: as `ranges`, with every candidate's position passed through
-//!   `image_pos(params, 0u, x)` of `shaders/geometry.wgsl`, which takes the whole `Params`
-//!   uniform by value as the engine's walk does (code 0 is the identity, so only the call
-//!   differs);
+//!   `image_pos(params, code, x)` of `shaders/geometry.wgsl`, which takes the whole `Params`
+//!   uniform by value as the engine's walk does (the code, 0 = the identity, comes from a
+//!   uniform as the engine's does from its iterator, so the call is not folded away and only
+//!   the call differs);
 //! * `pair-sum`: as `ranges`, with a Wendland weight (a square root and a few products) summed
 //!   per neighbour, the least pair work a pass does.
 //!
@@ -41,7 +42,7 @@ const GROUP: u32 = 64;
 const WALK_WGSL: &str = "
 #import geometry
 
-struct Probe { n: u32, grid_nx: u32, grid_ny: u32, pad: u32, inv_cell: f32, support2: f32, pad1: f32, pad2: f32 }
+struct Probe { n: u32, grid_nx: u32, grid_ny: u32, code: u32, inv_cell: f32, support2: f32, pad1: f32, pad2: f32 }
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> probe: Probe;
 #ifdef RW
@@ -81,7 +82,7 @@ fn walk(slot: u32, mode: u32) -> f32 {
         for (var s = cell_start[row + u32(x0)]; s < end; s++) {
             var xj = position_at(s, mode);
             if mode == 2u {
-                xj = image_pos(params, 0u, xj);
+                xj = image_pos(params, probe.code, xj);
             }
             let d = xi - xj;
             let r2 = dot(d, d);
@@ -136,7 +137,9 @@ struct ProbeUniform {
     n: u32,
     grid_nx: u32,
     grid_ny: u32,
-    pad: u32,
+    /// The image code `params-by-value` passes: 0 (the identity), read at run time so the call
+    /// cannot be folded away.
+    code: u32,
     inv_cell: f32,
     support2: f32,
     pad1: f32,
@@ -274,7 +277,7 @@ pub fn measure_walk(ctx: &GpuContext, side: u32) -> Result<Option<Vec<WalkTime>>
         n: n as u32,
         grid_nx: grid,
         grid_ny: grid,
-        pad: 0,
+        code: 0,
         inv_cell: 1.0 / CELL_DX,
         support2: CELL_DX * CELL_DX,
         pad1: 0.0,
