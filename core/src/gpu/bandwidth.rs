@@ -141,52 +141,20 @@ pub fn measure_bandwidth(ctx: &GpuContext, bytes: u64) -> Result<Option<Bandwidt
         chunks.push((bg, spread((size / 16).div_ceil(64) as usize, ctx.limits.max_compute_workgroups_per_dimension)));
         offset += size;
     }
-    let passes = PROBE_REPEATS + 1;
-    let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
-        label: Some("sphlab.bandwidth"),
-        ty: wgpu::QueryType::Timestamp,
-        count: 2 * passes,
-    });
-    let qbytes = 2 * passes as u64 * wgpu::QUERY_SIZE as u64;
-    let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sphlab.bandwidth.resolve"),
-        size: qbytes,
-        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = super::staging::staging_buffer(ctx, "sphlab.bandwidth.staging", qbytes);
-    ctx.scoped(|d| {
-        let mut enc = d.create_command_encoder(&Default::default());
-        for k in 0..passes {
-            let writes = wgpu::ComputePassTimestampWrites {
-                query_set: &set,
-                beginning_of_pass_write_index: Some(2 * k),
-                end_of_pass_write_index: Some(2 * k + 1),
-            };
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("sphlab.bandwidth"),
-                timestamp_writes: Some(writes),
-            });
+    let best = super::timing::best_pass_ns(
+        ctx,
+        "sphlab.bandwidth",
+        PROBE_REPEATS + 1,
+        |pass| {
             pass.set_pipeline(&pipeline);
             for (bg, (gx, gy)) in &chunks {
                 pass.set_bind_group(0, bg, &[]);
                 pass.dispatch_workgroups(*gx, *gy, 1);
             }
-        }
-        enc.resolve_query_set(&set, 0..2 * passes, &resolve, 0);
-        enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, qbytes);
-        ctx.queue.submit([enc.finish()]);
-    })?;
-    ctx.traffic.submit();
-    let ticks: Vec<u64> = super::staging::map_read(ctx, &staging, qbytes)?;
-    let period = ctx.queue.get_timestamp_period() as f64;
-    let best_ns = (1..passes as usize)
-        .map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period)
-        .filter(|&ns| ns > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    if !best_ns.is_finite() {
-        return Ok(None);
-    }
+        },
+        |_| {},
+    )?;
+    let Some(best_ns) = best else { return Ok(None) };
     Ok(Some(Bandwidth {
         gb_per_s: 2.0 * bytes as f64 / best_ns,
         buffer_bytes: bytes,

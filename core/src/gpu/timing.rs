@@ -238,3 +238,56 @@ impl Timestamps {
         }
     }
 }
+
+/// The shortest of `passes − 1` timestamped compute passes (the first is a warm-up), each
+/// recorded by `record` and bracketed by beginning/end-of-pass timestamps, all in one
+/// submission after which `after` may record more (a copy to read back); ns, `None` when no
+/// pass measured above zero. The caller checks `TIMESTAMP_QUERY`.
+pub(crate) fn best_pass_ns(
+    ctx: &GpuContext,
+    label: &str,
+    passes: u32,
+    mut record: impl FnMut(&mut wgpu::ComputePass<'_>),
+    after: impl FnOnce(&mut wgpu::CommandEncoder),
+) -> Result<Option<f64>, GpuError> {
+    let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some(label),
+        ty: wgpu::QueryType::Timestamp,
+        count: 2 * passes,
+    });
+    let qbytes = 2 * passes as u64 * wgpu::QUERY_SIZE as u64;
+    let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: qbytes,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = super::staging::staging_buffer(ctx, label, qbytes);
+    ctx.scoped(|d| {
+        let mut enc = d.create_command_encoder(&Default::default());
+        for k in 0..passes {
+            let writes = wgpu::ComputePassTimestampWrites {
+                query_set: &set,
+                beginning_of_pass_write_index: Some(2 * k),
+                end_of_pass_write_index: Some(2 * k + 1),
+            };
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: Some(writes),
+            });
+            record(&mut pass);
+        }
+        enc.resolve_query_set(&set, 0..2 * passes, &resolve, 0);
+        enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, qbytes);
+        after(&mut enc);
+        ctx.queue.submit([enc.finish()]);
+    })?;
+    ctx.traffic.submit();
+    let ticks: Vec<u64> = super::staging::map_read(ctx, &staging, qbytes)?;
+    let period = ctx.queue.get_timestamp_period() as f64;
+    let best = (1..passes as usize)
+        .map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period)
+        .filter(|&ns| ns > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    Ok(best.is_finite().then_some(best))
+}

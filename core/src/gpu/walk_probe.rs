@@ -103,32 +103,25 @@ fn walk(slot: u32, mode: u32) -> f32 {
 fn slot_of(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     return gid.x + gid.y * nwg.x * 64u;
 }
-
-@compute @workgroup_size(64)
-fn walk_ranges(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = slot_of(gid, nwg);
-    if i < probe.n { found_by[i] = walk(i, 0u); }
-}
-@compute @workgroup_size(64)
-fn walk_indirect(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = slot_of(gid, nwg);
-    if i < probe.n { found_by[i] = walk(i, 1u); }
-}
-@compute @workgroup_size(64)
-fn walk_params(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = slot_of(gid, nwg);
-    if i < probe.n { found_by[i] = walk(i, 2u); }
-}
-@compute @workgroup_size(64)
-fn walk_pair_sum(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = slot_of(gid, nwg);
-    if i < probe.n { found_by[i] = walk(i, 3u); }
-}
 ";
 
 /// The entry point of a form.
-fn entry(mode: u32) -> &'static str {
-    ["walk_ranges", "walk_indirect", "walk_params", "walk_pair_sum"][mode as usize]
+fn entry(mode: u32) -> String {
+    format!("walk_{mode}")
+}
+
+/// The probe's source: [`WALK_WGSL`] and one entry point per form, `walk_<mode>`.
+fn walk_source() -> String {
+    let mut s = WALK_WGSL.to_string();
+    for (_, mode) in FORMS {
+        s += &format!(
+            "@compute @workgroup_size(64)\nfn {}(@builtin(global_invocation_id) gid: vec3<u32>, \
+             @builtin(num_workgroups) nwg: vec3<u32>) {{\n    let i = slot_of(gid, nwg);\n    if i < probe.n {{ \
+             found_by[i] = walk(i, {mode}u); }}\n}}\n",
+            entry(mode)
+        );
+    }
+    s
 }
 
 #[repr(C)]
@@ -296,63 +289,34 @@ pub fn measure_walk(ctx: &GpuContext, side: u32) -> Result<Option<Vec<WalkTime>>
         mapped_at_creation: false,
     });
     let (gx, gy) = spread((n as u32).div_ceil(GROUP) as usize, ctx.limits.max_compute_workgroups_per_dimension);
-    let passes = WALK_REPEATS + 1;
     let mut times = Vec::new();
     for (access, defines) in [("read", &[][..]), ("read_write", &["RW"][..])] {
-        let source = super::compose(WALK_WGSL, defines)?;
+        let source = super::compose(&walk_source(), defines)?;
         for (form, mode) in FORMS {
-            let pipeline = ctx.compute_pipeline("sphlab.walk", &source, entry(mode))?;
+            let pipeline = ctx.compute_pipeline("sphlab.walk", &source, &entry(mode))?;
             let bg = ctx.bind_group(&pipeline, &[&params, &probe, &pos, &pos_perm, &order, &cell_start, &out])?;
-            let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("sphlab.walk"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2 * passes,
-            });
-            let qbytes = 2 * passes as u64 * wgpu::QUERY_SIZE as u64;
-            let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("sphlab.walk.resolve"),
-                size: qbytes,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let staging = super::staging::staging_buffer(ctx, "sphlab.walk.staging", qbytes);
             let out_staging = super::staging::staging_buffer(ctx, "sphlab.walk.out_staging", out_bytes);
+            // Cleared first: every particle is its own neighbour, so a slot no pass wrote reads 0
+            // and fails the check.
             ctx.scoped(|d| {
                 let mut enc = d.create_command_encoder(&Default::default());
-                // Cleared first: every particle is its own neighbour, so a slot no pass wrote
-                // reads 0 and fails the check.
                 enc.clear_buffer(&out, 0, None);
-                for k in 0..passes {
-                    let writes = wgpu::ComputePassTimestampWrites {
-                        query_set: &set,
-                        beginning_of_pass_write_index: Some(2 * k),
-                        end_of_pass_write_index: Some(2 * k + 1),
-                    };
-                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("sphlab.walk"),
-                        timestamp_writes: Some(writes),
-                    });
+                ctx.queue.submit([enc.finish()]);
+            })?;
+            let best = super::timing::best_pass_ns(
+                ctx,
+                "sphlab.walk",
+                WALK_REPEATS + 1,
+                |pass| {
                     pass.set_pipeline(&pipeline);
                     pass.set_bind_group(0, &bg, &[]);
                     pass.dispatch_workgroups(gx, gy, 1);
-                }
-                enc.resolve_query_set(&set, 0..2 * passes, &resolve, 0);
-                enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, qbytes);
-                enc.copy_buffer_to_buffer(&out, 0, &out_staging, 0, out_bytes);
-                ctx.queue.submit([enc.finish()]);
-            })?;
-            ctx.traffic.submit();
-            let ticks: Vec<u64> = super::staging::map_read(ctx, &staging, qbytes)?;
+                },
+                |enc| enc.copy_buffer_to_buffer(&out, 0, &out_staging, 0, out_bytes),
+            )?;
             let found: Vec<f32> = super::staging::map_read(ctx, &out_staging, out_bytes)?;
             check_output(form, access, &found, &expected, mode)?;
-            let period = ctx.queue.get_timestamp_period() as f64;
-            let best_ns = (1..passes as usize)
-                .map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period)
-                .filter(|&ns| ns > 0.0)
-                .fold(f64::INFINITY, f64::min);
-            if !best_ns.is_finite() {
-                return Ok(None);
-            }
+            let Some(best_ns) = best else { return Ok(None) };
             times.push(WalkTime {
                 form: form.into(),
                 access: access.into(),
