@@ -95,9 +95,59 @@ pub fn adapter_note(recs: &[Record]) -> String {
     }
 }
 
+/// Where a record ran: its adapter for a GPU row, its CPU model and core count for a CPU row
+/// (one model name covers machines of different sizes).
+pub fn machine(r: &Record) -> String {
+    if r.backend == "gpu" {
+        r.adapter.clone()
+    } else {
+        format!("{}, {} cores", r.cpu_model, r.cores)
+    }
+}
+
+/// Whether `recs` ran on more than one machine (adapters or CPU models): then a plot draws one
+/// series per id and machine, never one line through both.
+pub fn several_machines(recs: &[&Record]) -> bool {
+    let mut gpus: Vec<String> = recs.iter().filter(|r| r.backend == "gpu").map(|r| machine(r)).collect();
+    let mut cpus: Vec<String> = recs.iter().filter(|r| r.backend != "gpu").map(|r| machine(r)).collect();
+    for v in [&mut gpus, &mut cpus] {
+        v.sort();
+        v.dedup();
+    }
+    gpus.len() > 1 || cpus.len() > 1
+}
+
+/// A series label: the id, and `@ machine` when the plot holds several machines.
+pub fn label_at(id: &str, r: &Record, several: bool) -> String {
+    if several {
+        format!("{id} @ {}", machine(r))
+    } else {
+        id.to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn records_of_two_machines_are_labelled_by_machine() {
+        let at = |backend: &str, adapter: &str, cpu: &str, cores: usize| Record {
+            backend: backend.into(),
+            adapter: adapter.into(),
+            cpu_model: cpu.into(),
+            cores,
+            ..Record::default()
+        };
+        let (lvp, h200) = (at("gpu", "llvmpipe", "Xeon", 2), at("gpu", "NVIDIA H200", "Xeon", 16));
+        let (small, large) = (at("cpu1", "CPU", "Xeon", 2), at("cpu1", "CPU", "Xeon", 16));
+        assert!(!several_machines(&[&lvp, &small]), "one adapter, one CPU");
+        assert!(several_machines(&[&lvp, &h200]));
+        assert!(several_machines(&[&small, &large]), "one model name, two hosts: two machines");
+        assert_eq!(label_at("cpu1.cells.f64", &large, true), "cpu1.cells.f64 @ Xeon, 16 cores");
+        assert_eq!(label_at("cells.thread", &h200, true), "cells.thread @ NVIDIA H200");
+        assert_eq!(label_at("cells.thread", &h200, false), "cells.thread");
+    }
 
     #[test]
     fn every_id_has_its_own_colour() {

@@ -45,7 +45,8 @@ fn scaling_overview(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), 
             family(&r.variant)
         }
     };
-    let lead = leaders(&ok, by_search);
+    let several = look::several_machines(&ok);
+    let lead = leaders(&ok, |r| look::label_at(&by_search(r), r, several));
     if lead.len() < 2 {
         return Ok(());
     }
@@ -54,17 +55,21 @@ fn scaling_overview(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), 
     (spec.log_x, spec.log_y, spec.legend_outside) = (true, true, true);
     spec.note = look::adapter_note(recs);
     for r in lead.values() {
-        let mut pts: Vec<(f64, f64)> =
-            ok.iter().filter(|q| q.variant == r.variant).map(|q| (q.n as f64, q.ms())).collect();
+        let mut pts: Vec<(f64, f64)> = ok
+            .iter()
+            .filter(|q| q.variant == r.variant && (!several || look::machine(q) == look::machine(r)))
+            .map(|q| (q.n as f64, q.ms()))
+            .collect();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        spec.series.push(look::styled(Series::line_points(r.variant.clone(), pts), &r.variant));
+        let label = look::label_at(&r.variant, r, several);
+        spec.series.push(look::styled(Series::line_points(label, pts), &r.variant));
     }
     let p = dir.join("scaling_overview.svg");
     line_plot_svg(&p, &spec).map_err(|x| format!("{}: {x}", p.display()))?;
     let _ = writeln!(
         md,
         "![scaling overview](scaling_overview.svg)\n\nEach family (one-thread CPU, all-cores CPU, GPU by search) by its \
-         fastest `ok` id at its largest N.\n"
+         fastest `ok` id at its largest N; one line per machine when the records come from several.\n"
     );
     Ok(())
 }

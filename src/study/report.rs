@@ -209,10 +209,13 @@ fn experiment_table(md: &mut String, recs: &[Record], exp: &str, adapters: &[&st
 
 /// The scaling plots, faceted by neighbour search, then by mapping
 /// (`scaling_<search>_<mapping>.svg`): the GPU variants of that search and mapping (≤ 8 ids, by
-/// adapter when several, so the 10 colours do not repeat within a facet) and the CPU one-thread
+/// machine when several, so the 10 colours do not repeat within a facet and no line joins two
+/// machines) and the CPU one-thread
 /// and all-thread f64 references in every facet.
 fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut String) -> Result<(), String> {
     let ok: Vec<&Record> = recs.iter().filter(|r| r.experiment == "scaling" && r.is_ok()).collect();
+    // One series per id and machine when the records come from several (GPU adapters or CPUs).
+    let several = side_by_side || look::several_machines(&ok);
     let facet_of = |variant: &str| {
         let mut it = variant.split('.');
         (it.next().unwrap_or("").to_string(), it.next().unwrap_or("").to_string())
@@ -234,8 +237,7 @@ fn scaling_plots(dir: &Path, recs: &[Record], side_by_side: bool, md: &mut Strin
                 continue;
             }
             let short = if reference { r.variant.as_str() } else { r.variant.trim_start_matches(&prefix) };
-            let label =
-                if side_by_side && r.backend == "gpu" { format!("{short} @ {}", r.adapter) } else { short.into() };
+            let label = look::label_at(short, r, several);
             ids.insert(label.clone(), r.variant.clone());
             f.entry(label).or_default().push((r.n as f64, ms));
         }
