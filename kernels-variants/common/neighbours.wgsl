@@ -1,51 +1,79 @@
-// neighbours.wgsl: the neighbour loop of the `thread` stages, as an iterator, for the three
-// searches: `DIRECT` defined = every particle under every existing image code (O(N²·images),
-// the order of the CPU lists: code, then index), tested DIRECT_CHUNK candidates per loop
-// iteration in straight-line code (lavapipe ends every loop of an invocation group after 65,535
-// iterations in all, gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, silently: one candidate per
-// iteration lost neighbours from ~2,300 particles; the plan refuses direct beyond
-// `plan::gpu::LAVAPIPE_LOOP_CANDIDATES` there); `TRACKING` defined = the particle's tracking
-// candidates (kernels-variants/search/tracking.wgsl; with `MASK_LISTS` the set bits of its
-// candidate mask, common/mask_lists.wgsl) under the exact distance test; otherwise the 3×3 cells around
-// `inverse_pos(c, x_i)` of the grid built by kernels-variants/search/*, walked row by row as
-// two contiguous slot ranges each (DualSPHysics' "range" loops): the row's fluid slots (the
-// counting sort of the fluids, slots 0..n_fluid) then its wall slots (the walls' static sort,
-// slots n_fluid..n, `wall_start`). A slot holds particle `sorted[s]`; in physical cell order
-// (`physical_order`: the particles themselves renumbered in cell order at every search,
-// search/reorder.wgsl) slot s IS particle s and the loop reads no `sorted`. A neighbour is
-// (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of `neighbours::within`), self
-// included. Usage: `var it = nb_begin(i, xi); while nb_next(&it) { … it.j, it.code, it.xj … }`.
+// neighbours.wgsl: the neighbour loop of the `thread` stages, for the three searches, as a walk
+// over spans of slots with a plain loop over each span (DualSPHysics' "range" loops):
+//
+//     var w = nb_spans(i, xi);
+//     while nb_span(&w) {
+//         for (var s = w.s0; s < w.s1; s++) {
+//             let nb = nb_at(w, s);
+//             if nb.hit { … nb.j, nb.code, nb.xj … }
+//         }
+//     }
+//
+// A neighbour is (j, code) with |x_i − image_pos(code, x_j)|² < support² (twin of
+// `neighbours::within`), self included. The spans, by search:
+// * cells (neither `DIRECT` nor `TRACKING`): the span walk of common/walk.wgsl over the 3×3
+//   cells around `inverse_pos(c, x_i)`, each row its fluid slots (the counting sort of the
+//   fluids, slots 0..n_fluid) then its wall slots (the walls' static sort, `wall_start`); a slot
+//   holds particle `sorted[s]`, or s itself in physical cell order (`physical_order`: the
+//   particles renumbered in cell order at every search, search/reorder.wgsl);
+// * `TRACKING` with slot lists: one span, the particle's tracking candidates
+//   (kernels-variants/search/tracking.wgsl), each entry (j, code) packed;
+// * `NB_ITERATOR` (the direct search, and tracking with `MASK_LISTS`): spans of one neighbour,
+//   handed out by the iterator `nb_next` below — the direct search tests DIRECT_CHUNK
+//   candidates per loop iteration in straight-line code (every particle under every existing
+//   image code, O(N²·images), the order of the CPU lists: code, then index; lavapipe ends every
+//   loop of an invocation group after 65,535 iterations in all, gallivm's
+//   LP_MAX_TGSI_LOOP_ITERATIONS, silently: one candidate per iteration lost neighbours from
+//   ~2,300 particles; the plan refuses direct beyond `plan::gpu::LAVAPIPE_LOOP_CANDIDATES`
+//   there); the tracking masks are the set bits of the candidate mask on the build's walk
+//   (common/mask_lists.wgsl).
+// The span form keeps the per-candidate loop free of iterator state (why and what it changed:
+// reports/engine/README.md, "The neighbour loop as spans").
 // Shared include (needs common/bindings: pos, sorted, cell_start; common/variant_bindings:
 // counts, cand); no entry points.
 
 #import common/variant_bindings
+#import common/walk
 #ifdef MASK_LISTS
 #import common/mask_lists
 #endif
 
+// One candidate of a span: the particle j, its image code and image position, and whether it
+// is a neighbour (within the support).
+struct NbHit {
+    j: u32,
+    code: u32,
+    xj: real2,
+    hit: bool,
+}
+
+// Candidate j under image code `code` for the query point xi.
+fn nb_hit(xi: real2, j: u32, code: u32) -> NbHit {
+    let xj = image_pos(params, code, pos[j]);
+    let d = xi - xj;
+    return NbHit(j, code, xj, d.x * d.x + d.y * d.y < params.support2);
+}
+
+#ifdef NB_ITERATOR
+// The iterator of the direct search and the tracking masks (module comment).
 struct Nb {
     j: u32,        // current neighbour index
     code: u32,     // its image code
     xj: real2,     // image position of j
     xi: real2,     // the query particle
-    cur: u32,      // cursor (index in DIRECT, slot of `sorted` otherwise)
+    cur: u32,      // DIRECT: flat cursor (code·n + j)
     end: u32,
-    k: u32,        // row of the 3×3 block (cells)
-    wall_cur: u32, // the row's wall span, walked after its fluid span
-    wall_end: u32,
-    cx: i32,
-    cy: i32,
     mask: u32,     // DIRECT: hits of the current chunk not yet returned (bit k = candidate base + k)
     base: u32,     // DIRECT: flat cursor (code·n + j) of the current chunk's first candidate
     i: u32,        // the query particle's index
-    phys: bool,    // physical cell order: slot s is particle s (`physical_order`)
     m: u32,        // TRACKING with MASK_LISTS: candidate ordinal of the current candidate
 #ifdef MASK_LISTS
-    walk: Walk,    // TRACKING: the walk of the build's box (common/mask_lists.wgsl)
+    walk: Walk,    // TRACKING: the walk of the build's box (common/walk.wgsl)
     word: u32,     // TRACKING: current word of the candidate mask
     live: bool,    // TRACKING: the walk has a span left
 #endif
 }
+#endif
 
 // Candidates tested per loop iteration of the direct search.
 const DIRECT_CHUNK: u32 = 8u;
@@ -155,50 +183,27 @@ fn scan_cells_in_group(t: u32) {
     }
 }
 
+#ifdef NB_ITERATOR
 fn nb_begin(i: u32, xi: real2) -> Nb {
     var it: Nb;
     it.xi = xi;
     it.code = 0u;
     it.cur = 0u;
     it.end = 0u;
-    it.wall_cur = 0u;
-    it.wall_end = 0u;
     it.i = i;
     it.m = 0xFFFFFFFFu;
-    it.phys = physical_order();
 #ifdef DIRECT
     it.end = 9u * params.n; // flat cursor: code·n + j over the nine codes
 #else
-#ifdef TRACKING
-#ifdef MASK_LISTS
-    // (Local copies: a pointer to a struct member cannot be a call argument in SPIR-V output.)
+    // TRACKING with MASK_LISTS. (Local copies: a pointer to a struct member cannot be a call
+    // argument in SPIR-V output.)
     var walk = walk_begin(ref_pos[i], 4u, true);
     it.live = walk_next(&walk);
     it.walk = walk;
     it.word = 0u;
     it.mask = cand_word(i, 0u);
-#else
-    it.cur = i * CAND_SLOTS;
-    it.end = it.cur + min(counts[params.n + i], CAND_SLOTS);
-#endif
-#else
-    let c = cell_coords(xi);
-    it.cx = c.x;
-    it.cy = c.y;
-    it.k = 0xFFFFFFFFu;
-#endif
 #endif
     return it;
-}
-
-// Moves to the next existing image code; false when none is left.
-fn nb_next_code(it: ptr<function, Nb>) -> bool {
-    var c = (*it).code + 1u;
-    while c < 9u && !image_exists(params, c) {
-        c++;
-    }
-    (*it).code = c;
-    return c < 9u;
 }
 
 #ifdef DIRECT
@@ -248,69 +253,86 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
     }
     return false;
 #else
-#ifdef TRACKING
-#ifdef MASK_LISTS
     return nb_next_mask(it);
 #endif
-#endif
-    loop {
-        if (*it).cur < (*it).end {
-#ifdef TRACKING
-            let e = cand[(*it).cur];
-            let j = e & PACK_MASK;
-            (*it).code = e >> PACK_SHIFT;
-#else
-            let j = slot_at((*it).cur, (*it).phys);
-#endif
-            (*it).cur += 1u;
-            let xj = image_pos(params, (*it).code, pos[j]);
-            let d = (*it).xi - xj;
-            if d.x * d.x + d.y * d.y < params.support2 {
-                (*it).j = j;
-                (*it).xj = xj;
-                return true;
-            }
-            continue;
-        }
-#ifdef TRACKING
-        return false;
-#else
-        // The row's wall span after its fluid span.
-        if (*it).wall_cur < (*it).wall_end {
-            (*it).cur = (*it).wall_cur;
-            (*it).end = (*it).wall_end;
-            (*it).wall_cur = (*it).wall_end;
-            continue;
-        }
-        // Next row of the 3×3 block: its (up to) three cells, clamped to the grid, are one
-        // contiguous range of the fluid slots and one of the wall slots (cells along x are
-        // adjacent in both sorts).
-        (*it).k += 1u;
-        if (*it).k >= 3u {
-            if !nb_next_code(it) {
-                return false;
-            }
-            let c = cell_coords(inverse_pos(params, (*it).code, (*it).xi));
-            (*it).cx = c.x;
-            (*it).cy = c.y;
-            (*it).k = 0u;
-        }
-        let y = (*it).cy - 1 + i32((*it).k);
-        let x0 = max((*it).cx - 1, 0);
-        let x1 = min((*it).cx + 1, i32(params.grid_nx) - 1);
-        if y < 0 || y >= i32(params.grid_ny) || x0 > x1 {
-            continue;
-        }
-        let row = u32(i32(params.grid_nx) * y);
-        (*it).cur = cell_start[row + u32(x0)];
-        (*it).end = cell_start[row + u32(x1) + 1u];
-        (*it).wall_cur = wall_start(row + u32(x0));
-        (*it).wall_end = wall_start(row + u32(x1) + 1u);
-#endif
-    }
-    return false;
-#endif
 }
+
+// Spans of one neighbour each, from the iterator.
+struct NbSpans {
+    it: Nb,
+    s0: u32,
+    s1: u32,
+}
+
+fn nb_spans(i: u32, xi: real2) -> NbSpans {
+    return NbSpans(nb_begin(i, xi), 0u, 0u);
+}
+
+// The next span; false at the end.
+fn nb_span(w: ptr<function, NbSpans>) -> bool {
+    var it = (*w).it;
+    let more = nb_next(&it);
+    (*w).it = it;
+    (*w).s1 = select(0u, 1u, more);
+    return more;
+}
+
+fn nb_at(w: NbSpans, s: u32) -> NbHit {
+    return NbHit(w.it.j, w.it.code, w.it.xj, true);
+}
+#else
+#ifdef TRACKING
+// One span: the tracking candidates of particle i, each entry (j, code) packed.
+struct NbSpans {
+    xi: real2,
+    s0: u32,
+    s1: u32,
+    done: bool,
+}
+
+fn nb_spans(i: u32, xi: real2) -> NbSpans {
+    let s0 = i * CAND_SLOTS;
+    return NbSpans(xi, s0, s0 + min(counts[params.n + i], CAND_SLOTS), false);
+}
+
+// The next span; false at the end.
+fn nb_span(w: ptr<function, NbSpans>) -> bool {
+    let first = !(*w).done;
+    (*w).done = true;
+    return first && (*w).s1 > (*w).s0;
+}
+
+fn nb_at(w: NbSpans, s: u32) -> NbHit {
+    let e = cand[s];
+    return nb_hit(w.xi, e & PACK_MASK, e >> PACK_SHIFT);
+}
+#else
+// The span walk of the 3×3 cells (common/walk.wgsl) over this evaluation's sort.
+struct NbSpans {
+    walk: Walk,
+    s0: u32,
+    s1: u32,
+}
+
+fn nb_spans(i: u32, xi: real2) -> NbSpans {
+    return NbSpans(walk_begin(xi, 3u, false), 0u, 0u);
+}
+
+// The next non-empty span; false at the end.
+fn nb_span(w: ptr<function, NbSpans>) -> bool {
+    var walk = (*w).walk;
+    let more = walk_next(&walk);
+    (*w).walk = walk;
+    (*w).s0 = walk.s0;
+    (*w).s1 = walk.s1;
+    return more;
+}
+
+fn nb_at(w: NbSpans, s: u32) -> NbHit {
+    return nb_hit(w.walk.xi, slot_at(s, w.walk.phys), w.walk.code);
+}
+#endif
+#endif
 
 #ifdef TRACKING
 #ifdef MASK_LISTS

@@ -12,16 +12,19 @@ fn wall_pressure_at(i: u32) {
     let xi = pos[i];
     var num = real(0.0);
     var den = real(0.0);
-    var it = nb_begin(i, xi);
-    while nb_next(&it) {
-        let j = it.j;
-        if j >= params.n_fluid {
-            continue;
+    var sp = nb_spans(i, xi);
+    while nb_span(&sp) {
+        for (var t = sp.s0; t < sp.s1; t++) {
+            let nb = nb_at(sp, t);
+            let j = nb.j;
+            if !nb.hit || j >= params.n_fluid {
+                continue;
+            }
+            let d = xi - nb.xj;
+            let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
+            num += (pres[j] + (g.x * d.x + g.y * d.y) * rho[j]) * w;
+            den += w;
         }
-        let d = xi - it.xj;
-        let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
-        num += (pres[j] + (g.x * d.x + g.y * d.y) * rho[j]) * w;
-        den += w;
     }
     if den > real(0.0) {
         pres[i] = num / den;

@@ -121,19 +121,25 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
 #endif
     let xi = pos[i];
     var count = 0u;
-    var it = nb_begin(i, xi);
-    while nb_next(&it) {
-        if count < NBR_SLOTS {
-            let slot = nbr_slot(i, count);
-            nbr[slot] = pack_nb(it.j, it.code);
+    var sp = nb_spans(i, xi);
+    while nb_span(&sp) {
+        for (var t = sp.s0; t < sp.s1; t++) {
+            let nb = nb_at(sp, t);
+            if !nb.hit {
+                continue;
+            }
+            if count < NBR_SLOTS {
+                let slot = nbr_slot(i, count);
+                nbr[slot] = pack_nb(nb.j, nb.code);
 #ifdef CACHED
-            let x_ij = xi - it.xj;
-            let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
-            cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
-            cache_xj[slot] = it.xj;
+                let x_ij = xi - nb.xj;
+                let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
+                cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
+                cache_xj[slot] = nb.xj;
 #endif
+            }
+            count += 1u;
         }
-        count += 1u;
     }
     counts[i] = count;
     if count > NBR_SLOTS {

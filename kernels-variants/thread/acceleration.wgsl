@@ -17,9 +17,14 @@ fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if i < params.n_fluid {
         let kp = params_kernel(params);
         let c = acc_ctx(i);
-        var it = nb_begin(i, c.xi);
-        while nb_next(&it) {
-            sum += acc_pair(i, c, kp, pair_of(c.xi, it.j, it.code, it.xj));
+        var w = nb_spans(i, c.xi);
+        while nb_span(&w) {
+            for (var t = w.s0; t < w.s1; t++) {
+                let nb = nb_at(w, t);
+                if nb.hit {
+                    sum += acc_pair(i, c, kp, pair_of(c.xi, nb.j, nb.code, nb.xj));
+                }
+            }
         }
     }
     acc_out(i, sum);

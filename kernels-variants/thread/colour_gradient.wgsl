@@ -17,11 +17,16 @@ fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     var g = Grad2(real2(real(0.0), real(0.0)), real2(real(0.0), real(0.0)));
     if k >= 0 {
         let xi = pos[i];
-        var it = nb_begin(i, xi);
-        while nb_next(&it) {
-            let t = grad_pair(k, kp, pair_of(xi, it.j, it.code, it.xj));
-            g.g0 += t.g0;
-            g.g1 += t.g1;
+        var w = nb_spans(i, xi);
+        while nb_span(&w) {
+            for (var t = w.s0; t < w.s1; t++) {
+                let nb = nb_at(w, t);
+                if nb.hit {
+                    let q = grad_pair(k, kp, pair_of(xi, nb.j, nb.code, nb.xj));
+                    g.g0 += q.g0;
+                    g.g1 += q.g1;
+                }
+            }
         }
     }
     grad_out(i, g);

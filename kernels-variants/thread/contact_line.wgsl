@@ -53,21 +53,24 @@ fn contact_line(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     var succ = real(0.0);
     var pred_phase = 0u;
     var succ_phase = 0u;
-    var it = nb_begin(i, pos[i]);
-    while nb_next(&it) {
-        if it.j >= params.n_fluid || !in_band(it.xj.y) {
-            continue;
-        }
-        let x = it.xj.x;
-        if x > xi && (!has_succ || x < succ) {
-            has_succ = true;
-            succ = x;
-            succ_phase = phase[it.j];
-        }
-        if x < xi && (!has_pred || x > pred) {
-            has_pred = true;
-            pred = x;
-            pred_phase = phase[it.j];
+    var sp = nb_spans(i, pos[i]);
+    while nb_span(&sp) {
+        for (var t = sp.s0; t < sp.s1; t++) {
+            let nb = nb_at(sp, t);
+            if !nb.hit || nb.j >= params.n_fluid || !in_band(nb.xj.y) {
+                continue;
+            }
+            let x = nb.xj.x;
+            if x > xi && (!has_succ || x < succ) {
+                has_succ = true;
+                succ = x;
+                succ_phase = phase[nb.j];
+            }
+            if x < xi && (!has_pred || x > pred) {
+                has_pred = true;
+                pred = x;
+                pred_phase = phase[nb.j];
+            }
         }
     }
     let half = real(0.5);

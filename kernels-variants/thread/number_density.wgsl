@@ -15,9 +15,14 @@ fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     let kp = params_kernel(params);
     let xi = pos[i];
     var s = real2(real(0.0), real(0.0));
-    var it = nb_begin(i, xi);
-    while nb_next(&it) {
-        s += density_pair(i, kp, pair_of(xi, it.j, it.code, it.xj));
+    var w = nb_spans(i, xi);
+    while nb_span(&w) {
+        for (var t = w.s0; t < w.s1; t++) {
+            let nb = nb_at(w, t);
+            if nb.hit {
+                s += density_pair(i, kp, pair_of(xi, nb.j, nb.code, nb.xj));
+            }
+        }
     }
     density_out(i, s);
 }

@@ -15,16 +15,19 @@ fn xsph(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
     let xi = pos[i];
     let vi = vel[i];
     var s = real2(real(0.0), real(0.0));
-    var it = nb_begin(i, xi);
-    while nb_next(&it) {
-        let j = it.j;
-        if j >= params.n_fluid || phase[j] != phase[i] {
-            continue;
+    var sp = nb_spans(i, xi);
+    while nb_span(&sp) {
+        for (var t = sp.s0; t < sp.s1; t++) {
+            let nb = nb_at(sp, t);
+            let j = nb.j;
+            if !nb.hit || j >= params.n_fluid || phase[j] != phase[i] {
+                continue;
+            }
+            let d = xi - nb.xj;
+            let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
+            let v_ji = image_vec(params, nb.code, vel[j]) - vi;
+            s += xsph_ij(mass[j], rho[i], rho[j], v_ji, w);
         }
-        let d = xi - it.xj;
-        let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
-        let v_ji = image_vec(params, it.code, vel[j]) - vi;
-        s += xsph_ij(mass[j], rho[i], rho[j], v_ji, w);
     }
     vt[i] = vi + s * params.xsph;
 }

@@ -214,8 +214,13 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
         d.push("CACHED");
     }
     d.extend(spec.workgroup.define());
-    if super::mask_lists::uses_masks(spec) {
+    let masks = super::mask_lists::uses_masks(spec);
+    if masks {
         d.push("MASK_LISTS");
+    }
+    // The neighbour loop's spans are the iterator's single neighbours (common/neighbours.wgsl).
+    if spec.search == SearchKind::Direct || (spec.search == SearchKind::Tracking && masks) {
+        d.push("NB_ITERATOR");
     }
     if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
         d.push("SLOT_MAJOR");
