@@ -39,13 +39,20 @@ pub fn colour_of(id: &str) -> (u8, u8, u8) {
         "cpu.cells.f64" => (90, 60, 40),
         "cpu.cells.f32" => (150, 110, 80),
         _ => {
+            // A workgroup-size id (`….wg256`) takes its variant's hue, darker: the pair reads as
+            // one variant at two sizes.
+            let (base, wg) = match id.rsplit_once('.') {
+                Some((b, w)) if w.starts_with("wg") && w[2..].parse::<u32>().is_ok() => (b, true),
+                _ => (id, false),
+            };
             let k = VariantSpec::all()
                 .iter()
-                .position(|s| s.to_string() == id)
-                .unwrap_or_else(|| id.bytes().fold(0usize, |h, b| h.wrapping_mul(31).wrapping_add(b as usize)));
+                .position(|s| s.to_string() == base)
+                .unwrap_or_else(|| base.bytes().fold(0usize, |h, b| h.wrapping_mul(31).wrapping_add(b as usize)));
             // Hues a golden angle apart: every id its own hue, neighbouring ids far apart; two
             // lightnesses, none pale.
-            hsl(k as f64 * 0.618_033_988_75, if k % 2 == 0 { 0.42 } else { 0.55 })
+            let l = if k % 2 == 0 { 0.42 } else { 0.55 };
+            hsl(k as f64 * 0.618_033_988_75, if wg { l - 0.2 } else { l })
         }
     }
 }
@@ -160,6 +167,19 @@ mod tests {
         c.dedup();
         assert_eq!(c.len(), n, "a colour repeats");
         assert_eq!(hsl(0.0, 0.5), (217, 38, 38));
+    }
+
+    #[test]
+    fn a_workgroup_size_id_is_its_variant_darker() {
+        let lum = |c: (u8, u8, u8)| u32::from(c.0) + u32::from(c.1) + u32::from(c.2);
+        let ids: Vec<String> = VariantSpec::all().iter().map(|s| s.to_string()).collect();
+        for base in ["cells.thread.recomputed.f32", "cells.thread.cached.f32", "tracking.thread.recomputed.f32"] {
+            let (b, w) = (colour_of(base), colour_of(&format!("{base}.wg256")));
+            assert!(lum(w) < lum(b), "{base}: {w:?} not darker than {b:?}");
+            assert!(ids.iter().all(|i| colour_of(i) != w), "{base}.wg256 takes another id's colour");
+        }
+        // Two variants at one size differ as their variants do.
+        assert_ne!(colour_of("cells.thread.cached.f32.wg256"), colour_of("cells.thread.recomputed.f32.wg256"));
     }
 
     #[test]
