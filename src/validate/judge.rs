@@ -16,7 +16,7 @@ mod sensitivity;
 #[cfg(test)]
 mod tests;
 
-use rule::{alpha_band, nx_band, rule_text};
+use rule::{alpha_band, at_two_resolutions, nx_band, rule_text, KERNELS};
 use sensitivity::{relax_rule_band, sessile_pb_band};
 
 /// Young's angle of relax-60 (deg).
@@ -59,6 +59,10 @@ fn rows<'a>(rep: &'a mut CaseReport, prefix: &'a str) -> impl Iterator<Item = &'
     rep.rows.iter_mut().filter(move |r| r.quantity.starts_with(prefix))
 }
 
+/// What the rule's runs at nx = 30 and 45 depend on.
+const AT_EACH_NX: &str =
+    "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), the oscillating drop's scene";
+
 /// The drop's radius (σ/R is the Laplace jump).
 const DROP_R: f64 = 0.1875;
 
@@ -86,6 +90,37 @@ fn oscillation(root: &Path, rep: &mut CaseReport) {
             r.qualify(&format!("{on}, the kernel's h; against the quintic's period of the same rule"), band.as_ref());
         }
     }
+    at_both_resolutions(root, rep, "period", "period", 0.37, 0.05, 4);
+    for r in rows(rep, "period under the rule at nx = 30 / 45") {
+        r.qualify(&format!("{AT_EACH_NX}, the initial field, μ, the kernel's h"), None);
+    }
+}
+
+/// Rows holding every kernel to the thesis at both resolutions of the rule's runs
+/// (`capillary-rule/capillary_rule.csv`): `column` within `tol` (relative) of `target` at
+/// nx = 30 and at nx = 45. Replaces the rows an earlier judging added.
+fn at_both_resolutions(
+    root: &Path,
+    rep: &mut CaseReport,
+    what: &str,
+    column: &str,
+    target: f64,
+    tol: f64,
+    prec: usize,
+) {
+    let head = format!("{what} under the rule at nx = 30 / 45, ");
+    rep.rows.retain(|r| !r.quantity.starts_with(&head));
+    for (kernel, label) in KERNELS {
+        let Some(v) = at_two_resolutions(root, kernel, column) else {
+            continue;
+        };
+        let ok = v.iter().all(|x| (x / target - 1.0).abs() <= tol);
+        rep.rows.push(
+            Row::new(&format!("{head}{label}"), v[1], prec, None, Some(target))
+                .sphlab_text(format!("{:.prec$} / {:.prec$} (../capillary-rule/capillary_rule.csv)", v[0], v[1]))
+                .check(ok, &format!("within {:.0} % of {target:.4} at both resolutions", 100.0 * tol)),
+        );
+    }
 }
 
 fn spurious(root: &Path, rep: &mut CaseReport) {
@@ -101,6 +136,10 @@ fn spurious(root: &Path, rep: &mut CaseReport) {
     }
     for r in rows(rep, "max liquid kinetic energy") {
         r.qualify(&on, None);
+    }
+    at_both_resolutions(root, rep, "Laplace jump of the drop at rest", "jump", 1.0 / DROP_R, 0.03, 3);
+    for r in rows(rep, "Laplace jump of the drop at rest under the rule") {
+        r.qualify(&format!("{AT_EACH_NX}, the kernel's h"), None);
     }
 }
 

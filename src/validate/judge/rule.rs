@@ -86,3 +86,19 @@ pub(super) fn nx_band(root: &Path, kernel: &str, column: &str, what: &str, ok: i
     let found = table(root, kernel, column, &[(2.0, 30), (2.0, 45)]);
     band(format!("nx = 30 / 45 under the rule ({what})"), &found, 4, ok)
 }
+
+/// The kernels of the rule's runs, with the labels of their rows.
+pub(super) const KERNELS: [(&str, &str); 5] = [
+    ("quintic", "quintic h = 1.2Δx"),
+    ("cubic-spline", "cubic spline h = 1.2Δx"),
+    ("wendland-c2", "Wendland C2 h = 1.5Δx"),
+    ("johnson", "Johnson quadratic h = 2Δx"),
+    ("gaussian", "truncated Gaussian h = 1.2Δx"),
+];
+
+/// Column `column` of the rule's runs with `kernel` at nx = 30 and 45 (α of the rule), when both
+/// are in the table.
+pub(super) fn at_two_resolutions(root: &Path, kernel: &str, column: &str) -> Option<[f64; 2]> {
+    let found = table(root, kernel, column, &[(2.0, 30), (2.0, 45)]);
+    (found.len() == 2).then(|| [found[0].2, found[1].2])
+}

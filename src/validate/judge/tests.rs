@@ -181,3 +181,24 @@ fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table(
     assert!(nx_band(dir.path(), "quintic", "amplitude", "x", ok).is_none());
     assert!(alpha_band(&dir.path().join("none"), "quintic", "period", ok).is_none());
 }
+
+#[test]
+fn every_kernel_is_held_to_the_thesis_at_both_resolutions_once() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
+    std::fs::write(
+        dir.path().join("capillary-rule/capillary_rule.csv"),
+        "alpha,nx,kernel,period,jump\n2.0,30,quintic,0.366,5.2\n2.0,45,quintic,0.374,5.24\n\
+         2.0,30,cubic-spline,0.32,4.98\n2.0,45,cubic-spline,0.297,4.76\n2.0,30,johnson,0.35,5.3\n",
+    )
+    .unwrap();
+    let mut rep = report("oscillation", Vec::new());
+    for _ in 0..2 {
+        at_both_resolutions(dir.path(), &mut rep, "period", "period", 0.37, 0.05, 4);
+    }
+    // One row per kernel with both points (Johnson has one: no row), not duplicated by a second judging.
+    assert_eq!(rep.rows.len(), 2, "{:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>());
+    assert!(verdict(&rep, "period under the rule at nx = 30 / 45, quintic").starts_with("pass"));
+    let cubic = rep.row("period under the rule at nx = 30 / 45, cubic spline").unwrap();
+    assert!(cubic.verdict.starts_with("FAIL") && cubic.sphlab.starts_with("0.3200 / 0.2970"), "{cubic:?}");
+}
