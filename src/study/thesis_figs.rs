@@ -222,12 +222,24 @@ fn svg(
     root.present().map_err(|e| format!("{p}: {e:?}"))
 }
 
-/// Fig. 6.3 from the E1 rows: ms/step of each search on one CPU thread and on the GPU (log).
+/// The records of `experiment` (ok ones only with `ok_only`) from one run: the run of its first
+/// GPU record, else of its first record. A merged report holds several machines' runs, and one
+/// figure's bars compare one machine's backends.
+fn one_run<'a>(recs: &'a [Record], experiment: &str, ok_only: bool) -> Vec<&'a Record> {
+    let of: Vec<&Record> = recs.iter().filter(|r| r.experiment == experiment && (!ok_only || r.is_ok())).collect();
+    let Some(run) = of.iter().find(|r| r.backend == "gpu").or(of.first()).map(|r| r.run.clone()) else {
+        return of;
+    };
+    of.into_iter().filter(|r| r.run == run).collect()
+}
+
+/// Fig. 6.3 from the E1 rows of one run: ms/step of each search on one CPU thread and on the GPU (log).
 fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let e1: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e1" && r.is_ok()).collect();
+    let e1 = one_run(recs, "e1", true);
     if e1.is_empty() {
         return Ok(());
     }
+    let drawn: Vec<Record> = e1.iter().map(|r| (*r).clone()).collect();
     let cats: Vec<String> = ["direct", "cells", "tracking"].iter().map(|s| s.to_string()).collect();
     let get = |backend: &str, search: &str| {
         e1.iter()
@@ -245,7 +257,7 @@ fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
             cats.iter().map(|c| get("gpu", c)).collect(),
         ),
     ];
-    svg(&dir.join("fig6_3_search.svg"), (900, 560), &super::look::adapter_note(recs), |a| {
+    svg(&dir.join("fig6_3_search.svg"), (900, 560), &super::look::adapter_note(&drawn), |a| {
         bars(
             a,
             "Fig. 6.3 — neighbour search on CPU and GPU (2,025 fluid particles)",
@@ -261,10 +273,11 @@ fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
 
 /// Fig. 6.8 from the E2 rows: ms/step and bytes copied per step of each hybrid.
 fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let e2: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e2").collect();
+    let e2 = one_run(recs, "e2", false);
     if e2.is_empty() {
         return Ok(());
     }
+    let drawn: Vec<Record> = e2.iter().map(|r| (*r).clone()).collect();
     let _ = writeln!(
         md,
         "## E2 — residency: stage groups moved to the GPU one at a time (Fig. 6.8; {} fluid particles)\n",
@@ -302,7 +315,7 @@ fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
         ),
         ("device → host".to_string(), e2.iter().map(|r| r.bytes_d2h_per_step.unwrap_or(f64::NAN) / 1024.0).collect()),
     ];
-    svg(&dir.join("fig6_8_residency.svg"), (1100, 820), &super::look::adapter_note(recs), |a| {
+    svg(&dir.join("fig6_8_residency.svg"), (1100, 820), &super::look::adapter_note(&drawn), |a| {
         let (top, bottom) = a.split_vertically(410);
         let title = "Fig. 6.8 — runtime as stage groups move to the GPU (thesis: caption only, seed l. 400)";
         bars(&top, title, "time per step (ms)", &cats, &t, false)?;
@@ -467,5 +480,24 @@ mod tests {
         // Six bars (rect elements filled with a series colour), one per (search, backend).
         assert_eq!(svg.matches("fill=\"#1F77B4\"").count() + svg.matches("fill=\"#FF7F0E\"").count(), 6 + 2);
         assert!(md.contains("fig6_3_search.svg") && !dir.path().join("fig6_8_residency.svg").exists());
+    }
+
+    #[test]
+    fn fig_6_3_of_a_merged_report_draws_one_run() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let at = |r: Record, run: &str, adapter: &str| Record { run: run.into(), adapter: adapter.into(), ..r };
+        let recs = vec![
+            at(rec("e1", "cpu1.cells.f64", "cpu1", 4.0), "a", "A-GPU"),
+            at(rec("e1", "cells.thread.recomputed.f32", "gpu", 40.0), "a", "A-GPU"),
+            at(rec("e1", "cpu1.direct.f64", "cpu1", 90.0), "b", "B-GPU"),
+            at(rec("e1", "cells.thread.recomputed.f32", "gpu", 2.0), "b", "B-GPU"),
+            at(rec("e1", "tracking.thread.recomputed.f32", "gpu", 1.0), "b", "B-GPU"),
+        ];
+        let mut md = String::new();
+        write(dir.path(), &recs, &mut md).expect("figures");
+        let svg = std::fs::read_to_string(dir.path().join("fig6_3_search.svg")).expect("fig6_3_search.svg");
+        // Run a's two bars only, and its adapter alone in the note.
+        assert_eq!(svg.matches("fill=\"#1F77B4\"").count() + svg.matches("fill=\"#FF7F0E\"").count(), 2 + 2);
+        assert!(svg.contains("A-GPU") && !svg.contains("B-GPU"));
     }
 }
