@@ -271,23 +271,12 @@ fn fig_6_3(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
     Ok(())
 }
 
-/// Fig. 6.8 from the E2 rows: ms/step and bytes copied per step of each hybrid.
-fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
-    let e2 = one_run(recs, "e2", false);
-    if e2.is_empty() {
-        return Ok(());
-    }
-    let drawn: Vec<Record> = e2.iter().map(|r| (*r).clone()).collect();
-    let _ = writeln!(
-        md,
-        "## E2 — residency: stage groups moved to the GPU one at a time (Fig. 6.8; {} fluid particles)\n",
-        e2[0].n_fluid
-    );
-    let _ = writeln!(md, "GPU variant `{}`; CPU stages on one thread in f32 (the reference's own stage functions). Bytes are counted at the copy calls (host → device / device → host), per step, over the timed steps; every step ends with a device sync. Verified after {} steps against the CPU f32 reference with the tolerance table of `sphlab verify`.\n", e2[0].config, super::e23::E23Options::default().verify_steps);
+/// The E2 table of one run's hybrids, with the speedup against that run's `cpu-all`.
+fn e2_table(md: &mut String, e2: &[&&Record]) {
     let _ = writeln!(md, "| hybrid | on the CPU | ms/step (median) | p10 | p90 | H→D B/step | D→H B/step | speedup vs `cpu-all` | verified |\n|---|---|---|---|---|---|---|---|---|");
     let cpu_all = e2.iter().find(|r| r.variant == "hybrid.cpu-all").map(|r| r.ms());
     let opt = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.0}"));
-    for r in &e2 {
+    for r in e2 {
         let sp = cpu_all.map_or("-".into(), |b| format!("{:.2}×", b / r.ms()));
         let _ = writeln!(
             md,
@@ -302,6 +291,39 @@ fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
             sp,
             r.verified
         );
+    }
+    let _ = writeln!(md);
+}
+
+/// Fig. 6.8 from the E2 rows: ms/step and bytes copied per step of each hybrid (the figure one
+/// run's, the tables every run's).
+fn fig_6_8(dir: &Path, recs: &[Record], md: &mut String) -> Result<(), String> {
+    let e2 = one_run(recs, "e2", false);
+    if e2.is_empty() {
+        return Ok(());
+    }
+    let drawn: Vec<Record> = e2.iter().map(|r| (*r).clone()).collect();
+    let _ = writeln!(
+        md,
+        "## E2 — residency: stage groups moved to the GPU one at a time (Fig. 6.8; {} fluid particles)\n",
+        e2[0].n_fluid
+    );
+    let _ = writeln!(md, "GPU variant `{}`; CPU stages on one thread in f32 (the reference's own stage functions). Bytes are counted at the copy calls (host → device / device → host), per step, over the timed steps; every step ends with a device sync. Verified after {} steps against the CPU f32 reference with the tolerance table of `sphlab verify`.\n", e2[0].config, super::e23::E23Options::default().verify_steps);
+    // One table per run, each hybrid against its own run's `cpu-all` (a merged report holds
+    // several machines); the figure draws the first.
+    let all: Vec<&Record> = recs.iter().filter(|r| r.experiment == "e2").collect();
+    let mut runs: Vec<&str> = Vec::new();
+    for r in &all {
+        if !runs.contains(&r.run.as_str()) {
+            runs.push(&r.run);
+        }
+    }
+    for run in &runs {
+        let rows: Vec<&&Record> = all.iter().filter(|r| r.run == *run).collect();
+        if runs.len() > 1 {
+            let _ = writeln!(md, "Run `{run}` ({}):\n", super::look::machine(rows[0]));
+        }
+        e2_table(md, &rows);
     }
     let cats: Vec<String> = e2
         .iter()
@@ -480,6 +502,23 @@ mod tests {
         // Six bars (rect elements filled with a series colour), one per (search, backend).
         assert_eq!(svg.matches("fill=\"#1F77B4\"").count() + svg.matches("fill=\"#FF7F0E\"").count(), 6 + 2);
         assert!(md.contains("fig6_3_search.svg") && !dir.path().join("fig6_8_residency.svg").exists());
+    }
+
+    #[test]
+    fn e2_of_two_runs_gets_a_table_each_against_its_own_cpu_all() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let at = |r: Record, run: &str| Record { run: run.into(), ..r };
+        let recs = vec![
+            at(rec("e2", "hybrid.cpu-all", "hybrid", 10.0), "a"),
+            at(rec("e2", "hybrid.gpu-all", "hybrid", 5.0), "a"),
+            at(rec("e2", "hybrid.cpu-all", "hybrid", 4.0), "b"),
+            at(rec("e2", "hybrid.gpu-all", "hybrid", 1.0), "b"),
+        ];
+        let mut md = String::new();
+        write(dir.path(), &recs, &mut md).expect("figures");
+        assert!(md.contains("Run `a`") && md.contains("Run `b`"), "{md}");
+        // gpu-all: 2× in run a, 4× in run b (not 10 / 1 = 10× across the runs).
+        assert!(md.contains("| 2.00× |") && md.contains("| 4.00× |") && !md.contains("10.00×"), "{md}");
     }
 
     #[test]
