@@ -49,6 +49,24 @@ fn image_pos(prm: Params, c: u32, x: real2) -> real2 {
     return r;
 }
 
+// Code c's transform as a map per axis, x ↦ sign·x + shift (mirror: −1, 2v; periodic: 1, v;
+// an axis c leaves alone: 1, 0), for a loop that applies one code to many candidates: built once
+// per code, applied with a multiply-add per axis instead of a call per candidate.
+// image_apply(image_map(prm, c), x) is image_pos(prm, c, x) exactly: −x + 2v is v + v − x, and
+// x + v and x + 0 are themselves.
+struct ImageMap {
+    sign: real2,
+    shift: real2,
+}
+
+fn image_map(prm: Params, c: u32) -> ImageMap {
+    return ImageMap(image_signs(prm, c), image_pos(prm, c, real2(real(0.0), real(0.0))));
+}
+
+fn image_apply(m: ImageMap, x: real2) -> real2 {
+    return x * m.sign + m.shift;
+}
+
 // Inverse transform of code c.
 fn inverse_pos(prm: Params, c: u32, x: real2) -> real2 {
     let ax = c % 3u;
@@ -84,7 +102,12 @@ fn image_vec(prm: Params, c: u32, v: real2) -> real2 {
 
 // Image of a symmetric traceless tensor (Π_xy flips once per mirrored axis).
 fn image_sym(prm: Params, c: u32, t: Sym2) -> Sym2 {
-    let s = image_signs(prm, c);
+    return sym_by_signs(image_signs(prm, c), t);
+}
+
+// A symmetric traceless tensor under the component signs s of an image (`image_signs`, or an
+// `ImageMap`'s `sign`).
+fn sym_by_signs(s: real2, t: Sym2) -> Sym2 {
     return Sym2(t.xx, t.xy * s.x * s.y);
 }
 

@@ -47,9 +47,9 @@ struct NbHit {
     hit: bool,
 }
 
-// Candidate j under image code `code` for the query point xi.
-fn nb_hit(xi: real2, j: u32, code: u32) -> NbHit {
-    let xj = image_pos(params, code, pos[j]);
+// Candidate j under image code `code`, whose transform is `map`, for the query point xi.
+fn nb_hit(xi: real2, j: u32, code: u32, map: ImageMap) -> NbHit {
+    let xj = image_apply(map, pos[j]);
     let d = xi - xj;
     return NbHit(j, code, xj, d.x * d.x + d.y * d.y < params.support2);
 }
@@ -207,13 +207,14 @@ fn nb_begin(i: u32, xi: real2) -> Nb {
 }
 
 #ifdef DIRECT
-// Bit k set when candidate `c0 + k` (flat cursor, below `stop`) of code `code` is a neighbour.
-fn direct_hit(xi: real2, code: u32, c0: u32, stop: u32, k: u32) -> u32 {
+// Bit k set when candidate `c0 + k` (flat cursor, below `stop`) of code `code`, whose transform
+// is `map`, is a neighbour.
+fn direct_hit(xi: real2, code: u32, map: ImageMap, c0: u32, stop: u32, k: u32) -> u32 {
     let c = c0 + k;
     if c >= stop {
         return 0u;
     }
-    let d = xi - image_pos(params, code, pos[c - code * params.n]);
+    let d = xi - image_apply(map, pos[c - code * params.n]);
     return select(0u, 1u << k, d.x * d.x + d.y * d.y < params.support2);
 }
 #endif
@@ -229,7 +230,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             let j = c - code * params.n;
             (*it).j = j;
             (*it).code = code;
-            (*it).xj = image_pos(params, code, pos[j]);
+            (*it).xj = image_apply(image_map_of(code), pos[j]);
             return true;
         }
         if (*it).cur >= (*it).end {
@@ -244,10 +245,11 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
         let c0 = (*it).cur;
         let stop = min(c0 + DIRECT_CHUNK, (code + 1u) * params.n);
         let xi = (*it).xi;
-        (*it).mask = direct_hit(xi, code, c0, stop, 0u) | direct_hit(xi, code, c0, stop, 1u)
-            | direct_hit(xi, code, c0, stop, 2u) | direct_hit(xi, code, c0, stop, 3u)
-            | direct_hit(xi, code, c0, stop, 4u) | direct_hit(xi, code, c0, stop, 5u)
-            | direct_hit(xi, code, c0, stop, 6u) | direct_hit(xi, code, c0, stop, 7u);
+        let m = image_map_of(code);
+        (*it).mask = direct_hit(xi, code, m, c0, stop, 0u) | direct_hit(xi, code, m, c0, stop, 1u)
+            | direct_hit(xi, code, m, c0, stop, 2u) | direct_hit(xi, code, m, c0, stop, 3u)
+            | direct_hit(xi, code, m, c0, stop, 4u) | direct_hit(xi, code, m, c0, stop, 5u)
+            | direct_hit(xi, code, m, c0, stop, 6u) | direct_hit(xi, code, m, c0, stop, 7u);
         (*it).base = c0;
         (*it).cur = stop;
     }
@@ -304,7 +306,8 @@ fn nb_span(w: ptr<function, NbSpans>) -> bool {
 
 fn nb_at(w: NbSpans, s: u32) -> NbHit {
     let e = cand[s];
-    return nb_hit(w.xi, e & PACK_MASK, e >> PACK_SHIFT);
+    let code = e >> PACK_SHIFT;
+    return nb_hit(w.xi, e & PACK_MASK, code, image_map_of(code));
 }
 #else
 // The span walk of the 3×3 cells (common/walk.wgsl) over this evaluation's sort.
@@ -329,7 +332,7 @@ fn nb_span(w: ptr<function, NbSpans>) -> bool {
 }
 
 fn nb_at(w: NbSpans, s: u32) -> NbHit {
-    return nb_hit(w.walk.xi, slot_at(s, w.walk.phys), w.walk.code);
+    return nb_hit(w.walk.xi, slot_at(s, w.walk.phys), w.walk.code, w.walk.map);
 }
 #endif
 #endif
@@ -359,7 +362,7 @@ fn nb_next_mask(it: ptr<function, Nb>) -> bool {
             return false;
         }
         let code = walk.code;
-        let xj = image_pos(params, code, pos[j]);
+        let xj = image_apply(walk.map, pos[j]);
         let d = (*it).xi - xj;
         if d.x * d.x + d.y * d.y < params.support2 {
             (*it).j = j;

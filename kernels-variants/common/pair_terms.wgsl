@@ -64,7 +64,7 @@ fn list_len(i: u32) -> u32 {
 fn list_pair(i: u32, xi: real2, k: u32) -> Pair {
 #ifdef MASK_LISTS
     let e = mask_entry(i, xi, k);
-    return pair_of(xi, e.x, e.y, image_pos(params, e.y, pos[e.x]));
+    return pair_of(xi, e.x, e.y, image_apply(image_map_of(e.y), pos[e.x]));
 #else
     return pair_at(xi, nbr_slot(i, k));
 #endif
@@ -80,7 +80,7 @@ fn pair_at(xi: real2, slot: u32) -> Pair {
 #ifdef CACHED
     p.xj = cache_xj[slot];
 #else
-    p.xj = image_pos(params, p.code, pos[p.j]);
+    p.xj = image_apply(image_map_of(p.code), pos[p.j]);
 #endif
     p.x_ij = xi - p.xj;
     p.r2 = p.x_ij.x * p.x_ij.x + p.x_ij.y * p.x_ij.y;
@@ -216,7 +216,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
         var v_ij = c.vi;
         if j < params.n_fluid {
             eta_ij = harmonic_viscosity(c.eta_i, params.eta[phase[j]]);
-            v_ij = c.vi - image_vec(params, p.code, vel[j]);
+            v_ij = c.vi - vel[j] * image_map_of(p.code).sign;
         } else if c.wall != 0xFFFFFFFFu {
             var beta = real(1.0);
             if params.wall_velocity == WALL_VELOCITY_HOLMES {
@@ -233,7 +233,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
         }
     }
     if params_has(params, STAGE_SURFACE) {
-        let pi_j = image_sym(params, p.code, Sym2(pi[j].x, pi[j].y));
+        let pi_j = sym_by_signs(image_map_of(p.code).sign, Sym2(pi[j].x, pi[j].y));
         sum += surface_acc_ij(c.pi_i, c.inv_s2_i, pi_j, inv_s2_j, gw);
     }
     return sum;

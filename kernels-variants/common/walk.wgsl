@@ -32,6 +32,7 @@ fn box_corner(q: real2, w: u32) -> vec2<i32> {
 struct Walk {
     xi: real2,     // the query point (inversely imaged per code)
     code: u32,     // current image code
+    map: ImageMap, // its transform (shaders/geometry.wgsl), applied to every candidate of the code
     row: u32,      // current row of the box
     half: u32,     // 0: the row's fluid span, 1: its wall span
     w: u32,        // box width (3 or 4)
@@ -47,6 +48,7 @@ fn walk_begin(xi: real2, w: u32, snap: bool) -> Walk {
     var k: Walk;
     k.xi = xi;
     k.code = 0xFFFFFFFFu;
+    k.map = image_map(params, 0u);
     k.row = w - 1u;
     k.half = 1u;
     k.w = w;
@@ -99,6 +101,7 @@ fn walk_next(k: ptr<function, Walk>) -> bool {
                 return false;
             }
             (*k).code = c;
+            (*k).map = image_map(params, c);
             (*k).corner = box_corner(inverse_pos(params, c, (*k).xi), (*k).w);
             (*k).row = 0u;
         }

@@ -90,7 +90,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     var walk = walk_begin(xi, 3u, false);
     while walk_next(&walk) {
         for (var s = walk.s0; s < walk.s1; s++) {
-            if nb_hit(xi, slot_at(s, walk.phys), walk.code).hit {
+            if nb_hit(xi, slot_at(s, walk.phys), walk.code, walk.map).hit {
                 mark(&m, walk.ord + (s - walk.s0));
             }
         }

@@ -81,7 +81,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     var walk = walk_begin(xi, 4u, false);
     while walk_next(&walk) {
         for (var s = walk.s0; s < walk.s1; s++) {
-            let d = xi - image_pos(params, walk.code, pos[slot_at(s, walk.phys)]);
+            let d = xi - image_apply(walk.map, pos[slot_at(s, walk.phys)]);
             if d.x * d.x + d.y * d.y < r2 {
                 let b = walk.ord + (s - walk.s0);
                 if b < 32u * CAND_WORDS {
@@ -112,6 +112,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
             continue;
         }
         let c = cell_coords(inverse_pos(params, code, xi));
+        let map = image_map(params, code);
         for (var k = 0u; k < 25u; k++) {
             let x = c.x - 2 + i32(k % 5u);
             let y = c.y - 2 + i32(k / 5u);
@@ -125,7 +126,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
                 let e = select(wall_start(cell + 1u), cell_start[cell + 1u], h == 0u);
                 for (var s = a; s < e; s++) {
                     let j = slot_at(s, phys);
-                    let d = xi - image_pos(params, code, pos[j]);
+                    let d = xi - image_apply(map, pos[j]);
                     if d.x * d.x + d.y * d.y < r2 {
                         if count < CAND_SLOTS {
                             cand[i * CAND_SLOTS + count] = pack_nb(j, code);

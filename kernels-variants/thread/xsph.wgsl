@@ -25,7 +25,7 @@ fn xsph(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
             }
             let d = xi - nb.xj;
             let w = kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
-            let v_ji = image_vec(params, nb.code, vel[j]) - vi;
+            let v_ji = vel[j] * image_map_of(nb.code).sign - vi;
             s += xsph_ij(mass[j], rho[i], rho[j], v_ji, w);
         }
     }

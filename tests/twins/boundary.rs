@@ -133,6 +133,7 @@ pub fn boundary_twins<T: Real>(ctx: &GpuContext) {
     let twins = [
         geo("image_exists", "put(i, 0u, select(real(0.0), real(1.0), image_exists(prm, c)));", 1),
         geo("image_pos", "put2(i, 0u, image_pos(prm, c, x));", 2),
+        geo("image_map", "put2(i, 0u, image_apply(image_map(prm, c), x));", 2),
         geo("inverse_pos", "put2(i, 0u, inverse_pos(prm, c, x));", 2),
         geo("image_vec", "put2(i, 0u, image_vec(prm, c, a2(i, 18u)));", 2),
         geo(
@@ -160,8 +161,8 @@ pub fn boundary_twins<T: Real>(ctx: &GpuContext) {
             let (code, x) = (c.ints[4], v2(c, 16));
             match *name {
                 "image_exists" => vec![m(T::c(md.images.exists(code) as u8 as f64))],
-                "image_pos" | "inverse_pos" => {
-                    let r = if *name == "image_pos" {
+                "image_pos" | "image_map" | "inverse_pos" => {
+                    let r = if *name != "inverse_pos" {
                         md.images.image_pos(code, x)
                     } else {
                         md.images.inverse_pos(code, x)
