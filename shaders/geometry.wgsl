@@ -9,22 +9,29 @@
 #import stress
 #import wall
 
-// Map of one side (0 x-low, 1 x-high, 2 y-low, 3 y-high) applied to a coordinate.
-fn side_apply(prm: Params, side: u32, c: real) -> real {
-    let v = prm.image_value[side];
-    if prm.image_kind[side] == IMAGE_MIRROR {
-        return v + v - c;
+// Map of one side of kind `kind` and value v as (sign, shift), c ↦ sign·c + shift: a mirror
+// plane at v, (−1, 2v); a periodic shift by v, (1, v). The one statement of the image rules;
+// −c + 2v is v + v − c and c + v is itself, exactly.
+fn side_map(kind: u32, v: real) -> real2 {
+    if kind == IMAGE_MIRROR {
+        return real2(real(-1.0), v + v);
     }
-    return c + v;
+    return real2(real(1.0), v);
 }
 
-// Inverse map of one side.
+// Map of one side (0 x-low, 1 x-high, 2 y-low, 3 y-high) applied to a coordinate.
+fn side_apply(prm: Params, side: u32, c: real) -> real {
+    let m = side_map(prm.image_kind[side], prm.image_value[side]);
+    return c * m.x + m.y;
+}
+
+// Inverse map of one side (a mirror is its own inverse; a shift by v is undone by −v).
 fn side_inverse(prm: Params, side: u32, c: real) -> real {
-    let v = prm.image_value[side];
+    let m = side_map(prm.image_kind[side], prm.image_value[side]);
     if prm.image_kind[side] == IMAGE_MIRROR {
-        return v + v - c;
+        return c * m.x + m.y;
     }
-    return c - v;
+    return c - m.y;
 }
 
 // True when image code c = ax + 3·ay names an existing transform.
@@ -35,36 +42,45 @@ fn image_exists(prm: Params, c: u32) -> bool {
         && (ay == 0u || prm.image_kind[1u + ay] != IMAGE_NONE);
 }
 
-// Position of the image of x under code c.
-fn image_pos(prm: Params, c: u32, x: real2) -> real2 {
-    let ax = c % 3u;
-    let ay = c / 3u;
-    var r = x;
-    if ax != 0u {
-        r.x = side_apply(prm, ax - 1u, x.x);
-    }
-    if ay != 0u {
-        r.y = side_apply(prm, 1u + ay, x.y);
-    }
-    return r;
-}
-
-// Code c's transform as a map per axis, x ↦ sign·x + shift (mirror: −1, 2v; periodic: 1, v;
-// an axis c leaves alone: 1, 0), for a loop that applies one code to many candidates: built once
-// per code, applied with a multiply-add per axis instead of a call per candidate.
-// image_apply(image_map(prm, c), x) is image_pos(prm, c, x) exactly: −x + 2v is v + v − x, and
-// x + v and x + 0 are themselves.
+// Code c's transform as a map per axis, x ↦ sign·x + shift (an axis c leaves alone: 1, 0), so a
+// loop applies one code to many candidates with a multiply-add per axis.
 struct ImageMap {
     sign: real2,
     shift: real2,
 }
 
+// The map of code c from the sides' kinds and values (`Params.image_kind`, `.image_value`): a
+// loop over entries whose code changes from one to the next passes these two vectors rather
+// than the whole `Params` by value (a copy per call on some drivers:
+// reports/engine/README.md, "Image transforms").
+fn image_map_of_sides(kind: vec4<u32>, value: vec4<real>, c: u32) -> ImageMap {
+    let ax = c % 3u;
+    let ay = c / 3u;
+    var m = ImageMap(real2(real(1.0), real(1.0)), real2(real(0.0), real(0.0)));
+    if ax != 0u {
+        let s = side_map(kind[ax - 1u], value[ax - 1u]);
+        m.sign.x = s.x;
+        m.shift.x = s.y;
+    }
+    if ay != 0u {
+        let s = side_map(kind[1u + ay], value[1u + ay]);
+        m.sign.y = s.x;
+        m.shift.y = s.y;
+    }
+    return m;
+}
+
 fn image_map(prm: Params, c: u32) -> ImageMap {
-    return ImageMap(image_signs(prm, c), image_pos(prm, c, real2(real(0.0), real(0.0))));
+    return image_map_of_sides(prm.image_kind, prm.image_value, c);
 }
 
 fn image_apply(m: ImageMap, x: real2) -> real2 {
     return x * m.sign + m.shift;
+}
+
+// Position of the image of x under code c.
+fn image_pos(prm: Params, c: u32, x: real2) -> real2 {
+    return image_apply(image_map(prm, c), x);
 }
 
 // Inverse transform of code c.
@@ -83,16 +99,7 @@ fn inverse_pos(prm: Params, c: u32, x: real2) -> real2 {
 
 // Component signs of code c (−1 per mirrored axis).
 fn image_signs(prm: Params, c: u32) -> real2 {
-    let ax = c % 3u;
-    let ay = c / 3u;
-    var s = real2(real(1.0), real(1.0));
-    if ax != 0u && prm.image_kind[ax - 1u] == IMAGE_MIRROR {
-        s.x = real(-1.0);
-    }
-    if ay != 0u && prm.image_kind[1u + ay] == IMAGE_MIRROR {
-        s.y = real(-1.0);
-    }
-    return s;
+    return image_map(prm, c).sign;
 }
 
 // Image of a vector (velocity, colour gradient).

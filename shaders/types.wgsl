@@ -102,11 +102,17 @@ fn params_kernel(p: Params) -> KernelParams {
 
 // σ^{kl} between colours k and l (0, 1 fluids; 2 wall phase S).
 fn params_sigma(p: Params, k: i32, l: i32) -> real {
-    var row = p.sigma0;
+    return sigma_of_rows(p.sigma0, p.sigma1, p.sigma2, k, l);
+}
+
+// σ^{kl} from the table's three rows, for a pair loop that passes the rows rather than the whole
+// `Params` by value (shaders/geometry.wgsl's `image_map_of_sides` says why).
+fn sigma_of_rows(r0: vec4<real>, r1: vec4<real>, r2: vec4<real>, k: i32, l: i32) -> real {
+    var row = r0;
     if k == 1 {
-        row = p.sigma1;
+        row = r1;
     } else if k == 2 {
-        row = p.sigma2;
+        row = r2;
     }
     return row[l];
 }

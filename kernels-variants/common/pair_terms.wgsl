@@ -108,10 +108,11 @@ fn pair_dwdr(kp: KernelParams, p: Pair) -> real {
     return kernel_dwdr(kp, p.r);
 }
 
-// number_density: (W_ij, W_ij when j is of the same kind and Holmes χ is active) (T66, T46).
+// number_density: (W_ij, W_ij when j is of the same kind) (T66, T46); the second sum is used
+// only when Holmes χ is active (`density_out`), so the pair needs no stage flag.
 fn density_pair(i: u32, kp: KernelParams, p: Pair) -> real2 {
     let w = pair_w(kp, p);
-    let same = params_has(params, STAGE_HOLMES) && (p.j < params.n_fluid) == (i < params.n_fluid);
+    let same = (p.j < params.n_fluid) == (i < params.n_fluid);
     return real2(w, select(real(0.0), w, same));
 }
 
@@ -141,7 +142,7 @@ fn grad_pair(k: i32, kp: KernelParams, p: Pair) -> Grad2 {
         return g;
     }
     let l = colour[p.j];
-    if l < 0 || l == k || params_sigma(params, k, l) == real(0.0) {
+    if l < 0 || l == k || sigma_of_rows(params.sigma0, params.sigma1, params.sigma2, k, l) == real(0.0) {
         return g;
     }
     let gw = grad_w_ij(pair_dwdr(kp, p), p.x_ij, p.r);
@@ -181,6 +182,8 @@ struct AccI {
     pi_i: Sym2,
     wall: u32,
     d_i: real,
+    viscous: bool, // the stage flags, read once per particle
+    surface: bool,
 }
 
 fn acc_ctx(i: u32) -> AccI {
@@ -193,6 +196,8 @@ fn acc_ctx(i: u32) -> AccI {
     c.pi_i = Sym2(pi[i].x, pi[i].y);
     c.wall = nearest_wall(params, c.xi);
     c.d_i = real(0.0);
+    c.viscous = params_has(params, STAGE_VISCOSITY);
+    c.surface = params_has(params, STAGE_SURFACE);
     if c.wall != 0xFFFFFFFFu {
         c.d_i = wall_distance(params, c.wall, c.xi);
     }
@@ -210,7 +215,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
     let gw = grad_w_ij(dwdr, p.x_ij, p.r);
     let inv_s2_j = sigma[j].y;
     var sum = pressure_acc_ij(c.p_i, c.inv_s2_i, pres[j], inv_s2_j, gw);
-    if params_has(params, STAGE_VISCOSITY) {
+    if c.viscous {
         let fac = viscous_fac_ij(dwdr, p.r, kp.h);
         var eta_ij = c.eta_i;
         var v_ij = c.vi;
@@ -232,7 +237,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
             sum += viscous_acc_ij(eta_ij, c.inv_s2_i, inv_s2_j, fac, v_ij);
         }
     }
-    if params_has(params, STAGE_SURFACE) {
+    if c.surface {
         let pi_j = sym_by_signs(image_map_of(p.code).sign, Sym2(pi[j].x, pi[j].y));
         sum += surface_acc_ij(c.pi_i, c.inv_s2_i, pi_j, inv_s2_j, gw);
     }

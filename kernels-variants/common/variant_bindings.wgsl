@@ -113,12 +113,9 @@ fn slot_at(s: u32, phys: bool) -> u32 {
     return sorted[s];
 }
 
-// The transform of image code c (shaders/geometry.wgsl's `image_map`), for an entry whose code
-// changes from one to the next (lists, tracking candidates): code 0, the identity, the most
-// common, is not built through the call.
+// The transform of image code c (shaders/geometry.wgsl), for an entry whose code changes from
+// one to the next (lists, tracking candidates): built from the uniform's two side vectors, with
+// no call that takes `Params` by value.
 fn image_map_of(c: u32) -> ImageMap {
-    if c == 0u {
-        return ImageMap(real2(real(1.0), real(1.0)), real2(real(0.0), real(0.0)));
-    }
-    return image_map(params, c);
+    return image_map_of_sides(params.image_kind, params.image_value, c);
 }

@@ -48,7 +48,7 @@ fn walk_begin(xi: real2, w: u32, snap: bool) -> Walk {
     var k: Walk;
     k.xi = xi;
     k.code = 0xFFFFFFFFu;
-    k.map = image_map(params, 0u);
+    k.map = image_map_of(0u);
     k.row = w - 1u;
     k.half = 1u;
     k.w = w;
@@ -101,7 +101,7 @@ fn walk_next(k: ptr<function, Walk>) -> bool {
                 return false;
             }
             (*k).code = c;
-            (*k).map = image_map(params, c);
+            (*k).map = image_map_of(c);
             (*k).corner = box_corner(inverse_pos(params, c, (*k).xi), (*k).w);
             (*k).row = 0u;
         }

@@ -112,7 +112,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
             continue;
         }
         let c = cell_coords(inverse_pos(params, code, xi));
-        let map = image_map(params, code);
+        let map = image_map_of(code);
         for (var k = 0u; k < 25u; k++) {
             let x = c.x - 2 + i32(k % 5u);
             let y = c.y - 2 + i32(k / 5u);
