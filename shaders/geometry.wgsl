@@ -51,8 +51,8 @@ struct ImageMap {
 
 // The map of code c from the sides' kinds and values (`Params.image_kind`, `.image_value`): a
 // loop over entries whose code changes from one to the next passes these two vectors rather
-// than the whole `Params` by value (a copy per call on some drivers:
-// reports/engine/README.md, "Image transforms").
+// than the whole `Params` by value (why: reports/engine/README.md, "Image transforms built once
+// per code").
 fn image_map_of_sides(kind: vec4<u32>, value: vec4<real>, c: u32) -> ImageMap {
     let ax = c % 3u;
     let ay = c / 3u;

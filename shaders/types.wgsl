@@ -106,7 +106,7 @@ fn params_sigma(p: Params, k: i32, l: i32) -> real {
 }
 
 // σ^{kl} from the table's three rows, for a pair loop that passes the rows rather than the whole
-// `Params` by value (shaders/geometry.wgsl's `image_map_of_sides` says why).
+// `Params` by value (why: shaders/geometry.wgsl, `image_map_of_sides`).
 fn sigma_of_rows(r0: vec4<real>, r1: vec4<real>, r2: vec4<real>, k: i32, l: i32) -> real {
     var row = r0;
     if k == 1 {

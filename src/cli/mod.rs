@@ -67,7 +67,7 @@ enum Cmd {
     /// window around the right contact point, by row (CPU f64, one evaluation).
     Forces(forces::ForcesArgs),
     /// Time the bare neighbour walk on the GPU (no physics): cell ranges, through an index, through
-    /// the engine's by-value `Params` call, with a pair sum; read and read_write bindings.
+    /// a by-value `Params` call per candidate, with a pair sum; read and read_write bindings.
     WalkProbe(walk_probe::WalkProbeArgs),
     /// The machine: build commit, CPU and threads, memory, every GPU adapter with its features and limits.
     Info {

@@ -12,9 +12,9 @@
 //!   `pos_perm[order[s]]` (the engine's `sorted[]` before physical ordering);
 //! * `params-by-value`: as `ranges`, with every candidate's position passed through
 //!   `image_pos(params, code, x)` of `shaders/geometry.wgsl`, which takes the whole `Params`
-//!   uniform by value as the engine's walk does (the code, 0 = the identity, comes from a
-//!   uniform as the engine's does from its iterator, so the call is not folded away and only
-//!   the call differs);
+//!   uniform by value, a call per candidate (the engine's walks build each code's image map
+//!   once instead; the code, 0 = the identity, comes from a uniform, so the call is not folded
+//!   away and only the call differs);
 //! * `pair-sum`: as `ranges`, with a Wendland weight (a square root and a few products) summed
 //!   per neighbour, the least pair work a pass does.
 //!
