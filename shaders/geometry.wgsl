@@ -19,21 +19,6 @@ fn side_map(kind: u32, v: real) -> real2 {
     return real2(real(1.0), v);
 }
 
-// Map of one side (0 x-low, 1 x-high, 2 y-low, 3 y-high) applied to a coordinate.
-fn side_apply(prm: Params, side: u32, c: real) -> real {
-    let m = side_map(prm.image_kind[side], prm.image_value[side]);
-    return c * m.x + m.y;
-}
-
-// Inverse map of one side (a mirror is its own inverse; a shift by v is undone by −v).
-fn side_inverse(prm: Params, side: u32, c: real) -> real {
-    let m = side_map(prm.image_kind[side], prm.image_value[side]);
-    if prm.image_kind[side] == IMAGE_MIRROR {
-        return c * m.x + m.y;
-    }
-    return c - m.y;
-}
-
 // True when image code c = ax + 3·ay names an existing transform.
 fn image_exists(prm: Params, c: u32) -> bool {
     let ax = c % 3u;
@@ -78,6 +63,12 @@ fn image_apply(m: ImageMap, x: real2) -> real2 {
     return x * m.sign + m.shift;
 }
 
+// The inverse of `image_apply`: (x − shift)·sign (a mirror is its own inverse: (x − 2v)·(−1) is
+// 2v − x exactly; a shift by v is undone by x − v).
+fn image_unapply(m: ImageMap, x: real2) -> real2 {
+    return (x - m.shift) * m.sign;
+}
+
 // Position of the image of x under code c.
 fn image_pos(prm: Params, c: u32, x: real2) -> real2 {
     return image_apply(image_map(prm, c), x);
@@ -85,16 +76,7 @@ fn image_pos(prm: Params, c: u32, x: real2) -> real2 {
 
 // Inverse transform of code c.
 fn inverse_pos(prm: Params, c: u32, x: real2) -> real2 {
-    let ax = c % 3u;
-    let ay = c / 3u;
-    var r = x;
-    if ax != 0u {
-        r.x = side_inverse(prm, ax - 1u, x.x);
-    }
-    if ay != 0u {
-        r.y = side_inverse(prm, 1u + ay, x.y);
-    }
-    return r;
+    return image_unapply(image_map(prm, c), x);
 }
 
 // Component signs of code c (−1 per mirrored axis).

@@ -82,36 +82,54 @@ fn walk_particle(k: ptr<function, Walk>, s: u32) -> u32 {
     return slot_at(s, (*k).phys);
 }
 
-// Advances to the next non-empty span; false at the end of the walk.
+// Advances to the next non-empty span; false at the end of the walk. A code whose box lies
+// wholly outside the grid, and the wall half of every row when there are no wall particles, are
+// passed over without visiting their rows (they hold no slots: the spans are the same).
 fn walk_next(k: ptr<function, Walk>) -> bool {
     (*k).ord += (*k).s1 - (*k).s0;
+    let walls = params.n > params.n_fluid;
+    let nx = i32(params.grid_nx);
+    let ny = i32(params.grid_ny);
+    let w = i32((*k).w);
     loop {
         (*k).half ^= 1u;
+        if (*k).half == 1u && !walls {
+            (*k).half = 0u;
+        }
         if (*k).half == 0u {
             (*k).row += 1u;
         }
         if (*k).row >= (*k).w {
-            var c = (*k).code + 1u;
-            while c < 9u && !image_exists(params, c) {
+            var c = (*k).code;
+            loop {
                 c++;
+                if c >= 9u {
+                    (*k).s0 = 0u;
+                    (*k).s1 = 0u;
+                    return false;
+                }
+                if !image_exists(params, c) {
+                    continue;
+                }
+                let map = image_map_of(c);
+                let corner = box_corner(image_unapply(map, (*k).xi), (*k).w);
+                if corner.x + w > 0 && corner.x < nx && corner.y + w > 0 && corner.y < ny {
+                    (*k).code = c;
+                    (*k).map = map;
+                    (*k).corner = corner;
+                    break;
+                }
             }
-            if c >= 9u {
-                (*k).s0 = 0u;
-                (*k).s1 = 0u;
-                return false;
-            }
-            (*k).code = c;
-            (*k).map = image_map_of(c);
-            (*k).corner = box_corner(inverse_pos(params, c, (*k).xi), (*k).w);
             (*k).row = 0u;
+            (*k).half = 0u;
         }
         let y = (*k).corner.y + i32((*k).row);
         let x0 = max((*k).corner.x, 0);
-        let x1 = min((*k).corner.x + i32((*k).w) - 1, i32(params.grid_nx) - 1);
-        if y < 0 || y >= i32(params.grid_ny) || x0 > x1 {
+        let x1 = min((*k).corner.x + w - 1, nx - 1);
+        if y < 0 || y >= ny || x0 > x1 {
             continue;
         }
-        let r = u32(i32(params.grid_nx) * y);
+        let r = u32(nx * y);
         if (*k).half == 0u {
             (*k).s0 = span_start((*k).snap, r + u32(x0));
             (*k).s1 = span_start((*k).snap, r + u32(x1) + 1u);
