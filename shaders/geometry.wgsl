@@ -21,10 +21,14 @@ fn side_map(kind: u32, v: real) -> real2 {
 
 // True when image code c = ax + 3·ay names an existing transform.
 fn image_exists(prm: Params, c: u32) -> bool {
+    return image_exists_of_sides(prm.image_kind, c);
+}
+
+// The same from the sides' kinds alone (`Params.image_kind`; see `image_map_of_sides`).
+fn image_exists_of_sides(kind: vec4<u32>, c: u32) -> bool {
     let ax = c % 3u;
     let ay = c / 3u;
-    return (ax == 0u || prm.image_kind[ax - 1u] != IMAGE_NONE)
-        && (ay == 0u || prm.image_kind[1u + ay] != IMAGE_NONE);
+    return (ax == 0u || kind[ax - 1u] != IMAGE_NONE) && (ay == 0u || kind[1u + ay] != IMAGE_NONE);
 }
 
 // Code c's transform as a map per axis, x ↦ sign·x + shift (an axis c leaves alone: 1, 0), so a

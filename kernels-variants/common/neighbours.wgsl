@@ -237,7 +237,7 @@ fn nb_next(it: ptr<function, Nb>) -> bool {
             return false;
         }
         let code = (*it).cur / params.n;
-        if !image_exists(params, code) {
+        if !image_code_exists(code) {
             (*it).cur = (code + 1u) * params.n;
             continue;
         }

@@ -119,3 +119,9 @@ fn slot_at(s: u32, phys: bool) -> u32 {
 fn image_map_of(c: u32) -> ImageMap {
     return image_map_of_sides(params.image_kind, params.image_value, c);
 }
+
+// True when image code c exists in this scene (shaders/geometry.wgsl's `image_exists`, from the
+// uniform's side kinds).
+fn image_code_exists(c: u32) -> bool {
+    return image_exists_of_sides(params.image_kind, c);
+}

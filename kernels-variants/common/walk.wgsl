@@ -108,7 +108,7 @@ fn walk_next(k: ptr<function, Walk>) -> bool {
                     (*k).s1 = 0u;
                     return false;
                 }
-                if !image_exists(params, c) {
+                if !image_code_exists(c) {
                     continue;
                 }
                 let map = image_map_of(c);

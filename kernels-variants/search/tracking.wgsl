@@ -108,11 +108,15 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     var count = 0u;
     let phys = physical_order();
     for (var code = 0u; code < 9u; code++) {
-        if !image_exists(params, code) {
+        if !image_code_exists(code) {
             continue;
         }
-        let c = cell_coords(inverse_pos(params, code, xi));
         let map = image_map_of(code);
+        let c = cell_coords(image_unapply(map, xi));
+        // A block wholly outside the grid holds no cells (common/walk.wgsl passes it over too).
+        if c.x + 2 < 0 || c.y + 2 < 0 || c.x - 2 >= i32(params.grid_nx) || c.y - 2 >= i32(params.grid_ny) {
+            continue;
+        }
         for (var k = 0u; k < 25u; k++) {
             let x = c.x - 2 + i32(k % 5u);
             let y = c.y - 2 + i32(k / 5u);
