@@ -215,13 +215,15 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
     let gw = grad_w_ij(dwdr, p.x_ij, p.r);
     let inv_s2_j = sigma[j].y;
     var sum = pressure_acc_ij(c.p_i, c.inv_s2_i, pres[j], inv_s2_j, gw);
+    // Component signs of j's image (v and Π_xy flip per mirrored axis).
+    let sign = image_map_of(p.code).sign;
     if c.viscous {
         let fac = viscous_fac_ij(dwdr, p.r, kp.h);
         var eta_ij = c.eta_i;
         var v_ij = c.vi;
         if j < params.n_fluid {
             eta_ij = harmonic_viscosity(c.eta_i, params.eta[phase[j]]);
-            v_ij = c.vi - vel[j] * image_map_of(p.code).sign;
+            v_ij = c.vi - vel[j] * sign;
         } else if c.wall != 0xFFFFFFFFu {
             var beta = real(1.0);
             if params.wall_velocity == WALL_VELOCITY_HOLMES {
@@ -238,7 +240,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
         }
     }
     if c.surface {
-        let pi_j = sym_by_signs(image_map_of(p.code).sign, Sym2(pi[j].x, pi[j].y));
+        let pi_j = sym_by_signs(sign, Sym2(pi[j].x, pi[j].y));
         sum += surface_acc_ij(c.pi_i, c.inv_s2_i, pi_j, inv_s2_j, gw);
     }
     return sum;
