@@ -19,14 +19,15 @@ use sphlab::exec::Exec;
 use sphlab::forces::balance::{band_tension, cut_rows};
 use sphlab::neighbours::SearchKind;
 use sphlab::scene::build::build_layout;
-use sphlab::scene::{builtin, ContactMode, DtPolicy, Scene, Shape, ShapeKind, Side};
+use sphlab::scene::{builtin, capillary, ContactMode, DtPolicy, Scene, Shape, ShapeKind, Side};
 
 const NX: u32 = 40;
 const ALL: [PairTerm; 3] = [PairTerm::Pressure, PairTerm::Viscous, PairTerm::Surface];
 
 /// relax-60's phases, σ = 1 and p_b, on a 0.5 × 0.5 periodic box: liquid below y = 0.25;
-/// Mode A walls with σ_LS = σ_GS = `sigma_w`.
-fn layer(mode: ContactMode, nx: u32, sigma_w: f64) -> Scene {
+/// Mode A walls with σ_LS = `sigma_w[0]`, σ_GS = `sigma_w[1]`; `ruled`: p_b and c0 by the
+/// capillary rule at `nx` (else relax-60's own, those of its built-in resolution).
+fn layer(mode: ContactMode, nx: u32, sigma_w: [f64; 2], ruled: bool) -> Scene {
     let mut sc = builtin::builtin("relax-60").unwrap();
     sc.domain.nx = nx;
     sc.domain.left = Side::Periodic;
@@ -41,10 +42,13 @@ fn layer(mode: ContactMode, nx: u32, sigma_w: f64) -> Scene {
         velocity: [0.0; 2],
     }];
     sc.contact.mode = mode;
-    sc.contact.sigma_ls = sigma_w;
-    sc.contact.sigma_gs = sigma_w;
+    sc.contact.sigma_ls = sigma_w[0];
+    sc.contact.sigma_gs = sigma_w[1];
     sc.time.dt_policy = DtPolicy::Scale;
-    if sigma_w > 1.0 {
+    if ruled {
+        capillary::apply(&mut sc);
+    }
+    if sigma_w[0].max(sigma_w[1]) > 1.0 {
         sc.time.dt = 5e-5; // under the capillary limit of the larger σ
     }
     sc.validate().unwrap();
@@ -53,8 +57,8 @@ fn layer(mode: ContactMode, nx: u32, sigma_w: f64) -> Scene {
 
 /// Band tensions averaged over the states every 20 steps in t ∈ [0.3, 0.6] (the acoustic
 /// ringing of the start averages out), per term set: (free band, bottom wall band, top wall band).
-fn tensions(mode: ContactMode, nx: u32, sigma_w: f64, terms: &[&[PairTerm]]) -> Vec<[f64; 3]> {
-    let sc = layer(mode, nx, sigma_w);
+fn tensions(mode: ContactMode, nx: u32, sigma_w: [f64; 2], ruled: bool, terms: &[&[PairTerm]]) -> Vec<[f64; 3]> {
+    let sc = layer(mode, nx, sigma_w, ruled);
     let layout = build_layout(&sc).unwrap();
     let mut s = CpuSolver::<f64>::new(&sc, &layout, Exec::Parallel, SearchKind::Cells);
     let (dx, y_w, n) = (sc.domain.dx(), s.model.y_wall, nx);
@@ -81,12 +85,12 @@ fn tensions(mode: ContactMode, nx: u32, sigma_w: f64, terms: &[&[PairTerm]]) -> 
 
 #[test]
 fn the_fluid_carries_half_of_a_mode_a_wall_band() {
-    let none = tensions(ContactMode::None, NX, 1.0, &[&ALL])[0];
+    let none = tensions(ContactMode::None, NX, [1.0; 2], false, &[&ALL])[0];
     eprintln!("contact none: free band {:.4}, bottom wall {:.4}, top wall {:.4}", none[0], none[1], none[2]);
     assert!(none[1].abs() < 0.01 && none[2].abs() < 0.01, "uncoloured walls read a tension: {none:?}");
     assert!(none[0] > 0.8 && none[0] < 1.05, "the free band carries {:.4}, not about σ = 1", none[0]);
 
-    let parts = tensions(ContactMode::A, NX, 1.0, &[&ALL, &[PairTerm::Pressure], &[PairTerm::Surface]]);
+    let parts = tensions(ContactMode::A, NX, [1.0; 2], false, &[&ALL, &[PairTerm::Pressure], &[PairTerm::Surface]]);
     let names = ["all terms", "pressure", "surface stress"];
     for (name, t) in names.iter().zip(&parts) {
         eprintln!("mode A, {name}: free band {:.4}, bottom wall {:.4}, top wall {:.4}", t[0], t[1], t[2]);
@@ -107,19 +111,22 @@ fn the_fluid_carries_half_of_a_mode_a_wall_band() {
     );
 }
 
-/// The same measurement at another resolution or wall coefficient, printed, not asserted
+/// The same measurement at another resolution or wall coefficients, printed, not asserted
 /// (`NX=80 SIGMA_W=1 cargo test --release --test force_balance -- --ignored --nocapture`;
-/// the records are in reports/validation/relax-60/mode-a-check/layer/).
+/// `SIGMA_LS`, `SIGMA_GS` set the two wall bands apart, `RULED=1` takes p_b and c0 by the
+/// capillary rule at NX; the records are in reports/validation/relax-60/mode-a-check/layer/).
 #[test]
 #[ignore]
 fn layer_by_hand() {
     let env = |k: &str, d: f64| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
     let (nx, sigma_w) = (env("NX", NX as f64) as u32, env("SIGMA_W", 1.0));
-    let parts = tensions(ContactMode::A, nx, sigma_w, &[&ALL, &[PairTerm::Pressure], &[PairTerm::Surface]]);
+    let sw = [env("SIGMA_LS", sigma_w), env("SIGMA_GS", sigma_w)];
+    let ruled = env("RULED", 0.0) != 0.0;
+    let parts = tensions(ContactMode::A, nx, sw, ruled, &[&ALL, &[PairTerm::Pressure], &[PairTerm::Surface]]);
     for (name, t) in ["all terms", "pressure", "surface stress"].iter().zip(&parts) {
         println!(
-            "nx {nx} sigma_w {sigma_w}, {name}: free band {:.4}, bottom wall {:.4}, top wall {:.4}",
-            t[0], t[1], t[2]
+            "nx {nx} sigma_ls {} sigma_gs {} ruled {ruled}, {name}: free band {:.4}, bottom (liquid) wall {:.4}, top (gas) wall {:.4}",
+            sw[0], sw[1], t[0], t[1], t[2]
         );
     }
 }
