@@ -264,11 +264,27 @@ fn forces_reports_a_runs_force_balance_and_refuses_what_is_not_a_run() {
         total(&md),
         total(&at20)
     );
+    // Three cuts per side: six rows and each side's mean and range; the default's two cuts are
+    // the profile's middle ones (half-way to the contact point).
+    let o = sphlab(&["forces", out_s, "--step", "40", "--cuts-per-side", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let prof = String::from_utf8(o.stdout).expect("utf8");
+    let cut_rows = |md: &str| {
+        md.lines().filter(|l| l.starts_with("| liquid side | 0.") || l.starts_with("| gas side | 0.")).count()
+    };
+    assert_eq!((cut_rows(&md), cut_rows(&prof)), (2, 6), "{prof}");
+    for needle in ["| liquid side | 3 | ", "| gas side | 3 | ", "Gas side − liquid side (means over the cuts)"] {
+        assert!(prof.contains(needle), "no `{needle}` in:\n{prof}");
+    }
+    let row =
+        |md: &str, k: usize| md.lines().filter(|l| l.starts_with("| liquid side | 0.")).nth(k).map(str::to_string);
+    assert_eq!(row(&md, 0), row(&prof, 1), "the half-way cut under the liquid");
     // Inputs that are not a run, a missing step, a bad window: exit 2 naming what is wrong.
     assert_input_error(&["forces", dir.path().to_str().expect("utf8")], "summary.json");
     assert_input_error(&["forces", out_s, "--step", "7"], "--step 7: no such snapshot");
     assert_input_error(&["forces", out_s, "--half-width", "0"], "--half-width 0");
     assert_input_error(&["forces", out_s, "--last", "4"], "--last 4");
+    assert_input_error(&["forces", out_s, "--cuts-per-side", "0"], "--cuts-per-side 0");
 }
 
 #[test]

@@ -26,10 +26,15 @@ pub struct ForcesArgs {
     /// Height of the window above the wall, in Δx.
     #[arg(long, default_value_t = 6.0)]
     height: f64,
-    /// x of the two cuts (under the liquid, under the gas) whose wall-band tensions are
-    /// measured, as X1,X2 (default: half-way to the contact point from either side).
-    #[arg(long, value_delimiter = ',', num_args = 2)]
+    /// x of the cuts whose wall-band tensions are measured, as X1,X2,… (each on the liquid or
+    /// the gas side of the contact point by where it lies; default: --cuts-per-side).
+    #[arg(long, value_delimiter = ',', num_args = 1..)]
     cuts: Option<Vec<f64>>,
+    /// Without --cuts: N cuts evenly spaced on each side of the contact point (1: half-way to
+    /// it from either side); with N > 1 the report adds each side's mean and range, the
+    /// band tension's scatter along the wall.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    cuts_per_side: usize,
     /// Also write every fluid particle's split (18 components) to this CSV.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -43,7 +48,8 @@ pub fn run(a: ForcesArgs, threads: Option<u16>) -> Result<(), Error> {
         at: a.at,
         half_width_dx: a.half_width,
         height_dx: a.height,
-        cuts: a.cuts.map(|c| [c[0], c[1]]),
+        cuts: a.cuts,
+        cuts_per_side: a.cuts_per_side,
         csv: a.csv,
         exec: if threads == Some(1) { Exec::Serial } else { Exec::Parallel },
     };

@@ -25,10 +25,14 @@ pub struct ForceOptions {
     pub half_width_dx: f64,
     /// Height of the window above the wall in Δx.
     pub height_dx: f64,
-    /// x of the two vertical cuts whose wall-band tensions are measured, one under the liquid
-    /// and one under the gas (default: half-way from x = domain.x[0] to the window's centre,
-    /// and half-way from there to domain.x[1]).
-    pub cuts: Option<[f64; 2]>,
+    /// x of the vertical cuts whose wall-band tensions are measured (each on the liquid side
+    /// of the contact point or on its gas side by where it lies); when absent,
+    /// `cuts_per_side` cuts evenly spaced on either side.
+    pub cuts: Option<Vec<f64>>,
+    /// Cuts per side when `cuts` is absent: at x0 + k(x_c − x0)/(n + 1) and
+    /// x_c + k(x1 − x_c)/(n + 1), k = 1..n (1: half-way from x = domain.x[0] to the contact
+    /// point and half-way from there to domain.x[1]).
+    pub cuts_per_side: usize,
     /// Number of snapshots, ending at `step` (or the last), whose balances are averaged.
     pub last: usize,
     /// Per-particle CSV (every fluid particle, all 18 components).
@@ -55,11 +59,11 @@ struct StateBalance {
     t: f64,
     x_c: f64,
     window: Window,
-    cuts: [f64; 2],
+    cuts: Vec<f64>,
     /// Per cut: the tension of every term, then of each of [`TERMS`].
-    tension: [[Option<f64>; 4]; 2],
+    tension: Vec<[Option<f64>; 4]>,
     /// Per cut: liquid and gas particles in the first three rows within Δx of it.
-    above: [[usize; 2]; 2],
+    above: Vec<[usize; 2]>,
 }
 
 /// The report of `dir`'s snapshot, or the mean over its last `o.last` snapshots (Markdown);
@@ -69,6 +73,13 @@ pub fn force_report(dir: &Path, o: &ForceOptions) -> Result<String, String> {
         return Err(format!(
             "--half-width {} / --height {}: both must be positive numbers of Δx",
             o.half_width_dx, o.height_dx
+        ));
+    }
+    if o.cuts.as_ref().is_some_and(|c| c.is_empty() || c.iter().any(|x| !x.is_finite())) || o.cuts_per_side == 0 {
+        return Err(format!(
+            "--cuts {:?} / --cuts-per-side {}: give at least one finite x, or at least one cut per side",
+            o.cuts.as_deref().unwrap_or(&[]),
+            o.cuts_per_side
         ));
     }
     let scene = run_scene(dir)?;
@@ -100,7 +111,7 @@ pub fn force_report(dir: &Path, o: &ForceOptions) -> Result<String, String> {
     let x_c = states.iter().map(|s| s.x_c).sum::<f64>() / k;
     let windows: Vec<Window> = states.iter().map(|s| s.window.clone()).collect();
     let mut md = markdown(dir, &scene, &states, x_c, o, &Window::mean(&windows));
-    md.push_str(&cut_section(&scene, &states));
+    md.push_str(&cut_section(&scene, &states, x_c));
     Ok(md)
 }
 
@@ -130,19 +141,25 @@ fn state_balance(
         write_csv(csv, &snap.pos, &snap.phase, &split)?;
     }
     let [x0, x1] = scene.domain.x;
-    let cuts = o.cuts.unwrap_or([0.5 * (x0 + x_c), 0.5 * (x_c + x1)]);
-    let mut tension = [[None; 4]; 2];
-    let mut above = [[0usize; 2]; 2];
-    for (k, &x) in cuts.iter().enumerate() {
+    let cuts = o.cuts.clone().unwrap_or_else(|| {
+        let n = o.cuts_per_side;
+        let at = |a: f64, b: f64, k: usize| a + (b - a) * k as f64 / (n + 1) as f64;
+        (1..=n).map(|k| at(x0, x_c, k)).chain((1..=n).map(|k| at(x_c, x1, k))).collect()
+    });
+    let mut tension = Vec::with_capacity(cuts.len());
+    let mut above = Vec::with_capacity(cuts.len());
+    for &x in &cuts {
         let rows = cut_rows(&solver, x, dx, y_w);
         let of = |terms: &[PairTerm]| band_tension(&rows, terms, BAND_ROWS, BULK_ROWS);
-        tension[k] = [of(&TERMS), of(&TERMS[0..1]), of(&TERMS[1..2]), of(&TERMS[2..3])];
+        tension.push([of(&TERMS), of(&TERMS[0..1]), of(&TERMS[1..2]), of(&TERMS[2..3])]);
+        let mut n = [0usize; 2];
         for i in 0..solver.n_fluid {
             let p = solver.pos[i];
             if (p.x - x).abs() < dx && p.y - y_w < 3.0 * dx && solver.phase[i] < 2 {
-                above[k][solver.phase[i] as usize] += 1;
+                n[solver.phase[i] as usize] += 1;
             }
         }
+        above.push(n);
     }
     Ok(StateBalance { step, t, x_c, window, cuts, tension, above })
 }
@@ -151,9 +168,9 @@ fn state_balance(
 const BAND_ROWS: std::ops::Range<u32> = 0..4;
 const BULK_ROWS: std::ops::Range<u32> = 5..9;
 
-/// The wall-band tensions across the two cuts (means over the states), by term, against
-/// Young's line force.
-fn cut_section(scene: &Scene, states: &[StateBalance]) -> String {
+/// The wall-band tensions across the cuts (means over the states), by term; with several cuts
+/// on a side, their mean and range; against Young's line force.
+fn cut_section(scene: &Scene, states: &[StateBalance], x_c: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -165,19 +182,25 @@ fn cut_section(scene: &Scene, states: &[StateBalance]) -> String {
     );
     let _ = writeln!(out, "| cut | x | fluid above the wall there (last state) | tension | pressure part | viscous part | surface part |\n|---|---|---|---|---|---|---|");
     let k = states.len() as f64;
-    let mut all = [f64::NAN; 2];
-    for (c, name) in ["liquid side", "gas side"].into_iter().enumerate() {
+    let n_cuts = states.first().map_or(0, |s| s.cuts.len());
+    // Per side (liquid, gas): each cut's mean tension of every term and of each term.
+    let mut sides: [Vec<[f64; 4]>; 2] = [Vec::new(), Vec::new()];
+    for c in 0..n_cuts {
         let x = states.iter().map(|s| s.cuts[c]).sum::<f64>() / k;
+        let side = usize::from(x > x_c);
         let mean = |j: usize| -> Option<f64> {
             let v: Option<Vec<f64>> = states.iter().map(|s| s.tension[c][j]).collect();
             v.map(|v| v.iter().sum::<f64>() / k)
         };
         let fmt = |v: Option<f64>| v.map_or("— (rows missing)".to_string(), |v| format!("{v:+.4}"));
-        all[c] = mean(0).unwrap_or(f64::NAN);
+        if let (Some(a), Some(p), Some(v), Some(st)) = (mean(0), mean(1), mean(2), mean(3)) {
+            sides[side].push([a, p, v, st]);
+        }
         let last = states.last().map_or([0; 2], |s| s.above[c]);
         let _ = writeln!(
             out,
-            "| {name} | {x:.5} | {} liquid, {} gas | {} | {} | {} | {} |",
+            "| {} | {x:.5} | {} liquid, {} gas | {} | {} | {} | {} |",
+            ["liquid side", "gas side"][side],
             last[0],
             last[1],
             fmt(mean(0)),
@@ -186,17 +209,38 @@ fn cut_section(scene: &Scene, states: &[StateBalance]) -> String {
             fmt(mean(3))
         );
     }
+    let side_mean = |v: &[[f64; 4]], j: usize| v.iter().map(|t| t[j]).sum::<f64>() / v.len() as f64;
+    if sides.iter().any(|v| v.len() > 1) {
+        let _ = writeln!(out, "\n| side | cuts | tension, mean (range) | pressure part | viscous part | surface part |\n|---|---|---|---|---|---|");
+        for (name, v) in ["liquid side", "gas side"].iter().zip(&sides) {
+            if v.is_empty() {
+                continue;
+            }
+            let cell = |j: usize| {
+                let (lo, hi) =
+                    v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| (lo.min(t[j]), hi.max(t[j])));
+                format!("{:+.4} ({lo:+.4} to {hi:+.4})", side_mean(v, j))
+            };
+            let _ = writeln!(out, "| {name} | {} | {} | {} | {} | {} |", v.len(), cell(0), cell(1), cell(2), cell(3));
+        }
+    }
+    let all = [0, 1].map(|s| if sides[s].is_empty() { f64::NAN } else { side_mean(&sides[s], 0) });
+    let what = if sides.iter().any(|v| v.len() > 1) {
+        "Gas side − liquid side (means over the cuts)"
+    } else {
+        "Gas side − liquid side"
+    };
     let c = &scene.contact;
     if c.mode == ContactMode::A {
         let _ = writeln!(
             out,
-            "\nGas side − liquid side: {:+.4}. Young's σ_GS − σ_LS = {:+.4}; half of it {:+.4}.",
+            "\n{what}: {:+.4}. Young's σ_GS − σ_LS = {:+.4}; half of it {:+.4}.",
             all[1] - all[0],
             c.sigma_gs - c.sigma_ls,
             0.5 * (c.sigma_gs - c.sigma_ls)
         );
     } else {
-        let _ = writeln!(out, "\nGas side − liquid side: {:+.4}.", all[1] - all[0]);
+        let _ = writeln!(out, "\n{what}: {:+.4}.", all[1] - all[0]);
     }
     out
 }
