@@ -15,6 +15,7 @@ mod rule;
 mod sensitivity;
 #[cfg(test)]
 mod tests;
+mod young_sweep;
 
 use rule::{alpha_band, at_two_resolutions, nx_band, rule_text, KERNELS};
 use sensitivity::{relax_rule_band, sessile_pb_band};
@@ -271,6 +272,14 @@ fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
     }
     for r in rows(rep, "Mode B, no-slip: end angle approached from both sides") {
         r.qualify(&rule, None);
+    }
+    young_sweep::young_sweep_rows(root, rep);
+    for r in rows(rep, "Mode A Young sweep") {
+        r.qualify(
+            "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, no-slip, \
+             T-wall, the starts",
+            None,
+        );
     }
 }
 

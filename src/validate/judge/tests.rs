@@ -202,3 +202,66 @@ fn every_kernel_is_held_to_the_thesis_at_both_resolutions_once() {
     let cubic = rep.row("period under the rule at nx = 30 / 45, cubic spline").unwrap();
     assert!(cubic.verdict.starts_with("FAIL") && cubic.sphlab.starts_with("0.3200 / 0.2970"), "{cubic:?}");
 }
+
+/// Writes a committed-run folder of the Young sweep whose circle-fit angle is `theta` over the
+/// end window (and far off it outside the window, which must not count).
+fn sweep_run(root: &Path, name: &str, theta: f64) {
+    let dir = root.join("capillary-rule/relax-60").join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut w = csv::Writer::from_path(dir.join("series.csv")).unwrap();
+    for (k, t) in [4.0, 4.3, 4.4, 4.5, 4.8].into_iter().enumerate() {
+        let inside = (4.3..=4.5).contains(&t);
+        let row = crate::run::SeriesRow {
+            t,
+            step: k as u64,
+            theta_circle_fit: Some(if inside { theta } else { 150.0 }),
+            ..Default::default()
+        };
+        w.serialize(row).unwrap();
+    }
+    w.flush().unwrap();
+}
+
+#[test]
+fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_refinement() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    // 60°: within 3° at nx = 65 and converging (midpoints 64, 62, 61).
+    for (nx, a, b) in [(33, 66.0, 62.0), (45, 63.0, 61.0), (65, 61.5, 60.5)] {
+        sweep_run(root, &format!("nx{nx}-a-from90"), a);
+        sweep_run(root, &format!("nx{nx}-a-from45"), b);
+    }
+    // 120° (built-in tensions): within 3° at nx = 65 but not closer at nx = 45 than at 33.
+    for (nx, a, b) in [(33, 118.0, 119.0), (45, 114.0, 115.0), (65, 118.0, 119.0)] {
+        sweep_run(root, &format!("nx{nx}-a-sls1.5-from90"), a);
+        sweep_run(root, &format!("nx{nx}-a-sls1.5-from135"), b);
+    }
+    // 41°: nx = 65 missing: an info row, not a verdict.
+    for nx in [33, 45] {
+        sweep_run(root, &format!("nx{nx}w-a-sls0.245-from90"), 44.0);
+        sweep_run(root, &format!("nx{nx}w-a-sls0.245-from30"), 40.0);
+    }
+    let opts = ValidateOptions { out: root.to_path_buf(), ..ValidateOptions::default() };
+    let mut rep = report("relax-60", Vec::new());
+    judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
+    let at = |theta: &str| -> &Row {
+        rep.rows.iter().find(|r| r.quantity.starts_with(&format!("Mode A Young sweep, θ_Y = {theta}"))).unwrap_or_else(
+            || panic!("no {theta} row in {:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>()),
+        )
+    };
+    let sixty = at("60° (σ_LS = 0.5");
+    assert!(sixty.verdict.starts_with("pass ("), "{}", sixty.verdict);
+    assert!((sixty.value - 61.0).abs() < 1e-12, "the nx = 65 midpoint, window rows only: {}", sixty.value);
+    assert!(sixty.sphlab.starts_with("64.00 → 62.00 → 61.00"), "{}", sixty.sphlab);
+    assert!(sixty.sphlab.contains("nx{33,45,65}-a-from{90,45}"), "{}", sixty.sphlab);
+    let hydrophobic = at("120° (σ_LS = 1.5");
+    assert!(hydrophobic.verdict.starts_with("FAIL ("), "{}", hydrophobic.verdict);
+    let wide = at("41°");
+    assert!(!wide.verdict.starts_with("pass") && !wide.verdict.starts_with("FAIL"), "{}", wide.verdict);
+    assert!(wide.quantity.ends_with("nx = 33, 45 (deg)"), "{}", wide.quantity);
+    assert!(rep.rows.iter().all(|r| !r.quantity.contains("σ_GS = 0")), "the (0.5, 0) pair has no runs here");
+    // Judging again gives the same rows once each.
+    let before = rep.rows.len();
+    judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
+    assert_eq!(rep.rows.len(), before);
+}
