@@ -54,7 +54,7 @@ fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<f64> {
 }
 
 /// Replaces the sweep's rows of `rep` with one row per point that has all three resolutions; a
-/// point with fewer is an info row naming what is missing.
+/// point with fewer is an info row that names the resolutions it has.
 pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
     const HEAD: &str = "Mode A Young sweep, θ_Y = ";
     rep.rows.retain(|r| !r.quantity.starts_with(HEAD));
