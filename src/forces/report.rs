@@ -192,8 +192,9 @@ fn cut_section(scene: &Scene, states: &[StateBalance], x_c: f64) -> String {
             let v: Option<Vec<f64>> = states.iter().map(|s| s.tension[c][j]).collect();
             v.map(|v| v.iter().sum::<f64>() / k)
         };
+        let m: [Option<f64>; 4] = std::array::from_fn(mean);
         let fmt = |v: Option<f64>| v.map_or("— (rows missing)".to_string(), |v| format!("{v:+.4}"));
-        if let (Some(a), Some(p), Some(v), Some(st)) = (mean(0), mean(1), mean(2), mean(3)) {
+        if let [Some(a), Some(p), Some(v), Some(st)] = m {
             sides[side].push([a, p, v, st]);
         }
         let last = states.last().map_or([0; 2], |s| s.above[c]);
@@ -203,14 +204,15 @@ fn cut_section(scene: &Scene, states: &[StateBalance], x_c: f64) -> String {
             ["liquid side", "gas side"][side],
             last[0],
             last[1],
-            fmt(mean(0)),
-            fmt(mean(1)),
-            fmt(mean(2)),
-            fmt(mean(3))
+            fmt(m[0]),
+            fmt(m[1]),
+            fmt(m[2]),
+            fmt(m[3])
         );
     }
     let side_mean = |v: &[[f64; 4]], j: usize| v.iter().map(|t| t[j]).sum::<f64>() / v.len() as f64;
-    if sides.iter().any(|v| v.len() > 1) {
+    let profile = sides.iter().any(|v| v.len() > 1);
+    if profile {
         let _ = writeln!(out, "\n| side | cuts | tension, mean (range) | pressure part | viscous part | surface part |\n|---|---|---|---|---|---|");
         for (name, v) in ["liquid side", "gas side"].iter().zip(&sides) {
             if v.is_empty() {
@@ -225,11 +227,7 @@ fn cut_section(scene: &Scene, states: &[StateBalance], x_c: f64) -> String {
         }
     }
     let all = [0, 1].map(|s| if sides[s].is_empty() { f64::NAN } else { side_mean(&sides[s], 0) });
-    let what = if sides.iter().any(|v| v.len() > 1) {
-        "Gas side − liquid side (means over the cuts)"
-    } else {
-        "Gas side − liquid side"
-    };
+    let what = if profile { "Gas side − liquid side (means over the cuts)" } else { "Gas side − liquid side" };
     let c = &scene.contact;
     if c.mode == ContactMode::A {
         let _ = writeln!(

@@ -367,6 +367,11 @@ fn max_density_error(root: &Path, nx: u32) -> f64 {
 /// θ (circle fit, mean over [4.3, 4.5]) of the committed nx run at p_b = 45 held fixed
 /// (`convergence/pb-check/runs/nx<nx>-pb45`), when there is one.
 fn fixed_pb_angle(root: &Path, nx: u32) -> Option<f64> {
-    let rows = read_series(&root.join(format!("convergence/pb-check/runs/nx{nx}-pb45")));
-    window_stats(&col(&rows, |r| r.theta_circle_fit), 4.3, 4.5).map(|s| s.0)
+    end_angle(&root.join(format!("convergence/pb-check/runs/nx{nx}-pb45")))
+}
+
+/// The circle-fit angle of the committed run in `dir`, mean over relax-60's end window
+/// t ∈ [4.3, 4.5] (None without its series or rows there).
+fn end_angle(dir: &Path) -> Option<f64> {
+    window_stats(&col(&read_series(dir), |r| r.theta_circle_fit), 4.3, 4.5).map(|s| s.0)
 }

@@ -4,15 +4,12 @@
 //! the capillary-rule README says how each was run). The acceptance is the issue's: within 3° of
 //! θ_Y at nx = 65, and cos θ / cos θ_Y closer to 1 at every refinement.
 
-use super::super::data::{col, read_series, window_stats};
 use super::super::report::{CaseReport, Row};
-use super::{falls, ANGLE_TOL_DEG};
+use super::{end_angle, falls, ANGLE_TOL_DEG};
 use std::path::Path;
 
 /// The resolutions of the sweep, coarse to fine.
 const NXS: [u32; 3] = [33, 45, 65];
-/// The end window of relax-60 (t ∈ [4.3, 4.5]).
-const WINDOW: (f64, f64) = (4.3, 4.5);
 /// Where the runs are, relative to the report root.
 const RUNS: &str = "capillary-rule/relax-60";
 
@@ -39,17 +36,11 @@ const POINTS: [Point; 4] = [
     },
 ];
 
-/// The circle-fit angle of one committed run, mean over the end window (None without its series).
-fn end_angle(root: &Path, run: &str) -> Option<f64> {
-    let rows = read_series(&root.join(RUNS).join(run));
-    window_stats(&col(&rows, |r| r.theta_circle_fit), WINDOW.0, WINDOW.1).map(|s| s.0)
-}
-
 /// The two starts' midpoint at `nx` (None unless both runs are committed).
 fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<f64> {
     let dir = p.run.replace("{nx}", &nx.to_string());
-    let a = end_angle(root, &format!("{dir}{}", p.starts[0]))?;
-    let b = end_angle(root, &format!("{dir}{}", p.starts[1]))?;
+    let a = end_angle(&root.join(RUNS).join(format!("{dir}{}", p.starts[0])))?;
+    let b = end_angle(&root.join(RUNS).join(format!("{dir}{}", p.starts[1])))?;
     Some(0.5 * (a + b))
 }
 
