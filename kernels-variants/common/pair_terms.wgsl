@@ -77,11 +77,7 @@ fn pair_at(xi: real2, slot: u32) -> Pair {
     p.j = e & PACK_MASK;
     p.code = e >> PACK_SHIFT;
     p.slot = slot;
-#ifdef CACHED
-    p.xj = cache_xj[slot];
-#else
     p.xj = image_apply(image_map_of(p.code), pos[p.j]);
-#endif
     p.x_ij = xi - p.xj;
     p.r2 = p.x_ij.x * p.x_ij.x + p.x_ij.y * p.x_ij.y;
     p.r = sqrt(p.r2);

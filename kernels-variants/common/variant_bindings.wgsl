@@ -16,11 +16,10 @@
 @group(1) @binding(3) var<storage, read_write> nbr: array<u32>;       // slot k of i at nbr_slot(i, k)
 #ifdef CACHED
 @group(1) @binding(4) var<storage, read_write> cache_wf: array<real2>; // (W_ij, F'(r_ij)) per slot
-@group(1) @binding(5) var<storage, read_write> cache_xj: array<real2>; // image position of j per slot
 #else
 // Binding 4 holds the high words of a fixed-point accumulation (common/accum.wgsl).
-@group(1) @binding(5) var<storage, read_write> cand_hi: array<u32>;    // tracking mask words CAND_LO_WORDS..
 #endif
+@group(1) @binding(5) var<storage, read_write> cand_hi: array<u32>;    // tracking mask words CAND_LO_WORDS..
 @group(1) @binding(6) var<storage, read_write> cand: array<u32>;       // slot k of i at i*CAND_SLOTS + k
 @group(1) @binding(7) var<storage, read_write> ref_pos: array<real2>;  // positions at the last build
 
@@ -82,7 +81,7 @@ fn pack_nb(j: u32, code: u32) -> u32 {
     return j | (code << PACK_SHIFT);
 }
 
-// Index of list slot k of particle i in `nbr`, `cache_wf`, `cache_xj`: slot-major (`SLOT_MAJOR`,
+// Index of list slot k of particle i in `nbr` and `cache_wf`: slot-major (`SLOT_MAJOR`,
 // the thread mapping: neighbouring threads read neighbouring words) or particle-major (the
 // block layouts: a row of 16 threads reads 16 consecutive slots of one particle).
 fn nbr_slot(i: u32, k: u32) -> u32 {

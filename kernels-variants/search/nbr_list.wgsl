@@ -134,7 +134,6 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
                 let x_ij = xi - nb.xj;
                 let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
                 cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
-                cache_xj[slot] = nb.xj;
 #endif
             }
             count += 1u;

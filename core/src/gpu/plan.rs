@@ -21,7 +21,7 @@
 
 use crate::gpu::mask_lists::list_words;
 use crate::gpu::variant::{ListFormat, VariantSpec};
-use crate::gpu::variant_buffers::{binding_names, vctl};
+use crate::gpu::variant_buffers::{binding4_name, vctl};
 use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
 use crate::neighbours::SearchKind;
@@ -162,7 +162,7 @@ impl GpuPlan {
         let tracking = spec.search == SearchKind::Tracking;
         let on = |b: bool, len: u64| if b { len } else { 1 };
         let w = list_words(spec, n as usize, cells as usize, r as usize);
-        let (b4, b5) = binding_names(spec);
+        let b4 = binding4_name(spec);
         let blocks = scan_blocks(cells as usize) as u64;
         let params = (if r == 8 {
             size_of::<crate::gpu::params::Params<f64>>()
@@ -200,7 +200,7 @@ impl GpuPlan {
             ("counts", 2 * n.max(1), 4),
             ("nbr", w.nbr as u64, 4),
             (b4, w.b4 as u64, 4),
-            (b5, w.b5 as u64, 4),
+            ("cand_hi", w.b5 as u64, 4),
             ("cand", w.cand as u64, 4),
             ("ref_pos", on(tracking, n), v2),
             ("accum", w.accum as u64, 4),
@@ -227,8 +227,7 @@ impl GpuPlan {
     fn per_pair_note(&self, b: &BufferPlan, cap: u64) -> String {
         let slots = crate::gpu::variant_buffers::NBR_SLOTS as u64;
         let per_slot = b.bytes / (slots * self.n.max(1));
-        let slotted =
-            matches!(b.name, "nbr" | "cache_wf" | "cache_xj") && !crate::gpu::mask_lists::uses_masks(&self.spec);
+        let slotted = matches!(b.name, "nbr" | "cache_wf") && !crate::gpu::mask_lists::uses_masks(&self.spec);
         if !slotted || per_slot == 0 {
             return String::new();
         }
@@ -458,6 +457,6 @@ mod tests {
         let e = GpuPlan::new(&spec, 20_000_000, 1000).check(&small).unwrap_err();
         assert!(e.contains("device memory") && e.contains("1073741824"), "{e}");
         let cached: VariantSpec = "cells.thread.cached.f64".parse().unwrap();
-        assert!(bytes_per_particle(&cached, 0.0) > 64.0 * 32.0, "two 64-slot f64 vec2 caches");
+        assert!(bytes_per_particle(&cached, 0.0) > 64.0 * 16.0, "the 64-slot f64 (W, F′) cache");
     }
 }

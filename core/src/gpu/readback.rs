@@ -210,7 +210,7 @@ impl<T: Real> GpuSolver<T> {
             // The slots as the kernels read them (`slot_at`): s itself in physical order.
             let sorted: Vec<u32> = if self.physical_order() { (0..self.n as u32).collect() } else { slots };
             let (nbr, cand, cand_hi) =
-                (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cache_xj.read_back(ctx)?);
+                (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cand_hi.read_back(ctx)?);
             let bufs = MaskBuffers {
                 pos: &pos,
                 ref_pos: &ref_pos,

@@ -106,8 +106,8 @@ pub struct VBufs<T: Real> {
     pub nbr: GpuVec<u32>,
     /// Binding 4: cached (W, F′) per slot, or the high words of a fixed-point accumulation.
     pub cache_wf: GpuVec<u32>,
-    /// Binding 5: cached x_j per slot, or the tracking candidate mask's upper words.
-    pub cache_xj: GpuVec<u32>,
+    /// Binding 5: the tracking candidate mask's upper words (a stand-in without masks).
+    pub cand_hi: GpuVec<u32>,
     pub cand: GpuVec<u32>,
     pub ref_pos: GpuVec<V2<T>>,
     pub accum: GpuVec<u32>,
@@ -115,12 +115,12 @@ pub struct VBufs<T: Real> {
     every: u32,
 }
 
-/// The names of bindings 4 and 5 (what they hold for `spec`, `gpu::mask_lists::ListWords`).
-pub fn binding_names(spec: &VariantSpec) -> (&'static str, &'static str) {
+/// The name of binding 4 (what it holds for `spec`, `gpu::mask_lists::ListWords`).
+pub fn binding4_name(spec: &VariantSpec) -> &'static str {
     if spec.kernel_values == super::variant::KernelValues::Cached {
-        ("cache_wf", "cache_xj")
+        "cache_wf"
     } else {
-        ("accum_hi", "cand_hi")
+        "accum_hi"
     }
 }
 
@@ -135,7 +135,7 @@ impl<T: Real> VBufs<T> {
         let tracking = spec.search == SearchKind::Tracking;
         let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
         let w = list_words(&spec, n, cells, size_of::<T>());
-        let (b4, b5) = binding_names(&spec);
+        let b4 = binding4_name(&spec);
         let b = Self {
             vctl: u("vctl", vctl::LEN)?,
             vparams: GpuVec::new(ctx, "sphlab.vparams", vparam::LEN)?,
@@ -144,7 +144,7 @@ impl<T: Real> VBufs<T> {
             counts: u("counts", 2 * n.max(1))?,
             nbr: u("nbr", w.nbr)?,
             cache_wf: u(b4, w.b4)?,
-            cache_xj: u(b5, w.b5)?,
+            cand_hi: u("cand_hi", w.b5)?,
             cand: u("cand", w.cand)?,
             ref_pos: GpuVec::<V2<T>>::new(ctx, "sphlab.ref_pos", if tracking { n } else { 1 })?,
             accum: u("accum", w.accum)?,
@@ -292,7 +292,7 @@ impl<T: Real> VBufs<T> {
             &self.counts.buffer,
             &self.nbr.buffer,
             &self.cache_wf.buffer,
-            &self.cache_xj.buffer,
+            &self.cand_hi.buffer,
             &self.cand.buffer,
             &self.ref_pos.buffer,
             &self.accum.buffer,
