@@ -121,13 +121,21 @@ pub struct VariantReport {
     pub reason: String,
     /// Every check.
     pub checks: Vec<Check>,
+    /// The list chunks its slot arrays took (`gpu::list_chunks`; 1 unless they passed the
+    /// per-buffer limit, 0 when it did not run).
+    pub list_chunks: usize,
 }
 
 impl VariantReport {
+    /// A variant that was not run (`status`: skipped, unsupported or error), and why.
+    pub fn not_run(variant: String, status: &str, reason: String) -> Self {
+        let (ran, checks) = (String::new(), Vec::new());
+        VariantReport { variant, ran, status: status.into(), reason, checks, list_chunks: 0 }
+    }
+
     /// A variant that was not run, and why.
     pub fn skipped(variant: VariantSpec, reason: String) -> Self {
-        let variant = variant.to_string();
-        VariantReport { variant, ran: String::new(), status: "skipped".into(), reason, checks: Vec::new() }
+        Self::not_run(variant.to_string(), "skipped", reason)
     }
 }
 
@@ -314,15 +322,11 @@ impl Verifier {
     pub fn variant_on(&self, ctx: &Arc<GpuContext>, spec: VariantSpec, gpu_scene: Option<&Scene>) -> VariantReport {
         let variant = spec.to_string();
         if let Err(reason) = spec.support(ctx) {
-            let ran = String::new();
-            return VariantReport { variant, ran, status: "unsupported".into(), reason, checks: Vec::new() };
+            return VariantReport::not_run(variant, "unsupported", reason);
         }
         let layout = match &self.layout {
             Ok(l) => l,
-            Err(e) => {
-                let (ran, reason) = (String::new(), e.clone());
-                return VariantReport { variant, ran, status: "error".into(), reason, checks: Vec::new() };
-            }
+            Err(e) => return VariantReport::not_run(variant, "error", e.clone()),
         };
         let (scene, vel0, steps) = (&self.scene, &self.vel0[..], self.steps);
         let gpu_scene = gpu_scene.map(|s| Scene { relax: None, ..s.clone() });
@@ -338,14 +342,12 @@ impl Verifier {
             },
         };
         match r {
-            Ok((checks, ran)) => {
+            Ok((checks, ran, list_chunks)) => {
                 let failed: Vec<String> = checks.iter().filter(|c| !c.pass).map(|c| c.name.clone()).collect();
                 let status = if failed.is_empty() { "pass" } else { "FAIL" };
-                VariantReport { variant, ran, status: status.into(), reason: failed.join(", "), checks }
+                VariantReport { variant, ran, status: status.into(), reason: failed.join(", "), checks, list_chunks }
             }
-            Err(e) => {
-                VariantReport { variant, ran: String::new(), status: "error".into(), reason: e, checks: Vec::new() }
-            }
+            Err(e) => VariantReport::not_run(variant, "error", e),
         }
     }
 
@@ -356,7 +358,7 @@ impl Verifier {
         spec: VariantSpec,
         cpu: &CpuReference<T>,
         gpu_scene: &Scene,
-    ) -> Result<(Vec<Check>, String), String> {
+    ) -> Result<(Vec<Check>, String, usize), String> {
         let mut gpu = GpuSolver::<T>::new(ctx.clone(), gpu_scene, layout, spec).map_err(|e| e.to_string())?;
         gpu.restart_with_velocities(&self.vel0);
         let nf = cpu.n_fluid;
@@ -391,7 +393,7 @@ impl Verifier {
         // The GPU takes all its steps in one submission (the device clock, adaptive dt and check).
         Backend::advance(&mut gpu, self.steps).map_err(|e| format!("GPU: {e}"))?;
         checks.extend(observables(&self.scene, &gpu.frame(), &cpu.frame));
-        Ok((checks, gpu.spec().to_string()))
+        Ok((checks, gpu.spec().to_string(), gpu.list_chunks()))
     }
 }
 
@@ -413,7 +415,7 @@ pub fn format_table(reports: &[VariantReport]) -> String {
             f(get(Field::P).map(|c| c.rel_l2)),
             f(get(Field::Acc).map(|c| c.max_rel)),
             f(get(Field::Acc).map(|c| c.rel_l2)),
-            r.reason
+            if r.list_chunks > 1 { format!("{} list chunks {}", r.list_chunks, r.reason) } else { r.reason.clone() }
         );
     }
     s

@@ -112,6 +112,46 @@ fn verify_every_variant_on_a_mode_b_contact_angle_scene() {
     verify_variants(&["sessile-90", "--set", "domain.nx=33"], &ids);
 }
 
+/// Slot lists past the per-buffer limit are split into list chunks (`gpu::list_chunks`): with
+/// `--gpu-binding` making lavapipe an adapter of small bindings, the cached kernel values of the
+/// thread, block and subgroup mappings (f32 and f64) and slot lists with recomputed values run
+/// in several chunks (1,024 particles with the walls; 64 slots × 8 B of f32 cache: 256
+/// particles per 128 KiB chunk) and still verify against the CPU, stage by stage and after 20 steps; without the cap
+/// they take one chunk.
+#[test]
+fn verify_passes_with_the_lists_in_chunks() {
+    let _g = common::serial();
+    if common::gpu_or_skip().is_none() {
+        return;
+    }
+    let cached = "cells.thread.cached.f32,direct.subgroup.cached.f32,cells.block-atomic.cas.cached.f32";
+    let runs: [(Option<&str>, String, &[u64]); 3] = [
+        (Some("128K"), format!("{cached},cells.subgroup.recomputed.f32.slots"), &[4, 4, 4, 2]),
+        (Some("256K"), "cells.block-tree.fixed.cached.f64,cells.thread.cached.f64".into(), &[4, 4]),
+        (None, "cells.thread.cached.f64".into(), &[1]),
+    ];
+    for (cap, ids, chunks) in runs {
+        let mut args = vec!["verify", "oscillating-drop", "--set", "domain.nx=24", "--variants", &ids];
+        args.extend_from_slice(&["--steps", "20", "--per-stage", "--json"]);
+        if let Some(c) = cap {
+            args.extend_from_slice(&["--gpu-binding", c]);
+        }
+        let o = sphlab(&args);
+        let text = String::from_utf8_lossy(&o.stdout);
+        let doc: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("JSON ({e}): {text}"));
+        let reports = doc["variants"].as_array().expect("reports");
+        assert_eq!(reports.len(), chunks.len());
+        for (r, want) in reports.iter().zip(chunks) {
+            assert_eq!(r["status"], "pass", "{cap:?}: {}", serde_json::to_string_pretty(r).unwrap_or_default());
+            assert_eq!(r["list_chunks"].as_u64(), Some(*want), "{cap:?}: {}", r["variant"]);
+        }
+        assert_eq!(o.status.code(), Some(0));
+    }
+    let o = sphlab(&["verify", "--variants", "cells.thread.cached.f32", "--gpu-binding", "1K"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--gpu-binding: must be at least 64K"));
+}
+
 #[test]
 fn variants_lists_every_id_and_bad_ids_exit_2() {
     let _g = common::serial();
@@ -205,15 +245,16 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
 
 /// A GPU run that needs more than the adapter allows is refused with exit 2 and the numbers
 /// (buffer, bytes needed, the limit) before any device buffer or output directory exists: a
-/// cached-list variant whose 64-slot cache passes the adapter's binding limit, and a run whose
+/// tracking variant whose 96-slot candidate lists pass the adapter's binding limit, and a run whose
 /// total passes a stated `--gpu-memory`.
 #[test]
 fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
     let _g = common::serial();
     let Some(ctx) = common::gpu_or_skip() else { return };
     let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
-    // cache_wf holds 64 slots × 8 B per particle; oscillating-drop has nx² particles (periodic).
-    let nx = ((cap / 512) as f64).sqrt().ceil() as u64 + 8;
+    // The tracking candidates hold 96 slots × 4 B per particle in one binding (the list slots
+    // and cached values would be split into list chunks); oscillating-drop has at least nx².
+    let nx = ((cap / 384) as f64).sqrt().ceil() as u64 + 8;
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("out");
     let set = format!("domain.nx={nx}");
@@ -233,10 +274,10 @@ fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
         args.extend_from_slice(&["--out", out.to_str().expect("utf8")]);
         sphlab(&args)
     };
-    let o = run(&["--variant", "cells.thread.cached.f32", "--set", &set]);
+    let o = run(&["--variant", "tracking.thread.cached.f32", "--set", &set]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("`cache_wf`") && err.contains(&cap.to_string()) && err.contains("max_"), "{err}");
+    assert!(err.contains("`cand`") && err.contains(&cap.to_string()) && err.contains("max_"), "{err}");
     assert!(!out.exists(), "nothing is written before the refusal");
     let o = run(&["--gpu-memory", "1M", "--set", "domain.nx=200"]);
     let err = String::from_utf8_lossy(&o.stderr);

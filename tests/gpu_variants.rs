@@ -431,6 +431,37 @@ fn check_reordered<T: Real>(
 /// N need in x, thread and block variants still match the CPU after one evaluation and give the
 /// same bits over a few steps as the unforced 1-D dispatch (a skipped or doubled particle
 /// would change both).
+/// Lists in chunks (`gpu::list_chunks`): on a context whose bindings are capped at 128 KiB the
+/// slot arrays are split by particle, the plan still predicts every byte allocated and the chunk
+/// count, and the lists read back chunk by chunk and the fields equal the CPU's, with the grids
+/// also spread over two dimensions.
+#[test]
+fn lists_in_chunks_match_the_cpu_and_the_plan() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let cap = 128 << 10;
+    let ctx = Arc::new(ctx.with_binding_cap(cap));
+    let (s, l) = scene(SCENES[1].0, SCENES[1].1);
+    let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
+    cpu.evaluate().unwrap();
+    for id in ["cells.thread.cached.f32", "direct.block-tree.fixed.cached.f32", "cells.subgroup.recomputed.f32.slots"] {
+        let spec: VariantSpec = id.parse().unwrap();
+        if spec.support(&ctx).is_err() {
+            continue;
+        }
+        let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+        let plan = GpuPlan::new(&g.spec(), l.pos.len() as u64, g.cells() as u64);
+        assert!(g.list_chunks() > 1, "{id}: {} chunk(s) of {} particles", g.list_chunks(), l.pos.len());
+        assert_eq!(g.list_chunks() as u64, plan.list_chunks(cap), "{id}");
+        assert_eq!(plan.total_bytes, g.device_bytes(), "{id}: planned vs allocated device bytes");
+        g.max_groups_per_dim = 4;
+        g.evaluate_once().unwrap();
+        assert_neighbours_match(id, &cpu, &g);
+        let f = g.read_fields().unwrap();
+        assert_fields_match(&format!("{id} (list chunks)"), &cpu.model, cpu.n_fluid, &cpu.f, &f, None);
+    }
+}
+
 #[test]
 fn dispatch_spreads_over_two_dimensions() {
     let _g = serial();

@@ -162,7 +162,8 @@ impl<T: Real> Device<T> {
         let vb = VBufs::new(ctx, spec, &cpu.model, n, grid.cells()).expect("strategy buffers");
         let (state, _) = solver_buffers::layouts(ctx).expect("state layout");
         let (strategy, layout) = variant_buffers::layouts(ctx, &state).expect("pipeline layout");
-        let groups = [b.bind_group(ctx, &state).expect("group 0"), vb.bind_group(ctx, &strategy).expect("group 1")];
+        let groups =
+            [b.bind_group(ctx, &state).expect("group 0"), vb.bind_groups(ctx, &strategy).expect("group 1").remove(0)];
         b.pos().upload(ctx, &cpu.pos).unwrap();
         b.vel().upload(ctx, &cpu.vel).unwrap();
         b.phase.upload(ctx, &cpu.phase).unwrap();

@@ -306,8 +306,8 @@ impl Plan {
                 "; GPU device memory {} for {} (largest buffer `{}` {})",
                 fmt_bytes(g.total_bytes as f64),
                 g.variant,
-                g.largest().name,
-                fmt_bytes(g.largest().bytes as f64)
+                g.largest(u64::MAX).0,
+                fmt_bytes(g.largest(u64::MAX).1 as f64)
             );
         }
         s

@@ -12,9 +12,10 @@
 const ROWS: u32 = 32u;
 const COLS: u32 = 16u;
 
-// Particle of this thread (the particle blocks are spread over x and z: common/dispatch).
+// Particle of this thread (the particle blocks are spread over x and z: common/dispatch; one
+// dispatch per list chunk: common/variant_bindings).
 fn block_particle(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>) -> u32 {
-    return linear_group_xz(wg, nwg) * ROWS + lid.y;
+    return chunk_particle(linear_group_xz(wg, nwg) * ROWS + lid.y);
 }
 
 // Slot index k (0..63) of this thread in its particle's list.

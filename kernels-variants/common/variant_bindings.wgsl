@@ -23,6 +23,18 @@
 @group(1) @binding(6) var<storage, read_write> cand: array<u32>;       // slot k of i at i*CAND_SLOTS + k
 @group(1) @binding(7) var<storage, read_write> ref_pos: array<real2>;  // positions at the last build
 
+// The particles whose list slots (`nbr` with slot lists, `cache_wf`) this bind group holds: a
+// slot list beyond the adapter's per-binding limit is split by particle into chunks, one
+// buffer and one bind group each, and its kernels are dispatched once per chunk (twin of
+// `gpu::list_chunks`); one chunk of every particle otherwise.
+struct ChunkRange {
+    base: u32,
+    len: u32,
+    pad0: u32,
+    pad1: u32,
+}
+@group(1) @binding(9) var<uniform> vchunk: ChunkRange;
+
 const NBR_SLOTS: u32 = 64u;   // thesis §6.4.1: at most 64 neighbours (4 blocks of 16 threads)
 const CAND_SLOTS: u32 = 96u;  // tracking candidates within support + skin
 const NBR_WORDS_CELLS: u32 = 6u; // mask words of a list over the 3 × 3 cells (common/mask_lists.wgsl)
@@ -81,15 +93,23 @@ fn pack_nb(j: u32, code: u32) -> u32 {
     return j | (code << PACK_SHIFT);
 }
 
-// Index of list slot k of particle i in `nbr` and `cache_wf`: slot-major (`SLOT_MAJOR`,
-// the thread mapping: neighbouring threads read neighbouring words) or particle-major (the
-// block layouts: a row of 16 threads reads 16 consecutive slots of one particle).
+// Index of list slot k of particle i in its chunk's `nbr` and `cache_wf`: slot-major
+// (`SLOT_MAJOR`, the thread mapping: neighbouring threads read neighbouring words) or
+// particle-major (the block layouts: a row of 16 threads reads 16 consecutive slots of one
+// particle).
 fn nbr_slot(i: u32, k: u32) -> u32 {
+    let l = i - vchunk.base;
 #ifdef SLOT_MAJOR
-    return k * params.n + i;
+    return k * vchunk.len + l;
 #else
-    return i * NBR_SLOTS + k;
+    return l * NBR_SLOTS + k;
 #endif
+}
+
+// The particle of thread (or row) l of a kernel over the list slots, dispatched once per chunk:
+// the chunk's particle l, or 0xFFFFFFFF (past every bound) beyond the chunk.
+fn chunk_particle(l: u32) -> u32 {
+    return select(0xFFFFFFFFu, vchunk.base + l, l < vchunk.len);
 }
 
 // `cell_start` holds this search's fluid starts (cells + 1), the last search's (kept for the

@@ -8,7 +8,7 @@
 
 @compute @workgroup_size(GROUP_THREADS)
 fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = linear_id(gid, nwg);
+    let i = chunk_particle(linear_id(gid, nwg));
     if i >= params.n {
         return;
     }
@@ -23,7 +23,7 @@ fn number_density(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
 
 @compute @workgroup_size(GROUP_THREADS)
 fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = linear_id(gid, nwg);
+    let i = chunk_particle(linear_id(gid, nwg));
     if i >= params.n {
         return;
     }
@@ -43,7 +43,7 @@ fn colour_gradient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
 
 @compute @workgroup_size(GROUP_THREADS)
 fn acceleration(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = linear_id(gid, nwg);
+    let i = chunk_particle(linear_id(gid, nwg));
     if i >= params.n {
         return;
     }

@@ -69,7 +69,7 @@ fn mark(m: ptr<function, Marks>, b: u32) {
 // overflowing (V_NBR_NEED: the most mask bits a particle needed).
 @compute @workgroup_size(GROUP_THREADS)
 fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = linear_id(gid, nwg);
+    let i = chunk_particle(linear_id(gid, nwg));
     if i >= params.n {
         return;
     }
@@ -111,7 +111,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
 #else
 @compute @workgroup_size(GROUP_THREADS)
 fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = linear_id(gid, nwg);
+    let i = chunk_particle(linear_id(gid, nwg));
     if i >= params.n {
         return;
     }

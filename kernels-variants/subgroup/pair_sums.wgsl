@@ -41,7 +41,7 @@ struct Place {
 
 fn sg_place(wg: vec3<u32>, nwg: vec3<u32>, sid: u32, nsg: u32, lane: u32, size: u32) -> Place {
     let g = min(LANES, size);
-    let i = (linear_group_xy(wg, nwg) * nsg + sid) * (size / g) + lane / g;
+    let i = chunk_particle((linear_group_xy(wg, nwg) * nsg + sid) * (size / g) + lane / g);
     return Place(i, lane % g, g);
 }
 

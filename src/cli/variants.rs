@@ -80,8 +80,8 @@ fn list(json: bool) {
 
 /// `--memory N`: the GPU memory plan of every variant (`plan::gpu`), cells per particle as in
 /// `oscillating-drop` at nx = 300; at N in the list format the stated adapter gets (`lists`:
-/// slots or masks where the format is a choice), the largest N of each adapter in the format
-/// chosen there.
+/// slots or masks where the format is a choice; `chunks`: the list chunks its slot arrays take
+/// there, `gpu::list_chunks`), the largest N of each adapter in the format chosen there.
 fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
     if n == 0 || n > HARD_MAX_PARTICLES {
         return Err(Error::input(format!("--memory: N must lie in [1, {HARD_MAX_PARTICLES}], got {n}")));
@@ -103,8 +103,9 @@ fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
             "lists": plan.spec.lists.suffix(),
             "bytes_per_particle": bytes_per_particle(&plan.spec, cpp),
             "total_bytes": plan.total_bytes,
-            "largest_buffer": plan.largest().name,
-            "largest_buffer_bytes": plan.largest().bytes,
+            "largest_buffer": plan.largest(big.buffer_cap()).0,
+            "largest_buffer_bytes": plan.largest(big.buffer_cap()).1,
+            "list_chunks": plan.list_chunks(big.buffer_cap()),
             "fits_here": fits.as_ref().map(|r| r.is_ok()),
             "refusal_here": fits.and_then(|r| r.err()),
             "max_n_here": here.as_ref().map(|l| max_particles(&v, cpp, l, HARD_MAX_PARTICLES)),
@@ -140,12 +141,13 @@ fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
 /// The table of `--memory N`, one row per variant.
 fn print_memory_table(n: u64, rows: &[serde_json::Value]) {
     println!(
-        "{:<44} {:>6} {:>9} {:>12} {:>22} {:>12} {:>12}",
+        "{:<44} {:>6} {:>9} {:>12} {:>22} {:>6} {:>12} {:>12}",
         "variant",
         "lists",
         "B/part.",
         format!("N={n}"),
         "largest buffer",
+        "chunks",
         "max N here",
         "max N 140G"
     );
@@ -155,12 +157,13 @@ fn print_memory_table(n: u64, rows: &[serde_json::Value]) {
         let largest =
             format!("{} {}", s("largest_buffer"), fmt_bytes(r["largest_buffer_bytes"].as_f64().unwrap_or(0.0)));
         println!(
-            "{:<44} {:>6} {:>9.1} {:>12} {:>22} {:>12} {:>12}",
+            "{:<44} {:>6} {:>9.1} {:>12} {:>22} {:>6} {:>12} {:>12}",
             s("id"),
             r["lists"].as_str().unwrap_or("-"),
             r["bytes_per_particle"].as_f64().unwrap_or(0.0),
             fmt_bytes(r["total_bytes"].as_f64().unwrap_or(0.0)),
             largest,
+            u("list_chunks"),
             u("max_n_here"),
             u("max_n_stated")
         );

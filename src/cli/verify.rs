@@ -1,7 +1,7 @@
 //! `sphlab verify`: every chosen GPU variant against the CPU reference, as a table or JSON
 //! (and verify.csv / verify.json with `--out`); a disagreeing variant fails the check (exit 1).
 
-use super::common::{check_out, gpu_context, gpu_variants, load_scene, print_json, with_provenance, LimitArgs};
+use super::common::{check_out, gpu_variants, load_scene, print_json, with_provenance, LimitArgs};
 use clap::Args;
 use sphlab::error::Error;
 use sphlab::provenance::{self, GpuInfo, Provenance};
@@ -35,6 +35,11 @@ pub struct VerifyArgs {
     /// `skipped`.
     #[arg(long, value_parser = sphlab::sweep::parse_duration)]
     budget: Option<f64>,
+    /// Verify as on an adapter whose per-buffer limit is at most this (e.g. 256K, 2G): list slots
+    /// past it are split into chunks as on a run of many millions of particles (at least 64K;
+    /// default: the adapter's own limit).
+    #[arg(long, value_parser = sphlab::plan::parse_bytes)]
+    gpu_binding: Option<u64>,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -51,7 +56,20 @@ pub fn run(a: VerifyArgs) -> Result<(), Error> {
     let plan = sphlab::resources::run_plan(&scene, 8, false);
     plan.check(&limits).map_err(Error::input)?;
     let specs = gpu_variants(&a.variants)?;
-    let ctx = gpu_context().map_err(|e| Error::input(format!("no GPU adapter: {e}")))?;
+    if a.gpu_binding.is_some_and(|b| b < 64 << 10) {
+        return Err(Error::input(format!(
+            "--gpu-binding: must be at least 64K (65536 bytes), got {}",
+            a.gpu_binding.unwrap_or(0)
+        )));
+    }
+    let ctx = sphlab::gpu::GpuContext::new()
+        .map(|c| {
+            std::sync::Arc::new(match a.gpu_binding {
+                Some(b) => c.with_binding_cap(b),
+                None => c,
+            })
+        })
+        .map_err(|e| Error::input(format!("no GPU adapter: {e}")))?;
     let lim = sphlab::gpu::plan::DeviceLimits::of(&ctx, limits.gpu_memory);
     for spec in &specs {
         sphlab::resources::run_plan(&scene, 4, true).for_variant(spec).check_gpu(&lim).map_err(Error::input)?;

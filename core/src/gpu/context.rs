@@ -39,6 +39,14 @@ pub struct GpuContext {
 }
 
 impl GpuContext {
+    /// This context as an adapter whose per-buffer limits are at most `bytes` (a smaller
+    /// device emulated: the memory plan and the list chunks, `gpu::list_chunks`, follow it).
+    pub fn with_binding_cap(mut self, bytes: u64) -> Self {
+        self.limits.max_storage_buffer_binding_size = self.limits.max_storage_buffer_binding_size.min(bytes);
+        self.limits.max_buffer_size = self.limits.max_buffer_size.min(bytes);
+        self
+    }
+
     /// Opens the default adapter (high performance preference, any backend wgpu was built with;
     /// `WGPU_BACKEND` and friends are honoured) without a surface.
     pub fn new() -> Result<Self, GpuError> {

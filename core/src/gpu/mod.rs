@@ -9,6 +9,7 @@ pub(crate) mod clock;
 pub mod compose;
 pub(crate) mod context;
 pub(crate) mod counters;
+pub mod list_chunks;
 pub mod mask_lists;
 pub mod params;
 pub(crate) mod pipeline_cache;

@@ -141,7 +141,7 @@ pub fn resolve_lists(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits)
     }
     let slots = VariantSpec { lists: ListFormat::Slots, ..*spec };
     let per_buffer = DeviceLimits { memory: None, ..lim.clone() };
-    if GpuPlan::new(&slots, n, cells).check(&per_buffer).is_ok() {
+    if GpuPlan::new(&slots, n, cells).check_in(&per_buffer, false).is_ok() {
         slots
     } else {
         VariantSpec { lists: ListFormat::Masks, ..*spec }
@@ -221,66 +221,90 @@ impl GpuPlan {
         GpuPlan::new(&resolve_lists(spec, n, cells, lim), n, cells)
     }
 
-    /// Why a per-slot list buffer `b` over the per-buffer `cap` has no smaller form here (empty
-    /// for any other buffer): one entry per list slot, per pair; only the variants with
-    /// recomputed kernel values have the compact masks (a forced `.slots` keeps the slots).
-    fn per_pair_note(&self, b: &BufferPlan, cap: u64) -> String {
-        let slots = crate::gpu::variant_buffers::NBR_SLOTS as u64;
-        let per_slot = b.bytes / (slots * self.n.max(1));
-        let slotted = matches!(b.name, "nbr" | "cache_wf") && !crate::gpu::mask_lists::uses_masks(&self.spec);
-        if !slotted || per_slot == 0 {
-            return String::new();
+    /// Bytes per particle of buffer `b` when it is a per-slot array that list chunks split
+    /// (`gpu::list_chunks`), else `None`.
+    fn slot_bytes(&self, b: &BufferPlan) -> Option<u64> {
+        let real = if self.spec.precision == Precision::F64 { 8 } else { 4 };
+        crate::gpu::list_chunks::slot_arrays(&self.spec, real).iter().find(|a| a.0 == b.name).map(|a| a.1 as u64)
+    }
+
+    /// Particles per list chunk under the per-buffer `cap` (`n`: one chunk).
+    fn chunk_len(&self, cap: u64) -> u64 {
+        let real = if self.spec.precision == Precision::F64 { 8 } else { 4 };
+        crate::gpu::list_chunks::chunk_len(&self.spec, self.n as usize, real, cap) as u64
+    }
+
+    /// List chunks under the per-buffer `cap` (1 unless the slot arrays pass it).
+    pub fn list_chunks(&self, cap: u64) -> u64 {
+        self.n.max(1).div_ceil(self.chunk_len(cap))
+    }
+
+    /// The bytes of the largest single buffer `b` allocates under `cap` (a chunk's for the
+    /// split slot arrays).
+    pub fn allocated(&self, b: &BufferPlan, cap: u64) -> u64 {
+        match self.slot_bytes(b) {
+            Some(per) => alloc(self.chunk_len(cap).min(self.n), per),
+            None => b.bytes,
         }
-        format!(
-            " ({slots} list slots × {per_slot} B per particle: one binding holds {} particles; cached \
-             kernel values keep per-pair storage, which has no compact form; with recomputed values \
-             the lists have masks unless `.slots` forces the slots)",
-            cap / (slots * per_slot)
-        )
     }
 
-    /// The largest buffer.
-    pub fn largest(&self) -> &BufferPlan {
-        self.buffers.iter().max_by_key(|b| b.bytes).expect("buffers")
+    /// The largest single buffer under `cap`: name and bytes.
+    pub fn largest(&self, cap: u64) -> (&'static str, u64) {
+        self.buffers.iter().map(|b| (b.name, self.allocated(b, cap))).max_by_key(|b| b.1).expect("buffers")
     }
 
-    /// Ok when every buffer, the total and the dispatch grid fit `lim`; else the first that
-    /// does not, naming the buffer, the bytes needed and the bytes available.
+    /// Ok when every buffer (each list chunk of the split slot arrays), the total and the
+    /// dispatch grid fit `lim`; else the first that does not, naming the buffer, the bytes
+    /// needed and the bytes available.
     pub fn check(&self, lim: &DeviceLimits) -> Result<(), String> {
+        self.check_in(lim, true)
+    }
+
+    /// [`Self::check`], with the slot arrays whole unless `chunking` (the list format's choice
+    /// keeps slots only while they fit whole: [`resolve_lists`]).
+    fn check_in(&self, lim: &DeviceLimits, chunking: bool) -> Result<(), String> {
         if self.spec.lists == ListFormat::Auto && self.spec.list_format_matters() {
-            return GpuPlan::resolved(&self.spec, self.n, self.cells, lim).check(lim);
+            return GpuPlan::resolved(&self.spec, self.n, self.cells, lim).check_in(lim, chunking);
         }
         let head = format!("GPU memory plan of {} for {} particles", self.variant, self.n);
         let cap = lim.buffer_cap();
-        if let Some(b) = self.buffers.iter().find(|b| b.bytes > cap) {
+        let bytes = |b: &BufferPlan| if chunking { self.allocated(b, cap) } else { b.bytes };
+        if let Some(b) = self.buffers.iter().find(|b| bytes(b) > cap) {
             let which = if lim.max_binding_size <= lim.max_buffer_size {
                 "max_storage_buffer_binding_size"
             } else {
                 "max_buffer_size"
             };
+            let note = match self.slot_bytes(b) {
+                Some(per) if chunking => format!(
+                    " (64 list slots × {} B per particle in chunks of at least {} particles)",
+                    per / 64,
+                    crate::gpu::list_chunks::CHUNK_ALIGN
+                ),
+                _ => String::new(),
+            };
             return Err(format!(
-                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}){}; \
+                "{head}: buffer `{}` needs {} bytes ({}), over the adapter's {which} of {} bytes ({}){note}; \
                  lower domain.nx or choose a variant with smaller buffers (sphlab variants --memory N)",
                 b.name,
-                b.bytes,
-                fmt_bytes(b.bytes as f64),
+                bytes(b),
+                fmt_bytes(bytes(b) as f64),
                 cap,
                 fmt_bytes(cap as f64),
-                self.per_pair_note(b, cap)
             ));
         }
         if let Some(m) = lim.memory {
             if self.total_bytes > m {
+                let (name, big) = self.largest(cap);
                 return Err(format!(
                     "{head}: the device buffers need {} bytes ({}) in all, over the {} bytes ({}) of device \
-                     memory ({}); the largest is `{}` ({})",
+                     memory ({}); the largest is `{name}` ({})",
                     self.total_bytes,
                     fmt_bytes(self.total_bytes as f64),
                     m,
                     fmt_bytes(m as f64),
                     lim.memory_source,
-                    self.largest().name,
-                    fmt_bytes(self.largest().bytes as f64)
+                    fmt_bytes(big as f64)
                 ));
             }
         }
@@ -414,19 +438,26 @@ mod tests {
         let e = GpuPlan::new(&auto.with_lists(ListFormat::Slots).unwrap(), 100_000_000, 8_000_000).check(&lim);
         assert!(e.unwrap_err().contains("`cand`"));
         assert!(max_particles(&auto, 0.08, &lim, 1 << 28) > 100_000_000);
-        // Per-pair storage is named as such, with the most particles one binding holds.
+        // Slot lists and cached values past the binding are split into list chunks (2 GiB
+        // each): a forced `.slots` and the cached variants fit 10⁸ particles by the plan; the
+        // tracking candidates (96 slots, one binding) do not.
         let direct: VariantSpec = "direct.subgroup.recomputed.f32.slots".parse().unwrap();
-        let e = GpuPlan::new(&direct, 100_000_000, 8_000_000).check(&lim).unwrap_err();
-        assert!(e.contains("`nbr`") && e.contains("64 list slots × 4 B") && e.contains("8388608 particles"), "{e}");
+        let p = GpuPlan::new(&direct, 100_000_000, 8_000_000);
+        assert!(p.check(&lim).is_ok());
+        assert_eq!((p.list_chunks(lim.buffer_cap()), p.largest(lim.buffer_cap()).0), (12, "nbr"));
+        let cells: VariantSpec = "cells.thread.cached.f32".parse().unwrap();
+        let p = GpuPlan::new(&cells, 100_000_000, 8_000_000);
+        assert!(p.check(&lim).is_ok());
+        assert_eq!(p.list_chunks(lim.buffer_cap()), 24);
+        assert_eq!(p.largest(lim.buffer_cap()), ("cache_wf", 4_194_304 * 512));
+        assert!(max_particles(&cells, 0.08, &lim, 1 << 28) > 100_000_000);
         let cached: VariantSpec = "tracking.thread.cached.f32".parse().unwrap();
-        let e = GpuPlan::new(&cached, 5_000_000, 400_000).check(&lim).unwrap_err();
-        assert!(
-            e.contains("`cache_wf`")
-                && e.contains("× 8 B")
-                && e.contains("4194304 particles")
-                && e.contains("per-pair"),
-            "{e}"
-        );
+        let e = GpuPlan::new(&cached, 6_000_000, 400_000).check(&lim).unwrap_err();
+        assert!(e.contains("`cand`") && !e.contains("chunks"), "{e}");
+        // A binding below one chunk of 256 particles is refused, naming the chunk.
+        let tiny = DeviceLimits::stated(1 << 40, 64 << 10, "test");
+        let e = GpuPlan::new(&cells, 1024, 100).check(&tiny).unwrap_err();
+        assert!(e.contains("`cache_wf`") && e.contains("× 8 B") && e.contains("at least 256 particles"), "{e}");
         let e = GpuPlan::new(&auto, 100_000_000, 8_000_000).check(&small).unwrap_err();
         assert!(!e.contains("per-pair"), "{e}");
     }

@@ -210,7 +210,7 @@ impl<T: Real> GpuSolver<T> {
             // The slots as the kernels read them (`slot_at`): s itself in physical order.
             let sorted: Vec<u32> = if self.physical_order() { (0..self.n as u32).collect() } else { slots };
             let (nbr, cand, cand_hi) =
-                (self.vb.nbr.read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cand_hi.read_back(ctx)?);
+                (self.vb.nbr[0].read_back(ctx)?, self.vb.cand.read_back(ctx)?, self.vb.cand_hi.read_back(ctx)?);
             let bufs = MaskBuffers {
                 pos: &pos,
                 ref_pos: &ref_pos,
@@ -229,17 +229,20 @@ impl<T: Real> GpuSolver<T> {
             }
             Some(lists)
         } else if self.spec.has_lists() {
-            let (counts, nbr) = (self.vb.counts.read_back(ctx)?, self.vb.nbr.read_back(ctx)?);
+            let counts = self.vb.counts.read_back(ctx)?;
             let slot_major = self.spec.mapping.layout() == SumLayout::Thread;
-            let slot = |i: usize, k: usize| if slot_major { k * self.n + i } else { i * NBR_SLOTS + k };
-            let list = |i: usize| {
-                let mut l: Vec<u32> = (0..(counts[i] as usize).min(NBR_SLOTS)).map(|k| orig(nbr[slot(i, k)])).collect();
-                l.sort_unstable();
-                l
-            };
             let mut lists = vec![Vec::new(); self.n];
-            for (d, &orig_i) in o.iter().enumerate() {
-                lists[orig_i as usize] = list(d);
+            // Each list chunk's slots (`gpu::list_chunks`), indexed within the chunk.
+            for (buf, &(base, len)) in self.vb.nbr.iter().zip(&self.vb.chunks) {
+                let nbr = buf.read_back(ctx)?;
+                let slot = |l: usize, k: usize| if slot_major { k * len + l } else { l * NBR_SLOTS + k };
+                for l in 0..len {
+                    let d = base + l;
+                    let mut list: Vec<u32> =
+                        (0..(counts[d] as usize).min(NBR_SLOTS)).map(|k| orig(nbr[slot(l, k)])).collect();
+                    list.sort_unstable();
+                    lists[o[d] as usize] = list;
+                }
             }
             Some(lists)
         } else {

@@ -16,9 +16,10 @@
 //! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
+use super::list_chunks::{chunk_len, chunks};
 use super::mask_lists::{list_words, nbr_bits, uses_masks, CAND_WORDS};
 use super::variant::VariantSpec;
-use super::{GpuContext, GpuError, GpuVec};
+use super::{GpuContext, GpuError, GpuVec, Uniform};
 use crate::backend::SolverError;
 use crate::model::Model;
 use crate::neighbours::SearchKind;
@@ -31,6 +32,8 @@ pub const NBR_SLOTS: usize = 64;
 pub const CAND_SLOTS: usize = 96;
 /// Storage buffers of group 1.
 pub const N_VSTORAGE: u32 = 9;
+/// The uniform of group 1: the list chunk's range (`gpu::list_chunks`).
+pub const CHUNK_BINDING: u32 = 9;
 
 /// Words of `vctl` (`V_*` in variant_bindings.wgsl).
 pub mod vctl {
@@ -103,14 +106,19 @@ pub struct VBufs<T: Real> {
     pub vctl: GpuVec<u32>,
     pub vparams: GpuVec<T>,
     pub counts: GpuVec<u32>,
-    pub nbr: GpuVec<u32>,
-    /// Binding 4: cached (W, F′) per slot, or the high words of a fixed-point accumulation.
-    pub cache_wf: GpuVec<u32>,
+    /// Binding 3: one buffer per list chunk with slot lists (`gpu::list_chunks`), else one.
+    pub nbr: Vec<GpuVec<u32>>,
+    /// Binding 4: cached (W, F′) per slot, one buffer per list chunk, or the high words of a
+    /// fixed-point accumulation (one buffer).
+    pub cache_wf: Vec<GpuVec<u32>>,
     /// Binding 5: the tracking candidate mask's upper words (a stand-in without masks).
     pub cand_hi: GpuVec<u32>,
     pub cand: GpuVec<u32>,
     pub ref_pos: GpuVec<V2<T>>,
     pub accum: GpuVec<u32>,
+    /// The list chunks `(base, len)` and each one's range (binding 9).
+    pub chunks: Vec<(usize, usize)>,
+    ranges: Vec<Uniform<[u32; 4]>>,
     spec: VariantSpec,
     every: u32,
 }
@@ -136,18 +144,31 @@ impl<T: Real> VBufs<T> {
         let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
         let w = list_words(&spec, n, cells, size_of::<T>());
         let b4 = binding4_name(&spec);
+        let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+        let chunks = chunks(n, chunk_len(&spec, n, size_of::<T>(), cap));
+        let split = |name: &str, whole: usize| -> Result<Vec<GpuVec<u32>>, GpuError> {
+            if chunks.len() == 1 || whole == 1 {
+                return Ok(vec![u(name, whole)?]);
+            }
+            chunks.iter().map(|&(_, len)| u(name, whole / n * len)).collect()
+        };
+        let cached = spec.kernel_values == super::variant::KernelValues::Cached;
+        let ranges =
+            chunks.iter().map(|&(b, l)| Uniform::new(ctx, "sphlab.vchunk", &[b as u32, l as u32, 0, 0])).collect();
         let b = Self {
             vctl: u("vctl", vctl::LEN)?,
             vparams: GpuVec::new(ctx, "sphlab.vparams", vparam::LEN)?,
             // List or candidate counts (0..n, n..2n); a renumbering's scratch for phase and
             // orig_of (`GpuSolver::record_renumbered`).
             counts: u("counts", 2 * n.max(1))?,
-            nbr: u("nbr", w.nbr)?,
-            cache_wf: u(b4, w.b4)?,
+            nbr: split("nbr", w.nbr)?,
+            cache_wf: if cached { split(b4, w.b4)? } else { vec![u(b4, w.b4)?] },
             cand_hi: u("cand_hi", w.b5)?,
             cand: u("cand", w.cand)?,
             ref_pos: GpuVec::<V2<T>>::new(ctx, "sphlab.ref_pos", if tracking { n } else { 1 })?,
             accum: u("accum", w.accum)?,
+            chunks,
+            ranges,
             spec,
             every: TrackingCfg::default().every,
         };
@@ -280,18 +301,35 @@ impl<T: Real> VBufs<T> {
             && self.spec.kernel_values != super::variant::KernelValues::Cached;
         let mut v = vec![&self.accum.buffer];
         if split {
-            v.push(&self.cache_wf.buffer);
+            v.push(&self.cache_wf[0].buffer);
         }
         v
     }
 
-    pub(crate) fn storage(&self) -> [&wgpu::Buffer; N_VSTORAGE as usize] {
+    /// Every storage buffer allocated (each list chunk's once).
+    pub(crate) fn all_storage(&self) -> Vec<&wgpu::Buffer> {
+        let mut v = self.storage(0).to_vec();
+        for c in 1..self.chunks.len() {
+            for split in [&self.nbr, &self.cache_wf] {
+                if split.len() > 1 {
+                    v.push(&split[c].buffer);
+                }
+            }
+        }
+        v
+    }
+
+    /// The storage buffers of chunk `c`'s bind group (binding k at k).
+    pub(crate) fn storage(&self, c: usize) -> [&wgpu::Buffer; N_VSTORAGE as usize] {
+        fn of(v: &[GpuVec<u32>], c: usize) -> &wgpu::Buffer {
+            &v[c.min(v.len() - 1)].buffer
+        }
         [
             &self.vctl.buffer,
             &self.vparams.buffer,
             &self.counts.buffer,
-            &self.nbr.buffer,
-            &self.cache_wf.buffer,
+            of(&self.nbr, c),
+            of(&self.cache_wf, c),
             &self.cand_hi.buffer,
             &self.cand.buffer,
             &self.ref_pos.buffer,
@@ -299,17 +337,33 @@ impl<T: Real> VBufs<T> {
         ]
     }
 
-    /// The bind group of `layout` (group 1) over these buffers.
-    pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> Result<wgpu::BindGroup, GpuError> {
-        let entries: Vec<_> = self
-            .storage()
-            .into_iter()
-            .enumerate()
-            .map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() })
-            .collect();
-        ctx.scoped(|d| {
-            d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("sphlab.variant"), layout, entries: &entries })
-        })
+    /// The bind groups of `layout` (group 1) over these buffers, one per list chunk.
+    pub fn bind_groups(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+    ) -> Result<Vec<wgpu::BindGroup>, GpuError> {
+        (0..self.chunks.len())
+            .map(|c| {
+                let mut entries: Vec<_> = self
+                    .storage(c)
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() })
+                    .collect();
+                entries.push(wgpu::BindGroupEntry {
+                    binding: CHUNK_BINDING,
+                    resource: self.ranges[c].buffer.as_entire_binding(),
+                });
+                ctx.scoped(|d| {
+                    d.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("sphlab.variant"),
+                        layout,
+                        entries: &entries,
+                    })
+                })
+            })
+            .collect()
     }
 }
 
@@ -328,18 +382,15 @@ pub fn layouts(
             "the solver binds {need} storage buffers and a uniform; the adapter allows {allowed} storage buffers per shader stage"
         )));
     }
-    let entries: Vec<_> = (0..N_VSTORAGE)
-        .map(|k| wgpu::BindGroupLayoutEntry {
-            binding: k,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: false },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        })
-        .collect();
+    let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    };
+    let mut entries: Vec<_> =
+        (0..N_VSTORAGE).map(|k| entry(k, wgpu::BufferBindingType::Storage { read_only: false })).collect();
+    entries.push(entry(CHUNK_BINDING, wgpu::BufferBindingType::Uniform));
     ctx.scoped(|d| {
         let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sphlab.variant"),

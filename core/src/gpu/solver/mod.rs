@@ -59,7 +59,8 @@ pub struct GpuSolver<T: Real> {
     pub(super) pipes: Arc<Pipelines>,
     /// Group 0 with the twin arrays in their first roles, then swapped (`Bufs::roles_swapped`).
     pub(super) bgs: [wgpu::BindGroup; 2],
-    pub(super) vbg: wgpu::BindGroup,
+    /// Group 1, one per list chunk (`gpu::list_chunks`; the first for every unchunked kernel).
+    pub(super) vbgs: Vec<wgpu::BindGroup>,
     pub(super) rbg: wgpu::BindGroup,
     /// The evaluation's passes (`stage::passes`), each with its fused kernels when it has
     /// epilogues.
@@ -248,7 +249,7 @@ impl<T: Real> GpuSolver<T> {
         let opening = with_kernels(Stage::opening_passes(scene.time.integrator, cells))?;
         let closing = with_kernels(Stage::closing_passes(scene.time.integrator, cells))?;
         let bgs = b.bind_groups(&ctx, &compiled.state_layout)?;
-        let vbg = vb.bind_group(&ctx, &compiled.variant_layout)?;
+        let vbgs = vb.bind_groups(&ctx, &compiled.variant_layout)?;
         let rbg = rb.bind_group(&ctx, &compiled.reorder_layout)?;
         b.pos().upload(&ctx, &pos)?;
         b.vel().upload(&ctx, &vel)?;
@@ -268,7 +269,7 @@ impl<T: Real> GpuSolver<T> {
             rb,
             pipes,
             bgs,
-            vbg,
+            vbgs,
             rbg,
             passes,
             opening,
@@ -456,7 +457,7 @@ impl<T: Real> GpuSolver<T> {
             .b
             .storage()
             .into_iter()
-            .chain(self.vb.storage())
+            .chain(self.vb.all_storage())
             .chain(self.rb.storage())
             .map(|b| b.size())
             .sum::<u64>();

@@ -7,13 +7,25 @@ use super::*;
 use crate::fields::Field;
 
 impl<T: Real> GpuSolver<T> {
+    /// The list chunks of the slot arrays (`gpu::list_chunks`: each list kernel is dispatched
+    /// once per chunk; 1 while they fit one binding).
+    pub fn list_chunks(&self) -> usize {
+        self.vb.chunks.len()
+    }
+
     /// The workgroup grid of a kernel over `d`: the groups a 1-D dispatch would need, spread
     /// over x and y (x and z for the block layout, whose y holds the 4 list blocks) when x alone
     /// would pass [`Self::max_groups_per_dim`]; the kernels rebuild the linear index with
     /// `linear_id` / `linear_group_xz` (kernels-variants/common/dispatch.wgsl).
     pub fn groups(&self, d: Domain) -> [u32; 3] {
+        self.groups_over(d, self.n)
+    }
+
+    /// [`Self::groups`] with the particle domains (`All`, `Block`, `Subgroups`) over `n`
+    /// particles (a list chunk's, `gpu::list_chunks`).
+    fn groups_over(&self, d: Domain, n: usize) -> [u32; 3] {
         let threads = match d {
-            Domain::All => self.n,
+            Domain::All => n,
             Domain::Fluid => self.n_fluid,
             Domain::Wall => self.n - self.n_fluid,
             Domain::One | Domain::Group => return [1, 1, 1],
@@ -31,11 +43,11 @@ impl<T: Real> GpuSolver<T> {
                 // in a workgroup, so this grid covers N at any size the adapter picks.
                 let lanes = self.pipes.lanes.min(self.ctx.adapter_info.subgroup_max_size.clamp(1, 64));
                 let per_group = 64 / lanes.max(1) as usize;
-                let (gx, gy) = spread(self.n.div_ceil(per_group), self.max_groups_per_dim);
+                let (gx, gy) = spread(n.div_ceil(per_group), self.max_groups_per_dim);
                 return [gx, gy, 1];
             }
             Domain::Block => {
-                let (gx, gz) = spread(self.n.div_ceil(32), self.max_groups_per_dim);
+                let (gx, gz) = spread(n.div_ceil(32), self.max_groups_per_dim);
                 return [gx, (vbufs::NBR_SLOTS / 16) as u32, gz];
             }
         };
@@ -132,12 +144,25 @@ impl<T: Real> GpuSolver<T> {
         let desc = wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes };
         let mut pass = enc.begin_compute_pass(&desc);
         pass.set_bind_group(0, &self.bgs[usize::from(self.b.roles_swapped())], &[]);
-        pass.set_bind_group(1, &self.vbg, &[]);
+        pass.set_bind_group(1, &self.vbgs[0], &[]);
         if renumber {
             pass.set_bind_group(2, &self.rbg, &[]);
         }
+        let chunked = self.vbgs.len() > 1;
         for (kd, p) in kernels {
             if (kd.file == reorder::FILE && !renumber) || skips.contains(&kd.entry) {
+                continue;
+            }
+            if chunked && crate::gpu::list_chunks::reads_slots(kd) {
+                // Once per list chunk, each with its bind group and its particles' grid.
+                pass.set_pipeline(p);
+                for (g, &(_, len)) in self.vbgs.iter().zip(&self.vb.chunks) {
+                    let [gx, gy, gz] = self.groups_over(kd.domain, len);
+                    pass.set_bind_group(1, g, &[]);
+                    pass.dispatch_workgroups(gx, gy, gz);
+                    self.ctx.traffic.dispatch(1);
+                }
+                pass.set_bind_group(1, &self.vbgs[0], &[]);
                 continue;
             }
             let [gx, gy, gz] = self.groups(kd.domain);
