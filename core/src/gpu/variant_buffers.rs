@@ -111,7 +111,8 @@ pub struct VBufs<T: Real> {
     /// Binding 4: cached (W, F′) per slot, one buffer per list chunk, or the high words of a
     /// fixed-point accumulation (one buffer).
     pub cache_wf: Vec<GpuVec<u32>>,
-    /// Binding 5: the tracking candidate mask's upper words (a stand-in without masks).
+    /// Binding 5: the tracking candidate mask's upper words, or with cached kernel values the
+    /// high words of a fixed-point accumulation (a stand-in otherwise).
     pub cand_hi: GpuVec<u32>,
     pub cand: GpuVec<u32>,
     pub ref_pos: GpuVec<V2<T>>,
@@ -129,6 +130,15 @@ pub fn binding4_name(spec: &VariantSpec) -> &'static str {
         "cache_wf"
     } else {
         "accum_hi"
+    }
+}
+
+/// The name of binding 5 (what it holds for `spec`).
+pub fn binding5_name(spec: &VariantSpec) -> &'static str {
+    if spec.kernel_values == super::variant::KernelValues::Cached {
+        "accum_hi"
+    } else {
+        "cand_hi"
     }
 }
 
@@ -163,7 +173,7 @@ impl<T: Real> VBufs<T> {
             counts: u("counts", 2 * n.max(1))?,
             nbr: split("nbr", w.nbr)?,
             cache_wf: if cached { split(b4, w.b4)? } else { vec![u(b4, w.b4)?] },
-            cand_hi: u("cand_hi", w.b5)?,
+            cand_hi: u(binding5_name(&spec), w.b5)?,
             cand: u("cand", w.cand)?,
             ref_pos: GpuVec::<V2<T>>::new(ctx, "sphlab.ref_pos", if tracking { n } else { 1 })?,
             accum: u("accum", w.accum)?,
@@ -295,13 +305,14 @@ impl<T: Real> VBufs<T> {
     }
 
     /// The accumulator buffers a block stage clears first (the fixed-point high words are in
-    /// binding 4 unless kernel values are cached).
+    /// binding 4, or 5 when kernel values are cached).
     pub(crate) fn accumulators(&self) -> Vec<&wgpu::Buffer> {
-        let split = self.spec.accumulation == super::variant::Accumulation::Fixed
-            && self.spec.kernel_values != super::variant::KernelValues::Cached;
         let mut v = vec![&self.accum.buffer];
-        if split {
-            v.push(&self.cache_wf[0].buffer);
+        if self.spec.accumulation == super::variant::Accumulation::Fixed {
+            match self.spec.kernel_values {
+                super::variant::KernelValues::Cached => v.push(&self.cand_hi.buffer),
+                super::variant::KernelValues::Recomputed => v.push(&self.cache_wf[0].buffer),
+            }
         }
         v
     }
