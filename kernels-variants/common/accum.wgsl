@@ -5,13 +5,12 @@
 // * otherwise fixed point: each term is rounded to an integer multiple of the field's quantum
 //   q_f (a power of two, vparams[VP_Q + f], chosen on the host from the field's expected
 //   magnitude) and added as a 64-bit two's-complement integer held in two u32 words (low word
-//   atomicAdd, carry into the high word; the high words in binding 4, or 5 when kernel
-//   values are cached). Integer addition is associative, so the result does not depend on the order of
+//   atomicAdd, carry into the high word; the high words in binding 4 unless values are
+//   cached). Integer addition is associative, so the result does not depend on the order of
 //   the adds: bit-reproducible run to run.
 // The host zeroes the buffers before each block stage (0 bits = 0.0 = fixed 0); the finalize
 // kernels read it back with `acc_get`. Zero terms are skipped (they change nothing).
-// Library module: declares binding 8 of group 1 (its element type depends on the define) and
-// the high words' binding.
+// Library module: declares binding 8 of group 1 (its element type depends on the define).
 
 #import common/variant_bindings
 
@@ -20,12 +19,9 @@
 #else
 @group(1) @binding(8) var<storage, read_write> accum: array<atomic<u32>>;
 #ifndef ACC_CAS
-// Fixed point: the high words in a buffer of their own, so neither passes 4 words per particle:
-// binding 4 without cached kernel values (which it holds otherwise), else binding 5 (cached
-// variants keep no tracking mask words there).
-#ifdef CACHED
-@group(1) @binding(5) var<storage, read_write> accum_hi: array<atomic<u32>>;
-#else
+#ifndef CACHED
+// Fixed point without cached kernel values: the high words in binding 4 (which holds the
+// cached kernel values otherwise), so neither buffer passes 4 words per particle.
 @group(1) @binding(4) var<storage, read_write> accum_hi: array<atomic<u32>>;
 #endif
 #endif
@@ -33,16 +29,22 @@
 
 const TWO32: f32 = 4294967296.0;
 
+// Word of component c of particle i: in its list chunk's accumulator (split like the list slots
+// when they pass one binding, common/variant_bindings; the finalize kernels run per chunk too).
+fn acc_word(i: u32, c: u32) -> u32 {
+    return 4u * (i - vchunk.base) + c;
+}
+
 // Adds v to component c (0..3) of particle i, field group f (F_* of variant_bindings).
 fn acc_add(i: u32, c: u32, f: u32, v: real) {
     if v == real(0.0) {
         return;
     }
 #ifdef ACC_NATIVE
-    atomicAdd(&accum[4u * i + c], v);
+    atomicAdd(&accum[acc_word(i, c)], v);
 #else
 #ifdef ACC_CAS
-    let a = 4u * i + c;
+    let a = acc_word(i, c);
     var old = atomicLoad(&accum[a]);
     loop {
         let r = atomicCompareExchangeWeak(&accum[a], old, bitcast<u32>(bitcast<f32>(old) + v));
@@ -72,10 +74,17 @@ fn acc_add(i: u32, c: u32, f: u32, v: real) {
         hi = ~hi + select(0u, 1u, lo == 0u);
         lo = 0u - lo;
     }
-    let a = 4u * i + c;
+#ifdef CACHED
+    let a = 2u * acc_word(i, c);
+    let old = atomicAdd(&accum[a], lo);
+    let carry = select(0u, 1u, old + lo < old);
+    atomicAdd(&accum[a + 1u], hi + carry);
+#else
+    let a = acc_word(i, c);
     let old = atomicAdd(&accum[a], lo);
     let carry = select(0u, 1u, old + lo < old);
     atomicAdd(&accum_hi[a], hi + carry);
+#endif
 #endif
 #endif
 }
@@ -83,16 +92,22 @@ fn acc_add(i: u32, c: u32, f: u32, v: real) {
 // The accumulated component c of particle i (field group f).
 fn acc_get(i: u32, c: u32, f: u32) -> real {
 #ifdef ACC_NATIVE
-    return atomicLoad(&accum[4u * i + c]);
+    return atomicLoad(&accum[acc_word(i, c)]);
 #else
 #ifdef ACC_CAS
-    return real(bitcast<f32>(atomicLoad(&accum[4u * i + c])));
+    return real(bitcast<f32>(atomicLoad(&accum[acc_word(i, c)])));
 #else
     // Magnitude and sign in integers first (real(hi)·2³² + real(lo) would lose a small
     // negative total to rounding), then one conversion.
-    let a = 4u * i + c;
+#ifdef CACHED
+    let a = 2u * acc_word(i, c);
+    var lo = atomicLoad(&accum[a]);
+    var hi = atomicLoad(&accum[a + 1u]);
+#else
+    let a = acc_word(i, c);
     var lo = atomicLoad(&accum[a]);
     var hi = atomicLoad(&accum_hi[a]);
+#endif
     let neg = bitcast<i32>(hi) < 0;
     if neg {
         hi = ~hi + select(0u, 1u, lo == 0u);

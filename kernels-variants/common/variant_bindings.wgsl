@@ -4,7 +4,7 @@
 // the tracking candidates (`MASK_LISTS`: bitmasks over the cell walk, common/mask_lists.wgsl;
 // otherwise the thesis's 64 slots, packed j | code << 28 like `neighbours::pack`, and 96
 // candidate slots), cached kernel values, the tracking reference positions. The accumulator
-// (binding 8, and binding 4 or 5 for the high words of a fixed-point one) is
+// (binding 8, and binding 4 for the high words of a fixed-point one without cached values) is
 // declared by common/accum.wgsl, since its element type depends on the accumulation. Variants
 // that do not use a buffer get a one-element stand-in. Library module: no entry points.
 
@@ -16,11 +16,10 @@
 @group(1) @binding(3) var<storage, read_write> nbr: array<u32>;       // slot k of i at nbr_slot(i, k)
 #ifdef CACHED
 @group(1) @binding(4) var<storage, read_write> cache_wf: array<real2>; // (W_ij, F'(r_ij)) per slot
-// Binding 5 holds the high words of a fixed-point accumulation (common/accum.wgsl).
 #else
 // Binding 4 holds the high words of a fixed-point accumulation (common/accum.wgsl).
-@group(1) @binding(5) var<storage, read_write> cand_hi: array<u32>;    // tracking mask words CAND_LO_WORDS..
 #endif
+@group(1) @binding(5) var<storage, read_write> cand_hi: array<u32>;    // tracking mask words CAND_LO_WORDS..
 @group(1) @binding(6) var<storage, read_write> cand: array<u32>;       // slot k of i at i*CAND_SLOTS + k
 @group(1) @binding(7) var<storage, read_write> ref_pos: array<real2>;  // positions at the last build
 

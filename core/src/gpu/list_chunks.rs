@@ -5,28 +5,40 @@
 //! of `ChunkRange` in kernels-variants/common/variant_bindings.wgsl): one buffer per chunk and
 //! array, one group-1 bind group per chunk carrying the chunk's range, and the kernels that read
 //! or write the slots ([`reads_slots`]) dispatched once per chunk with their grid over the
-//! chunk's particles. Every other array stays whole, so a pair term still reads any neighbour.
+//! chunk's particles; the block mappings' accumulator is split alike. Every other array stays
+//! whole, so a pair term still reads any neighbour.
 //! Whenever the slots fit, there is one chunk of every particle and nothing changes.
 
 use super::mask_lists::uses_masks;
 use super::stages::KernelDef;
-use super::variant::{KernelValues, VariantSpec};
+use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec};
 use super::variant_buffers::NBR_SLOTS;
 
 /// Chunks start at multiples of this many particles: a whole number of workgroups of every
 /// mapping (256 threads, 32 block rows, 64 / G subgroup particles).
 pub const CHUNK_ALIGN: usize = 256;
 
-/// The per-slot arrays of `spec` that chunking splits, with their bytes per particle (`real`
-/// bytes per real): `nbr` with slot lists (one u32 per slot), `cache_wf` with cached kernel
-/// values (a real pair per slot). None for mask lists or without lists.
+/// The arrays of `spec` that chunking splits, with their bytes per particle (`real` bytes per
+/// real): `nbr` with slot lists (one u32 per slot), `cache_wf` with cached kernel values (a real
+/// pair per slot), and with those the block mappings' accumulator (`accum`, 4 or, fixed point
+/// with cached values, 8 words; the fixed point's high words `accum_hi`, 4 words, without), which
+/// their per-chunk kernels address by the chunk's particles. None for mask lists or without
+/// lists.
 pub fn slot_arrays(spec: &VariantSpec, real: usize) -> Vec<(&'static str, usize)> {
     let mut v = Vec::new();
     if spec.has_lists() && !uses_masks(spec) {
         v.push(("nbr", NBR_SLOTS * 4));
     }
-    if spec.kernel_values == KernelValues::Cached {
+    let cached = spec.kernel_values == KernelValues::Cached;
+    if cached {
         v.push(("cache_wf", NBR_SLOTS * 2 * real));
+    }
+    if !v.is_empty() && spec.mapping.layout() == SumLayout::Block {
+        let fixed = spec.accumulation == Accumulation::Fixed;
+        v.push(("accum", if fixed && cached { 32 } else { 16 }));
+        if fixed && !cached {
+            v.push(("accum_hi", 16));
+        }
     }
     v
 }
@@ -51,14 +63,18 @@ pub fn chunks(n: usize, len: usize) -> Vec<(usize, usize)> {
     (0..n).step_by(len.max(1)).map(|b| (b, len.min(n - b))).collect()
 }
 
-/// True when kernel `kd` reads or writes list slots, so it runs once per chunk: the list build
-/// and the list-driven pair sums of the thread (`cached`), block and subgroup mappings (not
-/// their finalize kernels, which read the whole accumulator).
+/// True when kernel `kd` reads or writes the split arrays, so it runs once per chunk: the list
+/// build, the list-driven pair sums of the thread (`cached`), block and subgroup mappings, and
+/// the block mappings' finalize kernels (which read the chunk's accumulator).
 pub fn reads_slots(kd: &KernelDef) -> bool {
     kd.entry == "nbr_build"
         || matches!(
             kd.file,
-            "list/pair_sums.wgsl" | "block/atomic.wgsl" | "block/tree.wgsl" | "subgroup/pair_sums.wgsl"
+            "list/pair_sums.wgsl"
+                | "block/atomic.wgsl"
+                | "block/tree.wgsl"
+                | "block/finalize.wgsl"
+                | "subgroup/pair_sums.wgsl"
         )
 }
 

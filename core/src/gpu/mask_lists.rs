@@ -44,8 +44,7 @@ pub struct ListWords {
     pub nbr: usize,
     /// Binding 4: cached (W, F′) per slot, or the high words of a fixed-point accumulation.
     pub b4: usize,
-    /// Binding 5: the tracking mask's upper words, or with cached kernel values the high words of
-    /// a fixed-point accumulation.
+    /// Binding 5: the tracking mask's upper words.
     pub b5: usize,
     /// Binding 6: tracking candidates (slots, or mask words and the build's sort), or the
     /// second half of a cells list mask.
@@ -78,9 +77,9 @@ pub fn list_words(spec: &VariantSpec, n: usize, cells: usize, real: usize) -> Li
     ListWords {
         nbr,
         b4: if cached { slot_v2 } else { on(block && fixed, 4 * n) },
-        b5: if cached { on(block && fixed, 4 * n) } else { on(tracking && masks, (CAND_WORDS - CAND_LO_WORDS) * n) },
+        b5: on(tracking && masks, (CAND_WORDS - CAND_LO_WORDS) * n),
         cand,
-        accum: on(block, 4 * n),
+        accum: on(block, if fixed && cached { 8 * n } else { 4 * n }),
     }
 }
 

@@ -21,7 +21,7 @@
 
 use crate::gpu::mask_lists::list_words;
 use crate::gpu::variant::{ListFormat, VariantSpec};
-use crate::gpu::variant_buffers::{binding4_name, binding5_name, vctl};
+use crate::gpu::variant_buffers::{binding4_name, vctl};
 use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
 use crate::neighbours::SearchKind;
@@ -200,7 +200,7 @@ impl GpuPlan {
             ("counts", 2 * n.max(1), 4),
             ("nbr", w.nbr as u64, 4),
             (b4, w.b4 as u64, 4),
-            (binding5_name(spec), w.b5 as u64, 4),
+            ("cand_hi", w.b5 as u64, 4),
             ("cand", w.cand as u64, 4),
             ("ref_pos", on(tracking, n), v2),
             ("accum", w.accum as u64, 4),

@@ -111,12 +111,12 @@ pub struct VBufs<T: Real> {
     /// Binding 4: cached (W, F′) per slot, one buffer per list chunk, or the high words of a
     /// fixed-point accumulation (one buffer).
     pub cache_wf: Vec<GpuVec<u32>>,
-    /// Binding 5: the tracking candidate mask's upper words, or with cached kernel values the
-    /// high words of a fixed-point accumulation (a stand-in otherwise).
+    /// Binding 5: the tracking candidate mask's upper words (a stand-in without masks).
     pub cand_hi: GpuVec<u32>,
     pub cand: GpuVec<u32>,
     pub ref_pos: GpuVec<V2<T>>,
-    pub accum: GpuVec<u32>,
+    /// Binding 8: the block accumulator, one buffer per list chunk (`gpu::list_chunks`).
+    pub accum: Vec<GpuVec<u32>>,
     /// The list chunks `(base, len)` and each one's range (binding 9).
     pub chunks: Vec<(usize, usize)>,
     ranges: Vec<Uniform<[u32; 4]>>,
@@ -130,15 +130,6 @@ pub fn binding4_name(spec: &VariantSpec) -> &'static str {
         "cache_wf"
     } else {
         "accum_hi"
-    }
-}
-
-/// The name of binding 5 (what it holds for `spec`).
-pub fn binding5_name(spec: &VariantSpec) -> &'static str {
-    if spec.kernel_values == super::variant::KernelValues::Cached {
-        "accum_hi"
-    } else {
-        "cand_hi"
     }
 }
 
@@ -162,7 +153,6 @@ impl<T: Real> VBufs<T> {
             }
             chunks.iter().map(|&(_, len)| u(name, whole / n * len)).collect()
         };
-        let cached = spec.kernel_values == super::variant::KernelValues::Cached;
         let ranges =
             chunks.iter().map(|&(b, l)| Uniform::new(ctx, "sphlab.vchunk", &[b as u32, l as u32, 0, 0])).collect();
         let b = Self {
@@ -172,11 +162,11 @@ impl<T: Real> VBufs<T> {
             // orig_of (`GpuSolver::record_renumbered`).
             counts: u("counts", 2 * n.max(1))?,
             nbr: split("nbr", w.nbr)?,
-            cache_wf: if cached { split(b4, w.b4)? } else { vec![u(b4, w.b4)?] },
-            cand_hi: u(binding5_name(&spec), w.b5)?,
+            cache_wf: split(b4, w.b4)?,
+            cand_hi: u("cand_hi", w.b5)?,
             cand: u("cand", w.cand)?,
             ref_pos: GpuVec::<V2<T>>::new(ctx, "sphlab.ref_pos", if tracking { n } else { 1 })?,
-            accum: u("accum", w.accum)?,
+            accum: split("accum", w.accum)?,
             chunks,
             ranges,
             spec,
@@ -305,14 +295,13 @@ impl<T: Real> VBufs<T> {
     }
 
     /// The accumulator buffers a block stage clears first (the fixed-point high words are in
-    /// binding 4, or 5 when kernel values are cached).
+    /// binding 4 unless kernel values are cached).
     pub(crate) fn accumulators(&self) -> Vec<&wgpu::Buffer> {
-        let mut v = vec![&self.accum.buffer];
-        if self.spec.accumulation == super::variant::Accumulation::Fixed {
-            match self.spec.kernel_values {
-                super::variant::KernelValues::Cached => v.push(&self.cand_hi.buffer),
-                super::variant::KernelValues::Recomputed => v.push(&self.cache_wf[0].buffer),
-            }
+        let split = self.spec.accumulation == super::variant::Accumulation::Fixed
+            && self.spec.kernel_values != super::variant::KernelValues::Cached;
+        let mut v: Vec<&wgpu::Buffer> = self.accum.iter().map(|b| &b.buffer).collect();
+        if split {
+            v.extend(self.cache_wf.iter().map(|b| &b.buffer));
         }
         v
     }
@@ -321,7 +310,7 @@ impl<T: Real> VBufs<T> {
     pub(crate) fn all_storage(&self) -> Vec<&wgpu::Buffer> {
         let mut v = self.storage(0).to_vec();
         for c in 1..self.chunks.len() {
-            for split in [&self.nbr, &self.cache_wf] {
+            for split in [&self.nbr, &self.cache_wf, &self.accum] {
                 if split.len() > 1 {
                     v.push(&split[c].buffer);
                 }
@@ -344,7 +333,7 @@ impl<T: Real> VBufs<T> {
             &self.cand_hi.buffer,
             &self.cand.buffer,
             &self.ref_pos.buffer,
-            &self.accum.buffer,
+            of(&self.accum, c),
         ]
     }
 
