@@ -1,5 +1,6 @@
 // mask_lists.wgsl: the compact neighbour and tracking lists (`MASK_LISTS`: the cells and
-// tracking searches with recomputed kernel values; twin of `gpu::mask_lists`). A particle's
+// tracking searches with recomputed kernel values; `MASK_CANDS`: the tracking candidates alone,
+// also with cached kernel values, whose lists keep slots; twin of `gpu::mask_lists`). A particle's
 // candidates are the cells of a square box around its (inversely imaged) cell, walked code by
 // code (existing image codes in order), row by row; the cells of one row are adjacent in the
 // counting sort of the fluids and in the walls' static sort, so each row is two contiguous

@@ -16,9 +16,9 @@
 //   fluids, slots 0..n_fluid) then its wall slots (the walls' static sort, `wall_start`); a slot
 //   holds particle `sorted[s]`, or s itself in physical cell order (`physical_order`: the
 //   particles renumbered in cell order at every search, search/reorder.wgsl);
-// * `TRACKING` with slot lists: one span, the particle's tracking candidates
+// * `TRACKING` with slot candidates: one span, the particle's tracking candidates
 //   (kernels-variants/search/tracking.wgsl), each entry (j, code) packed;
-// * `NB_ITERATOR` (the direct search, and tracking with `MASK_LISTS`): spans of one neighbour,
+// * `NB_ITERATOR` (the direct search, and tracking with `MASK_CANDS`): spans of one neighbour,
 //   handed out by the iterator `nb_next` below — the direct search tests DIRECT_CHUNK
 //   candidates per loop iteration in straight-line code (every particle under every existing
 //   image code, O(N²·images), the order of the CPU lists: code, then index; lavapipe ends every
@@ -36,6 +36,10 @@
 #import common/walk
 #ifdef MASK_LISTS
 #import common/mask_lists
+#else
+#ifdef MASK_CANDS
+#import common/mask_lists
+#endif
 #endif
 
 // One candidate of a span: the particle j, its image code and image position, and whether it
@@ -66,8 +70,8 @@ struct Nb {
     mask: u32,     // DIRECT: hits of the current chunk not yet returned (bit k = candidate base + k)
     base: u32,     // DIRECT: flat cursor (code·n + j) of the current chunk's first candidate
     i: u32,        // the query particle's index
-    m: u32,        // TRACKING with MASK_LISTS: candidate ordinal of the current candidate
-#ifdef MASK_LISTS
+    m: u32,        // TRACKING with MASK_CANDS: candidate ordinal of the current candidate
+#ifdef MASK_CANDS
     walk: Walk,    // TRACKING: the walk of the build's box (common/walk.wgsl)
     word: u32,     // TRACKING: current word of the candidate mask
     live: bool,    // TRACKING: the walk has a span left
@@ -195,7 +199,7 @@ fn nb_begin(i: u32, xi: real2) -> Nb {
 #ifdef DIRECT
     it.end = 9u * params.n; // flat cursor: code·n + j over the nine codes
 #else
-    // TRACKING with MASK_LISTS. (Local copies: a pointer to a struct member cannot be a call
+    // TRACKING with MASK_CANDS. (Local copies: a pointer to a struct member cannot be a call
     // argument in SPIR-V output.)
     var walk = walk_begin(ref_pos[i], 4u, true);
     it.live = walk_next(&walk);
@@ -338,7 +342,7 @@ fn nb_at(w: NbSpans, s: u32) -> NbHit {
 #endif
 
 #ifdef TRACKING
-#ifdef MASK_LISTS
+#ifdef MASK_CANDS
 // The tracking iterator over the candidate mask: the set bits in increasing order, each
 // located on the build's walk (ordinals only grow, so the walk only moves forward), under the
 // exact distance test at the current positions.

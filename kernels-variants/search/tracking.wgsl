@@ -8,7 +8,7 @@
 // for non-negative floats), `track_every` turns it and the evaluation counter into the flag `vctl[V_REBUILD]`, `track_build` rebuilds only
 // when the flag is set (every thread returns at once otherwise) and `track_clear` lowers it.
 // PERF: the cell sort of search/cell_*.wgsl still runs every evaluation (cheap next to the
-// pair stages); indirect dispatch could skip it too. With `MASK_LISTS` the candidates are a
+// pair stages); indirect dispatch could skip it too. With `MASK_CANDS` the candidates are a
 // bitmask over the build's cell walk (common/mask_lists.wgsl; a candidate past the mask
 // overflows, V_CAND_MAX then holding the mask bits needed). Candidates beyond CAND_SLOTS are counted
 // in vctl and reported as `NeighbourOverflow` by the host, never dropped silently; the
@@ -67,7 +67,7 @@ fn track_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
     let xi = pos[i];
     let r2 = vparams[VP_CAND_R2];
-#ifdef MASK_LISTS
+#ifdef MASK_CANDS
     // The candidate mask over the 4 × 4 box (common/mask_lists.wgsl) and the copy of the sort
     // it refers to (the next evaluation's counting sort overwrites `sorted` and `cell_start`).
     cand[CAND_LO_WORDS * params.n + i] = sorted[i];

@@ -229,7 +229,8 @@ pub fn modelled_bytes_per_evaluation(
         _ => n,
     };
     let cached = spec.kernel_values == KernelValues::Cached;
-    let per_pair_read = if spec.has_lists() { 4.0 + if cached { 4.0 * r } else { 0.0 } } else { 0.0 };
+    // A list entry (one word), with cached kernel values also (W, F′) (x_j is read from pos[j]).
+    let per_pair_read = if spec.has_lists() { 4.0 + if cached { 2.0 * r } else { 0.0 } } else { 0.0 };
     // What one particle's list moves per write or read: its mask words, or k entries.
     let list = if spec.has_lists() && super::mask_lists::uses_masks(spec) {
         4.0 * super::mask_lists::nbr_bits(spec) as f64 / 32.0

@@ -134,14 +134,18 @@ pub struct GpuPlan {
 /// place the format is chosen. A forced format, or a variant without the choice, is kept; else
 /// [`ListFormat::Slots`] (one index per entry, the fast lists) while every buffer of the slot
 /// plan fits the adapter's per-buffer cap and the dispatch grid fits, [`ListFormat::Masks`]
-/// beyond (a few words per particle; device memory in all is checked on the result).
+/// beyond (a few words per particle; device memory in all is checked on the result). With
+/// cached kernel values (tracking: only the candidates have masks) the list slots and the cache
+/// count as split into list chunks in either format.
 pub fn resolve_lists(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits) -> VariantSpec {
     if spec.lists != ListFormat::Auto || !spec.list_format_matters() {
         return *spec;
     }
     let slots = VariantSpec { lists: ListFormat::Slots, ..*spec };
     let per_buffer = DeviceLimits { memory: None, ..lim.clone() };
-    if GpuPlan::new(&slots, n, cells).check_in(&per_buffer, false).is_ok() {
+    // Cached values are split into list chunks in either format: then only the candidates choose.
+    let cached = spec.kernel_values == crate::gpu::variant::KernelValues::Cached;
+    if GpuPlan::new(&slots, n, cells).check_in(&per_buffer, cached).is_ok() {
         slots
     } else {
         VariantSpec { lists: ListFormat::Masks, ..*spec }
@@ -451,8 +455,14 @@ mod tests {
         assert_eq!(p.list_chunks(lim.buffer_cap()), 24);
         assert_eq!(p.largest(lim.buffer_cap()), ("cache_wf", 4_194_304 * 512));
         assert!(max_particles(&cells, 0.08, &lim, 1 << 28) > 100_000_000);
+        // Cached tracking: slot candidates while they fit one binding, masks beyond (the list
+        // slots and the cache stay slots, in chunks); forced slots are refused there.
+        assert_eq!(at("tracking.thread.cached.f32", 5_000_000, &lim), "slots");
+        assert_eq!(at("tracking.thread.cached.f32", 6_000_000, &lim), "masks");
         let cached: VariantSpec = "tracking.thread.cached.f32".parse().unwrap();
-        let e = GpuPlan::new(&cached, 6_000_000, 400_000).check(&lim).unwrap_err();
+        assert!(max_particles(&cached, 0.08, &lim, 1 << 28) > 100_000_000);
+        let slots = cached.with_lists(ListFormat::Slots).unwrap();
+        let e = GpuPlan::new(&slots, 6_000_000, 400_000).check(&lim).unwrap_err();
         assert!(e.contains("`cand`") && !e.contains("chunks"), "{e}");
         // A binding below one chunk of 256 particles is refused, naming the chunk.
         let tiny = DeviceLimits::stated(1 << 40, 64 << 10, "test");

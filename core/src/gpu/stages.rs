@@ -214,12 +214,15 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
         d.push("CACHED");
     }
     d.extend(spec.workgroup.define());
-    let masks = super::mask_lists::uses_masks(spec);
-    if masks {
+    if super::mask_lists::uses_masks(spec) {
         d.push("MASK_LISTS");
     }
+    let cands = super::mask_lists::cand_masks(spec);
+    if cands {
+        d.push("MASK_CANDS");
+    }
     // The neighbour loop's spans are the iterator's single neighbours (common/neighbours.wgsl).
-    if spec.search == SearchKind::Direct || (spec.search == SearchKind::Tracking && masks) {
+    if spec.search == SearchKind::Direct || cands {
         d.push("NB_ITERATOR");
     }
     if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {

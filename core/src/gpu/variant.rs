@@ -219,10 +219,11 @@ impl VariantSpec {
     }
 
     /// True when the list format is a choice: every search with recomputed kernel values that
-    /// keeps lists (every tracking variant keeps candidates). The direct search's masks index the
-    /// walk of a cell sort run for their storage alone (`gpu::mask_lists`).
+    /// keeps lists, and every tracking variant (it keeps candidates; with cached kernel values
+    /// only the candidates take masks, the cache needs list slots). The direct search's masks
+    /// index the walk of a cell sort run for their storage alone (`gpu::mask_lists`).
     pub fn list_format_matters(&self) -> bool {
-        self.kernel_values == KernelValues::Recomputed && (self.has_lists() || self.search == SearchKind::Tracking)
+        self.search == SearchKind::Tracking || (self.kernel_values == KernelValues::Recomputed && self.has_lists())
     }
 
     /// True when the variant sorts the particles into cells: the cells and tracking searches, and
@@ -419,9 +420,9 @@ impl FromStr for VariantSpec {
         if !spec.is_consistent() {
             if lists != ListFormat::Auto && !spec.list_format_matters() {
                 return Err(format!(
-                    "GPU variant `{id}`: a list format (.slots or .masks) belongs to the cells and tracking \
-                     searches with recomputed kernel values that keep lists (block and subgroup mappings; \
-                     every tracking variant)"
+                    "GPU variant `{id}`: a list format (.slots or .masks) belongs to every tracking variant \
+                     and to the other searches with recomputed kernel values that keep lists (block and \
+                     subgroup mappings)"
                 ));
             }
             if workgroup != Workgroup::W64 {

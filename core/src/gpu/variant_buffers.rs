@@ -17,7 +17,7 @@
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
 use super::list_chunks::{chunk_len, chunks};
-use super::mask_lists::{list_words, nbr_bits, uses_masks, CAND_WORDS};
+use super::mask_lists::{cand_masks, list_words, nbr_bits, uses_masks, CAND_WORDS};
 use super::variant::VariantSpec;
 use super::{GpuContext, GpuError, GpuVec, Uniform};
 use crate::backend::SolverError;
@@ -253,7 +253,7 @@ impl<T: Real> VBufs<T> {
         let cand = c[vctl::CAND_OVER].max(c[vctl::CAND_STALE]);
         let masks = uses_masks(&self.spec);
         let (bits, need) = (nbr_bits(&self.spec), c[vctl::NBR_NEED] as usize);
-        let err = if cand > 0 && masks {
+        let err = if cand > 0 && cand_masks(&self.spec) {
             let what = " (tracking candidates: bits of the candidate mask over the cell walk)".to_string();
             Some((cand, 32 * CAND_WORDS, c[vctl::CAND_MAX], what))
         } else if cand > 0 {
