@@ -158,7 +158,7 @@ fn rehearsal_without_cargo_returns_every_part() {
     assert!(gpu_timed || (loaded && all_dropped), "e4: no GPU row timed: {e4:?}");
     // Every part: done with its output, or a reason it has none.
     let parts = parts_json(&files);
-    assert_eq!(parts.len(), 9, "{parts:?}");
+    assert_eq!(parts.len(), 10, "{parts:?}");
     for p in &parts {
         let (name, status, note) =
             (p["name"].as_str().unwrap(), p["status"].as_str().unwrap(), p["note"].as_str().unwrap());
@@ -252,6 +252,8 @@ fn preset_refuses_a_cpu_adapter_and_dry_runs_its_plan() {
         "04-e4 share",
         "--e4-sizes 45",
         "08-verify share",
+        "09-chunks share",
+        "--gpu-binding 256K",
         "sphlab validate impact",
     ] {
         assert!(e.contains(needle), "plan lacks `{needle}`: {e}");

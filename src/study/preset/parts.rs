@@ -2,7 +2,8 @@
 //! own with a weight (its share of the budget) and a floor below which it is skipped:
 //!
 //! smoke → the bare neighbour walk (`walk-probe`) → scaling of the leading variants → E4 (2,025 and 10,000 fluid particles) → E1 → E3 →
-//! E2 → verify every variant on one scene → impact at full resolution, one part per angle.
+//! E2 → verify every variant on one scene → verify lists split into list chunks → impact at full
+//! resolution, one part per angle.
 //!
 //! Two scales: `gpu` (the thesis's sizes; scaling from the E4 size N ≈ 10⁴, where the one-thread
 //! CPU references are measured, to the largest N whose buffers fit, probed at 10⁵ and 10⁶, with
@@ -41,6 +42,18 @@ pub const SMOKE_MAX_S: f64 = 60.0;
 pub const MIN_SHARE_S: f64 = 4.0;
 /// The smoke test's variants: the default one-particle-per-thread variant and a block variant.
 pub const SMOKE_VARIANTS: [&str; 2] = ["cells.thread.recomputed.f32", "cells.block-tree.fixed.recomputed.f32"];
+/// Variants verified with their list slots split into list chunks (`verify --gpu-binding`,
+/// `gpu::list_chunks`): cached values of every mapping family, f32 and f64, the cached tracking
+/// candidates as masks, slot lists with recomputed values.
+pub const CHUNK_VARIANTS: [&str; 5] = [
+    "cells.thread.cached.f32",
+    "direct.block-atomic.cas.cached.f32",
+    "cells.subgroup.cached.f64",
+    "tracking.block-tree.fixed.cached.f64.masks",
+    "cells.subgroup.recomputed.f32.slots",
+];
+/// The per-buffer cap of that part: four chunks of the f64 cache at nx = 24 (1,024 particles).
+pub const CHUNK_BINDING: &str = "256K";
 /// Impact angles at full resolution (run ids of `validate impact`), one part each: the two
 /// extremes of the thesis's angles.
 pub const IMPACT_RUNS: [&str; 2] = ["theta50", "theta160"];
@@ -214,7 +227,11 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
         let sizes = if extra.is_empty() { "thesis sizes".to_string() } else { extra.join(" ") };
         push(format!("{what}, {sizes}"), w, study(e, strs(extra)), true, false);
     }
-    push("verify every variant on oscillating-drop".into(), 8.0, verify("all"), false, false);
+    push("verify every variant on oscillating-drop".into(), 6.0, verify("all"), false, false);
+    let mut chunks = strs(&["verify", "oscillating-drop", "--variants", &CHUNK_VARIANTS.join(",")]);
+    chunks.extend(strs(&["--set", "domain.nx=24", "--steps", "20", "--per-stage", "--gpu-binding", CHUNK_BINDING]));
+    chunks.extend(strs(&["--budget", BUDGET, "--out", OUT]));
+    push(format!("verify lists in chunks ({CHUNK_BINDING} bindings)"), 2.0, chunks, false, false);
     let variant = VariantSpec::default().to_string();
     let impact = |extra: &[&str]| {
         let mut a = strs(&["validate", "impact", "--backend", "gpu", "--variant", &variant, "--quiet", "--out", OUT]);
@@ -242,6 +259,7 @@ fn args_name(args: &[String]) -> String {
     let get = |flag: &str| args.iter().position(|a| a == flag).and_then(|k| args.get(k + 1)).cloned();
     match args[0].as_str() {
         "verify" if get("--variants").as_deref() == Some("all") => "verify".into(),
+        "verify" if get("--gpu-binding").is_some() => "chunks".into(),
         "verify" => "smoke".into(),
         "study" => get("--experiments").unwrap_or_default(),
         "walk-probe" => "walk".into(),
@@ -292,8 +310,9 @@ mod tests {
                 "06-e3",
                 "07-e2",
                 "08-verify",
-                "09-impact-theta50",
-                "10-impact-theta160"
+                "09-chunks",
+                "10-impact-theta50",
+                "11-impact-theta160"
             ]
         );
         assert!(p[0].gate && p.iter().skip(1).all(|p| !p.gate));
