@@ -21,13 +21,16 @@ fn the_cells_hold_every_neighbour_a_brute_force_search_finds() {
         let xi = lat.pos[s];
         let brute =
             lat.pos.iter().filter(|xj| (xi[0] - xj[0]).powi(2) + (xi[1] - xj[1]).powi(2) < CELL_DX * CELL_DX).count();
-        let (nb, w, cand) = lat.expected(s);
+        let (nb, w, cand, wq) = lat.expected(s);
         assert_eq!(nb as usize, brute, "slot {s}");
         assert!(cand >= nb && w >= 1.0, "slot {s}: {cand} candidates, weight {w}");
+        // Σ W over the support of a unit lattice is about 1 (the kernel's normalisation).
+        assert!((wq - 1.0).abs() < 0.05 || nb < 30, "slot {s}: Σ W = {wq} over {nb} neighbours");
     }
     // An interior particle's 3×3 cells of 3.6 Δx hold between 9·3² and 9·4² lattice points.
     let mid = (0..n).find(|&s| lat.pos[s] == [20.5, 20.5]).unwrap();
-    let (_, _, cand) = lat.expected(mid);
+    let (_, _, cand, wq) = lat.expected(mid);
+    assert!((wq - 1.0).abs() < 1e-3, "an interior particle's quintic sum Σ W = {wq}");
     assert!((81..=144).contains(&cand), "{cand} candidates in 3×3 cells of 3.6 Δx");
 }
 
@@ -43,6 +46,11 @@ fn a_walk_that_misses_a_neighbour_is_an_error() {
     let sums: Vec<f32> = expected.iter().map(|e| e.1 as f32).collect();
     check_output("pair-sum", "read", &sums, &expected, 3).unwrap();
     assert!(check_output("pair-sum", "read", &vec![0.0; sums.len()], &expected, 3).is_err());
+    let mut quintic: Vec<f32> = expected.iter().map(|e| e.3 as f32).collect();
+    check_output("quintic", "read", &quintic, &expected, 4).unwrap();
+    assert!(check_output("quintic", "read", &sums, &expected, 4).is_err(), "the Wendland sums are not the quintic's");
+    quintic[5] *= 1.001;
+    assert!(check_output("quintic", "read", &quintic, &expected, 4).unwrap_err().to_string().contains("slot 5"));
 }
 
 #[test]
@@ -67,4 +75,5 @@ fn every_form_and_access_finds_the_hosts_neighbours_and_is_timed() {
     }
     let forms: Vec<(&str, &str)> = rows.iter().map(|r| (r.form.as_str(), r.access.as_str())).collect();
     assert!(forms.contains(&("params-by-value", "read_write")) && forms.contains(&("indirect", "read")));
+    assert!(forms.contains(&("quintic", "read_write")));
 }

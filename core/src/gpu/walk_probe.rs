@@ -16,7 +16,10 @@
 //!   once instead; the code, 0 = the identity, comes from a uniform, so the call is not folded
 //!   away and only the call differs);
 //! * `pair-sum`: as `ranges`, with a Wendland weight (a square root and a few products) summed
-//!   per neighbour, the least pair work a pass does.
+//!   per neighbour, the least pair work a pass does;
+//! * `quintic`: as `pair-sum`, with the engine's own kernel value instead (`kernel_w` of
+//!   `shaders/kernel.wgsl`, the quintic spline at h = [`CELL_DX`]/3, its parameters read once
+//!   per thread), the number-density pass's pair work without its epilogue.
 //!
 //! Each form is compiled twice, its inputs bound `read` and `read_write` (every engine binding is
 //! `read_write`). Each (form, access) is timed as one dispatch per pass with beginning/end
@@ -35,12 +38,14 @@ pub const CELL_DX: f32 = 3.6;
 /// Timed passes per (form, access); the best counts.
 pub const WALK_REPEATS: u32 = 5;
 /// The forms, with the mode number the WGSL takes.
-pub const FORMS: [(&str, u32); 4] = [("ranges", 0), ("indirect", 1), ("params-by-value", 2), ("pair-sum", 3)];
+pub const FORMS: [(&str, u32); 5] =
+    [("ranges", 0), ("indirect", 1), ("params-by-value", 2), ("pair-sum", 3), ("quintic", 4)];
 /// Threads per workgroup.
 const GROUP: u32 = 64;
 
 const WALK_WGSL: &str = "
 #import geometry
+#import kernel
 
 struct Probe { n: u32, grid_nx: u32, grid_ny: u32, code: u32, inv_cell: f32, support2: f32, pad1: f32, pad2: f32 }
 @group(0) @binding(0) var<uniform> params: Params;
@@ -70,6 +75,10 @@ fn walk(slot: u32, mode: u32) -> f32 {
     let cx = i32(floor(xi.x * probe.inv_cell));
     let cy = i32(floor(xi.y * probe.inv_cell));
     var found = 0.0;
+    var kp: KernelParams;
+    if mode == 4u {
+        kp = params_kernel(params);
+    }
     for (var dy = -1; dy <= 1; dy++) {
         let y = cy + dy;
         if y < 0 || y >= i32(probe.grid_ny) {
@@ -91,6 +100,8 @@ fn walk(slot: u32, mode: u32) -> f32 {
                     let q = sqrt(r2 / probe.support2);
                     let a = 1.0 - q;
                     found += a * a * a * a * (1.0 + 4.0 * q);
+                } else if mode == 4u {
+                    found += kernel_w(kp, sqrt(r2));
                 } else {
                     found += 1.0;
                 }
@@ -194,14 +205,15 @@ impl Lattice {
         Lattice { side, pos, cell_start, grid, order, pos_perm }
     }
 
-    /// What every form must find at slot s: (neighbours, Σ Wendland weight, candidates),
-    /// by the same walk on the host.
-    pub fn expected(&self, s: usize) -> (u32, f64, u32) {
+    /// What every form must find at slot s: (neighbours, Σ Wendland weight, candidates,
+    /// Σ quintic W), by the same walk on the host.
+    pub fn expected(&self, s: usize) -> (u32, f64, u32, f64) {
+        let kp = quintic();
         let xi = self.pos[s];
         let support2 = CELL_DX * CELL_DX;
         let (cx, cy) = ((xi[0] / CELL_DX).floor() as i64, (xi[1] / CELL_DX).floor() as i64);
         let g = self.grid as i64;
-        let (mut n, mut w, mut cand) = (0u32, 0.0f64, 0u32);
+        let (mut n, mut w, mut cand, mut wq) = (0u32, 0.0f64, 0u32, 0.0f64);
         for y in (cy - 1)..=(cy + 1) {
             if y < 0 || y >= g {
                 continue;
@@ -217,17 +229,24 @@ impl Lattice {
                     n += 1;
                     let q = (r2 / support2).sqrt() as f64;
                     w += (1.0 - q).powi(4) * (1.0 + 4.0 * q);
+                    wq += crate::physics::kernel::kernel_w(&kp, (r2 as f64).sqrt());
                 }
             }
         }
-        (n, w, cand)
+        (n, w, cand, wq)
     }
+}
+
+/// The `quintic` form's kernel: the quintic spline whose support is the cell, h = [`CELL_DX`]/3.
+fn quintic() -> crate::physics::kernel::KernelParams<f64> {
+    use crate::physics::kernel::{KernelKind, KernelParams};
+    KernelParams::new(KernelKind::Quintic, CELL_DX as f64 / KernelKind::Quintic.support_factor())
 }
 
 /// One (form, access) timed at one size.
 #[derive(Clone, Debug, Serialize)]
 pub struct WalkTime {
-    /// `ranges`, `indirect`, `params-by-value`, `pair-sum`.
+    /// `ranges`, `indirect`, `params-by-value`, `pair-sum`, `quintic`.
     pub form: String,
     /// `read` or `read_write` bindings.
     pub access: String,
@@ -253,18 +272,19 @@ pub fn measure_walk(ctx: &GpuContext, side: u32) -> Result<Option<Vec<WalkTime>>
     }
     let lat = Lattice::new(side);
     let n = lat.pos.len();
-    let expected: Vec<(u32, f64, u32)> = (0..n).map(|s| lat.expected(s)).collect();
+    let expected: Vec<(u32, f64, u32, f64)> = (0..n).map(|s| lat.expected(s)).collect();
     let candidates = expected.iter().map(|e| e.2 as f64).sum::<f64>() / n as f64;
     let neighbours = expected.iter().map(|e| e.0 as f64).sum::<f64>() / n as f64;
     let init = |label: &str, bytes: &[u8], usage| {
         ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage })
     };
     let storage = wgpu::BufferUsages::STORAGE;
-    let params = init(
-        "sphlab.walk.params",
-        bytemuck::bytes_of(&<super::params::Params<f32> as Zeroable>::zeroed()),
-        wgpu::BufferUsages::UNIFORM,
-    );
+    // Zero but the kernel's fields (the `quintic` form's).
+    let mut p = <super::params::Params<f32> as Zeroable>::zeroed();
+    let kp = quintic();
+    p.kernel_kind = kp.kind.id();
+    (p.h, p.inv_h, p.alpha, p.support) = (kp.h as f32, kp.inv_h as f32, kp.alpha as f32, kp.support as f32);
+    let params = init("sphlab.walk.params", bytemuck::bytes_of(&p), wgpu::BufferUsages::UNIFORM);
     let grid = lat.grid;
     let uniform = ProbeUniform {
         n: n as u32,
@@ -333,16 +353,20 @@ pub fn measure_walk(ctx: &GpuContext, side: u32) -> Result<Option<Vec<WalkTime>>
 }
 
 /// A form's output against the host walk ([`Lattice::expected`] per slot): counts exactly, the
-/// weight sum (mode 3) to f32 rounding; the first slot off is named.
+/// weight sums (modes 3 and 4) to f32 rounding; the first slot off is named.
 pub fn check_output(
     form: &str,
     access: &str,
     found: &[f32],
-    expected: &[(u32, f64, u32)],
+    expected: &[(u32, f64, u32, f64)],
     mode: u32,
 ) -> Result<(), GpuError> {
     for (s, (&f, e)) in found.iter().zip(expected).enumerate() {
-        let (want, tol) = if mode == 3 { (e.1, 1e-4 * e.1.max(1.0)) } else { (e.0 as f64, 0.0) };
+        let (want, tol) = match mode {
+            3 => (e.1, 1e-4 * e.1.max(1.0)),
+            4 => (e.3, 1e-4 * e.3.abs()),
+            _ => (e.0 as f64, 0.0),
+        };
         if !f.is_finite() || (f as f64 - want).abs() > tol {
             return Err(GpuError::Mismatch(format!(
                 "walk probe `{form}` ({access}): slot {s} found {f}, the host's walk {want}"
