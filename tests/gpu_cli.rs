@@ -245,15 +245,16 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
 
 /// A GPU run that needs more than the adapter allows is refused with exit 2 and the numbers
 /// (buffer, bytes needed, the limit) before any device buffer or output directory exists: a
-/// tracking variant whose 96-slot candidate lists pass the adapter's binding limit, and a run whose
+/// tracking variant whose forced 96-slot candidate lists pass the adapter's binding limit, and a run whose
 /// total passes a stated `--gpu-memory`.
 #[test]
 fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
     let _g = common::serial();
     let Some(ctx) = common::gpu_or_skip() else { return };
     let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
-    // The tracking candidates hold 96 slots × 4 B per particle in one binding (the list slots
-    // and cached values would be split into list chunks); oscillating-drop has at least nx².
+    // Forced slot candidates hold 96 slots × 4 B per particle in one binding (the list slots and
+    // cached values would be split into list chunks, and unforced the candidates would take
+    // masks); oscillating-drop has at least nx² particles.
     let nx = ((cap / 384) as f64).sqrt().ceil() as u64 + 8;
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("out");
@@ -274,7 +275,7 @@ fn gpu_runs_beyond_the_adapter_exit_2_with_numbers() {
         args.extend_from_slice(&["--out", out.to_str().expect("utf8")]);
         sphlab(&args)
     };
-    let o = run(&["--variant", "tracking.thread.cached.f32", "--set", &set]);
+    let o = run(&["--variant", "tracking.thread.cached.f32.slots", "--set", &set]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("`cand`") && err.contains(&cap.to_string()) && err.contains("max_"), "{err}");
