@@ -123,9 +123,9 @@ fn rehearsal_without_cargo_returns_every_part() {
     let verdicts: Vec<&str> =
         smoke["variants"].as_array().unwrap().iter().map(|v| v["status"].as_str().unwrap()).collect();
     assert_eq!(verdicts, ["pass", "pass"], "{smoke}");
-    // The walk probe: four forms × two accesses at each of its two sides.
+    // The walk probe: every form × two accesses at each of its two sides.
     let walk = rows(file(&files, "parts/02-walk/walk.csv"));
-    assert_eq!(walk.len(), 16, "{walk:?}");
+    assert_eq!(walk.len(), 2 * 2 * sphlab::gpu::walk_probe::FORMS.len(), "{walk:?}");
     let scaling = rows(file(&files, "parts/03-scaling/records.csv"));
     let mut gpu_sizes: Vec<&str> =
         scaling.iter().filter(|r| r["backend"] == "gpu" && measured(r)).map(|r| r["nx"].as_str()).collect();
