@@ -34,7 +34,7 @@ pub fn run(a: WalkProbeArgs) -> Result<(), Error> {
         return Err(Error::input("--sides: give at least one side"));
     }
     let ctx = gpu_context().map_err(|e| Error::input(format!("no GPU adapter: {e}")))?;
-    let binding = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+    let binding = ctx.buffer_cap();
     // The largest array is the positions (8 B per particle).
     let max_side = ((binding / 8) as f64).sqrt().floor() as u32;
     if let Some(bad) = a.sides.iter().find(|&&s| !(MIN_SIDE..=max_side).contains(&s)) {

@@ -110,7 +110,7 @@ pub fn measure_bandwidth(ctx: &GpuContext, bytes: u64) -> Result<Option<Bandwidt
         return Ok(None);
     }
     let align = u64::from(ctx.limits.min_storage_buffer_offset_alignment).max(16);
-    let chunk = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size) / align * align;
+    let chunk = ctx.buffer_cap() / align * align;
     let bytes = bytes.min(ctx.limits.max_buffer_size) / 16 * 16;
     let pipeline = ctx.compute_pipeline("sphlab.bandwidth", COPY_WGSL, "copy")?;
     let buffer = |label| {

@@ -16,7 +16,7 @@ const STORAGE: wgpu::BufferUsages =
 
 /// Checks `bytes` against the device's storage binding and buffer limits.
 fn check_size(ctx: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
-    let limit = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+    let limit = ctx.buffer_cap();
     if bytes > limit {
         return Err(GpuError::TooLarge { what: what.to_string(), bytes, limit });
     }

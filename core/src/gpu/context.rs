@@ -39,6 +39,12 @@ pub struct GpuContext {
 }
 
 impl GpuContext {
+    /// The most bytes one buffer can hold and bind whole: the smaller of
+    /// `max_storage_buffer_binding_size` and `max_buffer_size`.
+    pub fn buffer_cap(&self) -> u64 {
+        self.limits.max_storage_buffer_binding_size.min(self.limits.max_buffer_size)
+    }
+
     /// This context as an adapter whose per-buffer limits are at most `bytes` (a smaller
     /// device emulated: the memory plan and the list chunks, `gpu::list_chunks`, follow it).
     pub fn with_binding_cap(mut self, bytes: u64) -> Self {

@@ -4,7 +4,7 @@
 //! particles of f32 `cache_wf`). They are then split by particle into chunks that each fit (twin
 //! of `ChunkRange` in kernels-variants/common/variant_bindings.wgsl): one buffer per chunk and
 //! array, one group-1 bind group per chunk carrying the chunk's range, and the kernels that read
-//! or write the slots ([`reads_slots`]) dispatched once per chunk with their grid over the
+//! or write the slots ([`runs_per_chunk`]) dispatched once per chunk with their grid over the
 //! chunk's particles; the block mappings' accumulator is split alike. Every other array stays
 //! whole, so a pair term still reads any neighbour.
 //! Whenever the slots fit, there is one chunk of every particle and nothing changes.
@@ -24,7 +24,7 @@ pub const CHUNK_ALIGN: usize = 256;
 /// with cached values, 8 words; the fixed point's high words `accum_hi`, 4 words, without), which
 /// their per-chunk kernels address by the chunk's particles. None for mask lists or without
 /// lists.
-pub fn slot_arrays(spec: &VariantSpec, real: usize) -> Vec<(&'static str, usize)> {
+pub fn split_arrays(spec: &VariantSpec, real: usize) -> Vec<(&'static str, usize)> {
     let mut v = Vec::new();
     if spec.has_lists() && !uses_masks(spec) {
         v.push(("nbr", NBR_SLOTS * 4));
@@ -47,7 +47,7 @@ pub fn slot_arrays(spec: &VariantSpec, real: usize) -> Vec<(&'static str, usize)
 /// when every slot array fits, else the largest multiple of [`CHUNK_ALIGN`] whose arrays each
 /// fit (at least [`CHUNK_ALIGN`]: a cap below 256 particles' slots is refused by the plan).
 pub fn chunk_len(spec: &VariantSpec, n: usize, real: usize, cap: u64) -> usize {
-    let widest = slot_arrays(spec, real).iter().map(|a| a.1).max().unwrap_or(0) as u64;
+    let widest = split_arrays(spec, real).iter().map(|a| a.1).max().unwrap_or(0) as u64;
     if widest == 0 || n as u64 * widest <= cap {
         return n.max(1);
     }
@@ -66,7 +66,7 @@ pub fn chunks(n: usize, len: usize) -> Vec<(usize, usize)> {
 /// True when kernel `kd` reads or writes the split arrays, so it runs once per chunk: the list
 /// build, the list-driven pair sums of the thread (`cached`), block and subgroup mappings, and
 /// the block mappings' finalize kernels (which read the chunk's accumulator).
-pub fn reads_slots(kd: &KernelDef) -> bool {
+pub fn runs_per_chunk(kd: &KernelDef) -> bool {
     kd.entry == "nbr_build"
         || matches!(
             kd.file,
@@ -86,7 +86,7 @@ mod tests {
     fn chunks_fit_the_cap_and_cover_every_particle_once() {
         let cached: VariantSpec = "cells.thread.cached.f32".parse().unwrap();
         // cache_wf: 64 slots × 8 B = 512 B per particle; nbr 256 B.
-        assert_eq!(slot_arrays(&cached, 4), vec![("nbr", 256), ("cache_wf", 512)]);
+        assert_eq!(split_arrays(&cached, 4), vec![("nbr", 256), ("cache_wf", 512)]);
         let cap = 2u64 << 30;
         assert_eq!(chunk_len(&cached, 4_194_304, 4, cap), 4_194_304, "fits: one chunk");
         assert_eq!(chunk_len(&cached, 4_194_305, 4, cap), 4_194_304);
@@ -103,9 +103,9 @@ mod tests {
         let f64c: VariantSpec = "cells.thread.cached.f64".parse().unwrap();
         assert_eq!(chunk_len(&f64c, 100_000_000, 8, cap), len / 2);
         let masks: VariantSpec = "cells.subgroup.recomputed.f32.masks".parse().unwrap();
-        assert!(slot_arrays(&masks, 4).is_empty());
+        assert!(split_arrays(&masks, 4).is_empty());
         assert_eq!(chunk_len(&masks, 100_000_000, 4, 1 << 20), 100_000_000);
         let thread: VariantSpec = "cells.thread.recomputed.f32".parse().unwrap();
-        assert!(slot_arrays(&thread, 4).is_empty());
+        assert!(split_arrays(&thread, 4).is_empty());
     }
 }

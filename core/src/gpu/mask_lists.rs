@@ -220,7 +220,7 @@ mod tests {
         assert!(cached.len() == 12 && cached.iter().all(|s| cand_masks(s) && !uses_masks(s)));
         for spec in &masked {
             let w = list_words(spec, n, n / 12, 4);
-            let split: Vec<&str> = crate::gpu::list_chunks::slot_arrays(spec, 4).iter().map(|a| a.0).collect();
+            let split: Vec<&str> = crate::gpu::list_chunks::split_arrays(spec, 4).iter().map(|a| a.0).collect();
             let b4 = if split.contains(&"cache_wf") { "cache_wf" } else { "b4" };
             for (name, words) in [("nbr", w.nbr), (b4, w.b4), ("b5", w.b5), ("cand", w.cand), ("accum", w.accum)] {
                 assert!(words <= cap || split.contains(&name), "{spec}: {name} {words} words");

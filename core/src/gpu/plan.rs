@@ -26,7 +26,6 @@ use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
 use crate::neighbours::SearchKind;
 use crate::plan::fmt_bytes;
-use crate::real::Precision;
 use serde::Serialize;
 
 /// Cells per workgroup of the parallel cell scan (`search/cell_scan.wgsl`); the per-block sums
@@ -161,7 +160,7 @@ impl GpuPlan {
     /// The plan of `spec` for `n` particles on `cells` grid cells: exactly the bytes
     /// `GpuSolver::new` allocates (tested).
     pub fn new(spec: &VariantSpec, n: u64, cells: u64) -> Self {
-        let r = if spec.precision == Precision::F64 { 8 } else { 4 };
+        let r = spec.precision.bytes() as u64;
         let v2 = 2 * r;
         let tracking = spec.search == SearchKind::Tracking;
         let on = |b: bool, len: u64| if b { len } else { 1 };
@@ -227,15 +226,16 @@ impl GpuPlan {
 
     /// Bytes per particle of buffer `b` when it is a per-slot array that list chunks split
     /// (`gpu::list_chunks`), else `None`.
-    fn slot_bytes(&self, b: &BufferPlan) -> Option<u64> {
-        let real = if self.spec.precision == Precision::F64 { 8 } else { 4 };
-        crate::gpu::list_chunks::slot_arrays(&self.spec, real).iter().find(|a| a.0 == b.name).map(|a| a.1 as u64)
+    fn split_bytes(&self, b: &BufferPlan) -> Option<u64> {
+        crate::gpu::list_chunks::split_arrays(&self.spec, self.spec.precision.bytes())
+            .iter()
+            .find(|a| a.0 == b.name)
+            .map(|a| a.1 as u64)
     }
 
     /// Particles per list chunk under the per-buffer `cap` (`n`: one chunk).
     fn chunk_len(&self, cap: u64) -> u64 {
-        let real = if self.spec.precision == Precision::F64 { 8 } else { 4 };
-        crate::gpu::list_chunks::chunk_len(&self.spec, self.n as usize, real, cap) as u64
+        crate::gpu::list_chunks::chunk_len(&self.spec, self.n as usize, self.spec.precision.bytes(), cap) as u64
     }
 
     /// List chunks under the per-buffer `cap` (1 unless the slot arrays pass it).
@@ -246,7 +246,7 @@ impl GpuPlan {
     /// The bytes of the largest single buffer `b` allocates under `cap` (a chunk's for the
     /// split slot arrays).
     pub fn allocated(&self, b: &BufferPlan, cap: u64) -> u64 {
-        match self.slot_bytes(b) {
+        match self.split_bytes(b) {
             Some(per) => alloc(self.chunk_len(cap).min(self.n), per),
             None => b.bytes,
         }
@@ -279,7 +279,7 @@ impl GpuPlan {
             } else {
                 "max_buffer_size"
             };
-            let note = match self.slot_bytes(b) {
+            let note = match self.split_bytes(b) {
                 Some(per) if chunking => format!(
                     " (64 list slots × {} B per particle in chunks of at least {} particles)",
                     per / 64,

@@ -145,7 +145,7 @@ impl<T: Real> VBufs<T> {
         let u = |name: &str, len| GpuVec::<u32>::new(ctx, &format!("sphlab.{name}"), len);
         let w = list_words(&spec, n, cells, size_of::<T>());
         let b4 = binding4_name(&spec);
-        let cap = ctx.limits.max_storage_buffer_binding_size.min(ctx.limits.max_buffer_size);
+        let cap = ctx.buffer_cap();
         let chunks = chunks(n, chunk_len(&spec, n, size_of::<T>(), cap));
         let split = |name: &str, whole: usize| -> Result<Vec<GpuVec<u32>>, GpuError> {
             if chunks.len() == 1 || whole == 1 {

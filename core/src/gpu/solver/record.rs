@@ -153,7 +153,7 @@ impl<T: Real> GpuSolver<T> {
             if (kd.file == reorder::FILE && !renumber) || skips.contains(&kd.entry) {
                 continue;
             }
-            if chunked && crate::gpu::list_chunks::reads_slots(kd) {
+            if chunked && crate::gpu::list_chunks::runs_per_chunk(kd) {
                 // Once per list chunk, each with its bind group and its particles' grid.
                 pass.set_pipeline(p);
                 for (g, &(_, len)) in self.vbgs.iter().zip(&self.vb.chunks) {
