@@ -260,6 +260,7 @@ fn check_scene<T: Real>(ctx: &GpuContext, t: &Toy, name: &str, sets: &[&str]) ->
         precision: precision::<T>(),
         workgroup: Workgroup::W64,
         lists: sphlab::gpu::variant::ListFormat::Auto,
+        slots: sphlab::gpu::variant::SlotLayout::Auto,
     };
     let composed = compose_mapped(&t.file, &t.source, &defines(&spec)).expect("composes");
     let module = ctx

@@ -263,6 +263,12 @@ pub trait Backend {
     fn engine_counters(&self) -> Option<EngineCounters> {
         None
     }
+    /// The most neighbours (itself and images included) one particle had in one evaluation
+    /// since the backend was built: the CPU's lists; `None` on the GPU, whose list slots
+    /// report only an overflow.
+    fn peak_neighbours(&self) -> Option<usize> {
+        None
+    }
     /// Simulated time.
     fn time(&self) -> f64;
     /// Steps taken.

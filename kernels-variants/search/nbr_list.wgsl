@@ -109,6 +109,80 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
 }
 #else
+#ifdef COMPACT_LISTS
+// Compact lists (`gpu::compact_lists`): a first walk counts each particle's neighbours, a
+// prefix sum over the workgroup's blocks of COMPACT_BLOCK particles places each list in its
+// block's region, and a second walk (the same order) writes the entries and their kernel
+// values. A particle over NBR_SLOTS, or a block over its region (V_COMPACT_NEED: the most
+// entries a block needed), is an overflow; no entry past the region is written.
+var<workgroup> compact_count: array<u32, GROUP_THREADS>;
+
+@compute @workgroup_size(GROUP_THREADS)
+fn nbr_build(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_index) t: u32,
+) {
+    let i = chunk_particle(linear_id(gid, nwg));
+    let live = i < params.n;
+    let xi = pos[select(0u, i, live)];
+    var count = 0u;
+    if live {
+        var sp = nb_spans(i, xi);
+        while nb_span(&sp) {
+            for (var s = sp.s0; s < sp.s1; s++) {
+                count += select(0u, 1u, nb_at(sp, s).hit);
+            }
+        }
+    }
+    compact_count[t] = min(count, NBR_SLOTS);
+    workgroupBarrier();
+    let first = t - t % COMPACT_BLOCK;
+    var at = COMPACT_BLOCK;
+    for (var u = first; u < t; u++) {
+        at += compact_count[u];
+    }
+    if !live {
+        return;
+    }
+    let l = i - vchunk.base;
+    let r = compact_region(l);
+    nbr[r + l % COMPACT_BLOCK] = at;
+    let room = select(0u, COMPACT_REGION - at, at < COMPACT_REGION);
+    let kept = min(min(count, NBR_SLOTS), room);
+#ifdef CACHED
+    let kp = params_kernel(params);
+#endif
+    var k = 0u;
+    var sp = nb_spans(i, xi);
+    while nb_span(&sp) {
+        for (var s = sp.s0; s < sp.s1; s++) {
+            let nb = nb_at(sp, s);
+            if !nb.hit {
+                continue;
+            }
+            if k < kept {
+                let slot = r + at + k;
+                nbr[slot] = pack_nb(nb.j, nb.code);
+#ifdef CACHED
+                let x_ij = xi - nb.xj;
+                let d = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
+                cache_wf[slot] = real2(kernel_w(kp, d), kernel_dwdr(kp, d));
+#endif
+            }
+            k += 1u;
+        }
+    }
+    counts[i] = count;
+    let need = at + min(count, NBR_SLOTS);
+    if count > NBR_SLOTS || need > COMPACT_REGION {
+        atomicAdd(&vctl[V_NBR_EVAL], 1u);
+        atomicMax(&vctl[V_NBR_MAX], count);
+        atomicMax(&vctl[V_COMPACT_NEED], need - COMPACT_BLOCK);
+        note_overflow(i);
+    }
+}
+#else
 @compute @workgroup_size(GROUP_THREADS)
 fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = chunk_particle(linear_id(gid, nwg));
@@ -146,6 +220,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         note_overflow(i);
     }
 }
+#endif
 #endif
 
 // One thread, after `nbr_build`: this evaluation's overflowing particles into the maximum.

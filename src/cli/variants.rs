@@ -80,7 +80,8 @@ fn list(json: bool) {
 
 /// `--memory N`: the GPU memory plan of every variant (`plan::gpu`), cells per particle as in
 /// `oscillating-drop` at nx = 300; at N in the list format the stated adapter gets (`lists`:
-/// slots or masks where the format is a choice; `chunks`: the list chunks its slot arrays take
+/// slots or masks where the format is a choice; `slots`: full or compact, the slot layout of
+/// the cached variants, `gpu::compact_lists`; `chunks`: the list chunks its slot arrays take
 /// there, `gpu::list_chunks`), the largest N of each adapter in the format chosen there.
 fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
     if n == 0 || n > HARD_MAX_PARTICLES {
@@ -101,6 +102,7 @@ fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
         rows.push(serde_json::json!({
             "id": v.to_string(),
             "lists": plan.spec.lists.suffix(),
+            "slots": plan.spec.slots.suffix(),
             "bytes_per_particle": bytes_per_particle(&plan.spec, cpp),
             "total_bytes": plan.total_bytes,
             "largest_buffer": plan.largest(big.buffer_cap()).0,
@@ -141,9 +143,10 @@ fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
 /// The table of `--memory N`, one row per variant.
 fn print_memory_table(n: u64, rows: &[serde_json::Value]) {
     println!(
-        "{:<44} {:>6} {:>9} {:>12} {:>22} {:>6} {:>12} {:>12}",
+        "{:<44} {:>6} {:>8} {:>9} {:>12} {:>22} {:>6} {:>12} {:>12}",
         "variant",
         "lists",
+        "slots",
         "B/part.",
         format!("N={n}"),
         "largest buffer",
@@ -157,9 +160,10 @@ fn print_memory_table(n: u64, rows: &[serde_json::Value]) {
         let largest =
             format!("{} {}", s("largest_buffer"), fmt_bytes(r["largest_buffer_bytes"].as_f64().unwrap_or(0.0)));
         println!(
-            "{:<44} {:>6} {:>9.1} {:>12} {:>22} {:>6} {:>12} {:>12}",
+            "{:<44} {:>6} {:>8} {:>9.1} {:>12} {:>22} {:>6} {:>12} {:>12}",
             s("id"),
             r["lists"].as_str().unwrap_or("-"),
+            r["slots"].as_str().unwrap_or("-"),
             r["bytes_per_particle"].as_f64().unwrap_or(0.0),
             fmt_bytes(r["total_bytes"].as_f64().unwrap_or(0.0)),
             largest,

@@ -88,6 +88,7 @@ impl Stepping<'_> {
             }
         }
         self.summary.stability_numbers = self.numbers;
+        self.summary.peak_neighbours = self.backend.peak_neighbours();
         self.summary.wall_time_s = wall;
         let _ = self.stop(format!("blow-up: {e}"));
         RunError::BlowUp(e)
@@ -116,6 +117,7 @@ impl Stepping<'_> {
         summary.ms_per_step = 1e3 * wall / summary.steps.max(1) as f64;
         summary.status = "ok".into();
         summary.stability_numbers = numbers;
+        summary.peak_neighbours = self.backend.peak_neighbours();
         if let Some(g) = summary.gpu_engine.as_mut() {
             g.roofline_fraction = g.fraction(wall / summary.steps.max(1) as f64);
         }

@@ -190,6 +190,7 @@ impl Summary {
             provenance: Provenance::new(opts.backend.to_string(), gpu, RUN_UNITS),
             dt_warnings: Vec::new(),
             stability_numbers: Default::default(),
+            peak_neighbours: None,
             engine: None,
         }
     }

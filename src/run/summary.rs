@@ -63,6 +63,10 @@ pub struct Summary {
     pub stability_numbers: crate::physics::timestep::StabilityNumbers,
     /// What the GPU engine did during the stepping after t = 0 (`None` on the CPU).
     pub engine: Option<EngineReport>,
+    /// The most neighbours (itself and images included) one particle had in one evaluation
+    /// over the whole run, relaxation included: what a GPU list's slots must hold (CPU
+    /// backends; `None` on the GPU).
+    pub peak_neighbours: Option<usize>,
 }
 
 /// The GPU engine's own counts over a run's stepping after t = 0 (`Backend::engine_counters`).

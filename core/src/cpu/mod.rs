@@ -57,6 +57,8 @@ pub struct CpuSolver<T: Real> {
     pub f: Fields<T>,
     /// Neighbour lists of the last evaluation.
     pub nbrs: NeighbourList,
+    /// The most neighbours one particle had in one evaluation so far (`Backend::peak_neighbours`).
+    pub peak_neighbours: usize,
     /// Time.
     pub t: f64,
     /// Steps.
@@ -97,6 +99,7 @@ impl<T: Real> CpuSolver<T> {
             n_fluid: layout.n_fluid,
             f: Fields::new(n),
             nbrs: NeighbourList::default(),
+            peak_neighbours: 0,
             t: 0.0,
             step: 0,
             dt: dt_fixed,
@@ -162,7 +165,10 @@ impl<T: Real> CpuSolver<T> {
             let t = Instant::now();
             match evaluation_fn::<T>(stage) {
                 Some(run) => run(&self.ctx(), &mut f),
-                None => self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support()),
+                None => {
+                    self.nbrs = self.search.update(self.exec, &self.model.images, &self.pos, self.model.support());
+                    self.peak_neighbours = self.peak_neighbours.max(self.nbrs.max_count());
+                }
             }
             after(stage, &f, t.elapsed());
         }
@@ -401,6 +407,9 @@ impl<T: Real> Backend for CpuSolver<T> {
     }
     fn steps(&self) -> u64 {
         self.step
+    }
+    fn peak_neighbours(&self) -> Option<usize> {
+        Some(self.peak_neighbours)
     }
     fn frame(&mut self) -> Frame {
         if !self.evaluated {

@@ -9,6 +9,7 @@
 //! whole, so a pair term still reads any neighbour.
 //! Whenever the slots fit, there is one chunk of every particle and nothing changes.
 
+use super::compact_lists::{SlotLayout, COMPACT_BLOCK, COMPACT_REGION};
 use super::mask_lists::uses_masks;
 use super::stages::KernelDef;
 use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec};
@@ -26,12 +27,14 @@ pub const CHUNK_ALIGN: usize = 256;
 /// lists.
 pub fn split_arrays(spec: &VariantSpec, real: usize) -> Vec<(&'static str, usize)> {
     let mut v = Vec::new();
+    // Words per particle of the slot arrays: 64 slots, or a compact region's share.
+    let slots = if spec.slots == SlotLayout::Compact { COMPACT_REGION / COMPACT_BLOCK } else { NBR_SLOTS };
     if spec.has_lists() && !uses_masks(spec) {
-        v.push(("nbr", NBR_SLOTS * 4));
+        v.push(("nbr", slots * 4));
     }
     let cached = spec.kernel_values == KernelValues::Cached;
     if cached {
-        v.push(("cache_wf", NBR_SLOTS * 2 * real));
+        v.push(("cache_wf", slots * 2 * real));
     }
     if !v.is_empty() && spec.mapping.layout() == SumLayout::Block {
         let fixed = spec.accumulation == Accumulation::Fixed;
@@ -52,6 +55,16 @@ pub fn chunk_len(spec: &VariantSpec, n: usize, real: usize, cap: u64) -> usize {
         return n.max(1);
     }
     ((cap / widest) as usize / CHUNK_ALIGN * CHUNK_ALIGN).max(CHUNK_ALIGN)
+}
+
+/// Particles whose slots a chunk of `len` particles allocates: `len`, or with compact lists
+/// its whole blocks (`gpu::compact_lists`).
+pub fn allocated_len(spec: &VariantSpec, len: usize) -> usize {
+    if spec.slots == SlotLayout::Compact {
+        len.div_ceil(COMPACT_BLOCK).max(1) * COMPACT_BLOCK
+    } else {
+        len
+    }
 }
 
 /// The chunks `(base, len)` of `n` particles at `len` per chunk (one of every particle when

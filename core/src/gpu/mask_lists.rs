@@ -6,6 +6,7 @@
 //! masks into packed lists ([`decode`], for the exact comparison with the CPU lists).
 
 use super::variant::{Accumulation, KernelValues, ListFormat, SumLayout, VariantSpec};
+use super::compact_lists::{compact_words, SlotLayout};
 use super::variant_buffers::{CAND_SLOTS, NBR_SLOTS};
 use crate::model::Images;
 use crate::neighbours::cells::CellBox;
@@ -68,10 +69,12 @@ pub fn list_words(spec: &VariantSpec, n: usize, cells: usize, real: usize) -> Li
     let cands = cand_masks(spec);
     let block = spec.mapping.layout() == SumLayout::Block;
     let on = |b: bool, len: usize| if b { len } else { 1 };
-    let slot_v2 = n * NBR_SLOTS * 2 * real / 4;
+    // Slots per list: 64 for every particle, or the compact layout's regions.
+    let slots = if spec.slots == SlotLayout::Compact { compact_words(n) } else { n * NBR_SLOTS };
+    let slot_v2 = slots * 2 * real / 4;
     let nbr = match (lists, masks, tracking) {
         (false, _, _) => 1,
-        (true, false, _) => n * NBR_SLOTS,
+        (true, false, _) => slots,
         (true, true, true) => n * NBR_WORDS_TRACK,
         (true, true, false) => n * NBR_WORDS_CELLS / 2,
     };

@@ -6,6 +6,7 @@
 pub mod bandwidth;
 pub(crate) mod buffers;
 pub(crate) mod clock;
+pub mod compact_lists;
 pub mod compose;
 pub(crate) mod context;
 pub(crate) mod counters;

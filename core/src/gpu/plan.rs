@@ -20,7 +20,7 @@
 //! buffers (only while stage timing is on) and the bandwidth probe's buffers are not counted.
 
 use crate::gpu::mask_lists::list_words;
-use crate::gpu::variant::{ListFormat, VariantSpec};
+use crate::gpu::variant::{KernelValues, ListFormat, SlotLayout, VariantSpec};
 use crate::gpu::variant_buffers::{binding4_name, vctl};
 use crate::gpu::GpuContext;
 use crate::model::MAX_CONTACTS;
@@ -136,14 +136,33 @@ pub struct GpuPlan {
 /// beyond (a few words per particle; device memory in all is checked on the result). With
 /// cached kernel values (tracking: only the candidates have masks) the list slots and the cache
 /// count as split into list chunks in either format.
+///
+/// Then the slot layout of the cached variants (`gpu::compact_lists`): full (64 slots per
+/// particle) while that plan fits `lim` in every check, device memory included; compact beyond.
 pub fn resolve_lists(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits) -> VariantSpec {
+    let spec = resolve_format(spec, n, cells, lim);
+    if spec.slots != SlotLayout::Auto || spec.kernel_values != KernelValues::Cached {
+        return spec;
+    }
+    let full = VariantSpec { slots: SlotLayout::Full, ..spec };
+    if GpuPlan::new(&full, n, cells).check(lim).is_ok() {
+        full
+    } else {
+        VariantSpec { slots: SlotLayout::Compact, ..spec }
+    }
+}
+
+/// The list format of [`resolve_lists`].
+fn resolve_format(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits) -> VariantSpec {
     if spec.lists != ListFormat::Auto || !spec.list_format_matters() {
         return *spec;
     }
-    let slots = VariantSpec { lists: ListFormat::Slots, ..*spec };
+    // Cached values are split into list chunks in either format: then only the candidates
+    // choose (the slot layout, chosen next, changes no candidate buffer).
+    let cached = spec.kernel_values == KernelValues::Cached;
+    let layout = if cached && spec.slots == SlotLayout::Auto { SlotLayout::Full } else { spec.slots };
+    let slots = VariantSpec { lists: ListFormat::Slots, slots: layout, ..*spec };
     let per_buffer = DeviceLimits { memory: None, ..lim.clone() };
-    // Cached values are split into list chunks in either format: then only the candidates choose.
-    let cached = spec.kernel_values == crate::gpu::variant::KernelValues::Cached;
     if GpuPlan::new(&slots, n, cells).check_in(&per_buffer, cached).is_ok() {
         slots
     } else {
@@ -247,7 +266,10 @@ impl GpuPlan {
     /// split slot arrays).
     pub fn allocated(&self, b: &BufferPlan, cap: u64) -> u64 {
         match self.split_bytes(b) {
-            Some(per) => alloc(self.chunk_len(cap).min(self.n), per),
+            Some(per) => {
+                let len = self.chunk_len(cap).min(self.n) as usize;
+                alloc(crate::gpu::list_chunks::allocated_len(&self.spec, len) as u64, per)
+            }
             None => b.bytes,
         }
     }
@@ -267,7 +289,8 @@ impl GpuPlan {
     /// [`Self::check`], with the slot arrays whole unless `chunking` (the list format's choice
     /// keeps slots only while they fit whole: [`resolve_lists`]).
     fn check_in(&self, lim: &DeviceLimits, chunking: bool) -> Result<(), String> {
-        if self.spec.lists == ListFormat::Auto && self.spec.list_format_matters() {
+        let auto_slots = self.spec.slots == SlotLayout::Auto && self.spec.kernel_values == KernelValues::Cached;
+        if auto_slots || (self.spec.lists == ListFormat::Auto && self.spec.list_format_matters()) {
             return GpuPlan::resolved(&self.spec, self.n, self.cells, lim).check_in(lim, chunking);
         }
         let head = format!("GPU memory plan of {} for {} particles", self.variant, self.n);
@@ -281,8 +304,7 @@ impl GpuPlan {
             };
             let note = match self.split_bytes(b) {
                 Some(per) if chunking => format!(
-                    " (64 list slots × {} B per particle in chunks of at least {} particles)",
-                    per / 64,
+                    " ({per} B of list slots per particle in chunks of at least {} particles)",
                     crate::gpu::list_chunks::CHUNK_ALIGN
                 ),
                 _ => String::new(),

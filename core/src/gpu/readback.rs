@@ -9,6 +9,7 @@ use super::reorder::{to_device, to_original};
 use super::solver::GpuSolver;
 use super::solver_buffers::{ctl, sigma_of, sigma_pairs};
 use super::variant::SumLayout;
+use super::compact_lists::{compact_slot, SlotLayout};
 use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
@@ -235,7 +236,12 @@ impl<T: Real> GpuSolver<T> {
             // Each list chunk's slots (`gpu::list_chunks`), indexed within the chunk.
             for (buf, &(base, len)) in self.vb.nbr.iter().zip(&self.vb.chunks) {
                 let nbr = buf.read_back(ctx)?;
-                let slot = |l: usize, k: usize| if slot_major { k * len + l } else { l * NBR_SLOTS + k };
+                let compact = self.spec.slots == SlotLayout::Compact;
+                let slot = |l: usize, k: usize| match (compact, slot_major) {
+                    (true, _) => compact_slot(&nbr, l, k),
+                    (false, true) => k * len + l,
+                    (false, false) => l * NBR_SLOTS + k,
+                };
                 for l in 0..len {
                     let d = base + l;
                     let mut list: Vec<u32> =

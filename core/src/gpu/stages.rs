@@ -225,7 +225,9 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     if spec.search == SearchKind::Direct || cands {
         d.push("NB_ITERATOR");
     }
-    if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
+    if spec.slots == super::compact_lists::SlotLayout::Compact {
+        d.push("COMPACT_LISTS");
+    } else if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
         d.push("SLOT_MAJOR");
     }
     match spec.accumulation {

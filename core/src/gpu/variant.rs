@@ -8,6 +8,7 @@
 //! float atomics in f64, so f64 block variants accumulate in fixed point only) and every one
 //! is implemented; [`VariantSpec::support`] says why an adapter cannot run one.
 
+pub use super::compact_lists::SlotLayout;
 use super::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::real::Precision;
@@ -110,6 +111,9 @@ pub struct VariantSpec {
     /// Format of the neighbour and tracking lists (`gpu::mask_lists`): chosen by N unless the
     /// id forces one with `.slots` or `.masks`.
     pub lists: ListFormat,
+    /// Slot layout of the lists with cached kernel values (`gpu::compact_lists`): chosen by the
+    /// memory plan unless the id forces one with `.full` or `.compact`.
+    pub slots: SlotLayout,
 }
 
 /// Format of the explicit neighbour lists and tracking candidates of the cells and tracking
@@ -216,6 +220,7 @@ impl VariantSpec {
         (self.mapping.layout() != SumLayout::Block) == (self.accumulation == Accumulation::None)
             && (self.workgroup == Workgroup::W64 || self.mapping.layout() == SumLayout::Thread)
             && (self.lists == ListFormat::Auto || self.list_format_matters())
+            && (self.slots == SlotLayout::Auto || self.kernel_values == KernelValues::Cached)
     }
 
     /// True when the list format is a choice: every search with recomputed kernel values that
@@ -235,6 +240,11 @@ impl VariantSpec {
     /// The same variant with list format `lists` (`None` unless the format is a choice).
     pub fn with_lists(self, lists: ListFormat) -> Option<VariantSpec> {
         Some(VariantSpec { lists, ..self }).filter(|s| s.is_consistent())
+    }
+
+    /// The same variant with slot layout `slots` (`None` unless it has cached kernel values).
+    pub fn with_slots(self, slots: SlotLayout) -> Option<VariantSpec> {
+        Some(VariantSpec { slots, ..self }).filter(|s| s.is_consistent())
     }
 
     /// The same variant with `workgroup` threads per workgroup (`None` unless consistent).
@@ -260,6 +270,7 @@ impl VariantSpec {
                                 precision,
                                 workgroup,
                                 lists,
+                                slots: SlotLayout::Auto,
                             };
                             if s.is_consistent() && s.meaningful().is_ok() {
                                 v.push(s);
@@ -376,6 +387,9 @@ impl fmt::Display for VariantSpec {
         if let Some(l) = self.lists.suffix() {
             write!(f, ".{l}")?;
         }
+        if let Some(l) = self.slots.suffix() {
+            write!(f, ".{l}")?;
+        }
         Ok(())
     }
 }
@@ -385,6 +399,10 @@ impl FromStr for VariantSpec {
     fn from_str(id: &str) -> Result<Self, String> {
         let bad = || format!("unknown GPU variant `{id}`; valid ids: {}", VariantSpec::all_ids());
         let mut parts: Vec<&str> = id.split('.').collect();
+        let slots = parts.last().and_then(|s| SlotLayout::parse(s)).unwrap_or(SlotLayout::Auto);
+        if slots != SlotLayout::Auto {
+            parts.pop();
+        }
         let lists = match parts.last() {
             Some(&"slots") => ListFormat::Slots,
             Some(&"masks") => ListFormat::Masks,
@@ -416,8 +434,14 @@ impl FromStr for VariantSpec {
             precision: Precision::parse(p).ok_or_else(bad)?,
             workgroup,
             lists,
+            slots,
         };
         if !spec.is_consistent() {
+            if slots != SlotLayout::Auto && spec.kernel_values != KernelValues::Cached {
+                return Err(format!(
+                    "GPU variant `{id}`: a slot layout (.full or .compact) belongs to the variants with cached kernel values"
+                ));
+            }
             if lists != ListFormat::Auto && !spec.list_format_matters() {
                 return Err(format!(
                     "GPU variant `{id}`: a list format (.slots or .masks) belongs to every tracking variant \

@@ -16,8 +16,9 @@
 //! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
+use super::compact_lists::{COMPACT_BLOCK, COMPACT_MEAN, COMPACT_REGION};
 use super::list_chunks::{chunk_len, chunks};
-use super::mask_lists::{cand_masks, list_words, nbr_bits, uses_masks, CAND_WORDS};
+use super::mask_lists::{cand_masks, list_words, nbr_bits, uses_masks, ListWords, CAND_WORDS};
 use super::variant::VariantSpec;
 use super::{GpuContext, GpuError, GpuVec, Uniform};
 use crate::backend::SolverError;
@@ -69,6 +70,9 @@ pub mod vctl {
     /// The most mask bits a particle's list needed (bitmask lists, `gpu::mask_lists`): past
     /// the mask the list overflowed.
     pub const NBR_NEED: usize = 13;
+    /// The most entries a block of the compact lists needed (`gpu::compact_lists`), noted by
+    /// its overflowing particles: past the block's room the list overflowed.
+    pub const COMPACT_NEED: usize = 14;
     /// Words.
     pub const LEN: usize = 16;
 }
@@ -147,11 +151,12 @@ impl<T: Real> VBufs<T> {
         let b4 = binding4_name(&spec);
         let cap = ctx.buffer_cap();
         let chunks = chunks(n, chunk_len(&spec, n, size_of::<T>(), cap));
-        let split = |name: &str, whole: usize| -> Result<Vec<GpuVec<u32>>, GpuError> {
-            if chunks.len() == 1 || whole == 1 {
-                return Ok(vec![u(name, whole)?]);
+        // A split array's words for a chunk of `len` particles (`list_words` of the chunk).
+        let split = |name: &str, words: fn(&ListWords) -> usize| -> Result<Vec<GpuVec<u32>>, GpuError> {
+            if chunks.len() == 1 || words(&w) == 1 {
+                return Ok(vec![u(name, words(&w))?]);
             }
-            chunks.iter().map(|&(_, len)| u(name, whole / n * len)).collect()
+            chunks.iter().map(|&(_, len)| u(name, words(&list_words(&spec, len, cells, size_of::<T>())))).collect()
         };
         let ranges =
             chunks.iter().map(|&(b, l)| Uniform::new(ctx, "sphlab.vchunk", &[b as u32, l as u32, 0, 0])).collect();
@@ -161,12 +166,12 @@ impl<T: Real> VBufs<T> {
             // List or candidate counts (0..n, n..2n); a renumbering's scratch for phase and
             // orig_of (`GpuSolver::record_renumbered`).
             counts: u("counts", 2 * n.max(1))?,
-            nbr: split("nbr", w.nbr)?,
-            cache_wf: split(b4, w.b4)?,
+            nbr: split("nbr", |w| w.nbr)?,
+            cache_wf: split(b4, |w| w.b4)?,
             cand_hi: u("cand_hi", w.b5)?,
             cand: u("cand", w.cand)?,
             ref_pos: GpuVec::<V2<T>>::new(ctx, "sphlab.ref_pos", if tracking { n } else { 1 })?,
-            accum: split("accum", w.accum)?,
+            accum: split("accum", |w| w.accum)?,
             chunks,
             ranges,
             spec,
@@ -260,6 +265,11 @@ impl<T: Real> VBufs<T> {
             Some((cand, CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".to_string()))
         } else if c[vctl::NBR_OVER] > 0 && masks && need > bits {
             Some((c[vctl::NBR_OVER], bits, need as u32, " (bits of the list mask over the cell walk)".to_string()))
+        } else if c[vctl::NBR_OVER] > 0 && c[vctl::COMPACT_NEED] as usize > COMPACT_REGION - COMPACT_BLOCK {
+            let what = format!(
+                " (entries of a compact list block of {COMPACT_BLOCK} particles: room for {COMPACT_MEAN} per particle)"
+            );
+            Some((c[vctl::NBR_OVER], COMPACT_REGION - COMPACT_BLOCK, c[vctl::COMPACT_NEED], what))
         } else if c[vctl::NBR_OVER] > 0 {
             Some((c[vctl::NBR_OVER], NBR_SLOTS, c[vctl::NBR_MAX], String::new()))
         } else {
@@ -270,7 +280,7 @@ impl<T: Real> VBufs<T> {
             return Ok(());
         }
         let first = c[vctl::OVER_FIRST];
-        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::NBR_NEED, vctl::CAND_OVER, vctl::FIXED_OVER] {
+        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::NBR_NEED, vctl::COMPACT_NEED, vctl::CAND_OVER, vctl::FIXED_OVER] {
             c[w] = 0;
         }
         c[vctl::OVER_FIRST] = u32::MAX;
