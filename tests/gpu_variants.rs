@@ -19,7 +19,7 @@ use sphlab::gpu::compose::{compose_variant_mapped, validate};
 use sphlab::gpu::plan::{GpuPlan, SCAN_BLOCK};
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::stages::{defines, kernel_table, Domain};
-use sphlab::gpu::variant::{Accumulation, ListFormat, SumLayout, VariantSpec, SUBGROUP_LANES};
+use sphlab::gpu::variant::{Accumulation, ListFormat, SlotLayout, SumLayout, VariantSpec, SUBGROUP_LANES};
 use sphlab::gpu::{GpuContext, GpuError};
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Precision;
@@ -211,6 +211,43 @@ fn neighbour_overflow_is_reported() {
     }
     let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, VariantSpec::default()).unwrap();
     g.evaluate_once().expect("thread/cells has no slot limit");
+}
+
+/// Compact lists (`gpu::compact_lists`) hold up to 64 neighbours per particle but 48 per
+/// particle over each block of 64: with the quintic at h = 1.4Δx (support 4.2Δx, 57 lattice
+/// neighbours) no particle passes 64 and the full layout runs, while the compact blocks
+/// overflow, which is an error naming the block's room, never a cut list.
+#[test]
+fn compact_block_overflow_is_reported() {
+    let _g = serial();
+    let Some(ctx) = gpu_or_skip() else { return };
+    let ctx = Arc::new(ctx);
+    let (s, l) = scene("sessile-90", &["contact.mode=b", "domain.nx=21", "kernel.kind=quintic", "kernel.h_ratio=1.4"]);
+    let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Serial, SearchKind::Cells);
+    cpu.evaluate().expect("CPU evaluation");
+    let max = (0..l.pos.len()).map(|i| cpu.nbrs.of(i).len()).max().unwrap();
+    assert!(max > 48 && max <= 64, "{max} neighbours at most");
+    for id in ["cells.thread.cached.f32", "cells.block-tree.fixed.cached.f64"] {
+        let full: VariantSpec = format!("{id}.full").parse().unwrap();
+        if full.support(&ctx).is_err() {
+            continue;
+        }
+        let e = match full.precision {
+            Precision::F32 => compact_overflow::<f32>(&ctx, &s, &l, full),
+            Precision::F64 => compact_overflow::<f64>(&ctx, &s, &l, full),
+        };
+        println!("{id}.compact: {e}");
+        assert!(e.contains("more than 3072") && e.contains("compact list block of 64 particles"), "{id}: {e}");
+    }
+}
+
+/// Runs `full` (it must evaluate), then its compact layout, whose error it returns.
+fn compact_overflow<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, full: VariantSpec) -> String {
+    let mut g = GpuSolver::<T>::new(ctx.clone(), s, l, full).unwrap();
+    g.evaluate_once().expect("64 slots hold every list");
+    let compact = full.with_slots(SlotLayout::Compact).unwrap();
+    let mut g = GpuSolver::<T>::new(ctx.clone(), s, l, compact).unwrap();
+    g.evaluate_once().expect_err("the compact blocks overflow").to_string()
 }
 
 /// The overflow names its particle, by ORIGINAL id through the renumbering: from a start whose
@@ -444,12 +481,23 @@ fn lists_in_chunks_match_the_cpu_and_the_plan() {
     let (s, l) = scene(SCENES[1].0, SCENES[1].1);
     let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
     cpu.evaluate().unwrap();
-    for id in ["cells.thread.cached.f32", "direct.block-tree.fixed.cached.f32", "cells.subgroup.recomputed.f32.slots"] {
+    // With the compact layout too (`gpu::compact_lists`), its blocks of 64 in workgroups of 64
+    // and 256 threads spread over two grid dimensions.
+    for id in [
+        "cells.thread.cached.f32",
+        "direct.block-tree.fixed.cached.f32",
+        "cells.subgroup.recomputed.f32.slots",
+        "cells.thread.cached.f32.compact",
+        "cells.thread.cached.f32.wg256.compact",
+        "direct.block-tree.fixed.cached.f32.compact",
+        "tracking.subgroup.cached.f32.masks.compact",
+    ] {
         let spec: VariantSpec = id.parse().unwrap();
         if spec.support(&ctx).is_err() {
             continue;
         }
         let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
+        assert!(g.spec().to_string().starts_with(id), "{id} ran as {}", g.spec());
         let plan = GpuPlan::new(&g.spec(), l.pos.len() as u64, g.cells() as u64);
         assert!(g.list_chunks() > 1, "{id}: {} chunk(s) of {} particles", g.list_chunks(), l.pos.len());
         assert_eq!(g.list_chunks() as u64, plan.list_chunks(cap), "{id}");
