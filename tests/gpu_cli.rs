@@ -117,7 +117,7 @@ fn verify_every_variant_on_a_mode_b_contact_angle_scene() {
 /// thread, block and subgroup mappings (f32 and f64) and slot lists with recomputed values run
 /// in several chunks (1,024 particles with the walls; 64 slots × 8 B of f32 cache: 256
 /// particles per 128 KiB chunk) and still verify against the CPU, stage by stage and after 20 steps; without the cap
-/// they take one chunk. So do the compact slot lists.
+/// they take one chunk. So do the pooled slot lists.
 #[test]
 fn verify_passes_with_the_lists_in_chunks() {
     let _g = common::serial();
@@ -125,16 +125,16 @@ fn verify_passes_with_the_lists_in_chunks() {
         return;
     }
     let cached = "cells.thread.cached.f32,direct.subgroup.cached.f32,cells.block-atomic.cas.cached.f32";
-    // The compact slot layout (`gpu::compact_lists`: 49 words per particle, 392 B of f32 and
+    // The pooled slot layout (`gpu::pooled_lists`: 49 words per particle, 392 B of f32 and
     // 784 B of f64 per particle with the cache) in chunks and whole.
-    let compact = "cells.thread.cached.f32.compact,cells.subgroup.cached.f64.compact,\
-                   tracking.block-atomic.fixed.cached.f64.masks.compact";
+    let pooled = "cells.thread.cached.f32.pooled,cells.subgroup.cached.f64.pooled,\
+                   tracking.block-atomic.fixed.cached.f64.masks.pooled";
     let runs: [(Option<&str>, String, &[u64]); 5] = [
         (Some("128K"), format!("{cached},cells.subgroup.recomputed.f32.slots"), &[4, 4, 4, 2]),
         (Some("256K"), "cells.block-tree.fixed.cached.f64,cells.thread.cached.f64".into(), &[4, 4]),
         (None, "cells.thread.cached.f64".into(), &[1]),
-        (Some("256K"), compact.into(), &[2, 4, 4]),
-        (None, "cells.block-tree.native.cached.f32.compact".into(), &[1]),
+        (Some("256K"), pooled.into(), &[2, 4, 4]),
+        (None, "cells.block-tree.native.cached.f32.pooled".into(), &[1]),
     ];
     for (cap, ids, chunks) in runs {
         let mut args = vec!["verify", "oscillating-drop", "--set", "domain.nx=24", "--variants", &ids];
@@ -151,7 +151,7 @@ fn verify_passes_with_the_lists_in_chunks() {
             assert_eq!(r["status"], "pass", "{cap:?}: {}", serde_json::to_string_pretty(r).unwrap_or_default());
             assert_eq!(r["list_chunks"].as_u64(), Some(*want), "{cap:?}: {}", r["variant"]);
             let (id, ran) = (r["variant"].as_str().unwrap_or(""), r["ran"].as_str().unwrap_or(""));
-            assert_eq!(id.ends_with(".compact"), ran.ends_with(".compact"), "{id} ran as {ran}");
+            assert_eq!(id.ends_with(".pooled"), ran.ends_with(".pooled"), "{id} ran as {ran}");
         }
         assert_eq!(o.status.code(), Some(0));
     }

@@ -213,12 +213,12 @@ fn neighbour_overflow_is_reported() {
     g.evaluate_once().expect("thread/cells has no slot limit");
 }
 
-/// Compact lists (`gpu::compact_lists`) hold up to 64 neighbours per particle but 48 per
+/// Pooled lists (`gpu::pooled_lists`) hold up to 64 neighbours per particle but 48 per
 /// particle over each block of 64: with the quintic at h = 1.4Δx (support 4.2Δx, 57 lattice
-/// neighbours) no particle passes 64 and the full layout runs, while the compact blocks
+/// neighbours) no particle passes 64 and the full layout runs, while the pooled blocks
 /// overflow, which is an error naming the block's room, never a cut list.
 #[test]
-fn compact_block_overflow_is_reported() {
+fn pooled_block_overflow_is_reported() {
     let _g = serial();
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
@@ -233,21 +233,21 @@ fn compact_block_overflow_is_reported() {
             continue;
         }
         let e = match full.precision {
-            Precision::F32 => compact_overflow::<f32>(&ctx, &s, &l, full),
-            Precision::F64 => compact_overflow::<f64>(&ctx, &s, &l, full),
+            Precision::F32 => pooled_overflow::<f32>(&ctx, &s, &l, full),
+            Precision::F64 => pooled_overflow::<f64>(&ctx, &s, &l, full),
         };
-        println!("{id}.compact: {e}");
-        assert!(e.contains("more than 3072") && e.contains("compact list block of 64 particles"), "{id}: {e}");
+        println!("{id}.pooled: {e}");
+        assert!(e.contains("more than 3072") && e.contains("pooled list block of 64 particles"), "{id}: {e}");
     }
 }
 
-/// Runs `full` (it must evaluate), then its compact layout, whose error it returns.
-fn compact_overflow<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, full: VariantSpec) -> String {
+/// Runs `full` (it must evaluate), then its pooled layout, whose error it returns.
+fn pooled_overflow<T: Real>(ctx: &Arc<GpuContext>, s: &Scene, l: &Layout, full: VariantSpec) -> String {
     let mut g = GpuSolver::<T>::new(ctx.clone(), s, l, full).unwrap();
     g.evaluate_once().expect("64 slots hold every list");
-    let compact = full.with_slots(SlotLayout::Compact).unwrap();
-    let mut g = GpuSolver::<T>::new(ctx.clone(), s, l, compact).unwrap();
-    g.evaluate_once().expect_err("the compact blocks overflow").to_string()
+    let pooled = full.with_slots(SlotLayout::Pooled).unwrap();
+    let mut g = GpuSolver::<T>::new(ctx.clone(), s, l, pooled).unwrap();
+    g.evaluate_once().expect_err("the pooled blocks overflow").to_string()
 }
 
 /// The overflow names its particle, by ORIGINAL id through the renumbering: from a start whose
@@ -481,16 +481,16 @@ fn lists_in_chunks_match_the_cpu_and_the_plan() {
     let (s, l) = scene(SCENES[1].0, SCENES[1].1);
     let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
     cpu.evaluate().unwrap();
-    // With the compact layout too (`gpu::compact_lists`), its blocks of 64 in workgroups of 64
+    // With the pooled layout too (`gpu::pooled_lists`), its blocks of 64 in workgroups of 64
     // and 256 threads spread over two grid dimensions.
     for id in [
         "cells.thread.cached.f32",
         "direct.block-tree.fixed.cached.f32",
         "cells.subgroup.recomputed.f32.slots",
-        "cells.thread.cached.f32.compact",
-        "cells.thread.cached.f32.wg256.compact",
-        "direct.block-tree.fixed.cached.f32.compact",
-        "tracking.subgroup.cached.f32.masks.compact",
+        "cells.thread.cached.f32.pooled",
+        "cells.thread.cached.f32.wg256.pooled",
+        "direct.block-tree.fixed.cached.f32.pooled",
+        "tracking.subgroup.cached.f32.masks.pooled",
     ] {
         let spec: VariantSpec = id.parse().unwrap();
         if spec.support(&ctx).is_err() {

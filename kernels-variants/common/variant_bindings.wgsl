@@ -59,7 +59,7 @@ const V_CAND_STALE: u32 = 10u; // particles whose current candidate list overflo
 const V_OVER_FIRST: u32 = 11u; // lowest device index whose list overflowed while the device ran (0xFFFFFFFF: none)
 const V_NBR_EVAL: u32 = 12u;  // particles over NBR_SLOTS in this evaluation (nbr_fold moves it into V_NBR_OVER)
 const V_NBR_NEED: u32 = 13u;  // most mask bits a particle's list needed (MASK_LISTS; past the mask: overflow)
-const V_COMPACT_NEED: u32 = 14u; // most entries a compact block needed (COMPACT_LISTS; past its region: overflow)
+const V_POOL_NEED: u32 = 14u; // most entries a pooled block needed (POOLED_LISTS; past its region: overflow)
 
 // Entries of `vparams` (twin of `vparam::*`).
 const VP_INV_Q: u32 = 0u;     // 1/quantum of field f at VP_INV_Q + f (fixed-point accumulation)
@@ -94,31 +94,31 @@ fn pack_nb(j: u32, code: u32) -> u32 {
     return j | (code << PACK_SHIFT);
 }
 
-#ifdef COMPACT_LISTS
-// Compact slot lists (`gpu::compact_lists`): the chunk's particles in blocks of COMPACT_BLOCK
-// share COMPACT_MEAN entries per particle; a block's region of `nbr` starts with one word per
+#ifdef POOLED_LISTS
+// Pooled slot lists (`gpu::pooled_lists`): the chunk's particles in blocks of POOL_BLOCK
+// share POOL_MEAN entries per particle; a block's region of `nbr` starts with one word per
 // particle (its first entry, relative to the region) and `cache_wf` holds each entry's kernel
 // values at the same index.
-const COMPACT_BLOCK: u32 = 64u;
-const COMPACT_MEAN: u32 = 48u;
-const COMPACT_REGION: u32 = COMPACT_BLOCK * (1u + COMPACT_MEAN);
+const POOL_BLOCK: u32 = 64u;
+const POOL_MEAN: u32 = 48u;
+const POOL_REGION: u32 = POOL_BLOCK * (1u + POOL_MEAN);
 
 // The first word of the region of the chunk's particle l.
-fn compact_region(l: u32) -> u32 {
-    return l / COMPACT_BLOCK * COMPACT_REGION;
+fn pool_region(l: u32) -> u32 {
+    return l / POOL_BLOCK * POOL_REGION;
 }
 #endif
 
-// Index of list slot k of particle i in its chunk's `nbr` and `cache_wf`: compact
-// (`COMPACT_LISTS`: after the particle's first entry in its block's region), slot-major
+// Index of list slot k of particle i in its chunk's `nbr` and `cache_wf`: pooled
+// (`POOLED_LISTS`: after the particle's first entry in its block's region), slot-major
 // (`SLOT_MAJOR`, the thread mapping: neighbouring threads read neighbouring words) or
 // particle-major (the block layouts: a row of 16 threads reads 16 consecutive slots of one
 // particle).
 fn nbr_slot(i: u32, k: u32) -> u32 {
     let l = i - vchunk.base;
-#ifdef COMPACT_LISTS
-    let r = compact_region(l);
-    return r + nbr[r + l % COMPACT_BLOCK] + k;
+#ifdef POOLED_LISTS
+    let r = pool_region(l);
+    return r + nbr[r + l % POOL_BLOCK] + k;
 #else
 #ifdef SLOT_MAJOR
     return k * vchunk.len + l;

@@ -109,13 +109,13 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
 }
 #else
-#ifdef COMPACT_LISTS
-// Compact lists (`gpu::compact_lists`): a first walk counts each particle's neighbours, a
-// prefix sum over the workgroup's blocks of COMPACT_BLOCK particles places each list in its
+#ifdef POOLED_LISTS
+// Pooled lists (`gpu::pooled_lists`): a first walk counts each particle's neighbours, a
+// prefix sum over the workgroup's blocks of POOL_BLOCK particles places each list in its
 // block's region, and a second walk (the same order) writes the entries and their kernel
-// values. A particle over NBR_SLOTS, or a block over its region (V_COMPACT_NEED: the most
+// values. A particle over NBR_SLOTS, or a block over its region (V_POOL_NEED: the most
 // entries a block needed), is an overflow; no entry past the region is written.
-var<workgroup> compact_count: array<u32, GROUP_THREADS>;
+var<workgroup> pool_count: array<u32, GROUP_THREADS>;
 
 @compute @workgroup_size(GROUP_THREADS)
 fn nbr_build(
@@ -135,20 +135,20 @@ fn nbr_build(
             }
         }
     }
-    compact_count[t] = min(count, NBR_SLOTS);
+    pool_count[t] = min(count, NBR_SLOTS);
     workgroupBarrier();
-    let first = t - t % COMPACT_BLOCK;
-    var at = COMPACT_BLOCK;
+    let first = t - t % POOL_BLOCK;
+    var at = POOL_BLOCK;
     for (var u = first; u < t; u++) {
-        at += compact_count[u];
+        at += pool_count[u];
     }
     if !live {
         return;
     }
     let l = i - vchunk.base;
-    let r = compact_region(l);
-    nbr[r + l % COMPACT_BLOCK] = at;
-    let room = select(0u, COMPACT_REGION - at, at < COMPACT_REGION);
+    let r = pool_region(l);
+    nbr[r + l % POOL_BLOCK] = at;
+    let room = select(0u, POOL_REGION - at, at < POOL_REGION);
     let kept = min(min(count, NBR_SLOTS), room);
 #ifdef CACHED
     let kp = params_kernel(params);
@@ -175,10 +175,10 @@ fn nbr_build(
     }
     counts[i] = count;
     let need = at + min(count, NBR_SLOTS);
-    if count > NBR_SLOTS || need > COMPACT_REGION {
+    if count > NBR_SLOTS || need > POOL_REGION {
         atomicAdd(&vctl[V_NBR_EVAL], 1u);
         atomicMax(&vctl[V_NBR_MAX], count);
-        atomicMax(&vctl[V_COMPACT_NEED], need - COMPACT_BLOCK);
+        atomicMax(&vctl[V_POOL_NEED], need - POOL_BLOCK);
         note_overflow(i);
     }
 }

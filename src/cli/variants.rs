@@ -80,8 +80,8 @@ fn list(json: bool) {
 
 /// `--memory N`: the GPU memory plan of every variant (`plan::gpu`), cells per particle as in
 /// `oscillating-drop` at nx = 300; at N in the list format the stated adapter gets (`lists`:
-/// slots or masks where the format is a choice; `slots`: full or compact, the slot layout of
-/// the cached variants, `gpu::compact_lists`; `chunks`: the list chunks its slot arrays take
+/// slots or masks where the format is a choice; `slots`: full or pooled, the slot layout of
+/// the cached variants, `gpu::pooled_lists`; `chunks`: the list chunks its slot arrays take
 /// there, `gpu::list_chunks`), the largest N of each adapter in the format chosen there.
 fn memory(n: u64, gpu_memory: Option<u64>, json: bool) -> Result<(), Error> {
     if n == 0 || n > HARD_MAX_PARTICLES {

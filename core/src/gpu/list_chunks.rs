@@ -1,5 +1,6 @@
 //! Slot lists beyond one binding: the explicit lists' slots (`nbr` with slot lists) and the
-//! cached kernel values (`cache_wf`) hold 64 entries per particle, so past a few million
+//! cached kernel values (`cache_wf`) hold 64 entries per particle (49 words in the pooled
+//! layout, `gpu::pooled_lists`), so past a few million
 //! particles one array no longer fits the adapter's per-binding limit (2 GiB holds 4,194,304
 //! particles of f32 `cache_wf`). They are then split by particle into chunks that each fit (twin
 //! of `ChunkRange` in kernels-variants/common/variant_bindings.wgsl): one buffer per chunk and
@@ -9,8 +10,8 @@
 //! whole, so a pair term still reads any neighbour.
 //! Whenever the slots fit, there is one chunk of every particle and nothing changes.
 
-use super::compact_lists::{SlotLayout, COMPACT_BLOCK, COMPACT_REGION};
 use super::mask_lists::uses_masks;
+use super::pooled_lists::{SlotLayout, POOL_BLOCK, POOL_REGION};
 use super::stages::KernelDef;
 use super::variant::{Accumulation, KernelValues, SumLayout, VariantSpec};
 use super::variant_buffers::NBR_SLOTS;
@@ -27,8 +28,8 @@ pub const CHUNK_ALIGN: usize = 256;
 /// lists.
 pub fn split_arrays(spec: &VariantSpec, real: usize) -> Vec<(&'static str, usize)> {
     let mut v = Vec::new();
-    // Words per particle of the slot arrays: 64 slots, or a compact region's share.
-    let slots = if spec.slots == SlotLayout::Compact { COMPACT_REGION / COMPACT_BLOCK } else { NBR_SLOTS };
+    // Words per particle of the slot arrays: 64 slots, or a pooled region's share.
+    let slots = if spec.slots == SlotLayout::Pooled { POOL_REGION / POOL_BLOCK } else { NBR_SLOTS };
     if spec.has_lists() && !uses_masks(spec) {
         v.push(("nbr", slots * 4));
     }
@@ -57,11 +58,11 @@ pub fn chunk_len(spec: &VariantSpec, n: usize, real: usize, cap: u64) -> usize {
     ((cap / widest) as usize / CHUNK_ALIGN * CHUNK_ALIGN).max(CHUNK_ALIGN)
 }
 
-/// Particles whose slots a chunk of `len` particles allocates: `len`, or with compact lists
-/// its whole blocks (`gpu::compact_lists`).
+/// Particles whose slots a chunk of `len` particles allocates: `len`, or with pooled lists
+/// its whole blocks (`gpu::pooled_lists`).
 pub fn allocated_len(spec: &VariantSpec, len: usize) -> usize {
-    if spec.slots == SlotLayout::Compact {
-        len.div_ceil(COMPACT_BLOCK).max(1) * COMPACT_BLOCK
+    if spec.slots == SlotLayout::Pooled {
+        len.div_ceil(POOL_BLOCK).max(1) * POOL_BLOCK
     } else {
         len
     }

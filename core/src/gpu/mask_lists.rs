@@ -5,8 +5,8 @@
 //! ([`list_words`], shared by `VBufs::new` and the memory plan), and the host's decoder of the
 //! masks into packed lists ([`decode`], for the exact comparison with the CPU lists).
 
+use super::pooled_lists::{pooled_words, SlotLayout};
 use super::variant::{Accumulation, KernelValues, ListFormat, SumLayout, VariantSpec};
-use super::compact_lists::{compact_words, SlotLayout};
 use super::variant_buffers::{CAND_SLOTS, NBR_SLOTS};
 use crate::model::Images;
 use crate::neighbours::cells::CellBox;
@@ -69,8 +69,8 @@ pub fn list_words(spec: &VariantSpec, n: usize, cells: usize, real: usize) -> Li
     let cands = cand_masks(spec);
     let block = spec.mapping.layout() == SumLayout::Block;
     let on = |b: bool, len: usize| if b { len } else { 1 };
-    // Slots per list: 64 for every particle, or the compact layout's regions.
-    let slots = if spec.slots == SlotLayout::Compact { compact_words(n) } else { n * NBR_SLOTS };
+    // Slots per list: 64 for every particle, or the pooled layout's regions.
+    let slots = if spec.slots == SlotLayout::Pooled { pooled_words(n) } else { n * NBR_SLOTS };
     let slot_v2 = slots * 2 * real / 4;
     let nbr = match (lists, masks, tracking) {
         (false, _, _) => 1,

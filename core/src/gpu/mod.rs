@@ -6,7 +6,6 @@
 pub mod bandwidth;
 pub(crate) mod buffers;
 pub(crate) mod clock;
-pub mod compact_lists;
 pub mod compose;
 pub(crate) mod context;
 pub(crate) mod counters;
@@ -15,6 +14,7 @@ pub mod mask_lists;
 pub mod params;
 pub(crate) mod pipeline_cache;
 pub mod plan;
+pub mod pooled_lists;
 mod readback;
 pub mod reorder;
 pub mod residency;

@@ -137,8 +137,8 @@ pub struct GpuPlan {
 /// cached kernel values (tracking: only the candidates have masks) the list slots and the cache
 /// count as split into list chunks in either format.
 ///
-/// Then the slot layout of the cached variants (`gpu::compact_lists`): full (64 slots per
-/// particle) while that plan fits `lim` in every check, device memory included; compact beyond.
+/// Then the slot layout of the cached variants (`gpu::pooled_lists`): full (64 slots per
+/// particle) while that plan fits `lim` in every check, device memory included; pooled beyond.
 pub fn resolve_lists(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits) -> VariantSpec {
     let spec = resolve_format(spec, n, cells, lim);
     if spec.slots != SlotLayout::Auto || spec.kernel_values != KernelValues::Cached {
@@ -148,7 +148,7 @@ pub fn resolve_lists(spec: &VariantSpec, n: u64, cells: u64, lim: &DeviceLimits)
     if GpuPlan::new(&full, n, cells).check(lim).is_ok() {
         full
     } else {
-        VariantSpec { slots: SlotLayout::Compact, ..spec }
+        VariantSpec { slots: SlotLayout::Pooled, ..spec }
     }
 }
 

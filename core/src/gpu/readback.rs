@@ -5,11 +5,11 @@
 //! device's cell order).
 
 use super::mask_lists::{decode, uses_masks, MaskBuffers};
+use super::pooled_lists::{pooled_slot, SlotLayout};
 use super::reorder::{to_device, to_original};
 use super::solver::GpuSolver;
 use super::solver_buffers::{ctl, sigma_of, sigma_pairs};
 use super::variant::SumLayout;
-use super::compact_lists::{compact_slot, SlotLayout};
 use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
@@ -236,9 +236,9 @@ impl<T: Real> GpuSolver<T> {
             // Each list chunk's slots (`gpu::list_chunks`), indexed within the chunk.
             for (buf, &(base, len)) in self.vb.nbr.iter().zip(&self.vb.chunks) {
                 let nbr = buf.read_back(ctx)?;
-                let compact = self.spec.slots == SlotLayout::Compact;
-                let slot = |l: usize, k: usize| match (compact, slot_major) {
-                    (true, _) => compact_slot(&nbr, l, k),
+                let pooled = self.spec.slots == SlotLayout::Pooled;
+                let slot = |l: usize, k: usize| match (pooled, slot_major) {
+                    (true, _) => pooled_slot(&nbr, l, k),
                     (false, true) => k * len + l,
                     (false, false) => l * NBR_SLOTS + k,
                 };

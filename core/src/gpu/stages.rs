@@ -225,8 +225,8 @@ pub fn defines(spec: &VariantSpec) -> Vec<&'static str> {
     if spec.search == SearchKind::Direct || cands {
         d.push("NB_ITERATOR");
     }
-    if spec.slots == super::compact_lists::SlotLayout::Compact {
-        d.push("COMPACT_LISTS");
+    if spec.slots == super::pooled_lists::SlotLayout::Pooled {
+        d.push("POOLED_LISTS");
     } else if spec.has_lists() && spec.mapping.layout() == SumLayout::Thread {
         d.push("SLOT_MAJOR");
     }

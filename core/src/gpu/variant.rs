@@ -8,7 +8,7 @@
 //! float atomics in f64, so f64 block variants accumulate in fixed point only) and every one
 //! is implemented; [`VariantSpec::support`] says why an adapter cannot run one.
 
-pub use super::compact_lists::SlotLayout;
+pub use super::pooled_lists::SlotLayout;
 use super::GpuContext;
 use crate::neighbours::SearchKind;
 use crate::real::Precision;
@@ -111,8 +111,8 @@ pub struct VariantSpec {
     /// Format of the neighbour and tracking lists (`gpu::mask_lists`): chosen by N unless the
     /// id forces one with `.slots` or `.masks`.
     pub lists: ListFormat,
-    /// Slot layout of the lists with cached kernel values (`gpu::compact_lists`): chosen by the
-    /// memory plan unless the id forces one with `.full` or `.compact`.
+    /// Slot layout of the lists with cached kernel values (`gpu::pooled_lists`): chosen by the
+    /// memory plan unless the id forces one with `.full` or `.pooled`.
     pub slots: SlotLayout,
 }
 
@@ -439,7 +439,7 @@ impl FromStr for VariantSpec {
         if !spec.is_consistent() {
             if slots != SlotLayout::Auto && spec.kernel_values != KernelValues::Cached {
                 return Err(format!(
-                    "GPU variant `{id}`: a slot layout (.full or .compact) belongs to the variants with cached kernel values"
+                    "GPU variant `{id}`: a slot layout (.full or .pooled) belongs to the variants with cached kernel values"
                 ));
             }
             if lists != ListFormat::Auto && !spec.list_format_matters() {

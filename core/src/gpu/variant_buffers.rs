@@ -16,9 +16,9 @@
 //! estimate, as the nearly cancelling pressure sums of a drop at rest are), and is exact up to
 //! 2⁶² quanta = 2¹⁴·S_f; a term beyond that is counted and the evaluation reported invalid.
 
-use super::compact_lists::{COMPACT_BLOCK, COMPACT_MEAN, COMPACT_REGION};
 use super::list_chunks::{chunk_len, chunks};
 use super::mask_lists::{cand_masks, list_words, nbr_bits, uses_masks, ListWords, CAND_WORDS};
+use super::pooled_lists::{POOL_BLOCK, POOL_MEAN, POOL_REGION};
 use super::variant::VariantSpec;
 use super::{GpuContext, GpuError, GpuVec, Uniform};
 use crate::backend::SolverError;
@@ -70,9 +70,9 @@ pub mod vctl {
     /// The most mask bits a particle's list needed (bitmask lists, `gpu::mask_lists`): past
     /// the mask the list overflowed.
     pub const NBR_NEED: usize = 13;
-    /// The most entries a block of the compact lists needed (`gpu::compact_lists`), noted by
+    /// The most entries a block of the pooled lists needed (`gpu::pooled_lists`), noted by
     /// its overflowing particles: past the block's room the list overflowed.
-    pub const COMPACT_NEED: usize = 14;
+    pub const POOL_NEED: usize = 14;
     /// Words.
     pub const LEN: usize = 16;
 }
@@ -265,11 +265,11 @@ impl<T: Real> VBufs<T> {
             Some((cand, CAND_SLOTS, c[vctl::CAND_MAX], " (tracking candidates)".to_string()))
         } else if c[vctl::NBR_OVER] > 0 && masks && need > bits {
             Some((c[vctl::NBR_OVER], bits, need as u32, " (bits of the list mask over the cell walk)".to_string()))
-        } else if c[vctl::NBR_OVER] > 0 && c[vctl::COMPACT_NEED] as usize > COMPACT_REGION - COMPACT_BLOCK {
+        } else if c[vctl::NBR_OVER] > 0 && c[vctl::POOL_NEED] as usize > POOL_REGION - POOL_BLOCK {
             let what = format!(
-                " (entries of a compact list block of {COMPACT_BLOCK} particles: room for {COMPACT_MEAN} per particle)"
+                " (entries of a pooled list block of {POOL_BLOCK} particles: room for {POOL_MEAN} per particle)"
             );
-            Some((c[vctl::NBR_OVER], COMPACT_REGION - COMPACT_BLOCK, c[vctl::COMPACT_NEED], what))
+            Some((c[vctl::NBR_OVER], POOL_REGION - POOL_BLOCK, c[vctl::POOL_NEED], what))
         } else if c[vctl::NBR_OVER] > 0 {
             Some((c[vctl::NBR_OVER], NBR_SLOTS, c[vctl::NBR_MAX], String::new()))
         } else {
@@ -280,7 +280,7 @@ impl<T: Real> VBufs<T> {
             return Ok(());
         }
         let first = c[vctl::OVER_FIRST];
-        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::NBR_NEED, vctl::COMPACT_NEED, vctl::CAND_OVER, vctl::FIXED_OVER] {
+        for w in [vctl::NBR_OVER, vctl::NBR_MAX, vctl::NBR_NEED, vctl::POOL_NEED, vctl::CAND_OVER, vctl::FIXED_OVER] {
             c[w] = 0;
         }
         c[vctl::OVER_FIRST] = u32::MAX;

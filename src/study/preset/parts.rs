@@ -43,12 +43,13 @@ pub const MIN_SHARE_S: f64 = 4.0;
 /// The smoke test's variants: the default one-particle-per-thread variant and a block variant.
 pub const SMOKE_VARIANTS: [&str; 2] = ["cells.thread.recomputed.f32", "cells.block-tree.fixed.recomputed.f32"];
 /// Variants verified with their list slots split into list chunks (`verify --gpu-binding`,
-/// `gpu::list_chunks`): cached values of every mapping family, f32 and f64, the cached tracking
-/// candidates as masks, slot lists with recomputed values.
+/// `gpu::list_chunks`): cached values of every mapping family, f32 and f64, in the full and the
+/// pooled slot layout (`gpu::pooled_lists`), the cached tracking candidates as masks, slot
+/// lists with recomputed values.
 pub const CHUNK_VARIANTS: [&str; 5] = [
     "cells.thread.cached.f32",
     "direct.block-atomic.cas.cached.f32",
-    "cells.subgroup.cached.f64",
+    "cells.subgroup.cached.f64.pooled",
     "tracking.block-tree.fixed.cached.f64.masks",
     "cells.subgroup.recomputed.f32.slots",
 ];

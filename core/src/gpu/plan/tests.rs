@@ -22,7 +22,7 @@ fn the_list_format_is_slots_while_they_fit_the_binding() {
     let at = |id: &str, n: u64, lim: &DeviceLimits| {
         // The list format: the id's last part before a slot layout.
         let id = resolve_lists(&id.parse().unwrap(), n, n / 12, lim).to_string();
-        id.trim_end_matches(".full").trim_end_matches(".compact").rsplit('.').next().unwrap().to_string()
+        id.trim_end_matches(".full").trim_end_matches(".pooled").rsplit('.').next().unwrap().to_string()
     };
     // Tracking candidates: 96 slots × 4 B per particle in one binding; cells lists: 64 slots.
     let cap_track = (2u64 << 30) / (96 * 4);
@@ -67,31 +67,34 @@ fn the_list_format_is_slots_while_they_fit_the_binding() {
     let e = GpuPlan::new(&slots, 6_000_000, 400_000).check(&lim).unwrap_err();
     assert!(e.contains("`cand`") && !e.contains("chunks"), "{e}");
     // A binding below one chunk of 256 particles is refused, naming the chunk: forced full
-    // slots with their 512 B per particle, else the compact layout tried last (392 B).
+    // slots with their 512 B per particle, else the pooled layout tried last (392 B).
     let tiny = DeviceLimits::stated(1 << 40, 64 << 10, "test");
     let e = GpuPlan::new(&cells.with_slots(SlotLayout::Full).unwrap(), 1024, 100).check(&tiny).unwrap_err();
-    assert!(e.contains("`cache_wf`") && e.contains("(512 B of list slots") && e.contains("at least 256 particles"), "{e}");
+    assert!(
+        e.contains("`cache_wf`") && e.contains("(512 B of list slots") && e.contains("at least 256 particles"),
+        "{e}"
+    );
     let e = GpuPlan::new(&cells, 1024, 100).check(&tiny).unwrap_err();
-    assert!(e.contains(".compact for") && e.contains("(392 B of list slots"), "{e}");
+    assert!(e.contains(".pooled for") && e.contains("(392 B of list slots"), "{e}");
     let e = GpuPlan::new(&auto, 100_000_000, 8_000_000).check(&small).unwrap_err();
     assert!(!e.contains("per-pair"), "{e}");
 }
 
 #[test]
-fn cached_variants_take_compact_slots_where_full_ones_do_not_fit() {
-    use crate::gpu::compact_lists::{COMPACT_BLOCK, COMPACT_REGION};
+fn cached_variants_take_pooled_slots_where_full_ones_do_not_fit() {
+    use crate::gpu::pooled_lists::{POOL_BLOCK, POOL_REGION};
     let lim = DeviceLimits::stated(140_000_000_000, 2 << 30, "test");
     let n = 100_000_000u64;
     let cells = (n as f64 * 0.0798).ceil() as u64;
     // Every variant fits 10⁸ particles on the stated 140 GB adapter, each in the layout the
-    // plan chooses: full 64 slots while they fit, compact (the f64 caches) beyond.
+    // plan chooses: full 64 slots while they fit, pooled (the f64 caches) beyond.
     for v in VariantSpec::all() {
         let p = GpuPlan::resolved(&v, n, cells, &lim);
         assert!(p.check(&lim).is_ok(), "{v}: {:?}", p.check(&lim));
         let want = match (v.kernel_values, v.precision) {
             (KernelValues::Recomputed, _) => SlotLayout::Auto,
             (KernelValues::Cached, crate::real::Precision::F32) => SlotLayout::Full,
-            (KernelValues::Cached, crate::real::Precision::F64) => SlotLayout::Compact,
+            (KernelValues::Cached, crate::real::Precision::F64) => SlotLayout::Pooled,
         };
         assert_eq!(p.spec.slots, want, "{v}");
     }
@@ -99,20 +102,21 @@ fn cached_variants_take_compact_slots_where_full_ones_do_not_fit() {
     let full: VariantSpec = "tracking.block-tree.fixed.cached.f64.full".parse().unwrap();
     let e = GpuPlan::new(&full, n, cells).check(&lim).unwrap_err();
     assert!(e.contains("device memory"), "{e}");
-    // Below that size the full layout is kept; a forced compact layout is kept at any size.
+    // Below that size the full layout is kept; a forced pooled layout is kept at any size.
     let auto: VariantSpec = "cells.thread.cached.f64".parse().unwrap();
     assert_eq!(resolve_lists(&auto, 8_000_000, 640_000, &lim).slots, SlotLayout::Full);
-    let compact = auto.with_slots(SlotLayout::Compact).unwrap();
-    assert_eq!(resolve_lists(&compact, 1000, 80, &lim).slots, SlotLayout::Compact);
-    // Compact bytes: one region (a header word and 48 entries per particle) per block of 64,
+    let pooled = auto.with_slots(SlotLayout::Pooled).unwrap();
+    assert_eq!(resolve_lists(&pooled, 1000, 80, &lim).slots, SlotLayout::Pooled);
+    // Pooled bytes: one region (a header word and 48 entries per particle) per block of 64,
     // the last block whole; `nbr` in words, the cache a real pair per word.
-    let bytes = |n: u64, name: &str| GpuPlan::new(&compact, n, n / 12).buffers.iter().find(|b| b.name == name).unwrap().bytes;
-    assert_eq!(bytes(640, "nbr"), 10 * COMPACT_REGION as u64 * 4);
-    assert_eq!(bytes(641, "cache_wf"), 11 * COMPACT_REGION as u64 * 16);
-    assert_eq!(COMPACT_REGION, COMPACT_BLOCK * 49);
+    let bytes =
+        |n: u64, name: &str| GpuPlan::new(&pooled, n, n / 12).buffers.iter().find(|b| b.name == name).unwrap().bytes;
+    assert_eq!(bytes(640, "nbr"), 10 * POOL_REGION as u64 * 4);
+    assert_eq!(bytes(641, "cache_wf"), 11 * POOL_REGION as u64 * 16);
+    assert_eq!(POOL_REGION, POOL_BLOCK * 49);
     assert!(auto.with_slots(SlotLayout::Full).unwrap().to_string().ends_with(".full"));
     let recomputed: VariantSpec = "cells.thread.recomputed.f64".parse().unwrap();
-    assert!(recomputed.with_slots(SlotLayout::Compact).is_none());
+    assert!(recomputed.with_slots(SlotLayout::Pooled).is_none());
 }
 
 #[test]

@@ -63,15 +63,15 @@ fn ids_round_trip() {
     assert!("cells.subgroup.cached.f32.slots".parse::<VariantSpec>().is_err());
     // Slot layouts: a choice of the cached variants only, after the list format in the id.
     for s in &all {
-        for l in [SlotLayout::Full, SlotLayout::Compact] {
+        for l in [SlotLayout::Full, SlotLayout::Pooled] {
             match s.with_slots(l) {
                 Some(f) => assert_eq!(f.to_string().parse::<VariantSpec>().unwrap(), f, "{f}"),
                 None => assert!(s.kernel_values == KernelValues::Recomputed, "{s}"),
             }
         }
     }
-    let id = "tracking.block-tree.fixed.cached.f64.masks.compact";
+    let id = "tracking.block-tree.fixed.cached.f64.masks.pooled";
     assert_eq!(id.parse::<VariantSpec>().unwrap().to_string(), id);
-    let e = "cells.thread.recomputed.f32.compact".parse::<VariantSpec>().unwrap_err();
+    let e = "cells.thread.recomputed.f32.pooled".parse::<VariantSpec>().unwrap_err();
     assert!(e.contains("cached kernel values"), "{e}");
 }
