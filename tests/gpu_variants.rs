@@ -41,11 +41,13 @@ const ACC_VS_F64: (f64, f64) = (1.25, 1e-6);
 const SCENES: &[(&str, &[&str])] = &[("oscillating-drop", &[]), ("sessile-90", &["contact.mode=b", "domain.nx=33"])];
 
 /// Every variant of `VariantSpec::all()` (its list format chosen by N), then each one whose list
-/// format is a choice with the masks forced (`.masks`; at these sizes the choice is slots).
+/// format is a choice with the masks forced (`.masks`; at these sizes the choice is slots), then
+/// each cached one in the pooled slot layout (`.pooled`; at these sizes the choice is full).
 fn with_both_formats() -> Vec<VariantSpec> {
     let all = VariantSpec::all();
     let masks = all.iter().filter_map(|s| s.with_lists(ListFormat::Masks));
-    all.iter().copied().chain(masks).collect()
+    let pooled = all.iter().filter_map(|s| s.with_slots(SlotLayout::Pooled));
+    all.iter().copied().chain(masks).chain(pooled).collect()
 }
 
 #[test]
@@ -91,10 +93,12 @@ fn check_variant<T: Real>(
     let t0 = Instant::now();
     let mut gpu = GpuSolver::<T>::new(ctx.clone(), s, l, spec).unwrap_or_else(|e| panic!("{spec}: {e}"));
     // At these sizes the slot lists fit any adapter's binding: the plan chooses them unless
-    // the id forces the masks.
+    // the id forces the masks; and the full slot layout of the cached values unless forced.
     let want =
         if spec.lists == ListFormat::Auto && spec.list_format_matters() { ListFormat::Slots } else { spec.lists };
-    assert_eq!(gpu.spec(), VariantSpec { lists: want, ..spec }, "{tag}: the list format that ran");
+    let cached = spec.kernel_values == sphlab::gpu::variant::KernelValues::Cached;
+    let slots = if spec.slots == SlotLayout::Auto && cached { SlotLayout::Full } else { spec.slots };
+    assert_eq!(gpu.spec(), VariantSpec { lists: want, slots, ..spec }, "{tag}: the list format that ran");
     let t1 = Instant::now();
     gpu.evaluate_once().unwrap_or_else(|e| panic!("{spec}: {e}"));
     let f = gpu.read_fields().unwrap();

@@ -212,6 +212,7 @@ fn wgsl_constants_equal_rust_values() {
         ("V_CAND_STALE", vctl::CAND_STALE as i64),
         ("V_NBR_EVAL", vctl::NBR_EVAL as i64),
         ("V_NBR_NEED", vctl::NBR_NEED as i64),
+        ("V_POOL_NEED", vctl::POOL_NEED as i64),
         ("VP_ADAPTIVE", vparam::ADAPTIVE as i64),
         ("VP_PHYSICAL", vparam::PHYSICAL as i64),
     ];
@@ -228,7 +229,19 @@ fn wgsl_constants_equal_rust_values() {
             && (ctl::SCAN_MISS as i64) < ctl::LEN as i64
             && (ctl::CONTACTS_MAX as i64) < ctl::LEN as i64
             && (vctl::NBR_EVAL as i64) < vctl::LEN as i64
+            && (vctl::POOL_NEED as i64) < vctl::LEN as i64
     );
+    // The pooled slot lists' blocks (`gpu::pooled_lists`), composed with their define.
+    let pooled = constants_of(
+        &validate(
+            &compose_mapped("<constants>", "#import common/variant_bindings\n", &["POOLED_LISTS"]).expect("composes"),
+        )
+        .expect("validates"),
+    );
+    use sphlab::gpu::pooled_lists::{POOL_BLOCK, POOL_MEAN, POOL_REGION};
+    for (name, value) in [("POOL_BLOCK", POOL_BLOCK), ("POOL_MEAN", POOL_MEAN), ("POOL_REGION", POOL_REGION)] {
+        assert_eq!(pooled.get(name), Some(&(value as i64)), "WGSL `{name}` differs from Rust");
+    }
     // The direct search's candidates per loop iteration: the WGSL chunk and the plan's bound.
     let nb = wgsl_constants("#import common/neighbours\n");
     assert_eq!(
