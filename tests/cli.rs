@@ -178,6 +178,23 @@ fn a_run_writes_series_snapshots_vtk_and_summary() {
     assert!(prov["schema_version"].as_u64() == Some(1) && prov["host"]["threads"].as_u64().unwrap_or(0) >= 1);
     assert_eq!(prov["units"]["t"], "T", "units of every series column");
     assert!(summary["plan"]["n_total"].as_f64().unwrap_or(0.0) > 0.0, "the resource plan is recorded");
+    // The most neighbours one particle had: at least the start's largest list (the CPU's own
+    // lists of the same layout), within the 64 a GPU list holds on this lattice.
+    let scene = sphlab::scene::overrides::apply_overrides(
+        &sphlab::scene::builtin::builtin("sessile-90").expect("builtin"),
+        &["domain.nx=26".to_string()],
+    )
+    .expect("override");
+    let layout = sphlab::scene::build::build_layout(&scene).expect("layout");
+    let mut cpu = sphlab::cpu::CpuSolver::<f64>::new(
+        &scene,
+        &layout,
+        sphlab::exec::Exec::Serial,
+        sphlab::neighbours::SearchKind::Cells,
+    );
+    cpu.evaluate().expect("evaluation");
+    let (start, peak) = (cpu.nbrs.max_count() as u64, summary["peak_neighbours"].as_u64().expect("CPU records it"));
+    assert!(start > 20 && peak >= start && peak <= 64, "peak {peak}, start {start}");
 }
 
 #[test]

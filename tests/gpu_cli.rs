@@ -222,6 +222,7 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
         if backend == "gpu" {
             // The variant as it ran (the default has no list-format choice: its id unchanged).
             assert_eq!(summary["ran"], "cells.thread.recomputed.f32", "{summary}");
+            assert!(summary["peak_neighbours"].is_null(), "the GPU lists report only an overflow");
             // Device bytes from the memory plan, modelled traffic, and (with timestamps) the
             // measured bandwidth and the roofline fraction.
             assert!(engine["device_bytes"].as_u64().unwrap_or(0) > 0, "{engine}");
@@ -233,6 +234,7 @@ fn a_gpu_run_writes_the_same_outputs_as_a_cpu_run() {
             }
         } else {
             assert!(engine.is_null(), "CPU runs have no GPU engine figures");
+            assert!(summary["peak_neighbours"].as_u64().unwrap_or(0) > 0, "CPU runs record their peak neighbours");
         }
         let engine = &summary["engine"];
         if backend == "gpu" {
