@@ -21,6 +21,10 @@
 /// `list_chunks::CHUNK_ALIGN`).
 pub const POOL_BLOCK: usize = 64;
 
+// Blocks align with the smallest workgroup (64 threads) and every list chunk.
+const _: () =
+    assert!(64usize.is_multiple_of(POOL_BLOCK) && crate::gpu::list_chunks::CHUNK_ALIGN.is_multiple_of(POOL_BLOCK));
+
 /// Entries per particle a block holds on average (three quarters of the 64 slots; a block
 /// holds 37 on the lattice of the quintic at h = 1.2Δx, about 41 disordered).
 pub const POOL_MEAN: usize = 48;
@@ -87,7 +91,6 @@ mod tests {
         nbr[POOL_REGION + 1] = POOL_BLOCK as u32 + 3;
         assert_eq!(pooled_slot(&nbr, 64, 0), POOL_REGION + POOL_BLOCK);
         assert_eq!(pooled_slot(&nbr, 65, 2), POOL_REGION + POOL_BLOCK + 5);
-        assert!(64 % POOL_BLOCK == 0 && crate::gpu::list_chunks::CHUNK_ALIGN % POOL_BLOCK == 0);
         for s in ["full", "pooled"] {
             assert_eq!(SlotLayout::parse(s).and_then(SlotLayout::suffix), Some(s));
         }
