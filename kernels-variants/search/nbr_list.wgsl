@@ -109,6 +109,40 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
 }
 #else
+// Walks i's neighbours at xi in the search's order, writes the first `kept` as list entries
+// (with `CACHED`, their kernel values at the same index) and returns how many there are. Entry k
+// goes to `nbr_slot(i, k)`, or with `POOLED_LISTS` to `first + k` (its block's region).
+fn list_walk(i: u32, xi: real2, first: u32, kept: u32) -> u32 {
+#ifdef CACHED
+    let kp = params_kernel(params);
+#endif
+    var count = 0u;
+    var sp = nb_spans(i, xi);
+    while nb_span(&sp) {
+        for (var t = sp.s0; t < sp.s1; t++) {
+            let nb = nb_at(sp, t);
+            if !nb.hit {
+                continue;
+            }
+            if count < kept {
+#ifdef POOLED_LISTS
+                let slot = first + count;
+#else
+                let slot = nbr_slot(i, count);
+#endif
+                nbr[slot] = pack_nb(nb.j, nb.code);
+#ifdef CACHED
+                let x_ij = xi - nb.xj;
+                let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
+                cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
+#endif
+            }
+            count += 1u;
+        }
+    }
+    return count;
+}
+
 #ifdef POOLED_LISTS
 // Pooled lists (`gpu::pooled_lists`): a first walk counts each particle's neighbours, a
 // prefix sum over the workgroup's blocks of POOL_BLOCK particles places each list in its
@@ -128,18 +162,12 @@ fn nbr_build(
     let xi = pos[select(0u, i, live)];
     var count = 0u;
     if live {
-        var sp = nb_spans(i, xi);
-        while nb_span(&sp) {
-            for (var s = sp.s0; s < sp.s1; s++) {
-                count += select(0u, 1u, nb_at(sp, s).hit);
-            }
-        }
+        count = list_walk(i, xi, 0u, 0u);
     }
     pool_count[t] = min(count, NBR_SLOTS);
     workgroupBarrier();
-    let first = t - t % POOL_BLOCK;
     var at = POOL_BLOCK;
-    for (var u = first; u < t; u++) {
+    for (var u = t - t % POOL_BLOCK; u < t; u++) {
         at += pool_count[u];
     }
     if !live {
@@ -149,30 +177,7 @@ fn nbr_build(
     let r = pool_region(l);
     nbr[r + l % POOL_BLOCK] = at;
     let room = select(0u, POOL_REGION - at, at < POOL_REGION);
-    let kept = min(min(count, NBR_SLOTS), room);
-#ifdef CACHED
-    let kp = params_kernel(params);
-#endif
-    var k = 0u;
-    var sp = nb_spans(i, xi);
-    while nb_span(&sp) {
-        for (var s = sp.s0; s < sp.s1; s++) {
-            let nb = nb_at(sp, s);
-            if !nb.hit {
-                continue;
-            }
-            if k < kept {
-                let slot = r + at + k;
-                nbr[slot] = pack_nb(nb.j, nb.code);
-#ifdef CACHED
-                let x_ij = xi - nb.xj;
-                let d = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
-                cache_wf[slot] = real2(kernel_w(kp, d), kernel_dwdr(kp, d));
-#endif
-            }
-            k += 1u;
-        }
-    }
+    _ = list_walk(i, xi, r + at, min(min(count, NBR_SLOTS), room));
     counts[i] = count;
     let need = at + min(count, NBR_SLOTS);
     if count > NBR_SLOTS || need > POOL_REGION {
@@ -189,30 +194,7 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if i >= params.n {
         return;
     }
-#ifdef CACHED
-    let kp = params_kernel(params);
-#endif
-    let xi = pos[i];
-    var count = 0u;
-    var sp = nb_spans(i, xi);
-    while nb_span(&sp) {
-        for (var t = sp.s0; t < sp.s1; t++) {
-            let nb = nb_at(sp, t);
-            if !nb.hit {
-                continue;
-            }
-            if count < NBR_SLOTS {
-                let slot = nbr_slot(i, count);
-                nbr[slot] = pack_nb(nb.j, nb.code);
-#ifdef CACHED
-                let x_ij = xi - nb.xj;
-                let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
-                cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
-#endif
-            }
-            count += 1u;
-        }
-    }
+    let count = list_walk(i, pos[i], 0u, NBR_SLOTS);
     counts[i] = count;
     if count > NBR_SLOTS {
         atomicAdd(&vctl[V_NBR_EVAL], 1u);
