@@ -158,6 +158,27 @@ fn verify_passes_with_the_lists_in_chunks() {
     let o = sphlab(&["verify", "--variants", "cells.thread.cached.f32", "--gpu-binding", "1K"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--gpu-binding: must be at least 64K"));
+    // A run takes the same cap (its chunked lists then stepped and checked as any run's), and
+    // its summary records it; the study refuses it (its records time the adapter as it is).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("run");
+    let run = |cap: &str| {
+        let mut a = vec!["run", "--backend", "gpu", "--variant", "cells.subgroup.cached.f64.pooled", "--set"];
+        a.extend_from_slice(&["domain.nx=24", "--steps", "10", "--quiet", "--gpu-binding", cap]);
+        sphlab(&[a.as_slice(), &["--out", out.to_str().expect("utf8")]].concat())
+    };
+    let o = run("256K");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
+    assert_eq!(
+        (summary["status"].as_str(), summary["options"]["limits"]["gpu_binding"].as_u64()),
+        (Some("ok"), Some(256 << 10))
+    );
+    assert_eq!(run("1K").status.code(), Some(2));
+    let o = sphlab(&["study", "--dry-run", "--gpu-binding", "1M"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--gpu-binding: not for the study"));
 }
 
 #[test]

@@ -48,6 +48,9 @@ pub struct Limits {
     pub memory_limits: Vec<MemoryLimit>,
     /// Device memory of the GPU (`--gpu-memory`; `None`: [`gpu::DeviceLimits::of`]'s heuristic).
     pub gpu_memory: Option<u64>,
+    /// A per-buffer cap below the adapter's own (`--gpu-binding`; `None`: the adapter's), as if
+    /// on an adapter with smaller bindings (`GpuContext::with_binding_cap`).
+    pub gpu_binding: Option<u64>,
 }
 
 impl Default for Limits {
@@ -64,7 +67,7 @@ impl Limits {
         let least = memory_limits.iter().min_by_key(|l| l.bytes);
         let (max_memory, memory_source) =
             least.map_or((FALLBACK_MEMORY, memory_limits::FALLBACK), |l| (l.bytes, l.source));
-        Limits { max_particles, max_memory, memory_source, memory_limits, gpu_memory: None }
+        Limits { max_particles, max_memory, memory_source, memory_limits, gpu_memory: None, gpu_binding: None }
     }
 
     /// The defaults with `--max-particles` / `--max-memory` applied (each must be positive;
@@ -100,6 +103,18 @@ impl Limits {
             }
         }
         self.gpu_memory = gpu_memory;
+        Ok(self)
+    }
+
+    /// These limits with `--gpu-binding` (at least 64 KiB, one list chunk of the widest slot
+    /// arrays) as the GPU's per-buffer cap.
+    pub fn with_gpu_binding(mut self, gpu_binding: Option<u64>) -> Result<Self, String> {
+        if let Some(b) = gpu_binding {
+            if b < (64 << 10) {
+                return Err(format!("--gpu-binding: must be at least 64K (65536 bytes), got {b}"));
+            }
+        }
+        self.gpu_binding = gpu_binding;
         Ok(self)
     }
 

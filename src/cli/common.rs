@@ -67,6 +67,11 @@ pub struct LimitArgs {
     /// adapter such as lavapipe, else unknown and only the per-buffer limits are checked).
     #[arg(long, value_parser = parse_bytes)]
     gpu_memory: Option<u64>,
+    /// Run as on an adapter whose per-buffer limit is at most this (e.g. 256K, 2G): list slots
+    /// past it are split into chunks as on a run of many millions of particles (at least 64K;
+    /// default: the adapter's own limit).
+    #[arg(long, value_parser = parse_bytes)]
+    gpu_binding: Option<u64>,
 }
 
 impl LimitArgs {
@@ -74,6 +79,7 @@ impl LimitArgs {
     pub fn limits(&self) -> Result<Limits, Error> {
         Limits::with(self.max_particles, self.max_memory)
             .and_then(|l| l.with_gpu_memory(self.gpu_memory))
+            .and_then(|l| l.with_gpu_binding(self.gpu_binding))
             .map_err(Error::Input)
     }
 }

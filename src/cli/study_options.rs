@@ -74,6 +74,11 @@ pub fn options(a: StudyArgs) -> Result<StudyOptions, Error> {
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("reports/study"));
     check_out("--out", &out)?;
     let limits = a.limits.limits()?;
+    if limits.gpu_binding.is_some() {
+        return Err(Error::input(
+            "--gpu-binding: not for the study, whose records time the adapter as it is; use it with run or verify",
+        ));
+    }
     let shard = sphlab::sweep::Shard::parse(&a.shard).map_err(Error::Input)?;
     let experiments = experiments(&a.experiments);
     let sizes = sizes(&a.sizes, &a.sets, &limits)?;

@@ -35,11 +35,6 @@ pub struct VerifyArgs {
     /// `skipped`.
     #[arg(long, value_parser = sphlab::sweep::parse_duration)]
     budget: Option<f64>,
-    /// Verify as on an adapter whose per-buffer limit is at most this (e.g. 256K, 2G): list slots
-    /// past it are split into chunks as on a run of many millions of particles (at least 64K;
-    /// default: the adapter's own limit).
-    #[arg(long, value_parser = sphlab::plan::parse_bytes)]
-    gpu_binding: Option<u64>,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -56,15 +51,9 @@ pub fn run(a: VerifyArgs) -> Result<(), Error> {
     let plan = sphlab::resources::run_plan(&scene, 8, false);
     plan.check(&limits).map_err(Error::input)?;
     let specs = gpu_variants(&a.variants)?;
-    if a.gpu_binding.is_some_and(|b| b < 64 << 10) {
-        return Err(Error::input(format!(
-            "--gpu-binding: must be at least 64K (65536 bytes), got {}",
-            a.gpu_binding.unwrap_or(0)
-        )));
-    }
     let ctx = sphlab::gpu::GpuContext::new()
         .map(|c| {
-            std::sync::Arc::new(match a.gpu_binding {
+            std::sync::Arc::new(match limits.gpu_binding {
                 Some(b) => c.with_binding_cap(b),
                 None => c,
             })

@@ -47,6 +47,10 @@ pub fn make_gpu_backend(
         return Ok((opts.backend.build(scene, layout, None).map_err(input)?, None, None));
     };
     let ctx = crate::gpu::GpuContext::new().map_err(|e| input(e.to_string()))?;
+    let ctx = match opts.limits.gpu_binding {
+        Some(b) => ctx.with_binding_cap(b),
+        None => ctx,
+    };
     spec.support(&ctx).map_err(|e| input(format!("unsupported on this adapter: {e}")))?;
     let mut traffic = None;
     if let Some(p) = plan {
