@@ -109,9 +109,11 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
 }
 #else
-// Walks i's neighbours at xi in the search's order, writes the first `kept` as list entries
-// (with `CACHED`, their kernel values at the same index) and returns how many there are. Entry k
-// goes to `nbr_slot(i, k)`, or with `POOLED_LISTS` to `first + k` (its block's region).
+#ifdef POOLED_LISTS
+// Walks i's neighbours at xi in the search's order, writes the first `kept` as list entries at
+// `first + k` (its block's region; with `CACHED`, their kernel values at the same index) and
+// returns how many there are. The full layout's build keeps its own loop inline: through this
+// function the tracking build ran slower on lavapipe (reports/engine/README.md).
 fn list_walk(i: u32, xi: real2, first: u32, kept: u32) -> u32 {
 #ifdef CACHED
     let kp = params_kernel(params);
@@ -125,11 +127,7 @@ fn list_walk(i: u32, xi: real2, first: u32, kept: u32) -> u32 {
                 continue;
             }
             if count < kept {
-#ifdef POOLED_LISTS
                 let slot = first + count;
-#else
-                let slot = nbr_slot(i, count);
-#endif
                 nbr[slot] = pack_nb(nb.j, nb.code);
 #ifdef CACHED
                 let x_ij = xi - nb.xj;
@@ -143,7 +141,6 @@ fn list_walk(i: u32, xi: real2, first: u32, kept: u32) -> u32 {
     return count;
 }
 
-#ifdef POOLED_LISTS
 // Pooled lists (`gpu::pooled_lists`): a first walk counts each particle's neighbours, a
 // prefix sum over the workgroup's blocks of POOL_BLOCK particles places each list in its
 // block's region, and a second walk (the same order) writes the entries and their kernel
@@ -194,7 +191,30 @@ fn nbr_build(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if i >= params.n {
         return;
     }
-    let count = list_walk(i, pos[i], 0u, NBR_SLOTS);
+#ifdef CACHED
+    let kp = params_kernel(params);
+#endif
+    let xi = pos[i];
+    var count = 0u;
+    var sp = nb_spans(i, xi);
+    while nb_span(&sp) {
+        for (var t = sp.s0; t < sp.s1; t++) {
+            let nb = nb_at(sp, t);
+            if !nb.hit {
+                continue;
+            }
+            if count < NBR_SLOTS {
+                let slot = nbr_slot(i, count);
+                nbr[slot] = pack_nb(nb.j, nb.code);
+#ifdef CACHED
+                let x_ij = xi - nb.xj;
+                let r = sqrt(x_ij.x * x_ij.x + x_ij.y * x_ij.y);
+                cache_wf[slot] = real2(kernel_w(kp, r), kernel_dwdr(kp, r));
+#endif
+            }
+            count += 1u;
+        }
+    }
     counts[i] = count;
     if count > NBR_SLOTS {
         atomicAdd(&vctl[V_NBR_EVAL], 1u);
