@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Analysis of examples/analysis/capillary_rule.sh: per kernel and resolution the oscillating
 drop's period (the pb_sweep method) and the drop at rest's Laplace jump and density error, under
-the capillary rule. Prints a markdown table and writes OUT/capillary_rule.csv (stdlib only).
+the capillary rule. Prints a markdown table and writes capillary_rule.csv beside RUNDIR when it is
+named `runs`, else RUNDIR.csv (e.g. runs-transport.csv) (stdlib only). h is read from each run.
 The Laplace jump needs a run's last particle snapshot, which is not committed: a run without one
 keeps its drop-at-rest columns from the csv already there (the analysis of its own snapshot).
 Usage: examples/analysis/capillary_rule.py RUNDIR"""
@@ -13,7 +14,6 @@ from pb_sweep import osc, series  # noqa: E402
 R, SIGMA = 0.1875, 1.0
 LAPLACE = SIGMA / R
 SUPPORT = {"quintic": 3.0, "cubic-spline": 2.0, "wendland-c2": 2.0, "johnson": 2.0, "gaussian": 3.0}
-HR = {"quintic": 1.2, "cubic-spline": 1.2, "wendland-c2": 1.5, "johnson": 2.0, "gaussian": 1.2}
 
 
 def last_snapshot(d):
@@ -21,11 +21,15 @@ def last_snapshot(d):
     return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(f))]
 
 
+def h_ratio(d):
+    return json.load(open(d + "/summary.json"))["parameters"]["kernel"]["h_ratio"]
+
+
 def rest(d, kind, nx):
     s = series(d)
     dx = 0.5 / nx
     parts = last_snapshot(d)
-    sup = SUPPORT[kind] * HR[kind] * dx
+    sup = SUPPORT[kind] * h_ratio(d) * dx
     pin = [p["p"] for p in parts if p["phase"] == 0 and math.hypot(p["x"], p["y"]) < R - sup]
     pout = [p["p"] for p in parts if p["phase"] == 1 and math.hypot(p["x"], p["y"]) > R + sup
             and p["x"] < 0.5 - sup and p["y"] < 0.5 - sup]
@@ -52,7 +56,8 @@ def committed(path):
 
 def main():
     runs = sys.argv[1]
-    out = os.path.join(os.path.dirname(runs.rstrip("/")), "capillary_rule.csv")
+    base = os.path.basename(runs.rstrip("/"))
+    out = os.path.join(os.path.dirname(runs.rstrip("/")), "capillary_rule.csv" if base == "runs" else base + ".csv")
     before = committed(out)
     rows = []
     for alpha in ["2.0", "1.0", "4.0"]:
@@ -67,7 +72,9 @@ def main():
                 row = {"alpha": alpha, "nx": nx, "kernel": kind}
                 if jo:
                     ph = jo["parameters"]["phases"][0]
-                    row.update(p_b=ph["p_b"], c0=ph["c0"])
+                    row.update(p_b=ph["p_b"], c0=ph["c0"], h_ratio=jo["parameters"]["kernel"]["h_ratio"])
+                elif sr != "not run":
+                    row.update(h_ratio=h_ratio(r))
                 per = osc(o)[:2] if so == "ok" else (math.nan, math.nan)
                 row.update(osc_status=so, period=per[0], amplitude=per[1])
                 old = before.get((alpha, nx, kind))
@@ -79,7 +86,7 @@ def main():
                 row.update(rest_status=sr, jump=rs[0], max_density_error=rs[1], end_density_error=rs[2],
                            spurious_speed=rs[3])
                 rows.append(row)
-    keys = ["alpha", "nx", "kernel", "p_b", "c0", "osc_status", "period", "amplitude", "rest_status", "jump",
+    keys = ["alpha", "nx", "kernel", "h_ratio", "p_b", "c0", "osc_status", "period", "amplitude", "rest_status", "jump",
             "max_density_error", "end_density_error", "spurious_speed"]
     with open(out, "w", newline="") as f:
         w = csv.DictWriter(f, keys, extrasaction="ignore")
@@ -94,7 +101,7 @@ def main():
         ok_j = "pass" if abs(je) <= 3 else ("FAIL" if r["rest_status"] == "ok" else r["rest_status"][:40])
         if r["alpha"] != "2.0":
             ok_j = ""
-        print(f"| {r['alpha']} | {r['nx']} | {r['kernel']} ({HR[r['kernel']]}) | {r.get('p_b', math.nan):.2f} | "
+        print(f"| {r['alpha']} | {r['nx']} | {r['kernel']} ({r.get('h_ratio', math.nan):g}) | {r.get('p_b', math.nan):.2f} | "
               f"{r.get('c0', math.nan):.1f} | {r['period']:.3f} | {pe:+.1f} % | {ok_p} | {r['jump']:.3f} | {je:+.1f} % | "
               f"{ok_j} | {r['max_density_error']:.4f} | {r['spurious_speed']:.3f} |")
 

@@ -4,7 +4,8 @@
 # kernel and resolution set here), the quintic drop at α × 0.5 and × 2. Two runs at a time.
 # Usage: examples/analysis/capillary_rule.sh OUTDIR [STREAM [--set KEY=VALUE ...]]
 #   STREAM 0 or 1: half of the points ("" for all); the --set pairs go to every run (e.g.
-#   --set time.background=transport). ALPHA_POINTS=0 leaves out the α sensitivity points.
+#   --set time.background=transport). ALPHA_POINTS=0 leaves out the α sensitivity points;
+#   KERNELS="kind:h_ratio ..." replaces the kernels and their h (default: the scenes' own).
 set -euo pipefail
 out=${1:-out/capillary-rule}
 stream=${2:-}
@@ -16,7 +17,7 @@ mkdir -p "$out"
 points=()
 if [ "${ALPHA_POINTS:-1}" != 0 ]; then points+=("osc 30 quintic:1.2 1.0" "osc 30 quintic:1.2 4.0"); fi
 for nx in 45 30; do
-  for k in quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0; do
+  for k in ${KERNELS:-quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0}; do
     points+=("osc $nx $k 2.0" "rest $nx $k 2.0")
   done
 done
