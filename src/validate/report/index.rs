@@ -15,7 +15,7 @@ pub fn write_index(
     let mut m = String::from(concat!(
         "# sphlab validation index\n\nEach case's `summary.md` has the table `quantity | sphlab | thesis | ",
         "analytic | difference | verdict`, the plots and the provenance of every run.\n\n",
-        "| case | reference | full resolution | p_b and c0 | verdicts | run wall time (s) |\n|---|---|---|---|---|---|\n",
+        "| case | reference | full resolution | p_b and c0 | kernel | verdicts | run wall time (s) |\n|---|---|---|---|---|---|---|\n",
     ));
     let mut not_full = Vec::new();
     let mut judged = String::new();
@@ -25,18 +25,20 @@ pub fn write_index(
         else {
             let why =
                 failed.iter().find(|f| f.0 == c).map_or("not run yet".to_string(), |f| format!("failed: {}", f.1));
-            let _ = writeln!(m, "| {c} | — | no | — | — | — |");
+            let _ = writeln!(m, "| {c} | — | no | — | — | — | — |");
             not_full.push((c.to_string(), why));
             continue;
         };
         let count = |v: &str| rep.rows.iter().filter(|r| r.verdict.starts_with(v)).count();
         let (pass, fail, inv) = (count("pass"), count("FAIL"), count("invariant"));
+        let records = run_records(&opts.out.join(c), &rep);
         let _ = writeln!(
             m,
-            "| [{c}]({c}/summary.md) | {} | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
+            "| [{c}]({c}/summary.md) | {} | {} | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
             rep.reference.lines().next().unwrap_or(""),
             if rep.not_full.is_none() { "yes" } else { "no" },
-            pressure_rule(&opts.out.join(c), &rep),
+            pressure_rule(&records),
+            kernel_column(&records),
             rep.rows.len() - pass - fail - inv,
             rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
         );
@@ -95,30 +97,34 @@ pub fn write_index(
          its runs carry the rule's constants (docs/PHYSICS.md §3.1), \"the scene's own\" when its scenes are ones the \
          rule does not apply to (the impact: water's c0, p_b = B; PySPH's rod: PySPH's parameters), \"**stale**\" for \
          a capillary case whose runs were made under the per-scene background pressures before it (its numbers do \
-         not describe the current code)."
+         not describe the current code). The column kernel says \"the scene's\" when a run of the case took the \
+         kernel and h its built-in scene takes now, and \"**stale**\" with the runs' kernel when none did (the \
+         scene's kernel was changed after the runs)."
     );
     std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
     let p = opts.out.join("index.md");
     std::fs::write(&p, m).map_err(|e| io(&p, e))
 }
 
-/// How case `name`'s runs set p_b and c0, read from their records: "the capillary rule" when one
-/// carries the rule's section; the scene's own when every run's scene is one the rule does not
-/// apply to (a built-in without the rule, e.g. the impact, or a scene file, e.g. PySPH's rod);
-/// else stale (a capillary built-in measured before the rule, or no record to tell).
-fn pressure_rule(case_dir: &std::path::Path, rep: &CaseReport) -> &'static str {
-    let records: Vec<serde_json::Value> = rep
-        .runs
+/// The `summary.json` of each of the case's runs: where the run is (a reused run may sit in
+/// another case's directory), else the case's own `runs/<id>`.
+fn run_records(case_dir: &std::path::Path, rep: &CaseReport) -> Vec<serde_json::Value> {
+    rep.runs
         .iter()
         .filter_map(|r| {
-            // where the run is (a reused run may sit in another case's directory), else the
-            // case's own runs/<id>
             [std::path::PathBuf::from(&r.dir), case_dir.join("runs").join(&r.id)]
                 .iter()
                 .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())
         })
         .filter_map(|t| serde_json::from_str(&t).ok())
-        .collect();
+        .collect()
+}
+
+/// How a case's runs set p_b and c0, read from their records: "the capillary rule" when one
+/// carries the rule's section; the scene's own when every run's scene is one the rule does not
+/// apply to (a built-in without the rule, e.g. the impact, or a scene file, e.g. PySPH's rod);
+/// else stale (a capillary built-in measured before the rule, or no record to tell).
+fn pressure_rule(records: &[serde_json::Value]) -> &'static str {
     let ruled_scene = |v: &serde_json::Value| {
         v["scene"].as_str().and_then(crate::scene::builtin::builtin).is_some_and(|s| s.capillary_rule.is_some())
     };
@@ -128,5 +134,58 @@ fn pressure_rule(case_dir: &std::path::Path, rep: &CaseReport) -> &'static str {
         "the scene's own (the capillary rule does not apply)"
     } else {
         "**stale**: per-scene p_b (before the rule)"
+    }
+}
+
+/// Whether a case's runs took the kernel and h their built-in scene takes now: "the scene's"
+/// when one run did (a case may run other kernels beside it, as the oscillating drop does) or
+/// when no run is of a built-in (a scene file keeps its own); else stale, naming the runs' kernel.
+pub(super) fn kernel_column(records: &[serde_json::Value]) -> String {
+    let label = |k: &serde_json::Value| {
+        format!("{} h = {}Δx", k["kind"].as_str().unwrap_or("?"), k["h_ratio"].as_f64().unwrap_or(f64::NAN))
+    };
+    let now = |v: &serde_json::Value| {
+        let s = v["scene"].as_str().and_then(crate::scene::builtin::builtin)?;
+        serde_json::to_value(s.kernel).ok()
+    };
+    let built_in: Vec<_> = records.iter().filter_map(|v| now(v).map(|k| (v, k))).collect();
+    if records.is_empty() {
+        return "—".into();
+    }
+    if built_in.is_empty() || built_in.iter().any(|(v, k)| &v["parameters"]["kernel"] == k) {
+        return "the scene's".into();
+    }
+    let (v, k) = &built_in[0];
+    format!("**stale**: runs with {} (the scene now: {})", label(&v["parameters"]["kernel"]), label(k))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kernel_column;
+    use serde_json::json;
+
+    fn record(scene: &str, kind: &str, h: f64) -> serde_json::Value {
+        json!({ "scene": scene, "parameters": { "kernel": { "kind": kind, "h_ratio": h } } })
+    }
+
+    #[test]
+    fn a_case_is_stale_when_none_of_its_runs_took_the_scenes_kernel() {
+        let k = crate::scene::builtin::builtin("relax-60").unwrap().kernel;
+        let kind = serde_json::to_value(k.kind).unwrap();
+        let kind = kind.as_str().unwrap();
+        let other = if kind == "quintic" { "cubic-spline" } else { "quintic" };
+        assert_eq!(kernel_column(&[record("relax-60", kind, k.h_ratio)]), "the scene's");
+        // another kernel beside the scene's own (the oscillating drop's case) is not stale
+        assert_eq!(
+            kernel_column(&[record("relax-60", other, 1.2), record("relax-60", kind, k.h_ratio)]),
+            "the scene's"
+        );
+        let stale = kernel_column(&[record("relax-60", other, k.h_ratio)]);
+        assert!(stale.starts_with("**stale**") && stale.contains(other) && stale.contains(kind), "{stale}");
+        // the same kind at another h is another kernel
+        assert!(kernel_column(&[record("relax-60", kind, k.h_ratio + 0.3)]).starts_with("**stale**"));
+        // a scene file keeps its own kernel; no records, nothing to say
+        assert_eq!(kernel_column(&[record("/some/scene.toml", other, 1.0)]), "the scene's");
+        assert_eq!(kernel_column(&[]), "—");
     }
 }
