@@ -10,7 +10,8 @@
 //!   band lies in the fixed wall particles. This is why Mode A's contact line feels only half
 //!   of Young's σ_GS − σ_LS (`reports/validation/relax-60/mode-a-check/README.md`).
 //!
-//! Cost: 2 runs of 1,600 fluid particles to t = 0.6 (≈ 4,100 steps), about 20 s each here.
+//! Cost: 2 runs of 1,600 fluid particles to t = 0.6, relax-60's quintic at h = 1.2Δx: about a
+//! minute each here.
 
 use sphlab::backend::Backend;
 use sphlab::cpu::momentum::PairTerm;

@@ -519,7 +519,9 @@ fn dispatch_spreads_over_two_dimensions() {
     let _g = serial();
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    let (s, l) = scene(SCENES[1].0, SCENES[1].1);
+    // Resolution for more cells than one scan block holds with the scene's kernel (cells of
+    // its support, 3.6Δx for the quintic at 1.2Δx).
+    let (s, l) = scene("sessile-90", &["contact.mode=b", "domain.nx=40"]);
     let mut cpu = CpuSolver::<f32>::new(&s, &l, Exec::Parallel, SearchKind::Cells);
     cpu.evaluate().unwrap();
     for id in [

@@ -74,7 +74,8 @@ pub fn write_index(
         "Beside the cases: the background-pressure sweep ([pb-sweep/summary.md](pb-sweep/summary.md), \
          `examples/analysis/pb_sweep.sh`), time to solution against physical error \
          ([speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md), \
-         `examples/analysis/speed_vs_physical_error.sh`) and the cross-code check's \
+         `examples/analysis/speed_vs_physical_error.sh`), the kernel of the capillary scenes and where p_b acts \
+         ([form-and-kernel/README.md](form-and-kernel/README.md)) and the cross-code check's \
          short-time test (`tests/cross_code.rs`; the whole record is the `cross-code` case).\n"
     );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
@@ -97,9 +98,10 @@ pub fn write_index(
          its runs carry the rule's constants (docs/PHYSICS.md §3.1), \"the scene's own\" when its scenes are ones the \
          rule does not apply to (the impact: water's c0, p_b = B; PySPH's rod: PySPH's parameters), \"**stale**\" for \
          a capillary case whose runs were made under the per-scene background pressures before it (its numbers do \
-         not describe the current code). The column kernel says \"the scene's\" when a run of the case took the \
-         kernel and h its built-in scene takes now, and \"**stale**\" with the runs' kernel when none did (the \
-         scene's kernel was changed after the runs)."
+         not describe the current code). The column kernel says \"the scene's\" when every run took the kernel \
+         and h its built-in scene takes now or asked for another (`kernel.kind=` or `kernel.h_ratio=`), and \
+         \"**stale**\" with the runs' kernel when one took another without asking (the scene's kernel was changed \
+         after the runs)."
     );
     std::fs::create_dir_all(&opts.out).map_err(|e| io(&opts.out, e))?;
     let p = opts.out.join("index.md");
@@ -108,15 +110,15 @@ pub fn write_index(
 
 /// The `summary.json` of each of the case's runs: where the run is (a reused run may sit in
 /// another case's directory), else the case's own `runs/<id>`.
-fn run_records(case_dir: &std::path::Path, rep: &CaseReport) -> Vec<serde_json::Value> {
+fn run_records(case_dir: &std::path::Path, rep: &CaseReport) -> Vec<(String, serde_json::Value)> {
     rep.runs
         .iter()
         .filter_map(|r| {
-            [std::path::PathBuf::from(&r.dir), case_dir.join("runs").join(&r.id)]
+            let text = [std::path::PathBuf::from(&r.dir), case_dir.join("runs").join(&r.id)]
                 .iter()
-                .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())
+                .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())?;
+            Some((r.command.clone(), serde_json::from_str(&text).ok()?))
         })
-        .filter_map(|t| serde_json::from_str(&t).ok())
         .collect()
 }
 
@@ -124,39 +126,52 @@ fn run_records(case_dir: &std::path::Path, rep: &CaseReport) -> Vec<serde_json::
 /// carries the rule's section; the scene's own when every run's scene is one the rule does not
 /// apply to (a built-in without the rule, e.g. the impact, or a scene file, e.g. PySPH's rod);
 /// else stale (a capillary built-in measured before the rule, or no record to tell).
-fn pressure_rule(records: &[serde_json::Value]) -> &'static str {
+fn pressure_rule(records: &[(String, serde_json::Value)]) -> &'static str {
+    let records: Vec<&serde_json::Value> = records.iter().map(|r| &r.1).collect();
     let ruled_scene = |v: &serde_json::Value| {
         v["scene"].as_str().and_then(crate::scene::builtin::builtin).is_some_and(|s| s.capillary_rule.is_some())
     };
     if records.iter().any(|v| v["parameters"]["capillary_rule"].is_object()) {
         "the capillary rule"
-    } else if !records.is_empty() && !records.iter().any(ruled_scene) {
+    } else if !records.is_empty() && !records.iter().any(|v| ruled_scene(v)) {
         "the scene's own (the capillary rule does not apply)"
     } else {
         "**stale**: per-scene p_b (before the rule)"
     }
 }
 
-/// Whether a case's runs took the kernel and h their built-in scene takes now: "the scene's"
-/// when one run did (a case may run other kernels beside it, as the oscillating drop does) or
-/// when no run is of a built-in (a scene file keeps its own); else stale, naming the runs' kernel.
-pub(super) fn kernel_column(records: &[serde_json::Value]) -> String {
-    let label = |k: &serde_json::Value| {
-        format!("{} h = {}Δx", k["kind"].as_str().unwrap_or("?"), k["h_ratio"].as_f64().unwrap_or(f64::NAN))
-    };
-    let now = |v: &serde_json::Value| {
-        let s = v["scene"].as_str().and_then(crate::scene::builtin::builtin)?;
-        serde_json::to_value(s.kernel).ok()
-    };
-    let built_in: Vec<_> = records.iter().filter_map(|v| now(v).map(|k| (v, k))).collect();
+/// Whether a case's runs took the kernel and h their built-in scenes take now: "the scene's"
+/// when every run of a built-in scene did, or set its kernel itself (`kernel.kind=` or
+/// `kernel.h_ratio=` in its command: a deliberate variant, as the oscillating drop's other
+/// kernels are); a scene file
+/// keeps its own. Else stale, naming each scene with a run of another kernel it did not ask for.
+pub(super) fn kernel_column(records: &[(String, serde_json::Value)]) -> String {
     if records.is_empty() {
         return "—".into();
     }
-    if built_in.is_empty() || built_in.iter().any(|(v, k)| &v["parameters"]["kernel"] == k) {
-        return "the scene's".into();
+    let label = |k: &serde_json::Value| {
+        format!("{} h = {}Δx", k["kind"].as_str().unwrap_or("?"), k["h_ratio"].as_f64().unwrap_or(f64::NAN))
+    };
+    let mut stale: Vec<String> = Vec::new();
+    for (command, v) in records {
+        let Some(name) = v["scene"].as_str() else { continue };
+        let Some(now) = crate::scene::builtin::builtin(name).and_then(|s| serde_json::to_value(s.kernel).ok()) else {
+            continue;
+        };
+        let asked = command.contains("kernel.kind=") || command.contains("kernel.h_ratio=");
+        if v["parameters"]["kernel"] != now && !asked {
+            let line =
+                format!("{name} runs with {} (the scene now: {})", label(&v["parameters"]["kernel"]), label(&now));
+            if !stale.contains(&line) {
+                stale.push(line);
+            }
+        }
     }
-    let (v, k) = &built_in[0];
-    format!("**stale**: runs with {} (the scene now: {})", label(&v["parameters"]["kernel"]), label(k))
+    if stale.is_empty() {
+        "the scene's".into()
+    } else {
+        format!("**stale**: {}", stale.join("; "))
+    }
 }
 
 #[cfg(test)]
@@ -164,26 +179,41 @@ mod tests {
     use super::kernel_column;
     use serde_json::json;
 
-    fn record(scene: &str, kind: &str, h: f64) -> serde_json::Value {
-        json!({ "scene": scene, "parameters": { "kernel": { "kind": kind, "h_ratio": h } } })
+    fn record(scene: &str, kind: &str, h: f64) -> (String, serde_json::Value) {
+        let v = json!({ "scene": scene, "parameters": { "kernel": { "kind": kind, "h_ratio": h } } });
+        (format!("sphlab run {scene} --t-end 5"), v)
+    }
+
+    fn with_set(mut r: (String, serde_json::Value), set: &str) -> (String, serde_json::Value) {
+        r.0.push_str(&format!(" --set {set}"));
+        r
     }
 
     #[test]
-    fn a_case_is_stale_when_none_of_its_runs_took_the_scenes_kernel() {
+    fn a_case_is_stale_when_a_run_took_another_kernel_than_its_scenes_without_asking() {
         let k = crate::scene::builtin::builtin("relax-60").unwrap().kernel;
         let kind = serde_json::to_value(k.kind).unwrap();
         let kind = kind.as_str().unwrap();
         let other = if kind == "quintic" { "cubic-spline" } else { "quintic" };
         assert_eq!(kernel_column(&[record("relax-60", kind, k.h_ratio)]), "the scene's");
-        // another kernel beside the scene's own (the oscillating drop's case) is not stale
-        assert_eq!(
-            kernel_column(&[record("relax-60", other, 1.2), record("relax-60", kind, k.h_ratio)]),
-            "the scene's"
+        // a run that asked for another kernel is a variant (the oscillating drop's case)
+        let variant = with_set(record("relax-60", other, 1.2), &format!("kernel.kind={other}"));
+        assert_eq!(kernel_column(&[variant, record("relax-60", kind, k.h_ratio)]), "the scene's");
+        // one run of another kernel that did not ask for it makes the case stale, beside current ones
+        let stale = kernel_column(&[record("relax-60", kind, k.h_ratio), record("relax-60", other, k.h_ratio)]);
+        assert!(
+            stale.starts_with("**stale**: relax-60 runs with") && stale.contains(other) && stale.contains(kind),
+            "{stale}"
         );
-        let stale = kernel_column(&[record("relax-60", other, k.h_ratio)]);
-        assert!(stale.starts_with("**stale**") && stale.contains(other) && stale.contains(kind), "{stale}");
         // the same kind at another h is another kernel
         assert!(kernel_column(&[record("relax-60", kind, k.h_ratio + 0.3)]).starts_with("**stale**"));
+        // each scene is judged by its own kernel
+        let drop = crate::scene::builtin::builtin("oscillating-drop").unwrap().kernel;
+        let drop_kind = serde_json::to_value(drop.kind).unwrap();
+        let mixed =
+            [record("oscillating-drop", drop_kind.as_str().unwrap(), drop.h_ratio), record("relax-60", other, 1.2)];
+        let col = kernel_column(&mixed);
+        assert!(col.starts_with("**stale**: relax-60 runs with") && !col.contains("oscillating-drop"), "{col}");
         // a scene file keeps its own kernel; no records, nothing to say
         assert_eq!(kernel_column(&[record("/some/scene.toml", other, 1.0)]), "the scene's");
         assert_eq!(kernel_column(&[]), "—");
