@@ -143,9 +143,9 @@ fn pressure_rule(records: &[(String, serde_json::Value)]) -> &'static str {
 /// Whether a case's runs took the kernel and h their built-in scenes take now: "the scene's"
 /// when every run of a built-in scene did, or set its kernel itself (`kernel.kind=` or
 /// `kernel.h_ratio=` in its command: a deliberate variant, as the oscillating drop's other
-/// kernels are); a scene file
-/// keeps its own. Else stale, naming each scene with a run of another kernel it did not ask for.
-pub(super) fn kernel_column(records: &[(String, serde_json::Value)]) -> String {
+/// kernels are); a scene file keeps its own. Else stale, naming each scene with a run of another
+/// kernel it did not ask for.
+fn kernel_column(records: &[(String, serde_json::Value)]) -> String {
     if records.is_empty() {
         return "—".into();
     }
