@@ -38,11 +38,11 @@ pub fn judge(name: &str, ctx: &Ctx, rep: &mut CaseReport) {
     match name {
         "oscillation" => oscillation(root, rep),
         "sessile-90" => sessile(root, rep),
-        "relax-60" => relax(root, ctx.opts.long_nx(), &super::sessile::shear_window(ctx.opts.long_t_end(0.3)).2, rep),
+        "relax-60" => relax(root, &super::sessile::shear_window(ctx.opts.long_t_end(0.3)).2, rep),
         "convergence" => convergence(root, rep),
         "spurious" => spurious(root, rep),
         "cross-code" => cross_code(rep),
-        "capillary-wave" => capillary_wave(rep),
+        "capillary-wave" => capillary_wave(root, rep),
         "impact" => {
             for r in rep.rows.iter_mut() {
                 r.qualify(
@@ -68,7 +68,7 @@ const AT_EACH_NX: &str =
 const DROP_R: f64 = 0.1875;
 
 fn oscillation(root: &Path, rep: &mut CaseReport) {
-    let on = format!("{}, the initial field, μ", rule_text("oscillating-drop", None));
+    let on = format!("{}, the initial field, μ", rule_text(root, rep, "quintic"));
     let period = alpha_band(root, "quintic", "period", |v| (v / 0.37 - 1.0).abs() <= 0.05);
     for r in rows(rep, "period, field on all particles, quintic") {
         r.qualify(&format!("{on}, the quintic at h = 1.2Δx"), period.as_ref());
@@ -125,7 +125,7 @@ fn at_both_resolutions(
 }
 
 fn spurious(root: &Path, rep: &mut CaseReport) {
-    let on = format!("{}, the quintic at h = 1.2Δx", rule_text("oscillating-drop", None));
+    let on = format!("{}, the quintic at h = 1.2Δx", rule_text(root, rep, "rest"));
     let what = "the drop at rest to t = 1";
     let speed = nx_band(root, "quintic", "spurious_speed", what, |v| v < 0.1);
     let jump = nx_band(root, "quintic", "jump", what, |v| (v * DROP_R - 1.0).abs() <= 0.03);
@@ -154,7 +154,8 @@ fn cross_code(rep: &mut CaseReport) {
 }
 
 /// The equal-density wave's 3-period rms with its band from the case's own p_b × 0.5 and × 2 rows.
-fn capillary_wave(rep: &mut CaseReport) {
+fn capillary_wave(root: &Path, rep: &mut CaseReport) {
+    let rule = rule_text(root, rep, "ratio1");
     const HEAD: &str = "rms of a/a0 − Prosperetti, t ≤ ";
     let pick = |rep: &CaseReport, tail: &str| {
         rep.rows.iter().find(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with(tail)).map(|r| r.value)
@@ -178,18 +179,12 @@ fn capillary_wave(rep: &mut CaseReport) {
         .iter_mut()
         .filter(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with("(3 periods), density ratio 1"))
     {
-        r.qualify(
-            &format!(
-                "{}; the 3-period window chosen after the first run (README.md)",
-                rule_text("capillary-wave", None)
-            ),
-            band.as_ref(),
-        );
+        r.qualify(&format!("{rule}; the 3-period window chosen after the first run (README.md)"), band.as_ref());
     }
 }
 
 fn sessile(root: &Path, rep: &mut CaseReport) {
-    let rule = rule_text("sessile-90", Some(65));
+    let rule = rule_text(root, rep, "mode-b");
     for r in rows(rep, "Mode B: max |θ − 90°|, circle fit") {
         r.qualify(
             &format!("{rule}, μ = 0.15, a start at θ_Y = 90° (it tests that the drop stays there)"),
@@ -225,9 +220,9 @@ const RELAX_FROM_90: [&str; 5] = [
 ];
 
 /// relax-60's rows over the end window `wtext` (the case's, e.g. "t ∈ [4.3, 4.5]").
-fn relax(root: &Path, nx: u32, wtext: &str, rep: &mut CaseReport) {
+fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
     let window = format!("mean over {wtext}");
-    let rule = rule_text("relax-60", Some(nx));
+    let rule = rule_text(root, rep, "b-noslip");
     for label in RELAX_FROM_90 {
         let mode_a = label.starts_with("Mode A");
         let why = if mode_a {

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 mod index;
+pub(super) use index::run_summary;
 pub use index::write_index;
 
 /// One line of a case's comparison table.

@@ -3,29 +3,40 @@
 //! drop at rest at α × 0.5 / × 1 / × 2 and at nx = 30 / 45, read from
 //! `capillary-rule/capillary_rule.csv` (the runs of `examples/analysis/capillary_rule.sh`).
 
-use crate::validate::report::Band;
+use crate::validate::report::{run_summary, Band, CaseReport};
 use std::path::Path;
 
 /// The committed table of the rule's runs, relative to the report root.
 const RULE_CSV: &str = "capillary-rule/capillary_rule.csv";
 
-/// "p_b = α·σ|∇C|_max/2 = … and c0 = … by the capillary rule (α, ε), nx = …" for built-in
-/// `scene` at `nx` (its own resolution when `None`), computed by the rule itself.
-pub(super) fn rule_text(scene: &str, nx: Option<u32>) -> String {
-    let Some(mut s) = crate::scene::builtin::builtin(scene) else {
-        return "p_b and c0 by the capillary rule (docs/PHYSICS.md §3.1)".into();
+/// "p_b = α·σ|∇C|_max/2 = … and c0 = … by the capillary rule (α, ε), nx = …" as run `run` of
+/// the case recorded them (its `summary.json`: the densest phase's p_b and c0, the rule's
+/// constants, its resolution), so a verdict names the values its numbers were measured at even
+/// after the scene's defaults change. Without a record it names the rule without values.
+pub(super) fn rule_text(root: &Path, rep: &CaseReport, run: &str) -> String {
+    let record = rep.runs.iter().find(|r| r.id == run).and_then(|r| run_summary(&root.join(&rep.name), r));
+    let Some(v) = record else {
+        return format!("p_b and c0 by the capillary rule (docs/PHYSICS.md §3.1; run `{run}` has no record)");
     };
-    if let Some(nx) = nx {
-        s.domain.nx = nx;
+    let p = &v["parameters"];
+    let dense = p["phases"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .max_by(|a, b| a["rho0"].as_f64().unwrap_or(0.0).total_cmp(&b["rho0"].as_f64().unwrap_or(0.0)));
+    let num = |x: Option<&serde_json::Value>, key: &str| x.and_then(|x| x[key].as_f64()).unwrap_or(f64::NAN);
+    let (p_b, c0) = (num(dense, "p_b"), num(dense, "c0"));
+    let nx = p["domain"]["nx"].as_u64().map_or("?".into(), |n| n.to_string());
+    let rule = &p["capillary_rule"];
+    if rule.is_object() {
+        format!(
+            "p_b = α·σ|∇C|_max/2 = {p_b:.1} and c0 = {c0:.1} by the capillary rule (α = {}, ε = {}; docs/PHYSICS.md §3.1), nx = {nx}",
+            num(Some(rule), "alpha"),
+            num(Some(rule), "epsilon")
+        )
+    } else {
+        format!("p_b = {p_b:.1} and c0 = {c0:.1} set by the scene (before the capillary rule), nx = {nx}")
     }
-    crate::scene::capillary::apply(&mut s);
-    let rule = s.capillary_rule.clone().unwrap_or_default();
-    let dense = s.phases.iter().max_by(|a, b| a.rho0.total_cmp(&b.rho0));
-    let (p_b, c0) = dense.map_or((f64::NAN, f64::NAN), |p| (p.p_b, p.c0));
-    format!(
-        "p_b = α·σ|∇C|_max/2 = {p_b:.1} and c0 = {c0:.1} by the capillary rule (α = {}, ε = {}; docs/PHYSICS.md §3.1), nx = {}",
-        rule.alpha, rule.epsilon, s.domain.nx
-    )
 }
 
 /// Column `column` of the rule's table for `kernel`, at each `(alpha, nx)` of `points` that has

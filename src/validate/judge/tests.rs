@@ -157,11 +157,6 @@ fn rejudge_applies_the_verdicts_to_a_committed_report_once_and_needs_one() {
 
 #[test]
 fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table() {
-    // The rule's values, computed by the rule: the drop at nx = 30 and 45, relax-60 at nx = 65.
-    let at30 = rule_text("oscillating-drop", None);
-    assert!(at30.contains("= 24.7 and c0 = 35.2") && at30.contains("nx = 30"), "{at30}");
-    assert!(rule_text("oscillating-drop", Some(45)).contains("= 37.1 and c0 = 43.1"));
-    assert!(rule_text("relax-60", Some(65)).contains("= 53.6 and c0 = 51.8"));
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
     std::fs::write(
@@ -264,4 +259,46 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
     let before = rep.rows.len();
     judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
     assert_eq!(rep.rows.len(), before);
+}
+
+/// A run record of built-in `scene` with its kernel set to `kind` (the rule applied to it), as
+/// `sphlab run` writes it, in `dir/<case>/runs/<id>`.
+fn recorded_run(dir: &Path, case: &str, id: &str, scene: &str, kind: &str) -> crate::validate::report::RunRecord {
+    let mut s = crate::scene::builtin::builtin(scene).unwrap();
+    s.kernel.kind = serde_json::from_value(serde_json::json!(kind)).unwrap();
+    if s.capillary_rule.is_some() {
+        crate::scene::capillary::apply(&mut s); // at the new kernel, as a run with it would be
+    }
+    let run = dir.join(case).join("runs").join(id);
+    std::fs::create_dir_all(&run).unwrap();
+    let summary = serde_json::json!({ "scene": scene, "parameters": s, "backend": "cpu.cells.f64" });
+    std::fs::write(run.join("summary.json"), summary.to_string()).unwrap();
+    crate::validate::report::RunRecord::load(&run, "sphlab run", false).unwrap()
+}
+
+#[test]
+fn the_rule_text_names_the_values_the_runs_were_made_at() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rep = report("relax-60", Vec::new());
+    assert!(rule_text(dir.path(), &rep, "b-noslip").contains("run `b-noslip` has no record"));
+    // A run of the cubic spline, made before the scene took the quintic: its own 60.7 / 55.1,
+    // not the scene's 53.6 / 51.8 now.
+    rep.runs.push(recorded_run(dir.path(), "relax-60", "b-noslip", "relax-60", "cubic-spline"));
+    let then = rule_text(dir.path(), &rep, "b-noslip");
+    assert!(
+        then.contains("= 60.7 and c0 = 55.1") && then.contains("α = 2, ε = 0.01") && then.contains("nx = 65"),
+        "{then}"
+    );
+    rep.runs[0] = recorded_run(dir.path(), "relax-60", "b-noslip", "relax-60", "quintic");
+    assert!(rule_text(dir.path(), &rep, "b-noslip").contains("= 53.6 and c0 = 51.8"));
+    let mut drop = report("oscillation", Vec::new());
+    drop.runs.push(recorded_run(dir.path(), "oscillation", "quintic", "oscillating-drop", "quintic"));
+    let at30 = rule_text(dir.path(), &drop, "quintic");
+    assert!(at30.contains("= 24.7 and c0 = 35.2") && at30.contains("nx = 30"), "{at30}");
+    // A scene without the rule's section says its values are the scene's own.
+    let impact = recorded_run(dir.path(), "impact", "a", "impact", "quintic");
+    let mut imp = report("impact", Vec::new());
+    imp.runs.push(impact);
+    let own = rule_text(dir.path(), &imp, "a");
+    assert!(own.contains("set by the scene (before the capillary rule)"), "{own}");
 }

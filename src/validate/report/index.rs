@@ -1,7 +1,7 @@
 //! `index.md`: one line per case with its verdict counts, then every FAIL with its measured value
 //! and reason and every pass with what it depends on, read from the cases' `case.json`.
 
-use super::{cell, io, CaseReport};
+use super::{cell, io, CaseReport, RunRecord};
 use crate::validate::{ValidateError, ValidateOptions, CASES};
 use std::fmt::Write as _;
 
@@ -111,15 +111,16 @@ pub fn write_index(
 /// The `summary.json` of each of the case's runs: where the run is (a reused run may sit in
 /// another case's directory), else the case's own `runs/<id>`.
 fn run_records(case_dir: &std::path::Path, rep: &CaseReport) -> Vec<(String, serde_json::Value)> {
-    rep.runs
+    rep.runs.iter().filter_map(|r| Some((r.command.clone(), run_summary(case_dir, r)?))).collect()
+}
+
+/// The `summary.json` of run `run` of the case in `case_dir`: at the run's recorded directory,
+/// else under the case's `runs/<id>/` (where a committed report keeps it).
+pub(in crate::validate) fn run_summary(case_dir: &std::path::Path, run: &RunRecord) -> Option<serde_json::Value> {
+    let text = [std::path::PathBuf::from(&run.dir), case_dir.join("runs").join(&run.id)]
         .iter()
-        .filter_map(|r| {
-            let text = [std::path::PathBuf::from(&r.dir), case_dir.join("runs").join(&r.id)]
-                .iter()
-                .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())?;
-            Some((r.command.clone(), serde_json::from_str(&text).ok()?))
-        })
-        .collect()
+        .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())?;
+    serde_json::from_str(&text).ok()
 }
 
 /// How a case's runs set p_b and c0, read from their records: "the capillary rule" when one
