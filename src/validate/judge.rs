@@ -370,6 +370,23 @@ fn fixed_pb_angle(root: &Path, nx: u32) -> Option<f64> {
     end_angle(&root.join(format!("convergence/pb-check/runs/nx{nx}-pb45")))
 }
 
+/// Where the committed relax-60 study runs are, relative to the report root, with the suffix of
+/// their folder names: the capillary rule's (made with the cubic spline) and the quintic's.
+pub(super) const RELAX_RUN_SOURCES: [(&str, &str); 2] =
+    [("capillary-rule/relax-60", ""), ("form-and-kernel/relax-60", "-quintic")];
+
+/// Whether the run in `dir` is of relax-60 at `nx` with the kernel and h the scene takes now.
+pub(super) fn of_the_scene(dir: &Path, nx: u32) -> bool {
+    let Some(now) = crate::scene::builtin::builtin("relax-60").and_then(|s| serde_json::to_value(s.kernel).ok()) else {
+        return false;
+    };
+    let Ok(text) = std::fs::read_to_string(dir.join("summary.json")) else {
+        return false;
+    };
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+    v["scene"] == "relax-60" && v["parameters"]["kernel"] == now && v["parameters"]["domain"]["nx"] == nx
+}
+
 /// The circle-fit angle of the committed run in `dir`, mean over relax-60's end window
 /// t ∈ [4.3, 4.5] (None without its series or rows there).
 fn end_angle(dir: &Path) -> Option<f64> {

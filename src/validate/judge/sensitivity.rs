@@ -1,29 +1,36 @@
 //! Sensitivity bands read from committed runs: relax-60 Mode B at nx = 33 with the capillary
-//! rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1; `capillary-rule/relax-60`), and sessile-90
-//! Mode B at nx = 45 with p_b 45 / 90 (`sessile-90/pb-check/runs`, made before the rule). The
-//! drop's bands of the rule are in `rule.rs`.
+//! rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1; `capillary-rule/relax-60` for the cubic
+//! spline, `form-and-kernel/relax-60` for the quintic), and sessile-90 Mode B at nx = 45 with p_b
+//! 45 / 90 (`sessile-90/pb-check/runs`, made before the rule and the quintic). The drop's bands
+//! of the rule are in `rule.rs`.
 
+use super::{of_the_scene, RELAX_RUN_SOURCES};
 use crate::validate::data::{col, read_series, window_stats};
 use crate::validate::report::Band;
 use std::path::Path;
 
 /// relax-60 Mode B no-slip from 90° at nx = 33 with the capillary rule's α × 0.5 / × 1 / × 2
-/// (`capillary-rule/relax-60/nx33-b-from90-alpha1`, `nx33-b-from90`, `nx33-b-from90-alpha4`, the
-/// runs of `examples/analysis/relax_start_angle.sh`), over t ∈ [4.3, 4.5]: `[θ − 60° by the circle
-/// fit, D/D0 at the wall]`, each with the case's bound. At nx = 33, not the headline's 65: an
-/// nx = 65 run costs about 17 CPU minutes, one at 33 about 2.
+/// (`nx33-b-from90-alpha1`, `nx33-b-from90`, `nx33-b-from90-alpha4`, the runs of
+/// `examples/analysis/relax_start_angle.sh`, from the first of [`RELAX_RUN_SOURCES`] whose three
+/// runs have the scene's kernel and h), over t ∈ [4.3, 4.5]: `[θ − 60° by the circle fit, D/D0
+/// at the wall]`, each with the case's bound. At nx = 33, not the headline's 65: an nx = 65 run
+/// costs about 17 CPU minutes, one at 33 about 2.
 pub(super) fn relax_rule_band(root: &Path) -> Option<[Band; 2]> {
-    let runs = ["nx33-b-from90-alpha1", "nx33-b-from90", "nx33-b-from90-alpha4"];
+    let names = ["nx33-b-from90-alpha1", "nx33-b-from90", "nx33-b-from90-alpha4"];
+    let (src, suffix) = RELAX_RUN_SOURCES
+        .into_iter()
+        .find(|(src, suffix)| names.iter().all(|n| of_the_scene(&root.join(src).join(format!("{n}{suffix}")), 33)))?;
+    let runs = names.map(|n| format!("{src}/{n}{suffix}"));
     let dx = 0.5 / 33.0;
     let d_an = crate::validate::relax::analytic_spread();
     let mut theta = Vec::new();
     let mut spread = Vec::new();
-    for d in runs {
-        let rows = read_series(&root.join("capillary-rule/relax-60").join(d));
+    for d in &runs {
+        let rows = read_series(&root.join(d));
         theta.push(window_stats(&col(&rows, |r| r.theta_circle_fit.map(|v| v - 60.0)), 4.3, 4.5)?.0);
         spread.push(window_stats(&crate::validate::relax::wall_spread(&rows, dx), 4.3, 4.5)?.0);
     }
-    let source = runs.map(|r| format!("../capillary-rule/relax-60/{r}")).join(", ");
+    let source = runs.iter().map(|r| format!("../{r}")).collect::<Vec<_>>().join(", ");
     let band = |values: &[f64], holds: bool, prec: usize| Band {
         varied: "the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode B from 90°, no-slip)".into(),
         values: values.iter().map(|v| format!("{v:.prec$}")).collect(),
@@ -49,7 +56,7 @@ pub(super) fn sessile_pb_band(root: &Path) -> Option<Band> {
         values.push(dev.iter().map(|p| p.1).fold(f64::NAN, f64::max));
     }
     Some(Band {
-        varied: "p_b 45 / 90 at nx = 45, c0 = 20 (runs before the capillary rule; × 0.5 / × 1 of its σ/Δx then)".into(),
+        varied: "p_b 45 / 90 at nx = 45, c0 = 20, the cubic spline h = 1.2Δx (runs before the capillary rule; × 0.5 / × 1 of its σ/Δx then)".into(),
         values: values.iter().map(|v| format!("{v:.2}")).collect(),
         source: "pb-check/runs/mode-b-pb45, pb-check/runs/mode-b-pb90".into(),
         holds: Some(values.iter().all(|v| *v < 3.0)),

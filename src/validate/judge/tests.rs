@@ -198,10 +198,11 @@ fn every_kernel_is_held_to_the_thesis_at_both_resolutions_once() {
     assert!(cubic.verdict.starts_with("FAIL") && cubic.sphlab.starts_with("0.3200 / 0.2970"), "{cubic:?}");
 }
 
-/// Writes a committed-run folder of the Young sweep whose circle-fit angle is `theta` over the
-/// end window (and far off it outside the window, which must not count).
-fn sweep_run(root: &Path, name: &str, theta: f64) {
-    let dir = root.join("capillary-rule/relax-60").join(name);
+/// Writes a committed-run folder of the Young sweep (`src/name` under the root) whose circle-fit
+/// angle is `theta` over the end window (and far off it outside the window, which must not
+/// count), recorded as relax-60 at `nx` with `kernel`.
+fn sweep_run_in(root: &Path, src: &str, name: &str, nx: u32, kernel: &str, theta: f64) {
+    let dir = root.join(src).join(name);
     std::fs::create_dir_all(&dir).unwrap();
     let mut w = csv::Writer::from_path(dir.join("series.csv")).unwrap();
     for (k, t) in [4.0, 4.3, 4.4, 4.5, 4.8].into_iter().enumerate() {
@@ -210,27 +211,52 @@ fn sweep_run(root: &Path, name: &str, theta: f64) {
             t,
             step: k as u64,
             theta_circle_fit: Some(if inside { theta } else { 150.0 }),
+            spread_factor: Some(1.37),
             ..Default::default()
         };
         w.serialize(row).unwrap();
     }
     w.flush().unwrap();
+    let summary = serde_json::json!({
+        "scene": "relax-60",
+        "parameters": { "kernel": { "kind": kernel, "h_ratio": 1.2 }, "domain": { "nx": nx } },
+    });
+    std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
+}
+
+/// [`sweep_run_in`] in `capillary-rule/relax-60` with the scene's kernel.
+fn sweep_run(root: &Path, name: &str, theta: f64) {
+    let nx = name[2..].chars().take_while(char::is_ascii_digit).collect::<String>().parse().unwrap();
+    let kernel = crate::scene::builtin::builtin("relax-60").unwrap().kernel;
+    let kind = serde_json::to_value(kernel.kind).unwrap();
+    assert_eq!(kernel.h_ratio, 1.2, "the helper records h = 1.2Δx");
+    sweep_run_in(root, "capillary-rule/relax-60", name, nx, kind.as_str().unwrap(), theta);
 }
 
 #[test]
 fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_refinement() {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path();
-    // 60°: within 3° at nx = 65 and converging (midpoints 64, 62, 61).
-    for (nx, a, b) in [(33, 66.0, 62.0), (45, 63.0, 61.0), (65, 61.5, 60.5)] {
+    // 60°: within 3° at nx = 65 and converging (midpoints 64, 62, 61); nx = 65 from the case's
+    // own runs, beside runs of another kernel that must not count.
+    for (nx, a, b) in [(33, 66.0, 62.0), (45, 63.0, 61.0)] {
         sweep_run(root, &format!("nx{nx}-a-from90"), a);
         sweep_run(root, &format!("nx{nx}-a-from45"), b);
     }
-    // 120° (built-in tensions): within 3° at nx = 65 but not closer at nx = 45 than at 33.
-    for (nx, a, b) in [(33, 118.0, 119.0), (45, 114.0, 115.0), (65, 118.0, 119.0)] {
+    sweep_run_in(root, "relax-60/runs", "a-noslip", 65, "quintic", 61.5);
+    sweep_run_in(root, "relax-60/runs", "a-noslip-from45", 65, "quintic", 60.5);
+    sweep_run_in(root, "capillary-rule/relax-60", "nx65-a-from90", 65, "cubic-spline", 80.0);
+    sweep_run_in(root, "capillary-rule/relax-60", "nx65-a-from45", 65, "cubic-spline", 80.0);
+    // 120° (built-in tensions): within 3° at nx = 65 but not closer at nx = 45 than at 33; nx =
+    // 45 from the quintic's folder, where the first source has the cubic spline's runs.
+    for (nx, a, b) in [(33, 118.0, 119.0), (65, 118.0, 119.0)] {
         sweep_run(root, &format!("nx{nx}-a-sls1.5-from90"), a);
         sweep_run(root, &format!("nx{nx}-a-sls1.5-from135"), b);
     }
+    sweep_run_in(root, "capillary-rule/relax-60", "nx45-a-sls1.5-from90", 45, "cubic-spline", 100.0);
+    sweep_run_in(root, "capillary-rule/relax-60", "nx45-a-sls1.5-from135", 45, "cubic-spline", 100.0);
+    sweep_run_in(root, "form-and-kernel/relax-60", "nx45-a-sls1.5-from90-quintic", 45, "quintic", 114.0);
+    sweep_run_in(root, "form-and-kernel/relax-60", "nx45-a-sls1.5-from135-quintic", 45, "quintic", 115.0);
     // 41°: nx = 65 missing: an info row, not a verdict.
     for nx in [33, 45] {
         sweep_run(root, &format!("nx{nx}w-a-sls0.245-from90"), 44.0);
@@ -248,9 +274,12 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
     assert!(sixty.verdict.starts_with("pass ("), "{}", sixty.verdict);
     assert!((sixty.value - 61.0).abs() < 1e-12, "the nx = 65 midpoint, window rows only: {}", sixty.value);
     assert!(sixty.sphlab.starts_with("64.00 → 62.00 → 61.00"), "{}", sixty.sphlab);
-    assert!(sixty.sphlab.contains("nx{33,45,65}-a-from{90,45}"), "{}", sixty.sphlab);
+    assert!(sixty.sphlab.contains("nx = 33: ../capillary-rule/relax-60/nx33-a-from{90,45}"), "{}", sixty.sphlab);
+    assert!(sixty.sphlab.contains("nx = 65: runs/a-noslip, runs/a-noslip-from45"), "{}", sixty.sphlab);
     let hydrophobic = at("120° (σ_LS = 1.5");
     assert!(hydrophobic.verdict.starts_with("FAIL ("), "{}", hydrophobic.verdict);
+    assert!(hydrophobic.sphlab.starts_with("118.50 → 114.50 → 118.50"), "{}", hydrophobic.sphlab);
+    assert!(hydrophobic.sphlab.contains("../form-and-kernel/relax-60/nx45-a-sls1.5-from{90,135}-quintic"));
     let wide = at("41°");
     assert!(!wide.verdict.starts_with("pass") && !wide.verdict.starts_with("FAIL"), "{}", wide.verdict);
     assert!(wide.quantity.ends_with("nx = 33, 45 (deg)"), "{}", wide.quantity);
@@ -301,4 +330,23 @@ fn the_rule_text_names_the_values_the_runs_were_made_at() {
     imp.runs.push(impact);
     let own = rule_text(dir.path(), &imp, "a");
     assert!(own.contains("set by the scene (before the capillary rule)"), "{own}");
+}
+
+#[test]
+fn the_relax_alpha_band_reads_the_runs_of_the_scenes_kernel() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let names = ["nx33-b-from90-alpha1", "nx33-b-from90", "nx33-b-from90-alpha4"];
+    for (n, theta) in names.iter().zip([70.0, 71.0, 72.0]) {
+        sweep_run_in(root, "capillary-rule/relax-60", n, 33, "cubic-spline", theta);
+    }
+    assert!(relax_rule_band(root).is_none(), "runs of another kernel make no band");
+    for (n, theta) in names.iter().zip([60.5, 61.0, 64.0]) {
+        sweep_run_in(root, "form-and-kernel/relax-60", &format!("{n}-quintic"), 33, "quintic", theta);
+    }
+    let [theta, spread] = relax_rule_band(root).unwrap();
+    assert_eq!(theta.values, ["0.50", "1.00", "4.00"]);
+    assert_eq!(theta.holds, Some(false));
+    assert!(theta.source.starts_with("../form-and-kernel/relax-60/nx33-b-from90-alpha1-quintic"), "{}", theta.source);
+    assert_eq!(spread.values.len(), 3);
 }
