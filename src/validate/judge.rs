@@ -377,13 +377,9 @@ pub(super) const RELAX_RUN_SOURCES: [(&str, &str); 2] =
 
 /// Whether the run in `dir` is of relax-60 at `nx` with the kernel and h the scene takes now.
 pub(super) fn of_the_scene(dir: &Path, nx: u32) -> bool {
-    let Some(now) = crate::scene::builtin::builtin("relax-60").and_then(|s| serde_json::to_value(s.kernel).ok()) else {
+    let (Some(now), Some(v)) = (super::report::kernel_now("relax-60"), super::report::summary_at(dir)) else {
         return false;
     };
-    let Ok(text) = std::fs::read_to_string(dir.join("summary.json")) else {
-        return false;
-    };
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
     v["scene"] == "relax-60" && v["parameters"]["kernel"] == now && v["parameters"]["domain"]["nx"] == nx
 }
 

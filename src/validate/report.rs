@@ -8,8 +8,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 mod index;
-pub(super) use index::run_summary;
 pub use index::write_index;
+pub(super) use index::{kernel_now, run_summary, summary_at};
 
 /// One line of a case's comparison table.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -117,10 +117,17 @@ fn run_records(case_dir: &std::path::Path, rep: &CaseReport) -> Vec<(String, ser
 /// The `summary.json` of run `run` of the case in `case_dir`: at the run's recorded directory,
 /// else under the case's `runs/<id>/` (where a committed report keeps it).
 pub(in crate::validate) fn run_summary(case_dir: &std::path::Path, run: &RunRecord) -> Option<serde_json::Value> {
-    let text = [std::path::PathBuf::from(&run.dir), case_dir.join("runs").join(&run.id)]
-        .iter()
-        .find_map(|d| std::fs::read_to_string(d.join("summary.json")).ok())?;
-    serde_json::from_str(&text).ok()
+    [std::path::PathBuf::from(&run.dir), case_dir.join("runs").join(&run.id)].iter().find_map(|d| summary_at(d))
+}
+
+/// The `summary.json` of the run in `dir`, parsed.
+pub(in crate::validate) fn summary_at(dir: &std::path::Path) -> Option<serde_json::Value> {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).ok()?).ok()
+}
+
+/// The kernel section (kind and h) built-in `scene` takes now, as a run's record writes it.
+pub(in crate::validate) fn kernel_now(scene: &str) -> Option<serde_json::Value> {
+    crate::scene::builtin::builtin(scene).and_then(|s| serde_json::to_value(s.kernel).ok())
 }
 
 /// How a case's runs set p_b and c0, read from their records: "the capillary rule" when one
@@ -156,7 +163,7 @@ fn kernel_column(records: &[(String, serde_json::Value)]) -> String {
     let mut stale: Vec<String> = Vec::new();
     for (command, v) in records {
         let Some(name) = v["scene"].as_str() else { continue };
-        let Some(now) = crate::scene::builtin::builtin(name).and_then(|s| serde_json::to_value(s.kernel).ok()) else {
+        let Some(now) = kernel_now(name) else {
             continue;
         };
         let asked = command.contains("kernel.kind=") || command.contains("kernel.h_ratio=");
