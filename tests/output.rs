@@ -512,6 +512,18 @@ fn log_log_plot_works() {
     let svg = read_svg(&path);
     assert!(svg.contains("Scaling") && svg.contains("cpu") && svg.contains("gpu"));
 
+    // An axis with neither end on a power of ten (the period error of the speed-vs-error plot,
+    // 0.0075–0.18) labels each power of ten inside once and nothing else.
+    let pts = vec![(8.7, 0.14, "a".to_string()), (20.4, 0.0108, "b".to_string())];
+    let p = dir.path().join("errors.svg");
+    scatter_labeled_svg(&p, "t", "time (s)", "error (-)", &pts, true, true).unwrap();
+    let svg = read_svg(&p);
+    let texts: Vec<&str> =
+        svg.split("<text").skip(1).filter_map(|t| Some(t.split_once('>')?.1.split_once("</text>")?.0.trim())).collect();
+    for (label, n) in [("0.1", 1), ("0.01", 1), ("10", 1), ("0.05", 0)] {
+        assert_eq!(texts.iter().filter(|t| **t == label).count(), n, "label {label} in {texts:?}");
+    }
+
     // single-axis log variants
     spec.log_y = false;
     line_plot_svg(dir.path().join("logx.svg"), &spec).unwrap();

@@ -63,6 +63,40 @@ fn relax_60_moves_towards_60() {
     assert!(verdict(&rep, "Mode B, no-slip: D/D0").starts_with("pass"), "D/D0 did not grow");
     assert!(th < 88.0 && th > 55.0, "θ = {th}° at the end of the quick run");
     assert!(d > 1.03 && d < 1.45, "D/D0 = {d}");
+    reused_without_snapshots_keeps_the_wall_shear(&rep, _d.path());
+}
+
+/// The quick relax-60 case analysed again with `--reuse` after its runs' particle snapshots are
+/// deleted (as in a checkout, where they are not committed): the wall-shear rows and table are
+/// the committed report's, with a note; without a committed report they are gone.
+fn reused_without_snapshots_keeps_the_wall_shear(rep: &CaseReport, root: &std::path::Path) {
+    let peaks = |r: &CaseReport| -> Vec<(String, f64)> {
+        r.rows
+            .iter()
+            .filter(|x| x.quantity.contains("peak wall shear"))
+            .map(|x| (x.quantity.clone(), x.value))
+            .collect()
+    };
+    let before = peaks(rep);
+    assert!(!before.is_empty(), "the quick case measures the wall shear");
+    let case = root.join("relax-60");
+    let table = std::fs::read_to_string(case.join("wall_shear_profiles.csv")).unwrap();
+    for run in std::fs::read_dir(case.join("runs")).unwrap().flatten() {
+        for f in std::fs::read_dir(run.path()).unwrap().flatten() {
+            if f.file_name().to_string_lossy().starts_with("particles_") {
+                std::fs::remove_file(f.path()).unwrap();
+            }
+        }
+    }
+    let opts = ValidateOptions { quick: true, reuse: true, out: root.to_path_buf(), quiet: true, ..Default::default() };
+    let again = run_case("relax-60", &opts).expect("reused");
+    assert!(again.runs.iter().all(|r| r.reused), "every run reused");
+    assert_eq!(peaks(&again), before);
+    assert_eq!(std::fs::read_to_string(case.join("wall_shear_profiles.csv")).unwrap(), table);
+    assert!(again.notes.iter().any(|n| n.contains("wall shear as the committed report measured it")));
+    std::fs::remove_file(case.join("case.json")).unwrap();
+    let bare = run_case("relax-60", &opts).expect("reused");
+    assert!(peaks(&bare).is_empty(), "no snapshots and no committed report: no wall shear rows");
 }
 
 /// Impact at 24×24 (Δx = 46.9 µm) to 0.35 ms, θ = 50° and 160°: D/D0 2.24 vs 1.67 at the end

@@ -124,18 +124,49 @@ pub(crate) fn tick_label(v: f64, span: f64) -> String {
     }
 }
 
-/// Tick label on an axis: on a log axis the powers of ten only (every other tick unlabelled, so
-/// labels never read `31622.776602` nor repeat), else [`tick_label`].
+/// Tick label on an axis: on a log axis the grid's bold points of [`log_grid`] (a power of ten
+/// read without rounding noise, so labels never read `31622.776602`), else [`tick_label`].
 pub(crate) fn axis_label(v: f64, span: f64, log: bool) -> String {
     if !log {
         return tick_label(v, span);
     }
     let e = v.log10();
-    if v > 0.0 && (e - e.round()).abs() < 1e-6 {
+    if v > 0.0 && (e - e.round()).abs() < 1e-9 {
         fmt_tick(10f64.powi(e.round() as i32))
     } else {
-        String::new()
+        fmt_tick(v)
     }
+}
+
+/// `m`·10^`k`, rounded once (`3 / 100`, not `3 · 0.01`).
+fn decade_multiple(m: u32, k: i32) -> f64 {
+    if k >= 0 {
+        f64::from(m) * 10f64.powi(k)
+    } else {
+        f64::from(m) / 10f64.powi(-k)
+    }
+}
+
+/// Grid of a log axis over `lo..hi` (both positive): the bold, labelled lines at the powers of
+/// ten, or at 1, 2 and 5 times them where fewer than two powers of ten fall inside, or at the
+/// ends where fewer than two of those do; the light lines at every 1–9 multiple of a power of
+/// ten inside. (The drawing library's own log grid puts light lines at linear steps, a dense
+/// band below each power of ten, and can label one power of ten twice.)
+pub(crate) fn log_grid(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let inside = |v: f64| v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9);
+    let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let multiples = |ms: &[u32]| -> Vec<f64> {
+        (k0..=k1).flat_map(|k| ms.iter().map(move |&m| decade_multiple(m, k))).filter(|v| inside(*v)).collect()
+    };
+    let light = multiples(&[1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    let mut bold = multiples(&[1]);
+    if bold.len() < 2 {
+        bold = multiples(&[1, 2, 5]);
+    }
+    if bold.len() < 2 {
+        bold = vec![lo, hi];
+    }
+    (bold, light)
 }
 
 /// A polyline or point set in data coordinates.
@@ -158,4 +189,39 @@ pub(crate) fn segments(points: &[(f64, f64)], ok: impl Fn(f64, f64) -> bool) -> 
         segs.push(cur);
     }
     (segs, all)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn labels(vs: &[f64]) -> Vec<String> {
+        vs.iter().map(|v| axis_label(*v, 0.0, true)).collect()
+    }
+
+    #[test]
+    fn a_log_grid_labels_each_power_of_ten_once_and_lines_every_multiple() {
+        // The speed-vs-error plot's period-error axis: neither end on a power of ten.
+        let (bold, light) = log_grid(0.0075, 0.18);
+        assert_eq!(labels(&bold), ["0.01", "0.1"]);
+        let want = [0.008, 0.009, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.09, 0.1];
+        assert_eq!(light.len(), want.len(), "{light:?}");
+        for (got, want) in light.iter().zip(want) {
+            assert!((got - want).abs() < 1e-15, "{light:?}");
+        }
+        // Several decades, ends on powers of ten.
+        let (bold, light) = log_grid(1.0, 1000.0);
+        assert_eq!(labels(&bold), ["1", "10", "100", "1000"]);
+        assert_eq!(light.len(), 28);
+        assert!(light.windows(2).all(|w| w[0] < w[1]), "increasing, no repeats: {light:?}");
+    }
+
+    #[test]
+    fn a_log_grid_within_one_decade_falls_back_to_one_two_five_then_the_ends() {
+        let (bold, _) = log_grid(2.0, 40.0);
+        assert_eq!(labels(&bold), ["2", "5", "10", "20"]);
+        let (bold, light) = log_grid(3.1, 3.9);
+        assert_eq!(labels(&bold), ["3.1", "3.9"]);
+        assert!(light.is_empty());
+    }
 }

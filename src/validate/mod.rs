@@ -17,6 +17,7 @@ mod judge;
 pub(crate) mod report;
 
 mod capillary_wave;
+mod committed;
 mod convergence;
 mod cross_code;
 mod impact;

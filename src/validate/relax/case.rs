@@ -6,7 +6,8 @@ use super::compare::{dt_comparison, two_starts, EndAngle};
 use super::{analytic_spread, analytic_spread_at, start_cap, variants, wall_spread, Variant, R0, THESIS_SPREAD_MAX};
 use crate::plot::{PlotSpec, RefLine, Series};
 use crate::validate::case::{Case, CaseOutput, CasePlot, CaseRun, CaseSpec, CaseTable};
-use crate::validate::data::{col, mean_shear_profile_in, read_series, window_stats, Row as SRow};
+use crate::validate::committed::{vouched, Committed};
+use crate::validate::data::{col, mean_shear_profile_in, read_series, snapshot_files, window_stats, Row as SRow};
 use crate::validate::report::{Row, RunRecord};
 use crate::validate::sessile::{geometry, quick_sets, shear_window};
 use crate::validate::{Ctx, RunSpec, ValidateError};
@@ -171,13 +172,13 @@ impl Relax {
     /// (also as rows of the table, `variant_index` = `k`).
     fn series(
         &self,
-        k: usize,
-        label: &str,
+        ctx: &Ctx,
+        (k, label): (usize, &str),
         dir: &std::path::Path,
         s: &RunSeries,
         out: &mut CaseOutput,
     ) -> [Vec<(f64, f64)>; 2] {
-        let ((dx, y_w, x_max), (ea, eb), (wa, wb, wtext)) = (self.geometry, self.early, &self.window);
+        let ((ea, eb), wtext) = (self.early, &self.window.2);
         let angle = out.plot(ANGLE_PLOT);
         angle.series.push(Series::line(format!("{label}: circle fit"), s.circle.clone()));
         if k == 0 {
@@ -185,8 +186,7 @@ impl Relax {
             angle.series.push(Series::line(format!("{label}: area inversion"), s.area.clone()));
         }
         out.plot(SPREAD_PLOT).series.push(Series::line(label.to_string(), s.spread.clone()));
-        let early = mean_shear_profile_in(dir, &s.rows, (ea, eb), dx, y_w, x_max, 20, false);
-        let late = mean_shear_profile_in(dir, &s.rows, (*wa, *wb), dx, y_w, x_max, 20, false);
+        let [early, late] = self.shear_profiles(ctx, (k, label), dir, s, out);
         let shear = out.plot(SHEAR_PLOT);
         shear.series.push(Series::line_points(format!("{label}, t ∈ [{ea:.2}, {eb:.2}]"), early.clone()));
         shear.series.push(Series::line_points(format!("{label}, {wtext}"), late.clone()));
@@ -326,20 +326,54 @@ impl Relax {
         }
     }
 
+    /// The wall-shear profiles of a run in the early and the end window, from its particle
+    /// snapshots; for a reused run with none in this checkout, the committed report's (its table
+    /// rows of variant `k`, each vouched for by its committed peak row), with a note.
+    fn shear_profiles(
+        &self,
+        ctx: &Ctx,
+        (k, label): (usize, &str),
+        dir: &std::path::Path,
+        s: &RunSeries,
+        out: &mut CaseOutput,
+    ) -> [Vec<(f64, f64)>; 2] {
+        let ((dx, y_w, x_max), (ea, eb), (wa, wb, _)) = (self.geometry, self.early, &self.window);
+        if !snapshot_files(dir).is_empty() {
+            return [(ea, eb), (*wa, *wb)].map(|w| mean_shear_profile_in(dir, &s.rows, w, dx, y_w, x_max, 20, false));
+        }
+        let Some(c) = Committed::load(ctx) else { return [Vec::new(), Vec::new()] };
+        let windows = self.shear_windows();
+        let profiles = [0.0, 1.0].map(|w| {
+            let rows = c.table(SHEAR_TABLE, |r| r.len() == 4 && r[0] == k as f64 && r[1] == w);
+            let profile = rows.iter().map(|r| (r[2], r[3])).collect();
+            vouched(profile, c.value(&peak_name(label, &windows[w as usize])))
+        });
+        if profiles.iter().any(|p| !p.is_empty()) {
+            out.rep.notes.push(format!(
+                "{label}: wall shear as the committed report measured it ({SHEAR_TABLE} and its peak rows): this checkout holds none of the run's particle snapshots."
+            ));
+        }
+        profiles
+    }
+
+    /// The texts of the early and the end window of the wall shear.
+    fn shear_windows(&self) -> [String; 2] {
+        let (ea, eb) = self.early;
+        [format!("t ∈ [{ea:.2}, {eb:.2}]"), self.window.2.clone()]
+    }
+
     /// The peak wall shear in the early and the end window (a reused run written with sparser
     /// snapshots, the convergence case's, may have none in a window: a note then, as a NaN
     /// would not survive case.json).
     fn shear_rows(&self, label: &str, [early, late]: &[Vec<(f64, f64)>; 2], out: &mut CaseOutput) {
-        let ((ea, eb), wtext) = (self.early, &self.window.2);
         let pk = |p: &[(f64, f64)]| p.iter().map(|q| q.1).fold(f64::NAN, f64::max);
-        for (window, profile) in [(format!("t ∈ [{ea:.2}, {eb:.2}]"), early), (wtext.clone(), late)] {
+        for (window, profile) in self.shear_windows().into_iter().zip([early, late]) {
             if profile.is_empty() {
                 out.rep
                     .notes
                     .push(format!("{label}: no particle snapshot in {window}, so no wall shear profile there."));
             } else {
-                let name = format!("{label}: peak wall shear, {window} (1/time)");
-                out.rep.rows.push(Row::new(&name, pk(profile), 4, None, None));
+                out.rep.rows.push(Row::new(&peak_name(label, &window), pk(profile), 4, None, None));
             }
         }
     }
@@ -364,7 +398,7 @@ impl Case for Relax {
 
     fn measure(
         &mut self,
-        _ctx: &Ctx,
+        ctx: &Ctx,
         run: &CaseRun,
         rec: &RunRecord,
         out: &mut CaseOutput,
@@ -379,7 +413,7 @@ impl Case for Relax {
         if id == "b-noslip" {
             self.b_circle = s.circle.clone();
         }
-        let profiles = self.series(k, label, &dir, &s, out);
+        let profiles = self.series(ctx, (k, label), &dir, &s, out);
         self.spread_rows(label, &s, out);
         self.angle_rows(label, &s, out);
         if let Some((m, _, _)) = window_stats(&s.circle, self.window.0, self.window.1) {
@@ -402,4 +436,9 @@ impl Case for Relax {
         }
         Ok(())
     }
+}
+
+/// The row of a run's peak wall shear in a window (also how the committed profile is vouched for).
+fn peak_name(label: &str, window: &str) -> String {
+    format!("{label}: peak wall shear, {window} (1/time)")
 }
