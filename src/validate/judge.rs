@@ -375,12 +375,21 @@ fn fixed_pb_angle(root: &Path, nx: u32) -> Option<f64> {
 pub(super) const RELAX_RUN_SOURCES: [(&str, &str); 2] =
     [("capillary-rule/relax-60", ""), ("form-and-kernel/relax-60", "-quintic")];
 
-/// Whether the run in `dir` is of relax-60 at `nx` with the kernel and h the scene takes now.
+/// Whether the run in `dir` is of relax-60 at the particle spacing of `nx` across the scene's
+/// box (a wider box at that spacing, as the Young sweep's 41° point takes, counts) with the
+/// kernel and h the scene takes now.
 pub(super) fn of_the_scene(dir: &Path, nx: u32) -> bool {
-    let (Some(now), Some(v)) = (super::report::kernel_now("relax-60"), super::report::summary_at(dir)) else {
+    let scene = crate::scene::builtin::builtin("relax-60");
+    let (Some(now), Some(v), Some(scene)) = (super::report::kernel_now("relax-60"), super::report::summary_at(dir), scene)
+    else {
         return false;
     };
-    v["scene"] == "relax-60" && v["parameters"]["kernel"] == now && v["parameters"]["domain"]["nx"] == nx
+    let d = &v["parameters"]["domain"];
+    let spacing = || Some((d["x"][1].as_f64()? - d["x"][0].as_f64()?) / d["nx"].as_f64()?);
+    let want = (scene.domain.x[1] - scene.domain.x[0]) / f64::from(nx);
+    v["scene"] == "relax-60"
+        && v["parameters"]["kernel"] == now
+        && spacing().is_some_and(|s| (s - want).abs() <= 1e-9 * want)
 }
 
 /// The circle-fit angle of the committed run in `dir`, mean over relax-60's end window
