@@ -380,7 +380,8 @@ pub(super) const RELAX_RUN_SOURCES: [(&str, &str); 2] =
 /// kernel and h the scene takes now.
 pub(super) fn of_the_scene(dir: &Path, nx: u32) -> bool {
     let scene = crate::scene::builtin::builtin("relax-60");
-    let (Some(now), Some(v), Some(scene)) = (super::report::kernel_now("relax-60"), super::report::summary_at(dir), scene)
+    let (Some(now), Some(v), Some(scene)) =
+        (super::report::kernel_now("relax-60"), super::report::summary_at(dir), scene)
     else {
         return false;
     };

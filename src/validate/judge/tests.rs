@@ -239,7 +239,14 @@ fn sweep_run(root: &Path, name: &str, theta: f64) {
     if name.contains("w-a-") {
         // The 41° point's box: 1.5 times as wide at the spacing of nx (50 particles at 33).
         let cells = (3 * nx).div_ceil(2);
-        sweep_run_boxed(root, "capillary-rule/relax-60", name, (0.5 * f64::from(cells) / f64::from(nx), cells), kind, theta);
+        sweep_run_boxed(
+            root,
+            "capillary-rule/relax-60",
+            name,
+            (0.5 * f64::from(cells) / f64::from(nx), cells),
+            kind,
+            theta,
+        );
     } else {
         sweep_run_in(root, "capillary-rule/relax-60", name, nx, kind, theta);
     }

@@ -172,13 +172,11 @@ impl Relax {
     /// (also as rows of the table, `variant_index` = `k`).
     fn series(
         &self,
-        ctx: &Ctx,
         (k, label): (usize, &str),
-        dir: &std::path::Path,
         s: &RunSeries,
+        [early, late]: &[Vec<(f64, f64)>; 2],
         out: &mut CaseOutput,
-    ) -> [Vec<(f64, f64)>; 2] {
-        let ((ea, eb), wtext) = (self.early, &self.window.2);
+    ) {
         let angle = out.plot(ANGLE_PLOT);
         angle.series.push(Series::line(format!("{label}: circle fit"), s.circle.clone()));
         if k == 0 {
@@ -186,15 +184,14 @@ impl Relax {
             angle.series.push(Series::line(format!("{label}: area inversion"), s.area.clone()));
         }
         out.plot(SPREAD_PLOT).series.push(Series::line(label.to_string(), s.spread.clone()));
-        let [early, late] = self.shear_profiles(ctx, (k, label), dir, s, out);
         let shear = out.plot(SHEAR_PLOT);
-        shear.series.push(Series::line_points(format!("{label}, t ∈ [{ea:.2}, {eb:.2}]"), early.clone()));
-        shear.series.push(Series::line_points(format!("{label}, {wtext}"), late.clone()));
+        for (window, profile) in self.shear_windows().iter().zip([early, late]) {
+            shear.series.push(Series::line_points(format!("{label}, {window}"), profile.clone()));
+        }
         let table = out.table(SHEAR_TABLE);
-        for (window, profile) in [(0.0, &early), (1.0, &late)] {
+        for (window, profile) in [(0.0, early), (1.0, late)] {
             table.extend(profile.iter().map(|(x, g)| vec![k as f64, window, *x, *g]));
         }
-        [early, late]
     }
 
     /// D/D0 at the first row against the analytic cap there (quick: that it grows), and at the
@@ -413,7 +410,8 @@ impl Case for Relax {
         if id == "b-noslip" {
             self.b_circle = s.circle.clone();
         }
-        let profiles = self.series(ctx, (k, label), &dir, &s, out);
+        let profiles = self.shear_profiles(ctx, (k, label), &dir, &s, out);
+        self.series((k, label), &s, &profiles, out);
         self.spread_rows(label, &s, out);
         self.angle_rows(label, &s, out);
         if let Some((m, _, _)) = window_stats(&s.circle, self.window.0, self.window.1) {
