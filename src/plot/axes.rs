@@ -3,6 +3,9 @@
 
 use std::path::Path;
 
+use plotters::coord::combinators::WithKeyPoints;
+use plotters::prelude::{BindKeyPoints, IntoLogRange, LogCoord};
+
 use crate::output::{OutputError, Result};
 
 /// Can `v` be drawn on an axis (finite, and positive on a log axis)?
@@ -167,6 +170,12 @@ pub(crate) fn log_grid(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
         bold = vec![lo, hi];
     }
     (bold, light)
+}
+
+/// A log axis over `r` drawn with the grid of [`log_grid`].
+pub(crate) fn log_axis(r: (f64, f64)) -> WithKeyPoints<LogCoord<f64>> {
+    let (bold, light) = log_grid(r.0, r.1);
+    LogCoord::<f64>::from((r.0..r.1).log_scale()).with_key_points(bold).with_light_points(light)
 }
 
 /// A polyline or point set in data coordinates.

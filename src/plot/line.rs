@@ -8,7 +8,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use super::axes::{axis_label, axis_range, drawable, log_grid, segments, snap_span};
+use super::axes::{axis_label, axis_range, drawable, log_axis, segments, snap_span};
 use super::{msg, palette, svg_area, Area, Marker, PlotSpec, Style, LEGEND_WIDTH, PLOT_SIZE};
 use crate::output::{OutputError, Result};
 
@@ -296,10 +296,7 @@ pub fn line_plot_svg(path: impl AsRef<Path>, spec: &PlotSpec) -> Result<()> {
         (root.clone(), None)
     };
     let lin = |r: (f64, f64)| RangedCoordf64::from(r.0..r.1);
-    let log = |r: (f64, f64)| {
-        let (bold, light) = log_grid(r.0, r.1);
-        LogCoord::<f64>::from((r.0..r.1).log_scale()).with_key_points(bold).with_light_points(light)
-    };
+    let log = log_axis;
     let l = legend.as_ref();
     let drawn = match (spec.log_x, spec.log_y) {
         (false, false) => draw_lines(&plot, l, spec, lin(xr), lin(yr), xr, yr),

@@ -7,7 +7,7 @@ use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::axes::{auto_range, axis_label, drawable, log_grid, snap_span};
+use super::axes::{auto_range, axis_label, drawable, log_axis, snap_span};
 use super::{msg, palette, svg_area, Area};
 use crate::output::{OutputError, Result};
 
@@ -83,10 +83,7 @@ pub fn scatter_labeled_svg(
     let yr = auto_range(pts.iter().map(|p| p.1), log_y, 0.12);
     let root = svg_area(path)?;
     let lin = |r: (f64, f64)| RangedCoordf64::from(r.0..r.1);
-    let log = |r: (f64, f64)| {
-        let (bold, light) = log_grid(r.0, r.1);
-        LogCoord::<f64>::from((r.0..r.1).log_scale()).with_key_points(bold).with_light_points(light)
-    };
+    let log = log_axis;
     let (t, xl, yl) = (title, x_label, y_label);
     let drawn = match (log_x, log_y) {
         (false, false) => draw_scatter(&root, t, xl, yl, &pts, lin(xr), lin(yr), (log_x, log_y)),
