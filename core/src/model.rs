@@ -5,7 +5,9 @@
 
 use crate::physics::kernel::{kernel_w, lattice_sum, KernelKind, KernelParams};
 use crate::real::{Real, Sym2, V2};
-use crate::scene::{ColourGradient, ContactMode, Scene, Side, ViscousForm, WallPressure, WallVelocity};
+use crate::scene::{
+    ColourGradient, ContactMode, LiquidGasAtWall, Scene, Side, ViscousForm, WallPressure, WallVelocity,
+};
 
 /// Number of colours: fluid phases 0 and 1, and the wall phase S (Mode A).
 pub const N_COLOURS: usize = 3;
@@ -222,6 +224,9 @@ pub struct Model<T> {
     /// Mode A's contact-line force per unit length, `(1 − s_w)(σ_GS − σ_LS)` (§8.2.1); zero when
     /// off or when the wall tensions are equal.
     pub line_force: T,
+    /// Mode A with `contact.liquid_gas_at_wall = "free"`: fluid–wall pairs leave out the
+    /// liquid–gas part of the fluid's tensor (§8.2.2).
+    pub liquid_gas_free_at_wall: bool,
     /// θ_d in radians.
     pub theta: T,
     /// Contact band height (× Δx).
@@ -388,6 +393,9 @@ impl<T: Real> Model<T> {
             sigma,
             contact_mode: if surface { scene.contact.mode } else { ContactMode::None },
             line_force: T::c(line_force),
+            liquid_gas_free_at_wall: surface
+                && scene.contact.mode == ContactMode::A
+                && scene.contact.liquid_gas_at_wall == LiquidGasAtWall::Free,
             theta: T::c(scene.contact.theta_deg.to_radians()),
             band: T::c(scene.contact.band * dx),
             y_wall: T::c(d.y[0]),

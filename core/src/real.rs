@@ -245,6 +245,13 @@ impl<T: Real> Add for Sym2<T> {
         Self { xx: self.xx + o.xx, xy: self.xy + o.xy }
     }
 }
+impl<T: Real> Sub for Sym2<T> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self { xx: self.xx - o.xx, xy: self.xy - o.xy }
+    }
+}
 impl<T: Real> Mul<T> for Sym2<T> {
     type Output = Self;
     #[inline(always)]

@@ -10,8 +10,9 @@ use crate::model::Model;
 use crate::neighbours::unpack;
 use crate::physics::kernel::{kernel_dwdr, kernel_w};
 use crate::physics::pair::*;
+use crate::physics::stress::stress_tensor;
 use crate::physics::wall::{holmes_beta, lj_wall_acc, noslip_beta, wall_relative_velocity};
-use crate::real::{Real, V2};
+use crate::real::{Real, Sym2, V2};
 use crate::scene::{ViscousForm, WallVelocity};
 
 /// Lennard-Jones repulsion of the boundary points (spacing Δx/2 on each wall line, r0 = Δx/2);
@@ -71,6 +72,7 @@ pub fn acceleration_pairs<T: Real>(
     let xi = c.pos[i];
     let vi = c.vel[i];
     let inv_s2_i = inv_sigma2(fr.sigma[i]);
+    let pi_i_wall = tensor_towards_wall(m, fr, i);
     let eta_i = m.phases[c.phase[i] as usize].eta;
     let wall = m.nearest_wall(xi);
     let d_i = wall.map_or(T::zero(), |w| w.wall_distance(xi));
@@ -121,14 +123,27 @@ pub fn acceleration_pairs<T: Real>(
             sink(j, xj, PairTerm::Viscous, a);
         }
         if st.surface_tension {
+            let pi_i = if j < c.n_fluid { fr.pi[i] } else { pi_i_wall };
             sink(
                 j,
                 xj,
                 PairTerm::Surface,
-                surface_acc_ij(fr.pi[i], inv_s2_i, m.images.image_sym(code, fr.pi[j]), inv_s2_j, gw),
+                surface_acc_ij(pi_i, inv_s2_i, m.images.image_sym(code, fr.pi[j]), inv_s2_j, gw),
             );
         }
     }
+}
+
+/// The part of fluid particle `i`'s stress tensor its pairs with wall particles carry: the whole
+/// Π_i, or with `contact.liquid_gas_at_wall = "free"` (Mode A, §8.2.2) Π_i less its liquid–gas
+/// part, so that the wall supports none of that interface's traction.
+#[inline(always)]
+fn tensor_towards_wall<T: Real>(m: &Model<T>, fr: &Fields<T>, i: usize) -> Sym2<T> {
+    let k = fr.colour[i];
+    if !m.liquid_gas_free_at_wall || !(k == 0 || k == 1) {
+        return fr.pi[i];
+    }
+    fr.pi[i] - stress_tensor(fr.grad[i][0], m.sigma[k as usize][(1 - k) as usize])
 }
 
 /// `acceleration` (T65): pressure (T68) + viscous (T70, wall ghost velocities §6.2–6.4) +

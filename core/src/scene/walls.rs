@@ -32,6 +32,24 @@ pub struct Contact {
     /// (the wall bands alone stop short of it).
     #[serde(default)]
     pub line_force: bool,
+    /// Mode A: whether fluid–wall pairs carry the liquid–gas part of the fluid's stress tensor
+    /// (`shared`, default: the wall then supports about half of that interface's traction where
+    /// it meets the wall) or not (`free`: the interface pulls the contact line with its whole
+    /// tension; docs/PHYSICS.md §8.2.2).
+    #[serde(default)]
+    pub liquid_gas_at_wall: LiquidGasAtWall,
+}
+
+/// Mode A: what the wall does with the liquid–gas interface's stress where it meets the wall
+/// (docs/PHYSICS.md §8.2.2).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum LiquidGasAtWall {
+    /// Fluid–wall pairs carry the fluid's whole tensor (T76 over every neighbour).
+    #[default]
+    Shared,
+    /// Fluid–wall pairs leave out the liquid–gas part of the fluid's tensor.
+    Free,
 }
 
 fn default_theta() -> f64 {
@@ -55,6 +73,7 @@ impl Default for Contact {
             wall_typing: true,
             band: 1.2,
             line_force: false,
+            liquid_gas_at_wall: LiquidGasAtWall::Shared,
         }
     }
 }

@@ -43,6 +43,7 @@ use crate::scene::{ContactMode, Integrator, Scene};
 use crate::stage::{CellEpilogues, Clear, Stage};
 use std::sync::Arc;
 
+mod cpu_only;
 mod record;
 mod stepping;
 
@@ -208,7 +209,7 @@ impl<T: Real> GpuSolver<T> {
             return Err(GpuError::Unsupported(format!("{spec}: solver built for {}", T::NAME)));
         }
         let model = Model::<T>::new(scene);
-        Self::refuse_cpu_only(&model, scene)?;
+        cpu_only::refuse_cpu_only(&model, scene)?;
         let n = layout.pos.len();
         let n_fluid = layout.n_fluid;
         let pos: Vec<V2<T>> = layout.pos.iter().map(v2).collect();
@@ -303,39 +304,6 @@ impl<T: Real> GpuSolver<T> {
         s.reset_ctl()?;
         s.set_reorder_every(DEFAULT_REORDER_EVERY)?;
         Ok(s)
-    }
-
-    /// Refuses, with the option to change, what only the CPU reference models.
-    fn refuse_cpu_only(model: &Model<T>, scene: &Scene) -> Result<(), GpuError> {
-        if model.single_field_colour {
-            return Err(GpuError::Unsupported(
-                "surface_tension.colour_gradient = \"single-field\" is CPU only (the WGSL stages sum the \
-                 thesis's T71 form); use --backend cpu or colour_gradient = \"thesis\""
-                    .into(),
-            ));
-        }
-        if model.line_force != T::zero() {
-            return Err(GpuError::Unsupported(
-                "contact.line_force = true (Mode A's contact-line force, σ_GS ≠ σ_LS) is CPU only (the WGSL \
-                 stages have the wall bands alone); use --backend cpu or contact.line_force = false"
-                    .into(),
-            ));
-        }
-        if model.transport_p_b.is_some() {
-            return Err(GpuError::Unsupported(
-                "time.background = \"transport\" (transport-velocity formulation) is CPU only (the WGSL \
-                 stages add p_b to the EOS pressure); use --backend cpu or background = \"momentum\""
-                    .into(),
-            ));
-        }
-        if scene.time.integrator == Integrator::VerletPec {
-            return Err(GpuError::Unsupported(
-                "time.integrator = \"verlet-pec\" is CPU only (the WGSL Verlet evaluates at the predicted \
-                 velocity); use --backend cpu or integrator = \"verlet\""
-                    .into(),
-            ));
-        }
-        Ok(())
     }
 
     /// The variant as it runs (its list format resolved by N: `plan::resolve_lists`).
