@@ -82,6 +82,10 @@ fn bad_inputs_exit_2_with_a_message() {
     let line = ["--set", "contact.mode=\"a\"", "--set", "contact.line_force=true"];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &line[..]].concat();
     assert_input_error(&gpu, "contact.line_force");
+    // And Mode A's liquid–gas interface left free at the wall.
+    let free = ["--set", "contact.mode=\"a\"", "--set", "contact.liquid_gas_at_wall=\"free\""];
+    let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &free[..]].concat();
+    assert_input_error(&gpu, "contact.liquid_gas_at_wall");
     // clap's own errors (unknown flag) also exit 2.
     let o = sphlab(&["run", "oscillating-drop", "--no-such-flag"]);
     assert_eq!(o.status.code(), Some(2), "unknown flag exits 2");
