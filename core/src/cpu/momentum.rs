@@ -136,7 +136,7 @@ pub fn acceleration_pairs<T: Real>(
 
 /// The part of fluid particle `i`'s stress tensor its pairs with wall particles carry: the whole
 /// Π_i, or with `contact.liquid_gas_at_wall = "free"` (Mode A, §8.2.2) Π_i less its liquid–gas
-/// part, so that the wall supports none of that interface's traction.
+/// part, so that the wall pairs take back none of that interface's pull.
 #[inline(always)]
 fn tensor_towards_wall<T: Real>(m: &Model<T>, fr: &Fields<T>, i: usize) -> Sym2<T> {
     let k = fr.colour[i];

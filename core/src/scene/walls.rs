@@ -33,9 +33,8 @@ pub struct Contact {
     #[serde(default)]
     pub line_force: bool,
     /// Mode A: whether fluid–wall pairs carry the liquid–gas part of the fluid's stress tensor
-    /// (`shared`, default: the wall then supports about half of that interface's traction where
-    /// it meets the wall) or not (`free`: the interface pulls the contact line with its whole
-    /// tension; docs/PHYSICS.md §8.2.2).
+    /// (`shared`, default: the wall pairs then take back part of that interface's pull where it
+    /// meets the wall) or not (`free`; docs/PHYSICS.md §8.2.2).
     #[serde(default)]
     pub liquid_gas_at_wall: LiquidGasAtWall,
 }
