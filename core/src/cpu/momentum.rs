@@ -3,7 +3,7 @@
 //! Lennard-Jones boundary repulsion, and XSPH; named as their stages of [`crate::stage::TABLE`].
 
 use super::line_force::{line_force_acc, line_force_norms};
-use super::stages::Ctx;
+use super::stages::{colour_slot, Ctx};
 use crate::exec;
 use crate::fields::Fields;
 use crate::model::Model;
@@ -143,7 +143,8 @@ fn tensor_towards_wall<T: Real>(m: &Model<T>, fr: &Fields<T>, i: usize) -> Sym2<
     if !m.liquid_gas_free_at_wall || !(k == 0 || k == 1) {
         return fr.pi[i];
     }
-    fr.pi[i] - stress_tensor(fr.grad[i][0], m.sigma[k as usize][(1 - k) as usize])
+    let l = 1 - k;
+    fr.pi[i] - stress_tensor(fr.grad[i][colour_slot(k, l)], m.sigma[k as usize][l as usize])
 }
 
 /// `acceleration` (T65): pressure (T68) + viscous (T70, wall ghost velocities §6.2–6.4) +
