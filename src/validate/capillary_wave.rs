@@ -73,13 +73,15 @@ pub(super) struct CapillaryWave {
     rms: Vec<(String, f64)>,
     /// Per main run: (id, fitted damping rate, Prosperetti's by the same fit).
     damping: Vec<(String, f64, f64)>,
+    /// Per fitted run: (id, fitted period, Prosperetti's by the same fit).
+    periods: Vec<(String, f64, f64)>,
     /// The waves' kernel and h/Δx (for the potential-flow shares).
     kernel: Option<(KernelKind, f64)>,
 }
 
 impl CapillaryWave {
     pub(super) fn new(ctx: &Ctx) -> Self {
-        CapillaryWave { quick: ctx.opts.quick, rms: Vec::new(), damping: Vec::new(), kernel: None }
+        CapillaryWave { quick: ctx.opts.quick, rms: Vec::new(), damping: Vec::new(), periods: Vec::new(), kernel: None }
     }
 
     fn runs(&self) -> Vec<CaseRun> {
@@ -125,6 +127,7 @@ impl CapillaryWave {
                     label,
                 ));
             }
+            runs.extend(super::wave_resolution::runs());
         }
         runs
     }
@@ -216,7 +219,7 @@ impl Case for CapillaryWave {
             (true, true) => row.check(ok && rms <= QUICK_RMS_TOL, &format!("≤ {QUICK_RMS_TOL} (quick: rough size)")),
             _ => row,
         });
-        if main || id.starts_with("ratio1000-nx") {
+        if main || id.starts_with("ratio1000-nx") || id.starts_with("ratio1-nx") {
             let w0 = p.params.omega0();
             let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));
             let fit = |what: &str| format!("{what} (damped-cosine fit, t ≤ {window:.3}), {label}");
@@ -224,6 +227,7 @@ impl Case for CapillaryWave {
             out.rep.rows.push(Row::new(&fit("period 2π/ω"), tau / fs.0, 4, None, Some(tau / fa.0)));
             out.rep.rows.push(Row::new(&fit("damping rate γ"), fs.1, 3, None, Some(fa.1)));
             self.damping.push((id.to_string(), fs.1, fa.1));
+            self.periods.push((id.to_string(), tau / fs.0, tau / fa.0));
             self.kernel = Some((scene.kernel.kind, scene.kernel.h_ratio));
         }
         if main {
@@ -275,6 +279,7 @@ impl Case for CapillaryWave {
 
     fn compare(&mut self, _ctx: &Ctx, out: &mut CaseOutput) -> Result<(), ValidateError> {
         self.compare_forms(out);
+        out.rep.rows.extend(super::wave_resolution::rows(&self.rms, &self.periods));
         let get = |id: &str| self.rms.iter().find(|r| r.0 == id).map(|r| r.1);
         if let (Some(base), Some(half), Some(double)) = (get("ratio1"), get("ratio1-pb-half"), get("ratio1-pb-double"))
         {

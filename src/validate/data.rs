@@ -56,6 +56,8 @@ pub struct Snap {
     pub grad_c: Vec<[f64; 2]>,
     /// Pressure.
     pub p: Vec<f64>,
+    /// Density.
+    pub rho: Vec<f64>,
 }
 
 #[derive(Deserialize)]
@@ -68,6 +70,7 @@ struct PRow {
     gcx: f64,
     gcy: f64,
     p: f64,
+    rho: f64,
 }
 
 /// The snapshot files of a run, sorted by step.
@@ -97,6 +100,7 @@ pub fn read_snapshot(path: &Path, step: u64, t: f64) -> Option<Snap> {
         s.phase.push(if p.phase < 0 { WALL } else { p.phase as u32 });
         s.grad_c.push([p.gcx, p.gcy]);
         s.p.push(p.p);
+        s.rho.push(p.rho);
     }
     Some(s)
 }

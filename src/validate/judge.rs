@@ -342,7 +342,7 @@ fn convergence(root: &Path, rep: &mut CaseReport) {
                     None,
                     Some(0.0),
                 )
-                .sphlab_text(format!("{text} (the runs' series.csv)"))
+                .sphlab_text(format!("{text} (the runs' series.csv){}", band_note(rep)))
                 .check(falls(&dens), "falls at every refinement"),
             );
         }
@@ -351,6 +351,26 @@ fn convergence(root: &Path, rep: &mut CaseReport) {
               Mode B, no-slip, the start (lattice, or jittered by 0.05Δx for the realisations)";
     for r in rep.rows.iter_mut().filter(|r| r.quantity.contains("trend with refinement")) {
         r.qualify(on, None);
+    }
+}
+
+/// Where the last states' density error sits, from the convergence case's band rows
+/// (`convergence::band_density`): "; last state, max in the band / outside: …" or nothing.
+fn band_note(rep: &CaseReport) -> String {
+    let parts: Vec<String> = rep
+        .rows
+        .iter()
+        .filter(|r| r.quantity.contains("|ρ/ρ0 − 1| of the last state"))
+        .filter_map(|r| {
+            let who = r.quantity.split(':').next()?;
+            let mut v = r.sphlab.split(" / ");
+            Some(format!("{who} {} / {}", v.next()?, v.next()?))
+        })
+        .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!("; the last state's max in the interface band / outside it: {}", parts.join("; "))
     }
 }
 

@@ -28,6 +28,7 @@ mod richardson;
 mod sessile;
 mod speed;
 mod spurious;
+mod wave_resolution;
 
 use crate::run::{RunError, RunOptions};
 use crate::scene::{builtin, overrides::apply_overrides, Scene};

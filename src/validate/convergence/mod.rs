@@ -14,8 +14,9 @@ use super::{Ctx, RunSpec, ValidateError};
 use crate::plot::{PlotSpec, RefLine, Series};
 use std::path::PathBuf;
 
+mod band_density;
 mod realisations;
-use realisations::{capillary_rule_dir, end_values, End};
+use realisations::{band_density_row, capillary_rule_dir, end_values, End};
 
 /// Resolutions (particles across 0.5) of the full study.
 pub const FULL_NX: [u32; 5] = [33, 45, 65, 85, 105];
@@ -154,6 +155,9 @@ fn resolution_rows(rep: &mut CaseReport, nx: u32, end: &End, rec: &RunRecord, co
         Some(60.0),
     ));
     rep.rows.push(Row::new(&format!("Δx = 0.5/{nx}: max |ρ/ρ0 − 1| for t ≥ 1"), end.density, 4, None, None));
+    if let Some(b) = end.band {
+        rep.rows.push(band_density_row(&format!("Δx = 0.5/{nx}"), &[b]));
+    }
     rep.rows.push(Row::new(
         &format!("Δx = 0.5/{nx}: the run's own wall time (s) at {:.2} ms/step (its machine and load)", rec.ms_per_step),
         rec.wall_time_s,

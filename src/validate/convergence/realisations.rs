@@ -10,6 +10,7 @@ use super::super::relax::wall_spread;
 use super::super::report::{plot, write_csv, CaseReport, Row};
 use super::super::richardson::{extrapolate, Extrapolation};
 use super::super::{Ctx, RunSpec, ValidateError};
+use super::band_density::{last_state, BandDensity};
 use crate::plot::{PlotSpec, RefLine, Series};
 use std::path::{Path, PathBuf};
 
@@ -31,6 +32,9 @@ pub struct End {
     pub spread: f64,
     /// max |ρ/ρ0 − 1| for t ≥ 1.
     pub density: f64,
+    /// The last state's density error in the interface band and outside it (None without a
+    /// snapshot).
+    pub band: Option<BandDensity>,
 }
 
 /// The end state of the run in `dir` at `nx`, window `[a, b]`.
@@ -42,6 +46,10 @@ pub fn end_values(dir: &Path, nx: u32, a: f64, b: f64) -> End {
         two_point: mean(&col(&rows, |r| r.theta_two_point)),
         spread: mean(&wall_spread(&rows, 0.5 / nx as f64)),
         density: rows.iter().filter(|r| r.t >= 1.0).map(|r| r.max_density_error).fold(f64::NAN, f64::max),
+        band: {
+            let rho0: Vec<f64> = crate::scene::builtin::relax_60().phases.iter().map(|p| p.rho0).collect();
+            last_state(dir, &rho0, 0.5 / nx as f64)
+        },
     }
 }
 
@@ -128,6 +136,11 @@ pub fn add(ctx: &Ctx, rep: &mut CaseReport, lattice: &[(u32, End)], t_end: f64) 
             )
             .sphlab_text(format!("{m:.3}{} (n = {n})", spread(s, 3))),
         );
+        let bands: Vec<BandDensity> = g.ends.iter().filter_map(|e| e.band).collect();
+        if !bands.is_empty() {
+            let what = format!("realisations at Δx = 0.5/{}", g.nx);
+            rep.rows.push(band_density_row(&what, &bands));
+        }
     }
     rep.notes.push(format!(
         "Realisations: the lattice start jittered by {JITTER}Δx (`domain.jitter`, seeds {}) at nx = {}; a run of \
@@ -144,6 +157,25 @@ pub fn add(ctx: &Ctx, rep: &mut CaseReport, lattice: &[(u32, End)], t_end: f64) 
     richardson_rows(rep, lattice, &groups);
     end_angle_plot(ctx, rep, lattice, &groups)?;
     write_csv(ctx, rep, "realisations.csv", "nx,seed,theta_circle_end,spread_end,max_density_error_t_ge_1", &csv)
+}
+
+/// The info row of the last states' density error in the interface band and outside it, as
+/// means over `bands` (one per run).
+pub fn band_density_row(what: &str, bands: &[BandDensity]) -> Row {
+    let n = bands.len() as f64;
+    let mean = |f: fn(&BandDensity) -> f64| bands.iter().map(f).sum::<f64>() / n;
+    let (b, o, m) = (mean(|b| b.band_max), mean(|b| b.outside_max), mean(|b| b.outside_mean));
+    Row::new(
+        &format!(
+            "{what}: |ρ/ρ0 − 1| of the last state, max in the interface band (|∇C|Δx ≥ {}) / max outside / mean outside",
+            super::band_density::BAND_GRADIENT
+        ),
+        b,
+        4,
+        None,
+        None,
+    )
+    .sphlab_text(format!("{b:.4} / {o:.4} / {m:.5} (mean over {} run(s))", bands.len()))
 }
 
 /// " ± sd" (sample standard deviation), or nothing for a single realisation.
@@ -288,7 +320,7 @@ mod tests {
                 nx: *nx,
                 ends: th
                     .iter()
-                    .map(|&theta| End { theta, two_point: f64::NAN, spread: 1.385, density: 0.01 })
+                    .map(|&theta| End { theta, two_point: f64::NAN, spread: 1.385, density: 0.01, band: None })
                     .collect(),
             })
             .collect()

@@ -1,0 +1,175 @@
+//! The equal-density capillary wave's resolution study (case `capillary-wave`, full size only):
+//! both viscous forms at Δx = λ/32, λ/44 (the case's own runs), λ/64 and λ/88 under the
+//! capillary rule at each Δx, and three realisations at λ/44 from a jittered lattice. Judged as
+//! stated before the runs (reports/validation/capillary-wave/README.md): the three-period rms
+//! and the period error fall at every refinement, the rms is within the case's bound at the two
+//! finest, and the realisations' scatter is smaller than the change from λ/44 to λ/64.
+
+use super::case::CaseRun;
+use super::report::Row;
+use super::richardson::extrapolate;
+use super::RunSpec;
+
+/// The resolutions beside the scene's own λ/44 (which the case's `ratio1` runs cover).
+pub const EXTRA_NX: [u32; 3] = [32, 64, 88];
+/// The lattice jitter of the realisations, as a fraction of Δx.
+pub const JITTER: f64 = 0.05;
+/// The realisations' seeds.
+pub const SEEDS: [u64; 3] = [1, 2, 3];
+/// The finer resolutions at which the rms must meet the case's bound.
+const FINE_NX: [u32; 2] = [64, 88];
+
+/// The scene's own resolution (the `ratio1` runs').
+fn base_nx() -> u32 {
+    crate::scene::builtin::builtin("capillary-wave").map_or(44, |s| s.domain.nx)
+}
+
+/// The id of the equal-density run at `nx` with the form's id suffix (`""` or `-projected`).
+fn id_at(nx: u32, suffix: &str) -> String {
+    if nx == base_nx() {
+        format!("ratio1{suffix}")
+    } else {
+        format!("ratio1-nx{nx}{suffix}")
+    }
+}
+
+/// The study's runs: each extra resolution with both forms, then the realisations.
+pub fn runs() -> Vec<CaseRun> {
+    let mut runs = Vec::new();
+    for nx in EXTRA_NX {
+        for (suffix, form, name) in [("", None, "T70"), ("-projected", Some("viscous_form=projected"), "projected")] {
+            let mut sets = vec![format!("domain.nx={nx}")];
+            sets.extend(form.map(String::from));
+            let label = format!("density ratio 1, {name} viscous form, Δx = λ/{nx}");
+            runs.push(CaseRun::new(RunSpec::new(id_at(nx, suffix), "capillary-wave", &sets, None, 0), &label));
+        }
+    }
+    for seed in SEEDS {
+        let sets = vec![format!("domain.jitter={JITTER}"), format!("domain.seed={seed}")];
+        let label = format!("density ratio 1, T70, Δx = λ/{}, lattice jittered by {JITTER}Δx, seed {seed}", base_nx());
+        runs.push(CaseRun::new(
+            RunSpec::new(format!("ratio1-jitter{JITTER}-seed{seed}"), "capillary-wave", &sets, None, 0),
+            &label,
+        ));
+    }
+    runs
+}
+
+/// The study's rows from each run's three-period rms and (period, Prosperetti's period by the
+/// same fit); rows whose runs are missing are left out.
+pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)]) -> Vec<Row> {
+    let get_rms = |id: &str| rms.iter().find(|r| r.0 == id).map(|r| r.1);
+    let get_err = |id: &str| periods.iter().find(|p| p.0 == id).map(|p| p.1 / p.2 - 1.0);
+    let mut all_nx: Vec<u32> = EXTRA_NX.into_iter().chain([base_nx()]).collect();
+    all_nx.sort_unstable();
+    let mut out = Vec::new();
+    let mut changes = Vec::new();
+    for (suffix, name) in [("", "T70"), ("-projected", "projected")] {
+        let ids: Vec<String> = all_nx.iter().map(|&nx| id_at(nx, suffix)).collect();
+        let lambdas = all_nx.iter().map(|nx| format!("λ/{nx}")).collect::<Vec<_>>().join(", ");
+        if let Some(r) = ids.iter().map(|id| get_rms(id)).collect::<Option<Vec<f64>>>() {
+            let falls = r.windows(2).all(|w| w[1] < w[0]);
+            let fine_ok = all_nx
+                .iter()
+                .zip(&r)
+                .filter(|(nx, _)| FINE_NX.contains(nx))
+                .all(|(_, v)| *v <= super::capillary_wave::RMS_TOL);
+            let text = r.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(" → ");
+            let last = *r.last().unwrap_or(&f64::NAN);
+            out.push(
+                Row::new(&format!("rms of a/a0 − Prosperetti over 3 periods at Δx = {lambdas}, density ratio 1, {name}"), last, 4, None, Some(0.0))
+                    .sphlab_text(text)
+                    .check(
+                        falls && fine_ok,
+                        &format!(
+                            "falls at every refinement and ≤ {} at λ/64 and λ/88, stated before the runs (README.md); \
+                             p_b and c0 by the capillary rule at each Δx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), La = 3000, \
+                             the quintic at h = 1.2Δx, the lattice start",
+                            super::capillary_wave::RMS_TOL
+                        ),
+                    ),
+            );
+            if let Some(i) = all_nx.iter().position(|&nx| nx == base_nx()) {
+                if let Some(next) = r.get(i + 1) {
+                    changes.push((name, (r[i] - next).abs()));
+                }
+            }
+        }
+        if let Some(e) = ids.iter().map(|id| get_err(id)).collect::<Option<Vec<f64>>>() {
+            let falls = e.windows(2).all(|w| w[1].abs() < w[0].abs());
+            let n = e.len();
+            let h3 = [all_nx[n - 3], all_nx[n - 2], all_nx[n - 1]].map(|nx| 1.0 / nx as f64);
+            let rich = extrapolate(h3, [e[n - 3], e[n - 2], e[n - 1]]);
+            let text = e.iter().map(|v| format!("{:+.2} %", 100.0 * v)).collect::<Vec<_>>().join(" → ");
+            out.push(
+                Row::new(
+                    &format!(
+                        "period error against Prosperetti's (same fit) at Δx = {lambdas}, density ratio 1, {name}"
+                    ),
+                    *e.last().unwrap_or(&f64::NAN),
+                    4,
+                    None,
+                    Some(0.0),
+                )
+                .sphlab_text(format!("{text} (Richardson on the three finest, relative error: {rich})"))
+                .check(falls, "|error| falls at every refinement, stated before the runs (README.md)"),
+            );
+        }
+    }
+    let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1-jitter{JITTER}-seed{s}"))).collect();
+    if let (Some(seeds), Some((_, change))) = (seeds, changes.first()) {
+        let n = seeds.len() as f64;
+        let mean = seeds.iter().sum::<f64>() / n;
+        let sd = (seeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+        let text = format!(
+            "{} (mean {mean:.4}, sd {sd:.4}; lattice {}); T70's change λ/{} → λ/64: {change:.4}",
+            seeds.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", "),
+            get_rms("ratio1").map_or("not run".into(), |v| format!("{v:.4}")),
+            base_nx()
+        );
+        out.push(
+            Row::new(
+                &format!("rms over 3 periods from starts jittered by {JITTER}Δx (seeds 1–3), density ratio 1, T70, Δx = λ/{}", base_nx()),
+                sd,
+                4,
+                None,
+                None,
+            )
+            .sphlab_text(text)
+            .check(sd < *change, "sd of the realisations below the rms's change from λ/44 to λ/64, stated before the runs (README.md)"),
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn study(rms: [f64; 4], periods: [f64; 4]) -> Vec<Row> {
+        let nx = [32, 44, 64, 88];
+        let mut r: Vec<(String, f64)> = nx.iter().zip(rms).map(|(&n, v)| (id_at(n, ""), v)).collect();
+        r.extend(nx.iter().zip(rms).map(|(&n, v)| (id_at(n, "-projected"), v)));
+        r.extend(SEEDS.iter().map(|s| (format!("ratio1-jitter{JITTER}-seed{s}"), 0.05 + 0.001 * *s as f64)));
+        let p: Vec<(String, f64, f64)> = nx.iter().zip(periods).map(|(&n, v)| (id_at(n, ""), v, 1.0)).collect();
+        rows(&r, &p)
+    }
+
+    #[test]
+    fn falling_errors_pass_and_a_rise_fails() {
+        let rows = study([0.08, 0.05, 0.03, 0.02], [1.05, 1.026, 1.012, 1.006]);
+        assert_eq!(rows.len(), 4, "T70 rms and period, projected rms, realisations");
+        assert!(rows.iter().all(|r| r.verdict.starts_with("pass")), "{rows:#?}");
+        let rose = study([0.08, 0.05, 0.06, 0.02], [1.05, 1.026, 1.03, 1.006]);
+        assert!(rose[0].verdict.starts_with("FAIL") && rose[1].verdict.starts_with("FAIL"), "{rose:#?}");
+        let coarse = study([0.09, 0.08, 0.06, 0.055], [1.05, 1.026, 1.012, 1.006]);
+        assert!(coarse[0].verdict.starts_with("FAIL"), "λ/88 above the bound: {coarse:#?}");
+    }
+
+    #[test]
+    fn scatter_larger_than_the_change_fails() {
+        let rows = study([0.08, 0.05, 0.0495, 0.049], [1.05, 1.026, 1.012, 1.006]);
+        let real = rows.iter().find(|r| r.quantity.starts_with("rms over 3 periods from starts jittered")).unwrap();
+        assert!(real.verdict.starts_with("FAIL"), "{real:#?}");
+    }
+}
