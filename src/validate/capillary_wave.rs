@@ -219,7 +219,11 @@ impl Case for CapillaryWave {
             (true, true) => row.check(ok && rms <= QUICK_RMS_TOL, &format!("≤ {QUICK_RMS_TOL} (quick: rough size)")),
             _ => row,
         });
-        if main || id.starts_with("ratio1000-nx") || id.starts_with("ratio1-nx") {
+        if main
+            || id.starts_with("ratio1000-nx")
+            || id.starts_with("ratio1-nx")
+            || id.ends_with(super::wave_resolution::TRANSPORT)
+        {
             let w0 = p.params.omega0();
             let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));
             let fit = |what: &str| format!("{what} (damped-cosine fit, t ≤ {window:.3}), {label}");
@@ -279,7 +283,7 @@ impl Case for CapillaryWave {
 
     fn compare(&mut self, _ctx: &Ctx, out: &mut CaseOutput) -> Result<(), ValidateError> {
         self.compare_forms(out);
-        out.rep.rows.extend(super::wave_resolution::rows(&self.rms, &self.periods));
+        out.rep.rows.extend(super::wave_resolution::rows(&self.rms, &self.periods, &self.damping));
         let get = |id: &str| self.rms.iter().find(|r| r.0 == id).map(|r| r.1);
         if let (Some(base), Some(half), Some(double)) = (get("ratio1"), get("ratio1-pb-half"), get("ratio1-pb-double"))
         {

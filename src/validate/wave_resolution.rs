@@ -16,6 +16,14 @@ pub const EXTRA_NX: [u32; 3] = [32, 64, 88];
 pub const JITTER: f64 = 0.05;
 /// The realisations' seeds.
 pub const SEEDS: [u64; 3] = [1, 2, 3];
+/// The resolutions of the transport-velocity runs (p_b out of the momentum equation).
+pub const TRANSPORT_NX: [u32; 2] = [44, 88];
+/// Id suffix of the transport-velocity runs.
+pub const TRANSPORT: &str = "-tvf";
+/// Stated before the transport runs: at λ/88 the period within this of Prosperetti's …
+const TRANSPORT_PERIOD_TOL: f64 = 0.015;
+/// … and the damping rate within this.
+const TRANSPORT_DAMPING_TOL: f64 = 0.10;
 /// The finer resolutions at which the rms must meet the case's bound.
 const FINE_NX: [u32; 2] = [64, 88];
 
@@ -44,6 +52,18 @@ pub fn runs() -> Vec<CaseRun> {
             runs.push(CaseRun::new(RunSpec::new(id_at(nx, suffix), "capillary-wave", &sets, None, 0), &label));
         }
     }
+    for nx in TRANSPORT_NX {
+        let mut sets = vec!["time.background=transport".to_string()];
+        if nx != base_nx() {
+            sets.push(format!("domain.nx={nx}"));
+        }
+        let label =
+            format!("density ratio 1, T70, transport-velocity form (p_b out of the momentum equation), Δx = λ/{nx}");
+        runs.push(CaseRun::new(
+            RunSpec::new(format!("{}{TRANSPORT}", id_at(nx, "")), "capillary-wave", &sets, None, 0),
+            &label,
+        ));
+    }
     for seed in SEEDS {
         let sets = vec![format!("domain.jitter={JITTER}"), format!("domain.seed={seed}")];
         let label = format!("density ratio 1, T70, Δx = λ/{}, lattice jittered by {JITTER}Δx, seed {seed}", base_nx());
@@ -55,9 +75,10 @@ pub fn runs() -> Vec<CaseRun> {
     runs
 }
 
-/// The study's rows from each run's three-period rms and (period, Prosperetti's period by the
-/// same fit); rows whose runs are missing are left out.
-pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)]) -> Vec<Row> {
+/// The study's rows from each run's three-period rms, (period, Prosperetti's period by the
+/// same fit) and (damping rate, Prosperetti's by the same fit); rows whose runs are missing are
+/// left out.
+pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(String, f64, f64)]) -> Vec<Row> {
     let get_rms = |id: &str| rms.iter().find(|r| r.0 == id).map(|r| r.1);
     let get_err = |id: &str| periods.iter().find(|p| p.0 == id).map(|p| p.1 / p.2 - 1.0);
     let mut all_nx: Vec<u32> = EXTRA_NX.into_iter().chain([base_nx()]).collect();
@@ -116,6 +137,7 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)]) -> Vec<Row> {
             );
         }
     }
+    out.extend(transport_rows(rms, periods, damping));
     let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1-jitter{JITTER}-seed{s}"))).collect();
     if let (Some(seeds), Some((_, change))) = (seeds, changes.first()) {
         let n = seeds.len() as f64;
@@ -142,6 +164,58 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)]) -> Vec<Row> {
     out
 }
 
+/// The transport-velocity runs against the rule's at the same Δx: rms, period and damping
+/// errors; at the finest, the verdict stated before the runs.
+fn transport_rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(String, f64, f64)]) -> Vec<Row> {
+    let rel = |v: &[(String, f64, f64)], id: &str| v.iter().find(|p| p.0 == id).map(|p| p.1 / p.2 - 1.0);
+    let get_rms = |id: &str| rms.iter().find(|r| r.0 == id).map(|r| r.1);
+    let mut out = Vec::new();
+    for nx in TRANSPORT_NX {
+        let (rule, tvf) = (id_at(nx, ""), format!("{}{TRANSPORT}", id_at(nx, "")));
+        let (Some(pr), Some(pt), Some(dr), Some(dt), Some(rr), Some(rt)) = (
+            rel(periods, &rule),
+            rel(periods, &tvf),
+            rel(damping, &rule),
+            rel(damping, &tvf),
+            get_rms(&rule),
+            get_rms(&tvf),
+        ) else {
+            continue;
+        };
+        let row = Row::new(
+            &format!(
+                "density ratio 1, T70, Δx = λ/{nx}: rms over 3 periods, period error, damping error (same fit): \
+                 p_b by the rule in the momentum equation → transport-velocity form"
+            ),
+            pt,
+            4,
+            None,
+            Some(0.0),
+        )
+        .sphlab_text(format!(
+            "rms {rr:.4} → {rt:.4}; period {:+.2} % → {:+.2} %; damping {:+.1} % → {:+.1} %",
+            100.0 * pr,
+            100.0 * pt,
+            100.0 * dr,
+            100.0 * dt
+        ));
+        out.push(if nx == *TRANSPORT_NX.iter().max().unwrap_or(&nx) {
+            row.check(
+                pt.abs() <= TRANSPORT_PERIOD_TOL && dt.abs() <= TRANSPORT_DAMPING_TOL,
+                &format!(
+                    "the transport form's period within {:.1} % and damping within {:.0} % of Prosperetti's at the finest Δx, \
+                     stated before the runs (README.md): p_b acting on the kernel-sum error moves the fine runs off",
+                    100.0 * TRANSPORT_PERIOD_TOL,
+                    100.0 * TRANSPORT_DAMPING_TOL
+                ),
+            )
+        } else {
+            row
+        });
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,7 +226,7 @@ mod tests {
         r.extend(nx.iter().zip(rms).map(|(&n, v)| (id_at(n, "-projected"), v)));
         r.extend(SEEDS.iter().map(|s| (format!("ratio1-jitter{JITTER}-seed{s}"), 0.05 + 0.001 * *s as f64)));
         let p: Vec<(String, f64, f64)> = nx.iter().zip(periods).map(|(&n, v)| (id_at(n, ""), v, 1.0)).collect();
-        rows(&r, &p)
+        rows(&r, &p, &[])
     }
 
     #[test]
@@ -164,6 +238,23 @@ mod tests {
         assert!(rose[0].verdict.starts_with("FAIL") && rose[1].verdict.starts_with("FAIL"), "{rose:#?}");
         let coarse = study([0.09, 0.08, 0.06, 0.055], [1.05, 1.026, 1.012, 1.006]);
         assert!(coarse[0].verdict.starts_with("FAIL"), "λ/88 above the bound: {coarse:#?}");
+    }
+
+    #[test]
+    fn the_transport_row_judges_the_finest_resolution_only() {
+        let ids = ["ratio1", "ratio1-tvf", "ratio1-nx88", "ratio1-nx88-tvf"];
+        let rms: Vec<(String, f64)> = ids.iter().map(|i| (i.to_string(), 0.05)).collect();
+        let fit = |v: [f64; 4]| -> Vec<(String, f64, f64)> {
+            ids.iter().zip(v).map(|(i, x)| (i.to_string(), x, 1.0)).collect()
+        };
+        let good = transport_rows(&rms, &fit([1.026, 1.01, 0.97, 1.01]), &fit([0.97, 0.95, 1.19, 1.05]));
+        assert_eq!(good.len(), 2);
+        assert_eq!(good[0].verdict, "info", "λ/44 carries no verdict: {good:#?}");
+        assert!(good[1].verdict.starts_with("pass"), "{good:#?}");
+        let off = transport_rows(&rms, &fit([1.026, 1.01, 0.97, 0.975]), &fit([0.97, 0.95, 1.19, 1.05]));
+        assert!(off[1].verdict.starts_with("FAIL"), "period −2.5 %: {off:#?}");
+        let damped = transport_rows(&rms, &fit([1.026, 1.01, 0.97, 1.01]), &fit([0.97, 0.95, 1.19, 1.15]));
+        assert!(damped[1].verdict.starts_with("FAIL"), "damping +15 %: {damped:#?}");
     }
 
     #[test]
