@@ -262,6 +262,13 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
         sweep_run(root, &format!("nx{nx}-a-from90"), a);
         sweep_run(root, &format!("nx{nx}-a-from45"), b);
     }
+    // Realisations at nx = 33 beside the 60° runs: start means 62 and 61, pooled sd 1; one
+    // realisation of a 120° start is too few to name.
+    for (k, (a, b)) in [(61.0, 60.0), (62.0, 61.0), (63.0, 62.0)].into_iter().enumerate() {
+        sweep_run(root, &format!("nx33-a-from90-jitter0.05-seed{}", k + 1), a);
+        sweep_run(root, &format!("nx33-a-from45-jitter0.05-seed{}", k + 1), b);
+    }
+    sweep_run(root, "nx33-a-sls1.5-from90-jitter0.05-seed1", 100.0);
     sweep_run_in(root, "relax-60/runs", "a-noslip", 65, "quintic", 61.5);
     sweep_run_in(root, "relax-60/runs", "a-noslip-from45", 65, "quintic", 60.5);
     sweep_run_in(root, "capillary-rule/relax-60", "nx65-a-from90", 65, "cubic-spline", 80.0);
@@ -298,10 +305,12 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
     assert!(sixty.sphlab.starts_with("64.00 → 62.00 → 61.00"), "{}", sixty.sphlab);
     assert!(sixty.sphlab.contains("nx = 33: ../capillary-rule/relax-60/nx33-a-from{90,45}"), "{}", sixty.sphlab);
     assert!(sixty.sphlab.contains("nx = 65: runs/a-noslip, runs/a-noslip-from45"), "{}", sixty.sphlab);
+    assert!(sixty.sphlab.contains("midpoint at nx = 33 61.50° (pooled sd 1.00°, 3 per start)"), "{}", sixty.sphlab);
     let hydrophobic = at("120° (σ_LS = 1.5");
     assert!(hydrophobic.verdict.starts_with("FAIL ("), "{}", hydrophobic.verdict);
     assert!(hydrophobic.sphlab.starts_with("118.50 → 114.50 → 118.50"), "{}", hydrophobic.sphlab);
     assert!(hydrophobic.sphlab.contains("../form-and-kernel/relax-60/nx45-a-sls1.5-from{90,135}-quintic"));
+    assert!(!hydrophobic.sphlab.contains("realisations"), "{}", hydrophobic.sphlab);
     let wide = at("41°");
     assert!(!wide.verdict.starts_with("pass") && !wide.verdict.starts_with("FAIL"), "{}", wide.verdict);
     assert!(wide.quantity.ends_with("nx = 33, 45 (deg)"), "{}", wide.quantity);

@@ -80,6 +80,41 @@ fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
     })
 }
 
+/// The lattice jitter and seeds of a point's realisations (`<run>-jitter0.05-seed<k>` beside
+/// its lattice run).
+const JITTER: &str = "0.05";
+const SEEDS: [u32; 3] = [1, 2, 3];
+
+/// The realisations of a point at `nx`, from the first source with two or more per start: the
+/// midpoint of the starts' means, the pooled sample sd between realisations, and the count per
+/// start.
+fn realisations(root: &Path, p: &Point, nx: u32) -> Option<(f64, f64, usize)> {
+    let dir = p.run.replace("{nx}", &nx.to_string());
+    SOURCES.iter().find_map(|(src, suffix)| {
+        let per_start: Vec<Vec<f64>> = p
+            .starts
+            .iter()
+            .map(|start| {
+                SEEDS
+                    .iter()
+                    .map(|k| root.join(src).join(format!("{dir}{start}{suffix}-jitter{JITTER}-seed{k}")))
+                    .filter(|d| of_the_scene(d, nx))
+                    .filter_map(|d| end_angle(&d))
+                    .collect()
+            })
+            .collect();
+        let n = per_start.iter().map(Vec::len).min()?;
+        if n < 2 {
+            return None;
+        }
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let ss: f64 = per_start.iter().map(|v| v.iter().map(|x| (x - mean(v)).powi(2)).sum::<f64>()).sum();
+        let dof: usize = per_start.iter().map(|v| v.len() - 1).sum();
+        let mid = per_start.iter().map(|v| mean(v)).sum::<f64>() / per_start.len() as f64;
+        Some((mid, (ss / dof as f64).sqrt(), n))
+    })
+}
+
 /// Replaces the sweep's rows of `rep` with one row per point that has all three resolutions; a
 /// point with fewer is an info row that names the resolutions it has.
 pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
@@ -105,14 +140,31 @@ pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
         let angles: Vec<String> = found.iter().map(|f| format!("{:.2}", f.1)).collect();
         let ratios: Vec<String> = ratio.iter().map(|r| format!("{r:.3}")).collect();
         let cites: Vec<String> = found.iter().map(|f| format!("nx = {}: {}", f.0, f.2)).collect();
-        let text = format!("{} (cos θ / cos θ_Y {}; {})", angles.join(" → "), ratios.join(" → "), cites.join("; "));
+        let real: Vec<String> = NXS
+            .iter()
+            .filter_map(|&nx| {
+                let (mid, sd, n) = realisations(root, p, nx)?;
+                Some(format!("at nx = {nx} {mid:.2}° (pooled sd {sd:.2}°, {n} per start)"))
+            })
+            .collect();
+        let real = if real.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; realisations from the lattice jittered by {JITTER}Δx (seeds 1–3, `-jitter{JITTER}-seed<k>` beside each run), \
+                 midpoint {}",
+                real.join(", ")
+            )
+        };
+        let text =
+            format!("{} (cos θ / cos θ_Y {}; {}{real})", angles.join(" → "), ratios.join(" → "), cites.join("; "));
         let row = Row::new(&quantity, fine, 2, None, Some(p.theta_y)).sphlab_text(text);
         let row = if found.len() == NXS.len() && nx_fine == NXS[NXS.len() - 1] {
             let off: Vec<f64> = ratio.iter().map(|r| (1.0 - r).abs()).collect();
             row.check(
                 (fine - p.theta_y).abs() < ANGLE_TOL_DEG && falls(&off),
                 "within 3° of Young's angle at nx = 65, and cos θ / cos θ_Y closer to 1 at every refinement; \
-                 one realisation per start (the runs' folders' README.md)",
+                 one realisation per start where no realisations are named (the runs' folders' README.md)",
             )
         } else {
             row
