@@ -45,7 +45,7 @@ const TABLE: &str = "amplitude.csv";
 const PROJECTED: &str = "-projected";
 
 /// The overrides of the wave scene `name` at `nx` under the capillary rule, p_b × `pb_factor`.
-fn sets(name: &str, nx: u32, pb_factor: f64) -> Vec<String> {
+pub(super) fn sets(name: &str, nx: u32, pb_factor: f64) -> Vec<String> {
     let mut scene = crate::scene::builtin::builtin(name).expect("built-in");
     let mut sets = crate::scene::capillary::sets_at(&scene, nx);
     scene.domain.nx = nx;

@@ -24,6 +24,18 @@ pub const TRANSPORT: &str = "-tvf";
 const TRANSPORT_PERIOD_TOL: f64 = 0.015;
 /// … and the damping rate within this.
 const TRANSPORT_DAMPING_TOL: f64 = 0.10;
+/// The resolution of the p_b sweep, and its factors on the rule's p_b (× 1 is `ratio1-nx64`).
+pub const PB_NX: u32 = 64;
+pub const PB_FACTORS: [f64; 3] = [0.75, 1.5, 2.0];
+/// Stated before the p_b sweep: the least span of its period errors for p_b to count as moving
+/// the period.
+const PB_SPAN: f64 = 0.01;
+
+/// The id of the p_b sweep's run at factor `f`.
+fn pb_id(f: f64) -> String {
+    format!("ratio1-nx{PB_NX}-pb{f}")
+}
+
 /// The finer resolutions at which the rms must meet the case's bound.
 const FINE_NX: [u32; 2] = [64, 88];
 
@@ -63,6 +75,11 @@ pub fn runs() -> Vec<CaseRun> {
             RunSpec::new(format!("{}{TRANSPORT}", id_at(nx, "")), "capillary-wave", &sets, None, 0),
             &label,
         ));
+    }
+    for f in PB_FACTORS {
+        let label = format!("density ratio 1, T70, Δx = λ/{PB_NX}, p_b × {f}");
+        let sets = super::capillary_wave::sets("capillary-wave", PB_NX, f);
+        runs.push(CaseRun::new(RunSpec::new(pb_id(f), "capillary-wave", &sets, None, 0), &label));
     }
     for seed in SEEDS {
         let sets = vec![format!("domain.jitter={JITTER}"), format!("domain.seed={seed}")];
@@ -138,6 +155,7 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(S
         }
     }
     out.extend(transport_rows(rms, periods, damping));
+    out.extend(pb_row(periods));
     let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1-jitter{JITTER}-seed{s}"))).collect();
     if let (Some(seeds), Some((_, change))) = (seeds, changes.first()) {
         let n = seeds.len() as f64;
@@ -162,6 +180,36 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(S
         );
     }
     out
+}
+
+/// The p_b sweep at λ/64: the period error at each factor, judged as stated (monotone falling
+/// with p_b, spanning at least [`PB_SPAN`]).
+fn pb_row(periods: &[(String, f64, f64)]) -> Option<Row> {
+    let err = |id: &str| periods.iter().find(|p| p.0 == id).map(|p| p.1 / p.2 - 1.0);
+    let mut pts: Vec<(f64, f64)> = PB_FACTORS.iter().map(|&f| Some((f, err(&pb_id(f))?))).collect::<Option<_>>()?;
+    pts.push((1.0, err(&id_at(PB_NX, ""))?));
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let falls = pts.windows(2).all(|w| w[1].1 < w[0].1);
+    let (lo, hi) = pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.1), h.max(p.1)));
+    let text = pts.iter().map(|(f, e)| format!("× {f}: {:+.2} %", 100.0 * e)).collect::<Vec<_>>().join(", ");
+    Some(
+        Row::new(
+            &format!("period error against p_b (× the rule's), density ratio 1, T70, Δx = λ/{PB_NX}"),
+            hi - lo,
+            4,
+            None,
+            None,
+        )
+        .sphlab_text(format!("{text} (span {:.2} points)", 100.0 * (hi - lo)))
+        .check(
+            falls && hi - lo >= PB_SPAN,
+            &format!(
+                "falls with p_b at every step and spans ≥ {:.0} point, stated before the runs (README.md): p_b in the \
+                     momentum equation moves the period",
+                100.0 * PB_SPAN
+            ),
+        ),
+    )
 }
 
 /// The transport-velocity runs against the rule's at the same Δx: rms, period and damping
@@ -255,6 +303,18 @@ mod tests {
         assert!(off[1].verdict.starts_with("FAIL"), "period −2.5 %: {off:#?}");
         let damped = transport_rows(&rms, &fit([1.026, 1.01, 0.97, 1.01]), &fit([0.97, 0.95, 1.19, 1.15]));
         assert!(damped[1].verdict.starts_with("FAIL"), "damping +15 %: {damped:#?}");
+    }
+
+    #[test]
+    fn the_pb_sweep_passes_only_monotone_and_wide() {
+        let fit = |v: [f64; 4]| -> Vec<(String, f64, f64)> {
+            let ids = [pb_id(0.75), id_at(PB_NX, ""), pb_id(1.5), pb_id(2.0)];
+            ids.into_iter().zip(v).map(|(i, x)| (i, x, 1.0)).collect()
+        };
+        assert!(pb_row(&fit([1.0, 0.985, 0.975, 0.965])).unwrap().verdict.starts_with("pass"));
+        assert!(pb_row(&fit([1.0, 0.985, 0.99, 0.965])).unwrap().verdict.starts_with("FAIL"), "not monotone");
+        assert!(pb_row(&fit([0.99, 0.988, 0.985, 0.984])).unwrap().verdict.starts_with("FAIL"), "span 0.6 point");
+        assert!(pb_row(&fit([1.0, 0.985, 0.975, 0.965])[..3]).is_none(), "a factor missing");
     }
 
     #[test]
