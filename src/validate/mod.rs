@@ -25,6 +25,7 @@ pub mod oscillation;
 mod relax;
 mod retime;
 mod richardson;
+mod scatter;
 mod sessile;
 mod speed;
 mod spurious;

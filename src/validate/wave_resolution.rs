@@ -8,14 +8,11 @@
 use super::case::CaseRun;
 use super::report::Row;
 use super::richardson::extrapolate;
+use super::scatter::{self, stats, JITTER, SEEDS};
 use super::RunSpec;
 
 /// The resolutions beside the scene's own λ/44 (which the case's `ratio1` runs cover).
 pub const EXTRA_NX: [u32; 3] = [32, 64, 88];
-/// The lattice jitter of the realisations, as a fraction of Δx.
-pub const JITTER: f64 = 0.05;
-/// The realisations' seeds.
-pub const SEEDS: [u64; 3] = [1, 2, 3];
 /// The resolutions of the transport-velocity runs (p_b out of the momentum equation).
 pub const TRANSPORT_NX: [u32; 2] = [44, 88];
 /// Id suffix of the transport-velocity runs.
@@ -82,10 +79,10 @@ pub fn runs() -> Vec<CaseRun> {
         runs.push(CaseRun::new(RunSpec::new(pb_id(f), "capillary-wave", &sets, None, 0), &label));
     }
     for seed in SEEDS {
-        let sets = vec![format!("domain.jitter={JITTER}"), format!("domain.seed={seed}")];
+        let sets = scatter::sets(seed);
         let label = format!("density ratio 1, T70, Δx = λ/{}, lattice jittered by {JITTER}Δx, seed {seed}", base_nx());
         runs.push(CaseRun::new(
-            RunSpec::new(format!("ratio1-jitter{JITTER}-seed{seed}"), "capillary-wave", &sets, None, 0),
+            RunSpec::new(format!("ratio1{}", scatter::suffix(seed)), "capillary-wave", &sets, None, 0),
             &label,
         ));
     }
@@ -156,11 +153,9 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(S
     }
     out.extend(transport_rows(rms, periods, damping));
     out.extend(pb_row(periods));
-    let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1-jitter{JITTER}-seed{s}"))).collect();
+    let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1{}", scatter::suffix(*s)))).collect();
     if let (Some(seeds), Some((_, change))) = (seeds, changes.first()) {
-        let n = seeds.len() as f64;
-        let mean = seeds.iter().sum::<f64>() / n;
-        let sd = (seeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+        let (mean, sd, _) = stats(&seeds);
         let text = format!(
             "{} (mean {mean:.4}, sd {sd:.4}; lattice {}); T70's change λ/{} → λ/64: {change:.4}",
             seeds.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", "),
@@ -272,7 +267,7 @@ mod tests {
         let nx = [32, 44, 64, 88];
         let mut r: Vec<(String, f64)> = nx.iter().zip(rms).map(|(&n, v)| (id_at(n, ""), v)).collect();
         r.extend(nx.iter().zip(rms).map(|(&n, v)| (id_at(n, "-projected"), v)));
-        r.extend(SEEDS.iter().map(|s| (format!("ratio1-jitter{JITTER}-seed{s}"), 0.05 + 0.001 * *s as f64)));
+        r.extend(SEEDS.iter().map(|s| (format!("ratio1{}", scatter::suffix(*s)), 0.05 + 0.001 * *s as f64)));
         let p: Vec<(String, f64, f64)> = nx.iter().zip(periods).map(|(&n, v)| (id_at(n, ""), v, 1.0)).collect();
         rows(&r, &p, &[])
     }

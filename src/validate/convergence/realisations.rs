@@ -9,15 +9,12 @@ use super::super::judge::{ANGLE_TOL_DEG, YOUNG_DEG};
 use super::super::relax::wall_spread;
 use super::super::report::{plot, write_csv, CaseReport, Row};
 use super::super::richardson::{extrapolate, Extrapolation};
+use super::super::scatter::{self, stats, JITTER, SEEDS};
 use super::super::{Ctx, RunSpec, ValidateError};
 use super::band_density::{last_state, BandDensity};
 use crate::plot::{PlotSpec, RefLine, Series};
 use std::path::{Path, PathBuf};
 
-/// The lattice jitter of the realisations, as a fraction of Δx.
-pub const JITTER: f64 = 0.05;
-/// The realisations' seeds.
-pub const SEEDS: [u64; 3] = [1, 2, 3];
 /// Resolutions with realisations: those where one run costs at most about an hour of a core.
 pub const REALISATION_NX: [u32; 3] = [33, 45, 65];
 
@@ -56,24 +53,16 @@ pub fn end_values(dir: &Path, nx: u32, a: f64, b: f64) -> End {
 /// The realisation `seed` at `nx`: the lattice run's spec with the jitter.
 fn spec(nx: u32, seed: u64, t_end: f64) -> RunSpec<'static> {
     let mut s = super::spec(nx, false, t_end);
-    s.sets.extend([format!("domain.jitter={JITTER}"), format!("domain.seed={seed}")]);
-    s.id = format!("nx{nx}-jitter{JITTER}-seed{seed}");
+    s.sets.extend(scatter::sets(seed));
+    s.id = format!("nx{nx}{}", scatter::suffix(seed));
     s
 }
 
 /// Where else a run of the capillary rule's relax-60 study may already be (same scene):
 /// `capillary-rule/relax-60/nx<nx>-b-from90[-jitter0.05-seed<k>]`.
 pub fn capillary_rule_dir(root: &Path, nx: u32, seed: Option<u64>) -> PathBuf {
-    let tail = seed.map_or(String::new(), |k| format!("-jitter{JITTER}-seed{k}"));
+    let tail = seed.map_or(String::new(), scatter::suffix);
     root.join("capillary-rule").join("relax-60").join(format!("nx{nx}-b-from90{tail}"))
-}
-
-/// Mean, sample standard deviation and count.
-fn stats(v: &[f64]) -> (f64, f64, usize) {
-    let n = v.len();
-    let m = v.iter().sum::<f64>() / n as f64;
-    let s = if n > 1 { (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt() } else { f64::NAN };
-    (m, s, n)
 }
 
 /// One resolution's realisations.
@@ -189,14 +178,8 @@ fn spread(sd: f64, prec: usize) -> String {
 
 /// The pooled sample standard deviation of θ over the groups with two or more realisations.
 fn pooled_sd(groups: &[Group]) -> Option<f64> {
-    let (mut ss, mut dof) = (0.0, 0usize);
-    for g in groups.iter().filter(|g| g.ends.len() > 1) {
-        let th: Vec<f64> = g.ends.iter().map(|e| e.theta).collect();
-        let (m, _, n) = stats(&th);
-        ss += th.iter().map(|x| (x - m).powi(2)).sum::<f64>();
-        dof += n - 1;
-    }
-    (dof > 0).then(|| (ss / dof as f64).sqrt())
+    let th: Vec<Vec<f64>> = groups.iter().map(|g| g.ends.iter().map(|e| e.theta).collect()).collect();
+    scatter::pooled_sd(th.iter().map(Vec::as_slice))
 }
 
 /// The realisations' trend verdict, stated before their runs: |θ̄ − 60°| < 3° at every

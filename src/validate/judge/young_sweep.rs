@@ -8,6 +8,7 @@
 //! every refinement.
 
 use super::super::report::{CaseReport, Row};
+use super::super::scatter::{pooled_sd, stats, suffix as scatter_suffix, JITTER, SEEDS};
 use super::{end_angle, falls, of_the_scene, ANGLE_TOL_DEG, RELAX_RUN_SOURCES as SOURCES};
 use std::path::Path;
 
@@ -80,11 +81,6 @@ fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
     })
 }
 
-/// The lattice jitter and seeds of a point's realisations (`<run>-jitter0.05-seed<k>` beside
-/// its lattice run).
-const JITTER: &str = "0.05";
-const SEEDS: [u32; 3] = [1, 2, 3];
-
 /// The realisations of a point at `nx`, from the first source with two or more per start: the
 /// midpoint of the starts' means, the pooled sample sd between realisations, and the count per
 /// start.
@@ -97,7 +93,7 @@ fn realisations(root: &Path, p: &Point, nx: u32) -> Option<(f64, f64, usize)> {
             .map(|start| {
                 SEEDS
                     .iter()
-                    .map(|k| root.join(src).join(format!("{dir}{start}{suffix}-jitter{JITTER}-seed{k}")))
+                    .map(|&k| root.join(src).join(format!("{dir}{start}{suffix}{}", scatter_suffix(k))))
                     .filter(|d| of_the_scene(d, nx))
                     .filter_map(|d| end_angle(&d))
                     .collect()
@@ -107,11 +103,8 @@ fn realisations(root: &Path, p: &Point, nx: u32) -> Option<(f64, f64, usize)> {
         if n < 2 {
             return None;
         }
-        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-        let ss: f64 = per_start.iter().map(|v| v.iter().map(|x| (x - mean(v)).powi(2)).sum::<f64>()).sum();
-        let dof: usize = per_start.iter().map(|v| v.len() - 1).sum();
-        let mid = per_start.iter().map(|v| mean(v)).sum::<f64>() / per_start.len() as f64;
-        Some((mid, (ss / dof as f64).sqrt(), n))
+        let mid = per_start.iter().map(|v| stats(v).0).sum::<f64>() / per_start.len() as f64;
+        Some((mid, pooled_sd(per_start.iter().map(Vec::as_slice))?, n))
     })
 }
 
