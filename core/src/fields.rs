@@ -93,8 +93,11 @@ pub struct Fields<T> {
     pub p: Vec<T>,
     /// Colour gradients towards the other colours, by slot.
     pub grad: Vec<[V2<T>; 2]>,
-    /// Surface stress Π.
+    /// Surface stress Π (its traceless part).
     pub pi: Vec<Sym2<T>>,
+    /// The isotropic part `s` of the surface stress, `Π + sI` (`surface_tension.tensor =
+    /// "tangential"`, CPU only; empty otherwise).
+    pub pi_iso: Vec<T>,
     /// Acceleration (fluids; zero for walls).
     pub acc: Vec<V2<T>>,
     /// Advection velocity ṽ (XSPH or v).
@@ -124,6 +127,7 @@ impl<T: Real> Fields<T> {
             p: vec![T::zero(); n],
             grad: vec![[V2::zero(); 2]; n],
             pi: vec![Sym2::zero(); n],
+            pi_iso: Vec::new(),
             acc: vec![V2::zero(); n],
             vt: vec![V2::zero(); n],
             contacts: Vec::new(),

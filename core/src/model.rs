@@ -6,7 +6,7 @@
 use crate::physics::kernel::{kernel_w, lattice_sum, KernelKind, KernelParams};
 use crate::real::{Real, Sym2, V2};
 use crate::scene::{
-    ColourGradient, ContactMode, LiquidGasAtWall, Scene, Side, ViscousForm, WallPressure, WallVelocity,
+    ColourGradient, ContactMode, LiquidGasAtWall, Scene, Side, StressForm, ViscousForm, WallPressure, WallVelocity,
 };
 
 /// Number of colours: fluid phases 0 and 1, and the wall phase S (Mode A).
@@ -273,6 +273,11 @@ pub struct Model<T> {
     pub dt_fixed: f64,
     /// Colour gradient by one colour field (PySPH's form) instead of the thesis's T71.
     pub single_field_colour: bool,
+    /// `surface_tension.tensor = "tangential"`: every Π^{kl} carries the isotropic part
+    /// `σ^{kl}|g|/2` beside the traceless one (docs/PHYSICS.md §5.3), kept in [`Fields::pi_iso`].
+    ///
+    /// [`Fields::pi_iso`]: crate::fields::Fields::pi_iso
+    pub tangential_stress: bool,
     /// Transport-velocity formulation (`time.background = "transport"`): the background
     /// pressure of each phase, by phase, moved out of the EOS (`phases[k].p_b` is then 0) into
     /// the shift acceleration `a_b` ([`crate::scene::Background::Transport`]). `None`: p_b is in
@@ -420,6 +425,8 @@ impl<T: Real> Model<T> {
             dt_fixed: crate::scene::dt_policy::effective_dt(scene),
             single_field_colour: surface
                 && scene.surface_tension.as_ref().is_some_and(|s| s.colour_gradient == ColourGradient::SingleField),
+            tangential_stress: surface
+                && scene.surface_tension.as_ref().is_some_and(|s| s.tensor == StressForm::Tangential),
             transport_p_b,
             artificial_stress: scene.time.background == crate::scene::Background::Transport,
         }

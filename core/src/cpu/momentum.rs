@@ -10,7 +10,7 @@ use crate::model::Model;
 use crate::neighbours::unpack;
 use crate::physics::kernel::{kernel_dwdr, kernel_w};
 use crate::physics::pair::*;
-use crate::physics::stress::stress_tensor;
+use crate::physics::stress::{stress_isotropic, stress_tensor};
 use crate::physics::wall::{holmes_beta, lj_wall_acc, noslip_beta, wall_relative_velocity};
 use crate::real::{Real, Sym2, V2};
 use crate::scene::{ViscousForm, WallVelocity};
@@ -72,7 +72,9 @@ pub fn acceleration_pairs<T: Real>(
     let xi = c.pos[i];
     let vi = c.vel[i];
     let inv_s2_i = inv_sigma2(fr.sigma[i]);
-    let pi_i_wall = tensor_towards_wall(m, fr, i);
+    let (pi_i_wall, iso_i_wall) = tensor_towards_wall(m, fr, i);
+    let iso = fr.pi_iso.len() == c.pos.len();
+    let iso_i = if iso { fr.pi_iso[i] } else { T::zero() };
     let eta_i = m.phases[c.phase[i] as usize].eta;
     let wall = m.nearest_wall(xi);
     let d_i = wall.map_or(T::zero(), |w| w.wall_distance(xi));
@@ -123,28 +125,30 @@ pub fn acceleration_pairs<T: Real>(
             sink(j, xj, PairTerm::Viscous, a);
         }
         if st.surface_tension {
-            let pi_i = if j < c.n_fluid { fr.pi[i] } else { pi_i_wall };
-            sink(
-                j,
-                xj,
-                PairTerm::Surface,
-                surface_acc_ij(pi_i, inv_s2_i, m.images.image_sym(code, fr.pi[j]), inv_s2_j, gw),
-            );
+            let (pi_i, s_i) = if j < c.n_fluid { (fr.pi[i], iso_i) } else { (pi_i_wall, iso_i_wall) };
+            let mut a = surface_acc_ij(pi_i, inv_s2_i, m.images.image_sym(code, fr.pi[j]), inv_s2_j, gw);
+            if iso {
+                a += surface_isotropic_acc_ij(s_i, inv_s2_i, fr.pi_iso[j], inv_s2_j, gw);
+            }
+            sink(j, xj, PairTerm::Surface, a);
         }
     }
 }
 
-/// The part of fluid particle `i`'s stress tensor its pairs with wall particles carry: the whole
-/// Π_i, or with `contact.liquid_gas_at_wall = "free"` (Mode A, §8.2.2) Π_i less its liquid–gas
-/// part, so that the wall pairs take back none of that interface's pull.
+/// The part of fluid particle `i`'s stress tensor its pairs with wall particles carry, as its
+/// traceless part and its isotropic part (zero unless the tangential form): the whole Π_i, or
+/// with `contact.liquid_gas_at_wall = "free"` (Mode A, §8.2.2) Π_i less its liquid–gas part, so
+/// that the wall pairs take back none of that interface's pull.
 #[inline(always)]
-fn tensor_towards_wall<T: Real>(m: &Model<T>, fr: &Fields<T>, i: usize) -> Sym2<T> {
+fn tensor_towards_wall<T: Real>(m: &Model<T>, fr: &Fields<T>, i: usize) -> (Sym2<T>, T) {
     let k = fr.colour[i];
+    let iso = fr.pi_iso.get(i).copied().unwrap_or(T::zero());
     if !m.liquid_gas_free_at_wall || !(k == 0 || k == 1) {
-        return fr.pi[i];
+        return (fr.pi[i], iso);
     }
-    let l = 1 - k;
-    fr.pi[i] - stress_tensor(fr.grad[i][colour_slot(k, l)], m.sigma[k as usize][l as usize])
+    let (g, sigma) = (fr.grad[i][colour_slot(k, 1 - k)], m.sigma[k as usize][(1 - k) as usize]);
+    let iso_lg = if fr.pi_iso.is_empty() { T::zero() } else { stress_isotropic(g, sigma) };
+    (fr.pi[i] - stress_tensor(g, sigma), iso - iso_lg)
 }
 
 /// `acceleration` (T65): pressure (T68) + viscous (T70, wall ghost velocities §6.2–6.4) +

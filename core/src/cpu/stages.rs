@@ -12,7 +12,7 @@ use crate::physics::contact::{contact_normal, contact_side, corrected_normal};
 use crate::physics::eos::eos_pressure;
 use crate::physics::kernel::{kernel_dwdr, kernel_w};
 use crate::physics::pair::*;
-use crate::physics::stress::stress_tensor;
+use crate::physics::stress::{stress_isotropic, stress_tensor};
 use crate::real::{Real, Sym2, V2};
 use crate::scene::ContactMode;
 use crate::stage::Stage;
@@ -354,20 +354,31 @@ pub fn normal_correction<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     }
 }
 
-/// `surface_stress` (T73–T75): Π_i = Σ_l σ^{kl} |g^{kl}| (I/2 − n̂n̂).
+/// `surface_stress` (T73–T75): Π_i = Σ_l σ^{kl} |g^{kl}| (I/2 − n̂n̂); with
+/// `surface_tension.tensor = "tangential"` also its isotropic part s_i = Σ_l σ^{kl}|g^{kl}|/2
+/// (§5.3), so that Π_i + s_i I = Σ_l σ^{kl}|g^{kl}|(I − n̂n̂).
 pub fn surface_stress<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
-    for i in 0..c.pos.len() {
+    let n = c.pos.len();
+    if m.tangential_stress {
+        f.pi_iso.resize(n, T::zero());
+    }
+    for i in 0..n {
         let k = f.colour[i];
-        let mut pi = Sym2::zero();
+        let (mut pi, mut iso) = (Sym2::zero(), T::zero());
         if k >= 0 {
             for slot in 0..2 {
                 let l = slot_colour(k, slot);
                 if (l as usize) < crate::model::N_COLOURS {
-                    pi = pi + stress_tensor(f.grad[i][slot], m.sigma[k as usize][l as usize]);
+                    let sigma_kl = m.sigma[k as usize][l as usize];
+                    pi = pi + stress_tensor(f.grad[i][slot], sigma_kl);
+                    iso += stress_isotropic(f.grad[i][slot], sigma_kl);
                 }
             }
         }
         f.pi[i] = pi;
+        if m.tangential_stress {
+            f.pi_iso[i] = iso;
+        }
     }
 }

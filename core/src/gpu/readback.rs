@@ -138,6 +138,7 @@ impl<T: Real> GpuSolver<T> {
             p: to_original(b.p.read_back(ctx)?, 1, &o),
             grad: g0.into_iter().zip(g1).map(|(a, c)| [a, c]).collect(),
             pi: to_original(b.pi().read_back(ctx)?, 1, &o).iter().map(|t| Sym2 { xx: t.x, xy: t.y }).collect(),
+            pi_iso: Vec::new(),
             acc: to_original(b.acc.read_back(ctx)?, 1, &o),
             vt: to_original(b.vt.read_back(ctx)?, 1, &o),
             contacts: sorted_contacts(

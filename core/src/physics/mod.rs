@@ -12,6 +12,10 @@
 //! | `wall::noslip_beta`, `wall_relative_velocity`, `holmes_beta`, `lj_wall_acc` | `wall.wgsl` | T44–T49 |
 //! | `contact::contact_normal`, `contact_side`, `corrected_normal` | `contact.wgsl` | T81–T83 |
 //! | `integrate::integrate_predict`, `integrate_correct`, `integrate_kick`, `integrate_drift` | `integrate.wgsl` | §7.2 |
+//!
+//! The CPU-only options have no twin, and the GPU backend refuses them with exit 2
+//! (`gpu::solver::cpu_only`): `pair::artificial_stress_acc_ij` (the transport-velocity form),
+//! `pair::surface_isotropic_acc_ij` and `stress::stress_isotropic` (the tangential stress form).
 
 pub mod contact;
 pub mod eos;

@@ -94,6 +94,14 @@ pub fn surface_acc_ij<T: Real>(pi_i: Sym2<T>, inv_s2_i: T, pi_j: Sym2<T>, inv_s2
     (pi_i * inv_s2_i + pi_j * inv_s2_j).mul_vec(grad_w)
 }
 
+/// The surface term (T76) of an isotropic stress `sI` (the tangential form's part,
+/// docs/PHYSICS.md §5.3): `+(s_i/σ_i² + s_j/σ_j²) ∇_iW_ij`, the pressure term (T68) of −s. Sum
+/// over j, then × 1/m_i. CPU only: the WGSL stages carry the traceless tensor alone.
+#[inline(always)]
+pub fn surface_isotropic_acc_ij<T: Real>(s_i: T, inv_s2_i: T, s_j: T, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
+    grad_w * (s_i * inv_s2_i + s_j * inv_s2_j)
+}
+
 /// Artificial-stress term of the transport-velocity formulation (Adami, Hu & Adams 2013,
 /// eq. 12; docs/PHYSICS.md §7.5): `(1/σ_i² + 1/σ_j²) ½(A_i + A_j)·∇_iW_ij`, given
 /// `A_k·∇_iW_ij = ρ_k v_k ((ṽ_k − v_k)·∇_iW_ij)` for both particles. Sum over fluid j, then

@@ -15,3 +15,11 @@ pub fn stress_tensor<T: Real>(g: V2<T>, sigma_kl: T) -> Sym2<T> {
         Sym2::zero()
     }
 }
+
+/// The isotropic part `σ^{kl}|g|/2` that `surface_tension.tensor = "tangential"` adds to
+/// [`stress_tensor`], so that `Π + sI = σ^{kl}|g|(I − n̂n̂)` (docs/PHYSICS.md §5.3): a tension
+/// `σ^{kl}|g|` along the interface and none across it. Zero when `g = 0`. CPU only.
+#[inline(always)]
+pub fn stress_isotropic<T: Real>(g: V2<T>, sigma_kl: T) -> T {
+    T::c(0.5) * sigma_kl * g.norm2().sqrt()
+}

@@ -255,12 +255,16 @@ pub struct SurfaceTension {
     /// Not written when `thesis`, so summaries of earlier runs still match (`validate --reuse`).
     #[serde(default, skip_serializing_if = "ColourGradient::is_thesis")]
     pub colour_gradient: ColourGradient,
+    /// Isotropic part of the stress tensor: `traceless` (Hu–Adams T73, default) or `tangential`
+    /// (`σ|∇C|(I − n̂n̂)`, docs/PHYSICS.md §5.3). Not written when `traceless`.
+    #[serde(default, skip_serializing_if = "StressForm::is_traceless")]
+    pub tensor: StressForm,
 }
 
 impl SurfaceTension {
     /// σ with the thesis's colour gradient.
     pub fn thesis(sigma: f64) -> Self {
-        Self { sigma, colour_gradient: ColourGradient::Thesis }
+        Self { sigma, colour_gradient: ColourGradient::Thesis, tensor: StressForm::Traceless }
     }
 }
 
@@ -281,6 +285,28 @@ impl ColourGradient {
     /// True for the default, the thesis's form.
     pub fn is_thesis(&self) -> bool {
         *self == ColourGradient::Thesis
+    }
+}
+
+/// The isotropic part of the surface stress tensor (docs/PHYSICS.md §5.3). Both have the same
+/// divergence in the continuum (they differ by `σ|∇C|/2 I`, whose gradient the pressure takes
+/// up inside the band); they differ in what the pressure carries.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum StressForm {
+    /// Hu–Adams T73: `σ|∇C|(I/2 − n̂n̂)`, traceless. Normal to the interface it compresses by
+    /// `σ|∇C|/2`, which the pressure balances by a density deficit in the band.
+    #[default]
+    Traceless,
+    /// `σ|∇C|(I − n̂n̂)`, the tensor of the continuum identity T72: a tension `σ|∇C|` along the
+    /// interface and none across it, so the band needs no pressure deficit. CPU only.
+    Tangential,
+}
+
+impl StressForm {
+    /// True for the default, the thesis's traceless form.
+    pub fn is_traceless(&self) -> bool {
+        *self == StressForm::Traceless
     }
 }
 

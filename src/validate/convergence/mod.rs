@@ -2,8 +2,9 @@
 //! Δx = 0.5/33 (below the thesis's range) and the thesis's 0.5/45, 0.5/65, 0.5/85, 0.5/105 with
 //! `time.dt_policy = "scale"` (7e-5 at 65; the viscous limit binds, so dt ∝ Δx²). D/D0 and θ at
 //! the end against the analytic cap, realisations from jittered starts at the coarser
-//! resolutions (`realisations`), observed orders and Richardson estimates, and time to solution
-//! against error. Thesis: all but 0.5/45 converge in D/D0 and θ.
+//! resolutions (`realisations`), observed orders and Richardson estimates, the lattice runs
+//! under the tangential stress form (`tangential`), and time to solution against error.
+//! Thesis: all but 0.5/45 converge in D/D0 and θ.
 
 use super::data::{col, read_series};
 use super::relax::{analytic_spread, wall_spread};
@@ -16,6 +17,7 @@ use std::path::PathBuf;
 
 mod band_density;
 mod realisations;
+mod tangential;
 use realisations::{band_density_row, capillary_rule_dir, end_values, End};
 
 /// Resolutions (particles across 0.5) of the full study.
@@ -220,6 +222,7 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     let (pts, lattice) = study(ctx, &mut rep)?;
     if !quick {
         realisations::add(ctx, &mut rep, &lattice, t_end)?;
+        tangential::add(ctx, &mut rep, &lattice, t_end)?;
     }
     let sc: Vec<(f64, f64, String)> = pts.iter().map(|p| (p.1, p.3.max(1e-6), p.0.clone())).collect();
     let path = ctx.path("time_vs_error.svg");

@@ -29,6 +29,13 @@ pub(super) fn refuse_cpu_only<T: Real>(model: &Model<T>, scene: &Scene) -> Resul
                 .into(),
         ));
     }
+    if model.tangential_stress {
+        return Err(GpuError::Unsupported(
+            "surface_tension.tensor = \"tangential\" is CPU only (the WGSL stages carry the traceless \
+             Hu–Adams tensor alone); use --backend cpu or tensor = \"traceless\""
+                .into(),
+        ));
+    }
     if model.transport_p_b.is_some() {
         return Err(GpuError::Unsupported(
             "time.background = \"transport\" (transport-velocity formulation) is CPU only (the WGSL \
