@@ -78,6 +78,10 @@ fn bad_inputs_exit_2_with_a_message() {
     let tvf = ["--set", "time.background=\"transport\""];
     let gpu = [&["run", "oscillating-drop", "--backend", "gpu", "--out", out][..], &tvf[..]].concat();
     assert_input_error(&gpu, "time.background");
+    // So is the tangential stress form.
+    let tan = ["--set", "surface_tension.tensor=\"tangential\""];
+    let gpu = [&["run", "oscillating-drop", "--backend", "gpu", "--out", out][..], &tan[..]].concat();
+    assert_input_error(&gpu, "surface_tension.tensor");
     // So is Mode A's contact-line force.
     let line = ["--set", "contact.mode=\"a\"", "--set", "contact.line_force=true"];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &line[..]].concat();

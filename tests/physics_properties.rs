@@ -7,7 +7,7 @@
 use sphlab::physics::eos::{eos_pressure, eos_stiffness};
 use sphlab::physics::kernel::{kernel_dwdr, kernel_w, lattice_sum, KernelKind, KernelParams};
 use sphlab::physics::pair::*;
-use sphlab::physics::stress::stress_tensor;
+use sphlab::physics::stress::{stress_isotropic, stress_tensor};
 use sphlab::real::{Sym2, V2};
 use std::f64::consts::PI;
 
@@ -343,6 +343,29 @@ fn stress_tensor_is_symmetric_traceless_and_matches_formula() {
     // spec component form, horizontal interface: g = (0, 1) ⇒ Π_xx = σ/2, Π_xy = 0
     let t = stress_tensor(V2::new(0.0, 1.0), 1.0);
     assert_eq!((t.xx, t.xy), (0.5, 0.0), "flat interface Π = {t:?}");
+}
+
+#[test]
+fn tangential_form_pulls_along_the_interface_and_not_across() {
+    // Π + sI = σ|g|(I − n̂n̂): no traction on the interface's own plane (Π·g + s g = 0), a
+    // tension σ|g| along it, and its surface pair term is that of a pressure −s.
+    let mut rng = Lcg(7);
+    for _ in 0..200 {
+        let g = V2::new(rng.next() * 2.0 - 1.0, rng.next() * 2.0 - 1.0);
+        let s = 0.1 + rng.next();
+        let (t, iso) = (stress_tensor(g, s), stress_isotropic(g, s));
+        let scale = s * g.norm();
+        let across = t.mul_vec(g) + g * iso;
+        assert!(across.norm() < 1e-14 * scale * g.norm(), "(Π + sI)·g = {across:?}, expected 0");
+        let gp = V2::new(-g.y, g.x);
+        let along = t.mul_vec(gp) + gp * iso;
+        assert!((along - gp * scale).norm() < 1e-14 * scale * g.norm(), "(Π + sI)·g⊥ = {along:?}");
+        let (si, sj, gw) = (iso, 0.3 * iso, V2::new(rng.next() - 0.5, rng.next() - 0.5));
+        let a = surface_isotropic_acc_ij(si, 1.1, sj, 0.9, gw);
+        let b = pressure_acc_ij(-si, 1.1, -sj, 0.9, gw);
+        assert!((a - b).norm() < 1e-14 * (a.norm() + 1e-300), "isotropic term {a:?} vs the pressure term of −s {b:?}");
+    }
+    assert_eq!(stress_isotropic(V2::<f64>::zero(), 1.0), 0.0, "s(g = 0) must be 0");
 }
 
 #[test]

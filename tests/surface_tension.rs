@@ -2,7 +2,8 @@
 //! integral `Σ_i m_i a_i·r̂_i / (2π r_i)` of a circular drop (R = 10Δx and 15.3Δx, quintic h = Δx
 //! and cubic h = 1.2Δx) within 5 % of −σ/R and near the spec's values, `∫|∇C|dA/(2πR)` within
 //! 2 % of the spec's values, and the flat-interface colour-gradient profile (first row 0.4628,
-//! second row 0.0375, 0.5004 per side) with the symmetry properties of its surface force.
+//! second row 0.0375, 0.5004 per side) with the symmetry properties of its surface force, and
+//! the tangential form's flat interface without a normal force (§5.3).
 
 use sphlab::backend::{Backend, Frame};
 use sphlab::cpu::CpuSolver;
@@ -150,6 +151,11 @@ fn laplace_ray_integral_is_linear_in_sigma() {
 
 /// One evaluation of a periodic L×L box (Δx = 1), phase 0 below y = L/2, phase 1 above.
 fn flat_frame(n: u32, kernel: &str, h_ratio: f64, sigma: f64) -> Frame {
+    flat_frame_with(n, kernel, h_ratio, sigma, &[])
+}
+
+/// [`flat_frame`] with further scene overrides.
+fn flat_frame_with(n: u32, kernel: &str, h_ratio: f64, sigma: f64, extra: &[&str]) -> Frame {
     let l = n as f64;
     let base = builtin("oscillating-drop").unwrap();
     let sets = [
@@ -174,6 +180,7 @@ fn flat_frame(n: u32, kernel: &str, h_ratio: f64, sigma: f64) -> Frame {
         "phases.0.c0=35.0".into(),
         "phases.1.c0=35.0".into(),
     ];
+    let sets: Vec<String> = sets.into_iter().chain(extra.iter().map(|e| e.to_string())).collect();
     let scene = apply_overrides(&base, &sets).unwrap();
     let layout = build_layout(&scene).unwrap();
     let mut s = CpuSolver::<f64>::new(&scene, &layout, Exec::Parallel, SearchKind::Cells);
@@ -289,4 +296,26 @@ fn flat_interface_surface_force() {
     // The per-row normal force is NOT zero: the traceless I/d part of Π acts like a pressure
     // −σ|∇C|/2 inside the band (docs/PHYSICS.md §5.6 note); it is balanced by pressure at rest.
     println!("flat quintic: per-row |a_y| up to {amax:.4e} (I/2 part of Π)");
+}
+
+#[test]
+fn flat_interface_tangential_form_has_no_normal_force() {
+    // σ|∇C|(I − n̂n̂) on a flat interface is a tension along it and nothing across it
+    // (docs/PHYSICS.md §5.3), so every row's normal surface force vanishes, where the traceless
+    // form's rows carry ±σ|∇C|/2's gradient (the pressure the band's density deficit answers).
+    let n = 24usize;
+    let tan = ["surface_tension.tensor=\"tangential\""];
+    let f1 = flat_frame_with(n as u32, "quintic", 1.2, 1.0, &tan);
+    let f0 = flat_frame_with(n as u32, "quintic", 1.2, 0.0, &tan);
+    let t1 = flat_frame(n as u32, "quintic", 1.2, 1.0);
+    let t0 = flat_frame(n as u32, "quintic", 1.2, 0.0);
+    let ay = rows(&f1, n, |i| f1.acc[i][1] - f0.acc[i][1], 1e-13, "a_y tangential");
+    let ax = rows(&f1, n, |i| f1.acc[i][0] - f0.acc[i][0], 1e-13, "a_x tangential");
+    let traceless = rows(&t1, n, |i| t1.acc[i][1] - t0.acc[i][1], 1e-13, "a_y traceless");
+    let tmax = traceless.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    assert!(tmax > 0.05, "the traceless form's rows should carry a normal force, max |a_y| = {tmax}");
+    // rounding floor as in `flat_interface_surface_force`: ~1e-14, against rows of ~0.08
+    for (k, (a, b)) in ay.iter().zip(&ax).enumerate() {
+        assert!(a.abs() < 1e-12 && b.abs() < 1e-12, "row {k}: tangential form's surface force ({b:e}, {a:e}) ≠ 0");
+    }
 }
