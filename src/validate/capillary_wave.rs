@@ -223,6 +223,7 @@ impl Case for CapillaryWave {
             || id.starts_with("ratio1000-nx")
             || id.starts_with("ratio1-nx")
             || id.ends_with(super::wave_resolution::TRANSPORT)
+            || id.ends_with(super::wave_resolution::TANGENTIAL)
         {
             let w0 = p.params.omega0();
             let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));

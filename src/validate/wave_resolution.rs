@@ -1,6 +1,7 @@
 //! The equal-density capillary wave's resolution study (case `capillary-wave`, full size only):
 //! both viscous forms at Δx = λ/32, λ/44 (the case's own runs), λ/64 and λ/88 under the
-//! capillary rule at each Δx, and three realisations at λ/44 from a jittered lattice. Judged as
+//! capillary rule at each Δx, three realisations at λ/44 from a jittered lattice, and the
+//! transport-velocity and tangential stress forms beside the rule's runs. Judged as
 //! stated before the runs (reports/validation/capillary-wave/README.md): the three-period rms
 //! and the period error fall at every refinement, the rms is within the case's bound at the two
 //! finest, and the realisations' scatter is smaller than the change from λ/44 to λ/64.
@@ -21,6 +22,14 @@ pub const TRANSPORT: &str = "-tvf";
 const TRANSPORT_PERIOD_TOL: f64 = 0.015;
 /// … and the damping rate within this.
 const TRANSPORT_DAMPING_TOL: f64 = 0.10;
+/// The resolutions of the tangential-form runs (`surface_tension.tensor = "tangential"`).
+pub const TANGENTIAL_NX: [u32; 2] = [44, 64];
+/// Id suffix of the tangential-form runs.
+pub const TANGENTIAL: &str = "-tangential";
+/// Stated before the tangential runs: at each Δx the rms within this of the traceless form's …
+const TANGENTIAL_RMS_TOL: f64 = 0.01;
+/// … and the period error within this.
+const TANGENTIAL_PERIOD_TOL: f64 = 0.01;
 /// The resolution of the p_b sweep, and its factors on the rule's p_b (× 1 is `ratio1-nx64`).
 pub const PB_NX: u32 = 64;
 pub const PB_FACTORS: [f64; 3] = [0.75, 1.5, 2.0];
@@ -70,6 +79,17 @@ pub fn runs() -> Vec<CaseRun> {
             format!("density ratio 1, T70, transport-velocity form (p_b out of the momentum equation), Δx = λ/{nx}");
         runs.push(CaseRun::new(
             RunSpec::new(format!("{}{TRANSPORT}", id_at(nx, "")), "capillary-wave", &sets, None, 0),
+            &label,
+        ));
+    }
+    for nx in TANGENTIAL_NX {
+        let mut sets = vec!["surface_tension.tensor=tangential".to_string()];
+        if nx != base_nx() {
+            sets.push(format!("domain.nx={nx}"));
+        }
+        let label = format!("density ratio 1, T70, tangential stress form (docs/PHYSICS.md §5.3), Δx = λ/{nx}");
+        runs.push(CaseRun::new(
+            RunSpec::new(format!("{}{TANGENTIAL}", id_at(nx, "")), "capillary-wave", &sets, None, 0),
             &label,
         ));
     }
@@ -152,6 +172,7 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(S
         }
     }
     out.extend(transport_rows(rms, periods, damping));
+    out.extend(tangential_rows(rms, periods, damping));
     out.extend(pb_row(periods));
     let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1{}", scatter::suffix(*s)))).collect();
     if let (Some(seeds), Some((_, change))) = (seeds, changes.first()) {
@@ -207,41 +228,70 @@ fn pb_row(periods: &[(String, f64, f64)]) -> Option<Row> {
     )
 }
 
+/// One form's run against the rule's at Δx = λ/`nx`: (rms, period error, damping error) of the
+/// rule's run and of the form's (id suffix `suffix`), and the info row that lists them; None
+/// while either run is missing.
+fn form_pair(
+    nx: u32,
+    suffix: &str,
+    what: &str,
+    rms: &[(String, f64)],
+    periods: &[(String, f64, f64)],
+    damping: &[(String, f64, f64)],
+) -> Option<(Row, [f64; 3], [f64; 3])> {
+    let rel = |v: &[(String, f64, f64)], id: &str| v.iter().find(|p| p.0 == id).map(|p| p.1 / p.2 - 1.0);
+    let get_rms = |id: &str| rms.iter().find(|r| r.0 == id).map(|r| r.1);
+    let (rule, form) = (id_at(nx, ""), format!("{}{suffix}", id_at(nx, "")));
+    let a = [get_rms(&rule)?, rel(periods, &rule)?, rel(damping, &rule)?];
+    let b = [get_rms(&form)?, rel(periods, &form)?, rel(damping, &form)?];
+    let row = Row::new(
+        &format!(
+            "density ratio 1, T70, Δx = λ/{nx}: rms over 3 periods, period error, damping error (same fit): {what}"
+        ),
+        b[1],
+        4,
+        None,
+        Some(0.0),
+    )
+    .sphlab_text(format!(
+        "rms {:.4} → {:.4}; period {:+.2} % → {:+.2} %; damping {:+.1} % → {:+.1} %",
+        a[0],
+        b[0],
+        100.0 * a[1],
+        100.0 * b[1],
+        100.0 * a[2],
+        100.0 * b[2]
+    ));
+    Some((row, a, b))
+}
+
+/// The tangential-form runs against the traceless form's at the same Δx, each with the verdict
+/// stated before the runs.
+fn tangential_rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(String, f64, f64)]) -> Vec<Row> {
+    let what = "the traceless Hu–Adams tensor → the tangential form (docs/PHYSICS.md §5.3)";
+    let mut out = Vec::new();
+    for nx in TANGENTIAL_NX {
+        let Some((row, a, b)) = form_pair(nx, TANGENTIAL, what, rms, periods, damping) else { continue };
+        out.push(row.check(
+            (b[0] - a[0]).abs() <= TANGENTIAL_RMS_TOL && (b[1] - a[1]).abs() <= TANGENTIAL_PERIOD_TOL,
+            &format!(
+                "rms within {TANGENTIAL_RMS_TOL} and period error within {:.0} point of the traceless form's, stated before \
+                 the runs (../tangential-stress/README.md): the same total stress and the same p_b",
+                100.0 * TANGENTIAL_PERIOD_TOL
+            ),
+        ));
+    }
+    out
+}
+
 /// The transport-velocity runs against the rule's at the same Δx: rms, period and damping
 /// errors; at the finest, the verdict stated before the runs.
 fn transport_rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(String, f64, f64)]) -> Vec<Row> {
-    let rel = |v: &[(String, f64, f64)], id: &str| v.iter().find(|p| p.0 == id).map(|p| p.1 / p.2 - 1.0);
-    let get_rms = |id: &str| rms.iter().find(|r| r.0 == id).map(|r| r.1);
+    let what = "p_b by the rule in the momentum equation → transport-velocity form";
     let mut out = Vec::new();
     for nx in TRANSPORT_NX {
-        let (rule, tvf) = (id_at(nx, ""), format!("{}{TRANSPORT}", id_at(nx, "")));
-        let (Some(pr), Some(pt), Some(dr), Some(dt), Some(rr), Some(rt)) = (
-            rel(periods, &rule),
-            rel(periods, &tvf),
-            rel(damping, &rule),
-            rel(damping, &tvf),
-            get_rms(&rule),
-            get_rms(&tvf),
-        ) else {
-            continue;
-        };
-        let row = Row::new(
-            &format!(
-                "density ratio 1, T70, Δx = λ/{nx}: rms over 3 periods, period error, damping error (same fit): \
-                 p_b by the rule in the momentum equation → transport-velocity form"
-            ),
-            pt,
-            4,
-            None,
-            Some(0.0),
-        )
-        .sphlab_text(format!(
-            "rms {rr:.4} → {rt:.4}; period {:+.2} % → {:+.2} %; damping {:+.1} % → {:+.1} %",
-            100.0 * pr,
-            100.0 * pt,
-            100.0 * dr,
-            100.0 * dt
-        ));
+        let Some((row, _, b)) = form_pair(nx, TRANSPORT, what, rms, periods, damping) else { continue };
+        let (pt, dt) = (b[1], b[2]);
         out.push(if nx == *TRANSPORT_NX.iter().max().unwrap_or(&nx) {
             row.check(
                 pt.abs() <= TRANSPORT_PERIOD_TOL && dt.abs() <= TRANSPORT_DAMPING_TOL,
@@ -298,6 +348,23 @@ mod tests {
         assert!(off[1].verdict.starts_with("FAIL"), "period −2.5 %: {off:#?}");
         let damped = transport_rows(&rms, &fit([1.026, 1.01, 0.97, 1.01]), &fit([0.97, 0.95, 1.19, 1.15]));
         assert!(damped[1].verdict.starts_with("FAIL"), "damping +15 %: {damped:#?}");
+    }
+
+    #[test]
+    fn the_tangential_rows_judge_against_the_traceless_runs() {
+        let ids = ["ratio1", "ratio1-tangential", "ratio1-nx64", "ratio1-nx64-tangential"];
+        let pairs =
+            |v: [f64; 4]| -> Vec<(String, f64)> { ids.iter().zip(v).map(|(i, x)| (i.to_string(), x)).collect() };
+        let fit = |v: [f64; 4]| -> Vec<(String, f64, f64)> {
+            ids.iter().zip(v).map(|(i, x)| (i.to_string(), x, 1.0)).collect()
+        };
+        let damping = fit([0.97, 0.98, 0.9, 0.95]);
+        let close = tangential_rows(&pairs([0.053, 0.057, 0.038, 0.033]), &fit([1.026, 1.02, 0.983, 0.99]), &damping);
+        assert_eq!(close.len(), 2);
+        assert!(close.iter().all(|r| r.verdict.starts_with("pass")), "{close:#?}");
+        let moved = tangential_rows(&pairs([0.053, 0.07, 0.038, 0.033]), &fit([1.026, 1.02, 0.983, 1.0]), &damping);
+        assert!(moved[0].verdict.starts_with("FAIL") && moved[1].verdict.starts_with("FAIL"), "{moved:#?}");
+        assert!(tangential_rows(&pairs([0.053, 0.057, 0.038, 0.033]), &fit([1.0; 4])[..2], &damping).len() == 1);
     }
 
     #[test]
