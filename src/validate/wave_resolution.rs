@@ -30,6 +30,11 @@ pub const TANGENTIAL: &str = "-tangential";
 const TANGENTIAL_RMS_TOL: f64 = 0.01;
 /// … and the period error within this.
 const TANGENTIAL_PERIOD_TOL: f64 = 0.01;
+/// The tangential form's run at a lower p_b: its resolution and factor on the rule's p_b.
+pub const TANGENTIAL_LOW_PB: (u32, f64) = (64, 0.5);
+/// Stated before that run: its damping rate within this of Prosperetti's (and its rms within
+/// the case's bound).
+const TANGENTIAL_LOW_PB_DAMPING_TOL: f64 = 0.15;
 /// The resolution of the p_b sweep, and its factors on the rule's p_b (× 1 is `ratio1-nx64`).
 pub const PB_NX: u32 = 64;
 pub const PB_FACTORS: [f64; 3] = [0.75, 1.5, 2.0];
@@ -93,6 +98,11 @@ pub fn runs() -> Vec<CaseRun> {
             &label,
         ));
     }
+    let (nx, f) = TANGENTIAL_LOW_PB;
+    let mut sets = super::capillary_wave::sets("capillary-wave", nx, f);
+    sets.push("surface_tension.tensor=tangential".into());
+    let label = format!("density ratio 1, T70, tangential stress form, Δx = λ/{nx}, p_b × {f}");
+    runs.push(CaseRun::new(RunSpec::new(tangential_low_pb_id(), "capillary-wave", &sets, None, 0), &label));
     for f in PB_FACTORS {
         let label = format!("density ratio 1, T70, Δx = λ/{PB_NX}, p_b × {f}");
         let sets = super::capillary_wave::sets("capillary-wave", PB_NX, f);
@@ -173,6 +183,7 @@ pub fn rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(S
     }
     out.extend(transport_rows(rms, periods, damping));
     out.extend(tangential_rows(rms, periods, damping));
+    out.extend(tangential_low_pb_row(rms, periods, damping));
     out.extend(pb_row(periods));
     let seeds: Option<Vec<f64>> = SEEDS.iter().map(|s| get_rms(&format!("ratio1{}", scatter::suffix(*s)))).collect();
     if let (Some(seeds), Some((_, change))) = (seeds, changes.first()) {
@@ -284,6 +295,34 @@ fn tangential_rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], dampin
     out
 }
 
+/// The id of the tangential form's run at a lower p_b.
+fn tangential_low_pb_id() -> String {
+    let (nx, f) = TANGENTIAL_LOW_PB;
+    format!("{}{TANGENTIAL}-pb{f}", id_at(nx, ""))
+}
+
+/// The tangential form at the lower p_b against the traceless form at the rule's, with the
+/// verdict stated before the run.
+fn tangential_low_pb_row(
+    rms: &[(String, f64)],
+    periods: &[(String, f64, f64)],
+    damping: &[(String, f64, f64)],
+) -> Option<Row> {
+    let (nx, f) = TANGENTIAL_LOW_PB;
+    let suffix = tangential_low_pb_id().trim_start_matches(&id_at(nx, "")).to_string();
+    let what = format!("the traceless form at the rule's p_b → the tangential form at p_b × {f}");
+    let (row, _, b) = form_pair(nx, &suffix, &what, rms, periods, damping)?;
+    Some(row.check(
+        b[0] <= super::capillary_wave::RMS_TOL && b[2].abs() <= TANGENTIAL_LOW_PB_DAMPING_TOL,
+        &format!(
+            "rms ≤ {} and damping within {:.0} % of Prosperetti's, stated before the run (../tangential-stress/README.md): \
+             the band's pressure back at the traceless form's",
+            super::capillary_wave::RMS_TOL,
+            100.0 * TANGENTIAL_LOW_PB_DAMPING_TOL
+        ),
+    ))
+}
+
 /// The transport-velocity runs against the rule's at the same Δx: rms, period and damping
 /// errors; at the finest, the verdict stated before the runs.
 fn transport_rows(rms: &[(String, f64)], periods: &[(String, f64, f64)], damping: &[(String, f64, f64)]) -> Vec<Row> {
@@ -365,6 +404,13 @@ mod tests {
         let moved = tangential_rows(&pairs([0.053, 0.07, 0.038, 0.033]), &fit([1.026, 1.02, 0.983, 1.0]), &damping);
         assert!(moved[0].verdict.starts_with("FAIL") && moved[1].verdict.starts_with("FAIL"), "{moved:#?}");
         assert!(tangential_rows(&pairs([0.053, 0.057, 0.038, 0.033]), &fit([1.0; 4])[..2], &damping).len() == 1);
+        let ids = ["ratio1-nx64", "ratio1-nx64-tangential-pb0.5"];
+        let two =
+            |a: f64, b: f64| -> Vec<(String, f64, f64)> { vec![(ids[0].into(), a, 1.0), (ids[1].into(), b, 1.0)] };
+        let rms = |v: f64| vec![(ids[0].to_string(), 0.038), (ids[1].to_string(), v)];
+        let low = |r: f64, d: f64| tangential_low_pb_row(&rms(r), &two(0.983, 0.99), &two(0.89, d)).unwrap().verdict;
+        assert!(low(0.04, 1.1).starts_with("pass"), "{}", low(0.04, 1.1));
+        assert!(low(0.06, 1.1).starts_with("FAIL") && low(0.04, 1.2).starts_with("FAIL"));
     }
 
     #[test]
