@@ -366,6 +366,7 @@ impl<T: Real> Model<T> {
             y: [map(d.bottom, d.y[0], -ly), map(d.top, d.y[1], ly)],
         };
         let surface = st > 0.0 && scene.phases.len() == 2;
+        let tension = scene.surface_tension.as_ref().filter(|_| surface);
         let mode_b = surface && scene.contact.mode == ContactMode::B;
         let line_force = if surface && scene.contact.mode == ContactMode::A && scene.contact.line_force {
             (1.0 - WALL_BAND_SHARE) * (scene.contact.sigma_gs - scene.contact.sigma_ls)
@@ -423,10 +424,8 @@ impl<T: Real> Model<T> {
             sigma_max,
             cfl: scene.time.cfl,
             dt_fixed: crate::scene::dt_policy::effective_dt(scene),
-            single_field_colour: surface
-                && scene.surface_tension.as_ref().is_some_and(|s| s.colour_gradient == ColourGradient::SingleField),
-            tangential_stress: surface
-                && scene.surface_tension.as_ref().is_some_and(|s| s.tensor == StressForm::Tangential),
+            single_field_colour: tension.is_some_and(|s| s.colour_gradient == ColourGradient::SingleField),
+            tangential_stress: tension.is_some_and(|s| s.tensor == StressForm::Tangential),
             transport_p_b,
             artificial_stress: scene.time.background == crate::scene::Background::Transport,
         }

@@ -288,9 +288,8 @@ impl ColourGradient {
     }
 }
 
-/// The isotropic part of the surface stress tensor (docs/PHYSICS.md §5.3). Both have the same
-/// divergence in the continuum (they differ by `σ|∇C|/2 I`, whose gradient the pressure takes
-/// up inside the band); they differ in what the pressure carries.
+/// The isotropic part of the surface stress tensor (docs/PHYSICS.md §5.3): the two forms give
+/// the same surface force and differ in what the pressure carries.
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum StressForm {
