@@ -63,6 +63,24 @@ pub fn spec(nx: u32, quick: bool, t_end: f64) -> RunSpec<'static> {
     RunSpec::new(format!("nx{nx}"), "relax-60", &sets, Some(t_end), if quick { 0 } else { 10 })
 }
 
+/// Runs (or reuses) one of the case's runs; a run skipped for CPU time (`--skip-missing`, `--only`)
+/// is None and says so in `rep`.
+fn run_or_skip(
+    ctx: &Ctx,
+    rep: &mut CaseReport,
+    spec: &RunSpec,
+    also: &[PathBuf],
+) -> Result<Option<RunRecord>, ValidateError> {
+    match ctx.run(spec, also) {
+        Ok(r) => Ok(Some(r)),
+        Err(ValidateError::Skipped(id)) => {
+            rep.not_full_because(format!("{id} not run (CPU time)"));
+            Ok(None)
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// The lattice runs' end states by resolution, coarse to fine.
 pub type Ends = Vec<(u32, End)>;
 
@@ -87,13 +105,8 @@ pub fn study(ctx: &Ctx, rep: &mut CaseReport) -> Result<(Vec<Point>, Ends), Vali
     for nx in nxs {
         let s = spec(nx, quick, t_end);
         let relax_dir = ctx.opts.out.join("relax-60").join("runs").join("b-noslip");
-        let rec = match ctx.run(&s, &[relax_dir, capillary_rule_dir(&ctx.opts.out, nx, None)]) {
-            Ok(r) => r,
-            Err(ValidateError::Skipped(id)) => {
-                rep.not_full_because(format!("{id} not run (CPU time)"));
-                continue;
-            }
-            Err(e) => return Err(e),
+        let Some(rec) = run_or_skip(ctx, rep, &s, &[relax_dir, capillary_rule_dir(&ctx.opts.out, nx, None)])? else {
+            continue;
         };
         let cost = super::retime::retime(&s, &rec, ctx.opts.backend)?;
         let rows = read_series(&PathBuf::from(&rec.dir));

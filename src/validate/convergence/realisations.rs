@@ -82,14 +82,7 @@ pub fn add(ctx: &Ctx, rep: &mut CaseReport, lattice: &[(u32, End)], t_end: f64) 
         let mut ends = Vec::new();
         for seed in SEEDS {
             let also = [capillary_rule_dir(&ctx.opts.out, nx, Some(seed))];
-            let rec = match ctx.run(&spec(nx, seed, t_end), &also) {
-                Ok(r) => r,
-                Err(ValidateError::Skipped(id)) => {
-                    rep.not_full_because(format!("{id} not run (CPU time)"));
-                    continue;
-                }
-                Err(e) => return Err(e),
-            };
+            let Some(rec) = super::run_or_skip(ctx, rep, &spec(nx, seed, t_end), &also)? else { continue };
             let e = end_values(Path::new(&rec.dir), nx, wa, wb);
             csv.push(vec![nx as f64, seed as f64, e.theta, e.spread, e.density]);
             ends.push(e);

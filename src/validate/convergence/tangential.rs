@@ -32,14 +32,7 @@ pub fn add(ctx: &Ctx, rep: &mut CaseReport, lattice: &[(u32, End)], t_end: f64) 
     let mut ends = Vec::new();
     let mut csv = Vec::new();
     for nx in TANGENTIAL_NX {
-        let rec = match ctx.run(&spec(nx, t_end), &[]) {
-            Ok(r) => r,
-            Err(ValidateError::Skipped(id)) => {
-                rep.not_full_because(format!("{id} not run (CPU time)"));
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
+        let Some(rec) = super::run_or_skip(ctx, rep, &spec(nx, t_end), &[])? else { continue };
         let e = end_values(Path::new(&rec.dir), nx, wa, wb);
         let what = format!("tangential form at Δx = 0.5/{nx}");
         rep.rows.push(Row::new(
