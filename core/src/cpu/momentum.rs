@@ -73,7 +73,7 @@ pub fn acceleration_pairs<T: Real>(
     let vi = c.vel[i];
     let inv_s2_i = inv_sigma2(fr.sigma[i]);
     let (pi_i_wall, iso_i_wall) = tensor_towards_wall(m, fr, i);
-    let iso = fr.pi_iso.len() == c.pos.len();
+    let iso = !fr.pi_iso.is_empty();
     let iso_i = if iso { fr.pi_iso[i] } else { T::zero() };
     let eta_i = m.phases[c.phase[i] as usize].eta;
     let wall = m.nearest_wall(xi);

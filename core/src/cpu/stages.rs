@@ -372,7 +372,9 @@ pub fn surface_stress<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
                 if (l as usize) < crate::model::N_COLOURS {
                     let sigma_kl = m.sigma[k as usize][l as usize];
                     pi = pi + stress_tensor(f.grad[i][slot], sigma_kl);
-                    iso += stress_isotropic(f.grad[i][slot], sigma_kl);
+                    if m.tangential_stress {
+                        iso += stress_isotropic(f.grad[i][slot], sigma_kl);
+                    }
                 }
             }
         }

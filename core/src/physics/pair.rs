@@ -99,7 +99,7 @@ pub fn surface_acc_ij<T: Real>(pi_i: Sym2<T>, inv_s2_i: T, pi_j: Sym2<T>, inv_s2
 /// over j, then × 1/m_i. CPU only: the WGSL stages carry the traceless tensor alone.
 #[inline(always)]
 pub fn surface_isotropic_acc_ij<T: Real>(s_i: T, inv_s2_i: T, s_j: T, inv_s2_j: T, grad_w: V2<T>) -> V2<T> {
-    grad_w * (s_i * inv_s2_i + s_j * inv_s2_j)
+    -pressure_acc_ij(s_i, inv_s2_i, s_j, inv_s2_j, grad_w)
 }
 
 /// Artificial-stress term of the transport-velocity formulation (Adami, Hu & Adams 2013,
