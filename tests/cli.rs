@@ -86,6 +86,10 @@ fn bad_inputs_exit_2_with_a_message() {
     let line = ["--set", "contact.mode=\"a\"", "--set", "contact.line_force=true"];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &line[..]].concat();
     assert_input_error(&gpu, "contact.line_force");
+    // So are the wall's tensions at the contact line alone (σ_GS ≠ σ_LS).
+    let line = ["--set", "contact.mode=\"a\"", "--set", "contact.wall_tension=\"line\""];
+    let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &line[..]].concat();
+    assert_input_error(&gpu, "contact.wall_tension");
     // And Mode A's liquid–gas interface left free at the wall.
     let free = ["--set", "contact.mode=\"a\"", "--set", "contact.liquid_gas_at_wall=\"free\""];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &free[..]].concat();

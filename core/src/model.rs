@@ -6,7 +6,8 @@
 use crate::physics::kernel::{kernel_w, lattice_sum, KernelKind, KernelParams};
 use crate::real::{Real, Sym2, V2};
 use crate::scene::{
-    ColourGradient, ContactMode, LiquidGasAtWall, Scene, Side, StressForm, ViscousForm, WallPressure, WallVelocity,
+    ColourGradient, ContactMode, LiquidGasAtWall, Scene, Side, StressForm, ViscousForm, WallPressure, WallTension,
+    WallVelocity,
 };
 
 /// Number of colours: fluid phases 0 and 1, and the wall phase S (Mode A).
@@ -221,8 +222,9 @@ pub struct Model<T> {
     pub sigma: [[T; N_COLOURS]; N_COLOURS],
     /// Contact mode.
     pub contact_mode: ContactMode,
-    /// Mode A's contact-line force per unit length, `(1 − s_w)(σ_GS − σ_LS)` (§8.2.1); zero when
-    /// off or when the wall tensions are equal.
+    /// Mode A's contact-line force per unit length: `(1 − s_w)(σ_GS − σ_LS)` with the wall bands
+    /// (§8.2.1), `σ_GS − σ_LS` without them (§8.2.3); zero when off or when the wall tensions are
+    /// equal.
     pub line_force: T,
     /// Mode A with `contact.liquid_gas_at_wall = "free"`: fluid–wall pairs leave out the
     /// liquid–gas part of the fluid's tensor (§8.2.2).
@@ -337,7 +339,8 @@ impl<T: Real> Model<T> {
             sigma[0][1] = T::c(st);
             sigma[1][0] = T::c(st);
         }
-        if scene.contact.mode == ContactMode::A {
+        let wall_bands = scene.contact.wall_tension == WallTension::Bands;
+        if scene.contact.mode == ContactMode::A && wall_bands {
             sigma[0][2] = T::c(scene.contact.sigma_ls);
             sigma[2][0] = T::c(scene.contact.sigma_ls);
             sigma[1][2] = T::c(scene.contact.sigma_gs);
@@ -368,10 +371,11 @@ impl<T: Real> Model<T> {
         let surface = st > 0.0 && scene.phases.len() == 2;
         let tension = scene.surface_tension.as_ref().filter(|_| surface);
         let mode_b = surface && scene.contact.mode == ContactMode::B;
-        let line_force = if surface && scene.contact.mode == ContactMode::A && scene.contact.line_force {
-            (1.0 - WALL_BAND_SHARE) * (scene.contact.sigma_gs - scene.contact.sigma_ls)
-        } else {
-            0.0
+        let wall_pull = scene.contact.sigma_gs - scene.contact.sigma_ls;
+        let line_force = match (surface && scene.contact.mode == ContactMode::A, wall_bands) {
+            (true, false) => wall_pull,
+            (true, true) if scene.contact.line_force => (1.0 - WALL_BAND_SHARE) * wall_pull,
+            _ => 0.0,
         };
         let stages = ActiveStages {
             holmes_chi: scene.walls.velocity == WallVelocity::Holmes && !walls.is_empty(),

@@ -6,7 +6,9 @@
 //! run starts. Whether a fixed dt is stable is not checked here, and neither are memory and
 //! particle counts (`crate::plan`).
 
-use super::{ColourGradient, ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side, MAX_FLUID_PHASES};
+use super::{
+    ColourGradient, ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side, WallTension, MAX_FLUID_PHASES,
+};
 
 fn err(field: &str, msg: impl Into<String>) -> SceneError {
     SceneError { field: field.to_string(), msg: msg.into() }
@@ -270,6 +272,20 @@ fn interfaces(s: &Scene) -> Result<(), SceneError> {
             return Err(err(
                 "contact.mode",
                 "the contact line lives on the bottom wall, so domain.bottom must be no-slip or free-slip",
+            ));
+        }
+    }
+    if c.wall_tension == WallTension::Line {
+        if c.mode != ContactMode::A {
+            return Err(err(
+                "contact.wall_tension",
+                "`line` places Mode A's wall tensions; set contact.mode = \"a\" or use `bands`",
+            ));
+        }
+        if c.line_force {
+            return Err(err(
+                "contact.line_force",
+                "with contact.wall_tension = \"line\" the line force already carries the whole σ_GS − σ_LS; set it false",
             ));
         }
     }

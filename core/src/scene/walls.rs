@@ -37,6 +37,21 @@ pub struct Contact {
     /// meets the wall) or not (`free`; docs/PHYSICS.md §8.2.2).
     #[serde(default)]
     pub liquid_gas_at_wall: LiquidGasAtWall,
+    /// Mode A: where σ_LS and σ_GS act (docs/PHYSICS.md §8.2.3): in stress bands along the wall
+    /// (`bands`, default) or as the line force σ_GS − σ_LS at each contact point alone (`line`).
+    #[serde(default)]
+    pub wall_tension: WallTension,
+}
+
+/// Mode A: where the wall's two tensions act (docs/PHYSICS.md §8.2.3).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallTension {
+    /// The wall is a third colour: S–L and S–G stress bands (T75), `contact.line_force` optional.
+    #[default]
+    Bands,
+    /// No wall band; the whole σ_GS − σ_LS acts on the fluid at each contact point.
+    Line,
 }
 
 /// Mode A: what the wall does with the liquid–gas interface's stress where it meets the wall
@@ -73,6 +88,7 @@ impl Default for Contact {
             band: 1.2,
             line_force: false,
             liquid_gas_at_wall: LiquidGasAtWall::Shared,
+            wall_tension: WallTension::Bands,
         }
     }
 }

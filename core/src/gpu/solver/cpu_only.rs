@@ -17,8 +17,9 @@ pub(super) fn refuse_cpu_only<T: Real>(model: &Model<T>, scene: &Scene) -> Resul
     }
     if model.line_force != T::zero() {
         return Err(GpuError::Unsupported(
-            "contact.line_force = true (Mode A's contact-line force, σ_GS ≠ σ_LS) is CPU only (the WGSL \
-             stages have the wall bands alone); use --backend cpu or contact.line_force = false"
+            "Mode A's contact-line force (contact.line_force = true, or contact.wall_tension = \"line\", \
+             with σ_GS ≠ σ_LS) is CPU only (the WGSL stages have the wall bands alone); use --backend cpu, \
+             or contact.line_force = false and contact.wall_tension = \"bands\""
                 .into(),
         ));
     }
