@@ -315,6 +315,8 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
     assert!(!wide.verdict.starts_with("pass") && !wide.verdict.starts_with("FAIL"), "{}", wide.verdict);
     assert!(wide.quantity.ends_with("nx = 33, 45 (deg)"), "{}", wide.quantity);
     assert!(rep.rows.iter().all(|r| !r.quantity.contains("σ_GS = 0")), "the (0.5, 0) pair has no runs here");
+    // No run of the wall's tensions at the contact line: no row of that form.
+    assert!(rep.rows.iter().all(|r| !r.quantity.contains("§8.2.3")), "a line row without runs");
     // Judging again gives the same rows once each.
     let before = rep.rows.len();
     judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
@@ -380,4 +382,44 @@ fn the_relax_alpha_band_reads_the_runs_of_the_scenes_kernel() {
     assert_eq!(theta.holds, Some(false));
     assert!(theta.source.starts_with("../form-and-kernel/relax-60/nx33-b-from90-alpha1-quintic"), "{}", theta.source);
     assert_eq!(spread.values.len(), 3);
+}
+
+/// [`sweep_run_in`] in `relax-60/mode-a-line/runs`, recorded with the wall tensions `tension`.
+fn line_run(root: &Path, name: &str, nx: u32, tension: &str, theta: f64) {
+    sweep_run_in(root, "relax-60/mode-a-line/runs", name, nx, "quintic", theta);
+    let path = root.join("relax-60/mode-a-line/runs").join(name).join("summary.json");
+    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    v["parameters"]["contact"] = serde_json::json!({ "mode": "a", "wall_tension": tension });
+    std::fs::write(&path, v.to_string()).unwrap();
+}
+
+#[test]
+fn the_line_forms_sweep_has_its_own_rows_from_its_own_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    // 60° at the line: 56 → 58 → 59.5, closer at every refinement and within 3° at nx = 65.
+    for (nx, a, b) in [(33, 56.5, 55.5), (45, 58.5, 57.5), (65, 60.0, 59.0)] {
+        line_run(root, &format!("nx{nx}-from90-line"), nx, "line", a);
+        line_run(root, &format!("nx{nx}-from45-line"), nx, "line", b);
+    }
+    // 120° at the line: one start of nx = 45 recorded with the bands, so that pair does not count.
+    for (nx, a, b) in [(33, 123.0, 123.0), (45, 122.0, 122.0), (65, 121.0, 121.0)] {
+        let from90 = if nx == 45 { "bands" } else { "line" };
+        line_run(root, &format!("nx{nx}-sls1.5-from90-line"), nx, from90, a);
+        line_run(root, &format!("nx{nx}-sls1.5-from135-line"), nx, "line", b);
+    }
+    let opts = ValidateOptions { out: root.to_path_buf(), ..ValidateOptions::default() };
+    let mut rep = report("relax-60", Vec::new());
+    judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
+    let line: Vec<&Row> = rep.rows.iter().filter(|r| r.quantity.contains("§8.2.3")).collect();
+    assert_eq!(line.len(), 2, "{:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>());
+    let sixty = line.iter().find(|r| r.quantity.contains("θ_Y = 60°")).unwrap();
+    assert!(sixty.verdict.starts_with("pass ("), "{}", sixty.verdict);
+    assert!(sixty.sphlab.starts_with("56.00 → 58.00 → 59.50"), "{}", sixty.sphlab);
+    assert!(sixty.sphlab.contains("../relax-60/mode-a-line/runs/nx33-from{90,45}-line"), "{}", sixty.sphlab);
+    let hydrophobic = line.iter().find(|r| r.quantity.contains("θ_Y = 120°")).unwrap();
+    assert!(hydrophobic.quantity.ends_with("nx = 33, 65 (deg)"), "{}", hydrophobic.quantity);
+    assert!(!hydrophobic.verdict.starts_with("pass") && !hydrophobic.verdict.starts_with("FAIL"));
+    // The bands' rows take none of these runs.
+    assert!(rep.rows.iter().filter(|r| r.quantity.starts_with("Mode A Young sweep")).count() == 2);
 }

@@ -1,8 +1,9 @@
 //! Mode A's Young sweep as verdict rows of relax-60: at each Young angle, the end angle approached
 //! from above and from below (the two starts' midpoint) at nx = 33, 45 and 65, read from the
-//! committed runs of `capillary-rule/relax-60/` and `form-and-kernel/relax-60/` (started by
-//! `examples/analysis/relax_start_angle.sh`; each folder's README says how each was run) and, at
-//! 60°, the case's own two Mode A runs. Only runs of relax-60's kernel and h as the scene takes
+//! committed runs of `capillary-rule/relax-60/` and `form-and-kernel/relax-60/` (the wall bands)
+//! and `relax-60/mode-a-line/runs/` (the wall's tensions at the contact line, docs/PHYSICS.md
+//! §8.2.3), all started by `examples/analysis/relax_start_angle.sh` (each folder's README says how
+//! each was run), and, at 60°, the case's own two Mode A runs. Only runs of relax-60's kernel and h as the scene takes
 //! them now count (each run's `summary.json`), so the rows describe the case's kernel. The
 //! acceptance is the issue's: within 3° of θ_Y at nx = 65, and cos θ / cos θ_Y closer to 1 at
 //! every refinement.
@@ -15,23 +16,52 @@ use std::path::Path;
 /// The resolutions of the sweep, coarse to fine.
 const NXS: [u32; 3] = [33, 45, 65];
 
-/// One point of the sweep: its Young angle, the wall tensions, the run folder of each start
-/// (`{nx}` stands for the resolution), the starts' angles and the case's own runs of the two
-/// starts where the case has them (at its resolution).
+/// One point of the sweep: its Young angle, the wall tensions (and where they act), the run
+/// folder of each start (`{nx}` stands for the resolution), the starts' angles, the folders its
+/// runs are in (with the suffix of their names) and the case's own runs of the two starts where
+/// the case has them (at its resolution).
 struct Point {
     theta_y: f64,
     tensions: &'static str,
     run: &'static str,
     starts: [&'static str; 2],
+    sources: &'static [(&'static str, &'static str)],
+    wall_tension: &'static str,
     case_runs: Option<[&'static str; 2]>,
 }
 
-const POINTS: [Point; 4] = [
+/// Where a run's wall tensions act, as its `summary.json` records them (`bands` when the record
+/// predates the option).
+fn wall_tension_of(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    Some(v["parameters"]["contact"]["wall_tension"].as_str().unwrap_or("bands").to_string())
+}
+
+/// Whether the run in `dir` is one of point `p` at `nx`: the scene's kernel and spacing, and the
+/// point's wall tensions.
+fn of_the_point(dir: &Path, p: &Point, nx: u32) -> bool {
+    of_the_scene(dir, nx) && wall_tension_of(dir).as_deref() == Some(p.wall_tension)
+}
+
+/// Where the runs of the wall's tensions at the contact line are.
+const LINE_RUNS: [(&str, &str); 1] = [("relax-60/mode-a-line/runs", "-line")];
+
+/// How the line points name their form.
+macro_rules! at_the_line {
+    ($t:literal) => {
+        concat!($t, "; the wall's tensions at the contact line, liquid–gas free at the wall (docs/PHYSICS.md §8.2.3)")
+    };
+}
+
+const POINTS: [Point; 7] = [
     Point {
         theta_y: 41.0,
         tensions: "σ_LS = 0.245, σ_GS = 1; a box 1.5 times as wide",
         run: "nx{nx}w-a-sls0.245-from",
         starts: ["90", "30"],
+        sources: &SOURCES,
+        wall_tension: "bands",
         case_runs: None,
     },
     Point {
@@ -39,6 +69,8 @@ const POINTS: [Point; 4] = [
         tensions: "σ_LS = 0.5, σ_GS = 1 (built-in)",
         run: "nx{nx}-a-from",
         starts: ["90", "45"],
+        sources: &SOURCES,
+        wall_tension: "bands",
         case_runs: Some(["a-noslip", "a-noslip-from45"]),
     },
     Point {
@@ -46,6 +78,8 @@ const POINTS: [Point; 4] = [
         tensions: "σ_LS = 1.5, σ_GS = 1",
         run: "nx{nx}-a-sls1.5-from",
         starts: ["90", "135"],
+        sources: &SOURCES,
+        wall_tension: "bands",
         case_runs: None,
     },
     Point {
@@ -53,6 +87,35 @@ const POINTS: [Point; 4] = [
         tensions: "σ_LS = 0.5, σ_GS = 0",
         run: "nx{nx}-a-sls0.5-sgs0-from",
         starts: ["90", "135"],
+        sources: &SOURCES,
+        wall_tension: "bands",
+        case_runs: None,
+    },
+    Point {
+        theta_y: 41.0,
+        tensions: at_the_line!("σ_LS = 0.245, σ_GS = 1; a box 1.5 times as wide"),
+        run: "nx{nx}w-sls0.245-from",
+        starts: ["90", "30"],
+        sources: &LINE_RUNS,
+        wall_tension: "line",
+        case_runs: None,
+    },
+    Point {
+        theta_y: 60.0,
+        tensions: at_the_line!("σ_LS = 0.5, σ_GS = 1 (built-in)"),
+        run: "nx{nx}-from",
+        starts: ["90", "45"],
+        sources: &LINE_RUNS,
+        wall_tension: "line",
+        case_runs: None,
+    },
+    Point {
+        theta_y: 120.0,
+        tensions: at_the_line!("σ_LS = 1.5, σ_GS = 1"),
+        run: "nx{nx}-sls1.5-from",
+        starts: ["90", "135"],
+        sources: &LINE_RUNS,
+        wall_tension: "line",
         case_runs: None,
     },
 ];
@@ -61,7 +124,8 @@ const POINTS: [Point; 4] = [
 /// the first source with both runs of the scene's kernel (None when none has them).
 fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
     let dir = p.run.replace("{nx}", &nx.to_string());
-    let mut sources: Vec<([std::path::PathBuf; 2], String)> = SOURCES
+    let mut sources: Vec<([std::path::PathBuf; 2], String)> = p
+        .sources
         .iter()
         .map(|(src, suffix)| {
             let at = |start: &str| root.join(src).join(format!("{dir}{start}{suffix}"));
@@ -74,7 +138,7 @@ fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
         sources.push(([runs.join(ids[0]), runs.join(ids[1])], format!("runs/{}, runs/{}", ids[0], ids[1])));
     }
     sources.into_iter().find_map(|(dirs, cite)| {
-        if !dirs.iter().all(|d| of_the_scene(d, nx)) {
+        if !dirs.iter().all(|d| of_the_point(d, p, nx)) {
             return None;
         }
         Some((0.5 * (end_angle(&dirs[0])? + end_angle(&dirs[1])?), cite))
@@ -86,7 +150,7 @@ fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
 /// start.
 fn realisations(root: &Path, p: &Point, nx: u32) -> Option<(f64, f64, usize)> {
     let dir = p.run.replace("{nx}", &nx.to_string());
-    SOURCES.iter().find_map(|(src, suffix)| {
+    p.sources.iter().find_map(|(src, suffix)| {
         let per_start: Vec<Vec<f64>> = p
             .starts
             .iter()
@@ -94,7 +158,7 @@ fn realisations(root: &Path, p: &Point, nx: u32) -> Option<(f64, f64, usize)> {
                 SEEDS
                     .iter()
                     .map(|&k| root.join(src).join(format!("{dir}{start}{suffix}{}", scatter_suffix(k))))
-                    .filter(|d| of_the_scene(d, nx))
+                    .filter(|d| of_the_point(d, p, nx))
                     .filter_map(|d| end_angle(&d))
                     .collect()
             })
