@@ -4,6 +4,8 @@
 //! differ from a wall with no tension at all (σ_LS = σ_GS) by σ_GS − σ_LS outwards within the
 //! kernel's reach of the contact point and nowhere else, fluid far from the walls feels what it
 //! feels beside the wall bands, and the combinations that mean nothing are refused by name.
+//! Spread over the liquid–gas interface where the wall's kernel reach cuts it (§8.2.4), the same
+//! force acts only on fluid particles of that band near the wall, and still sums to σ_GS − σ_LS.
 
 use sphlab::cpu::momentum::PairTerm;
 use sphlab::cpu::CpuSolver;
@@ -11,15 +13,20 @@ use sphlab::exec::Exec;
 use sphlab::forces::balance::{split_forces, Partner, TERMS};
 use sphlab::neighbours::SearchKind;
 use sphlab::scene::build::build_layout;
-use sphlab::scene::{builtin, ContactMode, LiquidGasAtWall, Scene, WallTension};
+use sphlab::scene::{builtin, ContactMode, LineForceSpread, LiquidGasAtWall, Scene, WallTension};
 
 fn scene(tension: WallTension, sigma_ls: f64) -> Scene {
+    spread_scene(tension, sigma_ls, LineForceSpread::Kernel)
+}
+
+fn spread_scene(tension: WallTension, sigma_ls: f64, spread: LineForceSpread) -> Scene {
     let mut sc = builtin::builtin("relax-60").unwrap();
     sc.domain.nx = 21;
     sc.contact.mode = ContactMode::A;
     sc.contact.sigma_ls = sigma_ls;
     sc.contact.liquid_gas_at_wall = LiquidGasAtWall::Free;
     sc.contact.wall_tension = tension;
+    sc.contact.line_force_spread = spread;
     sc.validate().unwrap();
     sc
 }
@@ -96,4 +103,30 @@ fn meaningless_combinations_are_refused_by_name() {
     sc.contact.wall_tension = WallTension::Line;
     let e = sc.validate().unwrap_err().to_string();
     assert!(e.contains("contact.wall_tension"), "{e}");
+}
+
+#[test]
+fn spread_over_the_interface_the_pull_acts_on_the_band_at_the_wall_alone() {
+    let on = evaluated(&spread_scene(WallTension::Line, 0.5, LineForceSpread::Interface));
+    let neutral = evaluated(&spread_scene(WallTension::Line, 1.0, LineForceSpread::Interface));
+    let (support, y_w) = (on.model.support(), on.model.y_wall);
+    let cp = on.f.contacts[0].r;
+    let (mut sum, mut pushed, mut stray) = (0.0, 0, 0);
+    for i in 0..on.n_fluid {
+        let d = on.f.acc[i].x - neutral.f.acc[i].x;
+        assert_eq!(on.f.acc[i].y, neutral.f.acc[i].y, "particle {i}: a y part");
+        sum += on.f.mass[i] * d;
+        if d != 0.0 {
+            pushed += 1;
+            let near_wall = on.pos[i].y - y_w < support;
+            let near_point = (on.pos[i] - cp).norm() < 2.0 * support;
+            let on_band = on.f.grad[i].iter().any(|g| g.norm() > 0.0);
+            if !(near_wall && near_point && on_band) {
+                stray += 1;
+            }
+        }
+    }
+    assert!((sum - 0.5).abs() < 1e-12, "Σ m Δa_x = {sum}, want σ_GS − σ_LS = 0.5");
+    assert!(pushed >= 4, "the pull acts on {pushed} particles");
+    assert_eq!(stray, 0, "the pull reached particles off the band at the wall near the contact point");
 }

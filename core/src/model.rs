@@ -6,8 +6,8 @@
 use crate::physics::kernel::{kernel_w, lattice_sum, KernelKind, KernelParams};
 use crate::real::{Real, Sym2, V2};
 use crate::scene::{
-    ColourGradient, ContactMode, LiquidGasAtWall, Scene, Side, StressForm, ViscousForm, WallPressure, WallTension,
-    WallVelocity,
+    ColourGradient, ContactMode, LineForceSpread, LiquidGasAtWall, Scene, Side, StressForm, ViscousForm, WallPressure,
+    WallTension, WallVelocity,
 };
 
 /// Number of colours: fluid phases 0 and 1, and the wall phase S (Mode A).
@@ -229,6 +229,8 @@ pub struct Model<T> {
     /// Mode A with `contact.liquid_gas_at_wall = "free"`: fluid–wall pairs leave out the
     /// liquid–gas part of the fluid's tensor (§8.2.2).
     pub liquid_gas_free_at_wall: bool,
+    /// How the contact-line force is shared near each contact point (§8.2.4).
+    pub line_force_spread: LineForceSpread,
     /// θ_d in radians.
     pub theta: T,
     /// Contact band height (× Δx).
@@ -406,6 +408,7 @@ impl<T: Real> Model<T> {
             liquid_gas_free_at_wall: surface
                 && scene.contact.mode == ContactMode::A
                 && scene.contact.liquid_gas_at_wall == LiquidGasAtWall::Free,
+            line_force_spread: scene.contact.line_force_spread,
             theta: T::c(scene.contact.theta_deg.to_radians()),
             band: T::c(scene.contact.band * dx),
             y_wall: T::c(d.y[0]),

@@ -2,7 +2,7 @@
 //! acceleration (pressure, viscosity, surface stress, walls, background pressure), the
 //! Lennard-Jones boundary repulsion, and XSPH; named as their stages of [`crate::stage::TABLE`].
 
-use super::line_force::{line_force_acc, line_force_norms};
+use super::line_force::{line_force_acc, line_force_weights};
 use super::stages::{colour_slot, Ctx};
 use crate::exec;
 use crate::fields::Fields;
@@ -158,7 +158,7 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
     let fr = &*f;
     let line = m.line_force != T::zero() && !fr.contacts.is_empty();
-    let norms = if line { line_force_norms(c, &fr.contacts) } else { Vec::new() };
+    let weights = if line { line_force_weights(c, fr) } else { Vec::new() };
     let out: Vec<(V2<T>, V2<T>)> = exec::map(c.exec, c.n_fluid, |i| {
         let (mut sum, mut shift) = (V2::zero(), V2::zero());
         acceleration_pairs(c, fr, i, |_, _, term, v| match term {
@@ -170,7 +170,7 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             a += lennard_jones(m, c.pos[i]);
         }
         if line {
-            a += line_force_acc(c, &fr.contacts, &norms, i, fr.mass[i]);
+            a += line_force_acc(c, &fr.contacts, &weights, i, fr.mass[i]);
         }
         (a, shift / fr.mass[i])
     });

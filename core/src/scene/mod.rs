@@ -16,7 +16,7 @@ mod walls;
 pub mod wave;
 
 pub use viscosity::ViscousForm;
-pub use walls::{Contact, ContactMode, LiquidGasAtWall, WallPressure, WallTension, WallVelocity, Walls};
+pub use walls::*;
 pub use wave::InterfaceWave;
 
 use crate::physics::kernel::KernelKind;

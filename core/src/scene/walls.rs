@@ -41,6 +41,21 @@ pub struct Contact {
     /// (`bands`, default) or as the line force σ_GS − σ_LS at each contact point alone (`line`).
     #[serde(default)]
     pub wall_tension: WallTension,
+    /// Mode A's contact-line force: how it is shared among the fluid particles near each contact
+    /// point (docs/PHYSICS.md §8.2.4).
+    #[serde(default)]
+    pub line_force_spread: LineForceSpread,
+}
+
+/// Mode A: how the contact-line force is shared near each contact point (docs/PHYSICS.md §8.2.4).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum LineForceSpread {
+    /// By the kernel of the distance to the contact point (§8.2.1).
+    #[default]
+    Kernel,
+    /// By the liquid–gas colour gradient times the wall's kernel sum, within two supports.
+    Interface,
 }
 
 /// Mode A: where the wall's two tensions act (docs/PHYSICS.md §8.2.3).
@@ -89,6 +104,7 @@ impl Default for Contact {
             line_force: false,
             liquid_gas_at_wall: LiquidGasAtWall::Shared,
             wall_tension: WallTension::Bands,
+            line_force_spread: LineForceSpread::Kernel,
         }
     }
 }
