@@ -408,11 +408,42 @@ fn the_line_forms_sweep_has_its_own_rows_from_its_own_runs() {
         line_run(root, &format!("nx{nx}-sls1.5-from90-line"), nx, from90, a);
         line_run(root, &format!("nx{nx}-sls1.5-from135-line"), nx, "line", b);
     }
+    // 41° at the line, in its wider box: within 3° and converging by the circle fit, but the
+    // start from 90° is a film whose contact point moves 0.2 (26Δx at nx = 65) over t ∈ [3, 5].
+    for (nx, a, b) in [(33, 43.0, 42.0), (45, 42.5, 41.5), (65, 42.0, 41.0)] {
+        for (start, theta) in [("90", a), ("30", b)] {
+            let name = format!("nx{nx}w-sls0.245-from{start}-line");
+            line_run(root, &name, nx, "line", theta);
+            let dir = root.join("relax-60/mode-a-line/runs").join(&name);
+            let mut v: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+            let cells = (3 * nx).div_ceil(2);
+            v["parameters"]["domain"] =
+                serde_json::json!({ "x": [0.0, 0.5 * f64::from(cells) / f64::from(nx)], "nx": cells });
+            std::fs::write(dir.join("summary.json"), v.to_string()).unwrap();
+            let mut w = csv::Writer::from_path(dir.join("series.csv")).unwrap();
+            for (t, x) in [(3.0, 0.4), (4.4, 0.5), (4.9, if start == "90" && nx == 65 { 0.6 } else { 0.41 })] {
+                let row = crate::run::SeriesRow {
+                    t,
+                    theta_circle_fit: Some(theta),
+                    spread_factor: Some(1.7),
+                    x_tp: Some(x),
+                    ..Default::default()
+                };
+                w.serialize(row).unwrap();
+            }
+            w.flush().unwrap();
+        }
+    }
     let opts = ValidateOptions { out: root.to_path_buf(), ..ValidateOptions::default() };
     let mut rep = report("relax-60", Vec::new());
     judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
     let line: Vec<&Row> = rep.rows.iter().filter(|r| r.quantity.contains("§8.2.3")).collect();
-    assert_eq!(line.len(), 2, "{:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>());
+    assert_eq!(line.len(), 3, "{:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>());
+    let wide = line.iter().find(|r| r.quantity.contains("θ_Y = 41°")).unwrap();
+    assert!(wide.verdict.starts_with("FAIL ("), "{}", wide.verdict);
+    assert!(wide.sphlab.contains("not an equilibrium: at nx = 65 the contact point moved 26.0Δx"), "{}", wide.sphlab);
+    assert!(!wide.sphlab.contains("at nx = 33 the contact point"), "0.01 at nx = 33 is stopped: {}", wide.sphlab);
     let sixty = line.iter().find(|r| r.quantity.contains("θ_Y = 60°")).unwrap();
     assert!(sixty.verdict.starts_with("pass ("), "{}", sixty.verdict);
     assert!(sixty.sphlab.starts_with("56.00 → 58.00 → 59.50"), "{}", sixty.sphlab);
@@ -421,5 +452,5 @@ fn the_line_forms_sweep_has_its_own_rows_from_its_own_runs() {
     assert!(hydrophobic.quantity.ends_with("nx = 33, 65 (deg)"), "{}", hydrophobic.quantity);
     assert!(!hydrophobic.verdict.starts_with("pass") && !hydrophobic.verdict.starts_with("FAIL"));
     // The bands' rows take none of these runs.
-    assert!(rep.rows.iter().filter(|r| r.quantity.starts_with("Mode A Young sweep")).count() == 2);
+    assert!(rep.rows.iter().filter(|r| r.quantity.starts_with("Mode A Young sweep")).count() == 3);
 }

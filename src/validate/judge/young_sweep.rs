@@ -8,6 +8,7 @@
 //! acceptance is the issue's: within 3° of θ_Y at nx = 65, and cos θ / cos θ_Y closer to 1 at
 //! every refinement.
 
+use super::super::data::{col, read_series, window_stats};
 use super::super::report::{CaseReport, Row};
 use super::super::scatter::{pooled_sd, stats, suffix as scatter_suffix, JITTER, SEEDS};
 use super::{end_angle, falls, of_the_scene, ANGLE_TOL_DEG, RELAX_RUN_SOURCES as SOURCES};
@@ -120,9 +121,25 @@ const POINTS: [Point; 7] = [
     },
 ];
 
-/// The two starts' midpoint at `nx` and where its runs are (relative to the case's folder), from
-/// the first source with both runs of the scene's kernel (None when none has them).
-fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
+/// How far a start's contact point moved over t ∈ [3, 5], in particle spacings: the mean x_tp
+/// over [4.8, 5.0] less that over [2.9, 3.1]. More than [`MOVING_DX`] and the end angle is
+/// not an equilibrium (a line still spreading, e.g. as a film along the wall).
+fn drift_dx(dir: &Path) -> Option<f64> {
+    let v = super::super::report::summary_at(dir)?;
+    let d = &v["parameters"]["domain"];
+    let spacing = (d["x"][1].as_f64()? - d["x"][0].as_f64()?) / d["nx"].as_f64()?;
+    let x = col(&read_series(dir), |r| r.x_tp);
+    Some((window_stats(&x, 4.8, 5.0)?.0 - window_stats(&x, 2.9, 3.1)?.0).abs() / spacing)
+}
+
+/// The contact point's largest drift over t ∈ [3, 5] (in Δx) that still counts as stopped.
+const MOVING_DX: f64 = 2.0;
+
+/// The two starts' midpoint at `nx`, where its runs are (relative to the case's folder) and the
+/// larger of the starts' contact-point drifts over t ∈ [3, 5] (in Δx, zero when the series has no
+/// x_tp there), from the first source with both runs of the scene's kernel (None when none has
+/// them).
+fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String, f64)> {
     let dir = p.run.replace("{nx}", &nx.to_string());
     let mut sources: Vec<([std::path::PathBuf; 2], String)> = p
         .sources
@@ -141,7 +158,8 @@ fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String)> {
         if !dirs.iter().all(|d| of_the_point(d, p, nx)) {
             return None;
         }
-        Some((0.5 * (end_angle(&dirs[0])? + end_angle(&dirs[1])?), cite))
+        let drift = dirs.iter().filter_map(|d| drift_dx(d)).fold(0.0, f64::max);
+        Some((0.5 * (end_angle(&dirs[0])? + end_angle(&dirs[1])?), cite, drift))
     })
 }
 
@@ -178,9 +196,9 @@ pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
     const HEAD: &str = "Mode A Young sweep, θ_Y = ";
     rep.rows.retain(|r| !r.quantity.starts_with(HEAD));
     for p in &POINTS {
-        let found: Vec<(u32, f64, String)> =
-            NXS.iter().filter_map(|&nx| midpoint(root, p, nx).map(|(m, cite)| (nx, m, cite))).collect();
-        let Some((nx_fine, fine, _)) = found.last().cloned() else {
+        let found: Vec<(u32, f64, String, f64)> =
+            NXS.iter().filter_map(|&nx| midpoint(root, p, nx).map(|(m, cite, drift)| (nx, m, cite, drift))).collect();
+        let Some((nx_fine, fine, _, _)) = found.last().cloned() else {
             continue;
         };
         let cos_y = p.theta_y.to_radians().cos();
@@ -213,15 +231,30 @@ pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
                 real.join(", ")
             )
         };
-        let text =
-            format!("{} (cos θ / cos θ_Y {}; {}{real})", angles.join(" → "), ratios.join(" → "), cites.join("; "));
+        let moving: Vec<String> = found
+            .iter()
+            .filter(|f| f.3 > MOVING_DX)
+            .map(|f| format!("at nx = {} the contact point moved {:.1}Δx over t ∈ [3, 5]", f.0, f.3))
+            .collect();
+        let moving_text = if moving.is_empty() {
+            String::new()
+        } else {
+            format!("; not an equilibrium: {} (a line still spreading)", moving.join(", "))
+        };
+        let text = format!(
+            "{} (cos θ / cos θ_Y {}; {}{real}{moving_text})",
+            angles.join(" → "),
+            ratios.join(" → "),
+            cites.join("; ")
+        );
         let row = Row::new(&quantity, fine, 2, None, Some(p.theta_y)).sphlab_text(text);
         let row = if found.len() == NXS.len() && nx_fine == NXS[NXS.len() - 1] {
             let off: Vec<f64> = ratio.iter().map(|r| (1.0 - r).abs()).collect();
             row.check(
-                (fine - p.theta_y).abs() < ANGLE_TOL_DEG && falls(&off),
-                "within 3° of Young's angle at nx = 65, and cos θ / cos θ_Y closer to 1 at every refinement; \
-                 one realisation per start where no realisations are named (the runs' folders' README.md)",
+                (fine - p.theta_y).abs() < ANGLE_TOL_DEG && falls(&off) && moving.is_empty(),
+                "within 3° of Young's angle at nx = 65, and cos θ / cos θ_Y closer to 1 at every refinement, \
+                 every start's contact point stopped (moved at most 2Δx over t ∈ [3, 5]); one realisation per \
+                 start where no realisations are named (the runs' folders' README.md)",
             )
         } else {
             row
