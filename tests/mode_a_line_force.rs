@@ -3,6 +3,8 @@
 //! alone, in x, within the kernel's reach of the contact point, and its forces sum to
 //! `(1 − s_w)(σ_GS − σ_LS)` outwards; with σ_LS = σ_GS there is none.
 
+mod common;
+
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::model::WALL_BAND_SHARE;
@@ -31,16 +33,7 @@ fn difference(sigma_ls: f64) -> (Vec<f64>, [f64; 2], f64) {
     };
     let (on, off) = (run(true), run(false));
     assert!(off.f.contacts.is_empty(), "the bands alone need no contact points");
-    let support = on.model.support();
-    let (mut sum, mut beyond) = ([0.0; 2], 0.0f64);
-    for i in 0..on.n_fluid {
-        let d = [on.f.acc[i].x - off.f.acc[i].x, on.f.acc[i].y - off.f.acc[i].y];
-        if on.f.contacts.iter().all(|cp| (on.pos[i] - cp.r).norm() >= support) {
-            beyond = beyond.max(d[0].abs().max(d[1].abs()));
-        }
-        sum[0] += on.f.mass[i] * d[0];
-        sum[1] += on.f.mass[i] * d[1];
-    }
+    let (sum, beyond) = common::line_force_difference(&on, &off);
     (on.f.contacts.iter().map(|c| c.s).collect(), sum, beyond)
 }
 

@@ -8,6 +8,8 @@
 //! force acts only on fluid particles of that band near the wall, and still sums to σ_GS − σ_LS.
 
 use sphlab::cpu::momentum::PairTerm;
+mod common;
+
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::forces::balance::{split_forces, Partner, TERMS};
@@ -58,16 +60,7 @@ fn the_whole_wall_pull_acts_at_the_contact_point_and_nowhere_else() {
     let (on, neutral) = (evaluated(&scene(WallTension::Line, 0.5)), evaluated(&scene(WallTension::Line, 1.0)));
     assert_eq!(on.f.contacts.iter().map(|c| c.s).collect::<Vec<_>>(), vec![1.0], "one contact point, liquid on −x");
     assert!(neutral.f.contacts.is_empty(), "σ_LS = σ_GS: no line force, no contact point searched for");
-    let support = on.model.support();
-    let (mut sum, mut beyond) = ([0.0; 2], 0.0f64);
-    for i in 0..on.n_fluid {
-        let d = [on.f.acc[i].x - neutral.f.acc[i].x, on.f.acc[i].y - neutral.f.acc[i].y];
-        if on.f.contacts.iter().all(|cp| (on.pos[i] - cp.r).norm() >= support) {
-            beyond = beyond.max(d[0].abs().max(d[1].abs()));
-        }
-        sum[0] += on.f.mass[i] * d[0];
-        sum[1] += on.f.mass[i] * d[1];
-    }
+    let (sum, beyond) = common::line_force_difference(&on, &neutral);
     assert!((sum[0] - 0.5).abs() < 1e-12, "Σ m Δa_x = {}, want σ_GS − σ_LS = 0.5", sum[0]);
     assert_eq!(sum[1], 0.0, "the line force has a y part");
     assert_eq!(beyond, 0.0, "the wall tensions reached particles beyond the contact point's support");

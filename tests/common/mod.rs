@@ -302,3 +302,21 @@ pub fn scene(name: &str, sets: &[&str]) -> (sphlab::scene::Scene, sphlab::scene:
     l.vel[..l.n_fluid].copy_from_slice(&v);
     (s, l)
 }
+
+/// Mode A's contact-line force as the difference of two evaluations of the same state, `on`
+/// with it and `off` without: `Σ m_i (a_on − a_off)` over the fluid, and the largest component
+/// of `a_on − a_off` on a fluid particle at least the support away from every contact point of
+/// `on` (zero when the force stays within its reach).
+pub fn line_force_difference(on: &CpuSolver<f64>, off: &CpuSolver<f64>) -> ([f64; 2], f64) {
+    let support = on.model.support();
+    let (mut sum, mut beyond) = ([0.0; 2], 0.0f64);
+    for i in 0..on.n_fluid {
+        let d = [on.f.acc[i].x - off.f.acc[i].x, on.f.acc[i].y - off.f.acc[i].y];
+        if on.f.contacts.iter().all(|cp| (on.pos[i] - cp.r).norm() >= support) {
+            beyond = beyond.max(d[0].abs().max(d[1].abs()));
+        }
+        sum[0] += on.f.mass[i] * d[0];
+        sum[1] += on.f.mass[i] * d[1];
+    }
+    (sum, beyond)
+}
