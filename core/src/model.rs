@@ -312,6 +312,35 @@ fn holmes_floor(kind: KernelKind, h: f64, dx: f64) -> f64 {
     fl / all - 0.5
 }
 
+/// σ between colours (0, 1 fluids; 2 the wall in Mode A with its bands, §8.2): σ_LG between the
+/// two fluids, σ_LS and σ_GS with the wall unless `contact.wall_tension = "line"` (§8.2.3).
+fn colour_tensions<T: Real>(scene: &Scene, st: f64) -> [[T; N_COLOURS]; N_COLOURS] {
+    let mut sigma = [[T::zero(); N_COLOURS]; N_COLOURS];
+    if scene.phases.len() == 2 {
+        sigma[0][1] = T::c(st);
+        sigma[1][0] = T::c(st);
+    }
+    let c = &scene.contact;
+    if c.mode == ContactMode::A && c.wall_tension == WallTension::Bands {
+        sigma[0][2] = T::c(c.sigma_ls);
+        sigma[2][0] = T::c(c.sigma_ls);
+        sigma[1][2] = T::c(c.sigma_gs);
+        sigma[2][1] = T::c(c.sigma_gs);
+    }
+    sigma
+}
+
+/// Mode A's contact-line force per unit length: the whole σ_GS − σ_LS without the wall bands
+/// (§8.2.3), the part `(1 − s_w)` of it beside them when `contact.line_force` (§8.2.1), else 0.
+fn contact_line_force(c: &crate::scene::Contact) -> f64 {
+    let wall_pull = c.sigma_gs - c.sigma_ls;
+    match (c.mode == ContactMode::A, c.wall_tension) {
+        (true, WallTension::Line) => wall_pull,
+        (true, WallTension::Bands) if c.line_force => (1.0 - WALL_BAND_SHARE) * wall_pull,
+        _ => 0.0,
+    }
+}
+
 impl<T: Real> Model<T> {
     /// Derives the constants of a validated scene.
     pub fn new(scene: &Scene) -> Self {
@@ -336,18 +365,7 @@ impl<T: Real> Model<T> {
             })
             .collect();
         let st = scene.surface_tension.as_ref().map_or(0.0, |s| s.sigma);
-        let mut sigma = [[T::zero(); N_COLOURS]; N_COLOURS];
-        if scene.phases.len() == 2 {
-            sigma[0][1] = T::c(st);
-            sigma[1][0] = T::c(st);
-        }
-        let wall_bands = scene.contact.wall_tension == WallTension::Bands;
-        if scene.contact.mode == ContactMode::A && wall_bands {
-            sigma[0][2] = T::c(scene.contact.sigma_ls);
-            sigma[2][0] = T::c(scene.contact.sigma_ls);
-            sigma[1][2] = T::c(scene.contact.sigma_gs);
-            sigma[2][1] = T::c(scene.contact.sigma_gs);
-        }
+        let sigma = colour_tensions(scene, st);
         let d = &scene.domain;
         let mut walls = Vec::new();
         let mut push = |side: Side, axis, coord: f64, sign: f64| {
@@ -373,12 +391,7 @@ impl<T: Real> Model<T> {
         let surface = st > 0.0 && scene.phases.len() == 2;
         let tension = scene.surface_tension.as_ref().filter(|_| surface);
         let mode_b = surface && scene.contact.mode == ContactMode::B;
-        let wall_pull = scene.contact.sigma_gs - scene.contact.sigma_ls;
-        let line_force = match (surface && scene.contact.mode == ContactMode::A, wall_bands) {
-            (true, false) => wall_pull,
-            (true, true) if scene.contact.line_force => (1.0 - WALL_BAND_SHARE) * wall_pull,
-            _ => 0.0,
-        };
+        let line_force = if surface { contact_line_force(&scene.contact) } else { 0.0 };
         let stages = ActiveStages {
             holmes_chi: scene.walls.velocity == WallVelocity::Holmes && !walls.is_empty(),
             contact_line: mode_b || line_force != 0.0,
