@@ -405,12 +405,16 @@ pub(super) fn of_the_scene(dir: &Path, nx: u32) -> bool {
     else {
         return false;
     };
-    let d = &v["parameters"]["domain"];
-    let spacing = || Some((d["x"][1].as_f64()? - d["x"][0].as_f64()?) / d["nx"].as_f64()?);
     let want = (scene.domain.x[1] - scene.domain.x[0]) / f64::from(nx);
     v["scene"] == "relax-60"
         && v["parameters"]["kernel"] == now
-        && spacing().is_some_and(|s| (s - want).abs() <= 1e-9 * want)
+        && run_spacing(&v).is_some_and(|s| (s - want).abs() <= 1e-9 * want)
+}
+
+/// The particle spacing across x of a run, from its summary.json's domain.
+pub(super) fn run_spacing(summary: &serde_json::Value) -> Option<f64> {
+    let d = &summary["parameters"]["domain"];
+    Some((d["x"][1].as_f64()? - d["x"][0].as_f64()?) / d["nx"].as_f64()?)
 }
 
 /// The circle-fit angle of the committed run in `dir`, mean over relax-60's end window

@@ -9,9 +9,10 @@
 //! every refinement.
 
 use super::super::data::{col, read_series, window_stats};
+use super::super::report::summary_at;
 use super::super::report::{CaseReport, Row};
 use super::super::scatter::{pooled_sd, stats, suffix as scatter_suffix, JITTER, SEEDS};
-use super::{end_angle, falls, of_the_scene, ANGLE_TOL_DEG, RELAX_RUN_SOURCES as SOURCES};
+use super::{end_angle, falls, of_the_scene, run_spacing, ANGLE_TOL_DEG, RELAX_RUN_SOURCES as SOURCES};
 use std::path::Path;
 
 /// The resolutions of the sweep, coarse to fine.
@@ -34,8 +35,7 @@ struct Point {
 /// Where a run's wall tensions act, as its `summary.json` records them (`bands` when the record
 /// predates the option).
 fn wall_tension_of(dir: &Path) -> Option<String> {
-    let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
-    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let v = summary_at(dir)?;
     Some(v["parameters"]["contact"]["wall_tension"].as_str().unwrap_or("bands").to_string())
 }
 
@@ -125,9 +125,7 @@ const POINTS: [Point; 7] = [
 /// over [4.8, 5.0] less that over [2.9, 3.1]. More than [`MOVING_DX`] and the end angle is
 /// not an equilibrium (a line still spreading, e.g. as a film along the wall).
 fn drift_dx(dir: &Path) -> Option<f64> {
-    let v = super::super::report::summary_at(dir)?;
-    let d = &v["parameters"]["domain"];
-    let spacing = (d["x"][1].as_f64()? - d["x"][0].as_f64()?) / d["nx"].as_f64()?;
+    let spacing = run_spacing(&summary_at(dir)?)?;
     let x = col(&read_series(dir), |r| r.x_tp);
     Some((window_stats(&x, 4.8, 5.0)?.0 - window_stats(&x, 2.9, 3.1)?.0).abs() / spacing)
 }
