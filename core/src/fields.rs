@@ -106,6 +106,9 @@ pub struct Fields<T> {
     pub contacts: Vec<ContactPoint<T>>,
     /// Contact points found beyond [`crate::model::MAX_CONTACTS`] in the last evaluation.
     pub contact_overflow: usize,
+    /// cos θ_d measured at each contact point, in the order of `contacts` (Mode A with
+    /// `contact.wall_tension = "unbalanced"`, CPU only; empty otherwise).
+    pub contact_cos: Vec<T>,
     /// Background-pressure shift acceleration a_b of the fluids (transport-velocity formulation,
     /// CPU only; empty otherwise): the drift moves with ṽ + (dt/2)·a_b.
     pub shift: Vec<V2<T>>,
@@ -132,6 +135,7 @@ impl<T: Real> Fields<T> {
             vt: vec![V2::zero(); n],
             contacts: Vec::new(),
             contact_overflow: 0,
+            contact_cos: Vec::new(),
             shift: Vec::new(),
             shift_dv: Vec::new(),
         }

@@ -231,6 +231,9 @@ pub struct Model<T> {
     pub liquid_gas_free_at_wall: bool,
     /// How the contact-line force is shared near each contact point (§8.2.4).
     pub line_force_spread: LineForceSpread,
+    /// Mode A with `contact.wall_tension = "unbalanced"` (§8.2.5): walls typed at each contact
+    /// point's measured angle θ_d, and `σ_LG cos θ_d` taken from the line force there.
+    pub young_unbalanced: bool,
     /// θ_d in radians.
     pub theta: T,
     /// Contact band height (× Δx).
@@ -331,11 +334,11 @@ fn colour_tensions<T: Real>(scene: &Scene, st: f64) -> [[T; N_COLOURS]; N_COLOUR
 }
 
 /// Mode A's contact-line force per unit length: the whole σ_GS − σ_LS without the wall bands
-/// (§8.2.3), the part `(1 − s_w)` of it beside them when `contact.line_force` (§8.2.1), else 0.
+/// (§8.2.3; §8.2.5 takes σ_LG cos θ_d of each contact point from it), the part `(1 − s_w)` of it beside them when `contact.line_force` (§8.2.1), else 0.
 fn contact_line_force(c: &crate::scene::Contact) -> f64 {
     let wall_pull = c.sigma_gs - c.sigma_ls;
     match (c.mode == ContactMode::A, c.wall_tension) {
-        (true, WallTension::Line) => wall_pull,
+        (true, WallTension::Line | WallTension::Unbalanced) => wall_pull,
         (true, WallTension::Bands) if c.line_force => (1.0 - WALL_BAND_SHARE) * wall_pull,
         _ => 0.0,
     }
@@ -392,13 +395,16 @@ impl<T: Real> Model<T> {
         let tension = scene.surface_tension.as_ref().filter(|_| surface);
         let mode_b = surface && scene.contact.mode == ContactMode::B;
         let line_force = if surface { contact_line_force(&scene.contact) } else { 0.0 };
+        let young_unbalanced =
+            surface && scene.contact.mode == ContactMode::A && scene.contact.wall_tension == WallTension::Unbalanced;
+        let typed = mode_b || young_unbalanced;
         let stages = ActiveStages {
             holmes_chi: scene.walls.velocity == WallVelocity::Holmes && !walls.is_empty(),
-            contact_line: mode_b || line_force != 0.0,
-            wall_typing: mode_b && scene.contact.wall_typing,
+            contact_line: typed || line_force != 0.0,
+            wall_typing: typed && scene.contact.wall_typing,
             wall_pressure: scene.walls.pressure == WallPressure::RWall && !walls.is_empty(),
             surface_tension: surface,
-            normal_correction: mode_b && scene.contact.normal_correction,
+            normal_correction: typed && scene.contact.normal_correction,
             viscosity: scene.phases.iter().any(|p| p.mu > 0.0),
             lennard_jones: scene.walls.lj_strength > 0.0 && !walls.is_empty(),
             xsph: scene.time.xsph > 0.0,
@@ -422,6 +428,7 @@ impl<T: Real> Model<T> {
                 && scene.contact.mode == ContactMode::A
                 && scene.contact.liquid_gas_at_wall == LiquidGasAtWall::Free,
             line_force_spread: scene.contact.line_force_spread,
+            young_unbalanced,
             theta: T::c(scene.contact.theta_deg.to_radians()),
             band: T::c(scene.contact.band * dx),
             y_wall: T::c(d.y[0]),

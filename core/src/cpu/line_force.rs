@@ -1,6 +1,6 @@
-//! Mode A's contact-line force (docs/PHYSICS.md §8.2.1, §8.2.3): a force `F` per unit length along
-//! the wall at each contact point, `(1 − s_w)(σ_GS − σ_LS)` beside the wall bands or the whole
-//! `σ_GS − σ_LS` without them, shared among fluid particles near the contact point by weights
+//! Mode A's contact-line force (docs/PHYSICS.md §8.2.1, §8.2.3, §8.2.5): a force `F` per unit
+//! length along the wall at each contact point, `(1 − s_w)(σ_GS − σ_LS)` beside the wall bands,
+//! the whole `σ_GS − σ_LS` without them, or the unbalanced `σ_GS − σ_LS − σ_LG cos θ_d`, shared among fluid particles near the contact point by weights
 //! that sum to one (`contact.line_force_spread`): the kernel of the distance to the point, or
 //! the liquid–gas interface where it meets the wall. CPU only (the GPU refuses a scene where it
 //! is non-zero).
@@ -52,20 +52,24 @@ pub fn line_force_weights<T: Real>(c: &Ctx<T>, f: &Fields<T>) -> Vec<Vec<T>> {
         .collect()
 }
 
-/// The line-force acceleration of fluid particle `i`: `a_i = Σ_cp F s_cp x̂ w_i^cp / m_i`, with
-/// `F` = `model.line_force`, `w^cp` the normalised weights of [`line_force_weights`] and
-/// `s_cp = +1` when the liquid lies on the −x side (so `F > 0` pulls the liquid outwards). The
-/// forces of one contact point sum to `F s_cp x̂`.
-pub fn line_force_acc<T: Real>(
-    c: &Ctx<T>,
-    contacts: &[ContactPoint<T>],
-    weights: &[Vec<T>],
-    i: usize,
-    mass: T,
-) -> V2<T> {
-    let mut a = V2::zero();
-    for (cp, w) in contacts.iter().zip(weights) {
-        a += V2::new(c.m.line_force * cp.s * w[i], T::zero());
+/// The line force at contact point `k`: `model.line_force`, less `σ_LG cos θ_d` of the angle
+/// measured there under the unbalanced Young force (§8.2.5).
+#[inline(always)]
+pub fn line_force_at<T: Real>(c: &Ctx<T>, f: &Fields<T>, k: usize) -> T {
+    match f.contact_cos.get(k) {
+        Some(&cos) => c.m.line_force - c.m.sigma[0][1] * cos,
+        None => c.m.line_force,
     }
-    a / mass
+}
+
+/// The line-force acceleration of fluid particle `i`: `a_i = Σ_cp F_cp s_cp x̂ w_i^cp / m_i`,
+/// with `F_cp` of [`line_force_at`], `w^cp` the normalised weights of [`line_force_weights`] and
+/// `s_cp = +1` when the liquid lies on the −x side (so `F > 0` pulls the liquid outwards). The
+/// forces of one contact point sum to `F_cp s_cp x̂`.
+pub fn line_force_acc<T: Real>(c: &Ctx<T>, f: &Fields<T>, weights: &[Vec<T>], i: usize) -> V2<T> {
+    let mut a = V2::zero();
+    for (k, (cp, w)) in f.contacts.iter().zip(weights).enumerate() {
+        a += V2::new(line_force_at(c, f, k) * cp.s * w[i], T::zero());
+    }
+    a / f.mass[i]
 }

@@ -2,6 +2,7 @@
 //! stages of the stage table ([`crate::stage`]; functions in [`stages`]) in the order of docs/PHYSICS.md §12, in `f64` or `f32`, on all cores or one
 //! thread, with any of the three neighbour searches (identical results).
 
+pub mod contact_angle;
 pub mod line_force;
 pub mod momentum;
 pub mod stages;

@@ -157,7 +157,7 @@ fn tensor_towards_wall<T: Real>(m: &Model<T>, fr: &Fields<T>, i: usize) -> (Sym2
 pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     let m = c.m;
     let fr = &*f;
-    let line = m.line_force != T::zero() && !fr.contacts.is_empty();
+    let line = (m.line_force != T::zero() || m.young_unbalanced) && !fr.contacts.is_empty();
     let weights = if line { line_force_weights(c, fr) } else { Vec::new() };
     let out: Vec<(V2<T>, V2<T>)> = exec::map(c.exec, c.n_fluid, |i| {
         let (mut sum, mut shift) = (V2::zero(), V2::zero());
@@ -170,7 +170,7 @@ pub fn acceleration<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
             a += lennard_jones(m, c.pos[i]);
         }
         if line {
-            a += line_force_acc(c, &fr.contacts, &weights, i, fr.mass[i]);
+            a += line_force_acc(c, fr, &weights, i);
         }
         (a, shift / fr.mass[i])
     });

@@ -3,6 +3,7 @@
 //! gather over the neighbour list of each particle, so `Exec::Serial` and `Exec::Parallel`
 //! give identical bits. Boundary images enter through `model.images`.
 
+use super::contact_angle::measured_contact_cos;
 use super::momentum::{acceleration, xsph};
 use crate::exec::{self, Exec};
 pub use crate::fields::{ContactPoint, Fields};
@@ -194,21 +195,44 @@ pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     });
     f.contact_overflow = all.len().saturating_sub(MAX_CONTACTS);
     all.truncate(MAX_CONTACTS);
+    f.contact_cos = if m.young_unbalanced {
+        // Where the angle cannot be measured the line is left at rest: cos θ_d = cos θ_Y.
+        let rest = if m.sigma[0][1] > T::zero() { m.line_force / m.sigma[0][1] } else { T::zero() };
+        all.iter().map(|cp| measured_contact_cos(c, cp).unwrap_or(rest)).collect()
+    } else {
+        Vec::new()
+    };
     f.contacts = all;
+}
+
+/// The outward liquid normal the typed wall and Algorithm 1 use at contact point `k`: n̂_θ of
+/// the scene's θ_d (T81), or of the angle measured there (§8.2.5).
+#[inline(always)]
+fn typing_normal<T: Real>(m: &Model<T>, f: &Fields<T>, k: usize) -> V2<T> {
+    let cp = &f.contacts[k];
+    match f.contact_cos.get(k) {
+        Some(&cos) => V2::new(cp.s * (T::one() - cos * cos).max(T::zero()).sqrt(), cos),
+        None => contact_normal(m.theta, cp.s),
+    }
 }
 
 /// The contact point nearest to `r`, the first in (x, s) order on ties whatever the order of
 /// `contacts` (the GPU's are in the order they were found).
 #[inline(always)]
 pub fn nearest_contact<T: Real>(contacts: &[ContactPoint<T>], r: V2<T>) -> Option<&ContactPoint<T>> {
-    let mut best: Option<&ContactPoint<T>> = None;
+    nearest_contact_index(contacts, r).map(|k| &contacts[k])
+}
+
+/// The index in `contacts` of [`nearest_contact`].
+pub fn nearest_contact_index<T: Real>(contacts: &[ContactPoint<T>], r: V2<T>) -> Option<usize> {
+    let mut best: Option<usize> = None;
     let mut bd = T::infinity();
-    for cp in contacts {
+    for (k, cp) in contacts.iter().enumerate() {
         let d = (r - cp.r).norm2();
-        let before = |b: &ContactPoint<T>| cp.r.x < b.r.x || (cp.r.x == b.r.x && cp.s < b.s);
+        let before = |b: usize| cp.r.x < contacts[b].r.x || (cp.r.x == contacts[b].r.x && cp.s < contacts[b].s);
         if d < bd || (d == bd && best.is_some_and(before)) {
             bd = d;
-            best = Some(cp);
+            best = Some(k);
         }
     }
     best
@@ -222,9 +246,9 @@ pub fn wall_typing<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     for i in c.n_fluid..c.pos.len() {
         let mut colour = NO_COLOUR;
         if c.pos[i].y < m.y_wall {
-            if let Some(cp) = nearest_contact(&f.contacts, c.pos[i]) {
-                let n = contact_normal(m.theta, cp.s);
-                colour = if contact_side(c.pos[i], cp.r, n) < T::zero() { 0 } else { 1 };
+            if let Some(k) = nearest_contact_index(&f.contacts, c.pos[i]) {
+                let n = typing_normal(m, f, k);
+                colour = if contact_side(c.pos[i], f.contacts[k].r, n) < T::zero() { 0 } else { 1 };
             }
         }
         f.colour[i] = colour;
@@ -349,8 +373,8 @@ pub fn normal_correction<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
         if !near {
             continue;
         }
-        let cp = nearest_contact(&f.contacts, c.pos[i]).expect("contacts non-empty");
-        f.grad[i][0] = corrected_normal(f.grad[i][0], contact_normal(m.theta, cp.s), k == 0);
+        let cp = nearest_contact_index(&f.contacts, c.pos[i]).expect("contacts non-empty");
+        f.grad[i][0] = corrected_normal(f.grad[i][0], typing_normal(m, f, cp), k == 0);
     }
 }
 

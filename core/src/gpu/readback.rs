@@ -145,6 +145,7 @@ impl<T: Real> GpuSolver<T> {
                 (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
             ),
             contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
+            contact_cos: Vec::new(),
             shift: Vec::new(),
             shift_dv: Vec::new(),
         })

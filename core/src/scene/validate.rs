@@ -7,7 +7,8 @@
 //! particle counts (`crate::plan`).
 
 use super::{
-    ColourGradient, ContactMode, InitialVelocity, Scene, SceneError, ShapeKind, Side, WallTension, MAX_FLUID_PHASES,
+    ColourGradient, ContactMode, InitialVelocity, LiquidGasAtWall, Scene, SceneError, ShapeKind, Side, WallTension,
+    MAX_FLUID_PHASES,
 };
 
 fn err(field: &str, msg: impl Into<String>) -> SceneError {
@@ -275,17 +276,32 @@ fn interfaces(s: &Scene) -> Result<(), SceneError> {
             ));
         }
     }
-    if c.wall_tension == WallTension::Line {
+    if c.wall_tension != WallTension::Bands {
+        let name = if c.wall_tension == WallTension::Line { "line" } else { "unbalanced" };
         if c.mode != ContactMode::A {
             return Err(err(
                 "contact.wall_tension",
-                "`line` places Mode A's wall tensions; set contact.mode = \"a\" or use `bands`",
+                format!("`{name}` places Mode A's wall tensions; set contact.mode = \"a\" or use `bands`"),
             ));
         }
         if c.line_force {
             return Err(err(
                 "contact.line_force",
-                "with contact.wall_tension = \"line\" the line force already carries the whole σ_GS − σ_LS; set it false",
+                format!("with contact.wall_tension = \"{name}\" the line force already carries the whole σ_GS − σ_LS; set it false"),
+            ));
+        }
+    }
+    if c.wall_tension == WallTension::Unbalanced {
+        if !c.wall_typing {
+            return Err(err(
+                "contact.wall_typing",
+                "contact.wall_tension = \"unbalanced\" continues the liquid–gas band into the typed wall; set it true",
+            ));
+        }
+        if c.liquid_gas_at_wall != LiquidGasAtWall::Shared {
+            return Err(err(
+                "contact.liquid_gas_at_wall",
+                "with contact.wall_tension = \"unbalanced\" the typed wall holds the band's end through the fluid's whole tensor; use `shared`",
             ));
         }
     }

@@ -67,6 +67,10 @@ pub enum WallTension {
     Bands,
     /// No wall band; the whole σ_GS − σ_LS acts on the fluid at each contact point.
     Line,
+    /// No wall band; the wall typed at each contact point's measured angle θ_d (the liquid–gas
+    /// band continues into it) and the unbalanced Young force `σ_GS − σ_LS − σ_LG cos θ_d` at the
+    /// line (docs/PHYSICS.md §8.2.5).
+    Unbalanced,
 }
 
 /// Mode A: what the wall does with the liquid–gas interface's stress where it meets the wall

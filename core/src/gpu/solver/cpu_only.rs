@@ -23,6 +23,13 @@ pub(super) fn refuse_cpu_only<T: Real>(model: &Model<T>, scene: &Scene) -> Resul
                 .into(),
         ));
     }
+    if model.young_unbalanced {
+        return Err(GpuError::Unsupported(
+            "contact.wall_tension = \"unbalanced\" (Mode A's unbalanced Young force at a measured angle) is \
+             CPU only; use --backend cpu, or contact.wall_tension = \"bands\""
+                .into(),
+        ));
+    }
     if model.liquid_gas_free_at_wall {
         return Err(GpuError::Unsupported(
             "contact.liquid_gas_at_wall = \"free\" (Mode A) is CPU only (the WGSL stages hand every \
