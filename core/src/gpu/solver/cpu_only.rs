@@ -15,18 +15,18 @@ pub(super) fn refuse_cpu_only<T: Real>(model: &Model<T>, scene: &Scene) -> Resul
                 .into(),
         ));
     }
+    if model.young_unbalanced {
+        return Err(GpuError::Unsupported(
+            "contact.wall_tension = \"unbalanced\" (Mode A's unbalanced Young force at a measured angle) is \
+             CPU only; use --backend cpu, or contact.wall_tension = \"bands\""
+                .into(),
+        ));
+    }
     if model.line_force != T::zero() {
         return Err(GpuError::Unsupported(
             "Mode A's contact-line force (contact.line_force = true, or contact.wall_tension = \"line\", \
              with σ_GS ≠ σ_LS) is CPU only (the WGSL stages have the wall bands alone); use --backend cpu, \
              or contact.line_force = false and contact.wall_tension = \"bands\""
-                .into(),
-        ));
-    }
-    if model.young_unbalanced {
-        return Err(GpuError::Unsupported(
-            "contact.wall_tension = \"unbalanced\" (Mode A's unbalanced Young force at a measured angle) is \
-             CPU only; use --backend cpu, or contact.wall_tension = \"bands\""
                 .into(),
         ));
     }
