@@ -2,7 +2,7 @@
 //! from above and from below (the two starts' midpoint) at nx = 33, 45 and 65, read from the
 //! committed runs of `capillary-rule/relax-60/` and `form-and-kernel/relax-60/` (the wall bands)
 //! and `relax-60/mode-a-line/runs/` (the wall's tensions at the contact line, docs/PHYSICS.md
-//! §8.2.3), all started by `examples/analysis/relax_start_angle.sh` (each folder's README says how
+//! §8.2.3, and the unbalanced Young force, §8.2.5), all started by `examples/analysis/relax_start_angle.sh` (each folder's README says how
 //! each was run), and, at 60°, the case's own two Mode A runs. Only runs of relax-60's kernel and h as the scene takes
 //! them now count (each run's `summary.json`), so the rows describe the case's kernel. The
 //! acceptance is the issue's: within 3° of θ_Y at nx = 65, and cos θ / cos θ_Y closer to 1 at
@@ -48,6 +48,9 @@ fn of_the_point(dir: &Path, p: &Point, nx: u32) -> bool {
 /// Where the runs of the wall's tensions at the contact line are.
 const LINE_RUNS: [(&str, &str); 1] = [("relax-60/mode-a-line/runs", "-line")];
 
+/// Where the runs of the unbalanced Young force are.
+const UNBALANCED_RUNS: [(&str, &str); 1] = [("relax-60/mode-a-line/runs", "-unbalanced")];
+
 /// How the line points name their form.
 macro_rules! at_the_line {
     ($t:literal) => {
@@ -55,7 +58,14 @@ macro_rules! at_the_line {
     };
 }
 
-const POINTS: [Point; 7] = [
+/// How the unbalanced Young force's points name their form.
+macro_rules! unbalanced {
+    ($t:literal) => {
+        concat!($t, "; the unbalanced Young force at the measured angle, the wall typed there (docs/PHYSICS.md §8.2.5)")
+    };
+}
+
+const POINTS: [Point; 10] = [
     Point {
         theta_y: 41.0,
         tensions: "σ_LS = 0.245, σ_GS = 1; a box 1.5 times as wide",
@@ -117,6 +127,33 @@ const POINTS: [Point; 7] = [
         starts: ["90", "135"],
         sources: &LINE_RUNS,
         wall_tension: "line",
+        case_runs: None,
+    },
+    Point {
+        theta_y: 41.0,
+        tensions: unbalanced!("σ_LS = 0.245, σ_GS = 1; a box 1.5 times as wide"),
+        run: "nx{nx}w-sls0.245-from",
+        starts: ["90", "30"],
+        sources: &UNBALANCED_RUNS,
+        wall_tension: "unbalanced",
+        case_runs: None,
+    },
+    Point {
+        theta_y: 60.0,
+        tensions: unbalanced!("σ_LS = 0.5, σ_GS = 1 (built-in)"),
+        run: "nx{nx}-from",
+        starts: ["90", "45"],
+        sources: &UNBALANCED_RUNS,
+        wall_tension: "unbalanced",
+        case_runs: None,
+    },
+    Point {
+        theta_y: 120.0,
+        tensions: unbalanced!("σ_LS = 1.5, σ_GS = 1"),
+        run: "nx{nx}-sls1.5-from",
+        starts: ["90", "135"],
+        sources: &UNBALANCED_RUNS,
+        wall_tension: "unbalanced",
         case_runs: None,
     },
 ];
