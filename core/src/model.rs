@@ -334,7 +334,8 @@ fn colour_tensions<T: Real>(scene: &Scene, st: f64) -> [[T; N_COLOURS]; N_COLOUR
 }
 
 /// Mode A's contact-line force per unit length: the whole σ_GS − σ_LS without the wall bands
-/// (§8.2.3; §8.2.5 takes σ_LG cos θ_d of each contact point from it), the part `(1 − s_w)` of it beside them when `contact.line_force` (§8.2.1), else 0.
+/// (§8.2.3; §8.2.5 takes σ_LG cos θ_d of each contact point from it), the part `(1 − s_w)` of
+/// it beside them when `contact.line_force` (§8.2.1), else 0.
 fn contact_line_force(c: &crate::scene::Contact) -> f64 {
     let wall_pull = c.sigma_gs - c.sigma_ls;
     match (c.mode == ContactMode::A, c.wall_tension) {
