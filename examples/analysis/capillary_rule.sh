@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The capillary rule's checks (reports/validation/capillary-rule/README.md): the oscillating drop
 # and the drop at rest with every kernel at nx 30 and 45 under the rule (p_b and c0 follow the
-# kernel and resolution set here), the quintic drop at α × 0.5 and × 2. Two runs at a time.
+# kernel and resolution set here), and both at α × 0.5 and × 2 (nx = 30). Two runs at a time.
 # Usage: examples/analysis/capillary_rule.sh OUTDIR [STREAM [--set KEY=VALUE ...]]
 #   STREAM 0 or 1: half of the points ("" for all); the --set pairs go to every run (e.g.
 #   --set time.background=transport). ALPHA_POINTS=0 leaves out the α sensitivity points;
@@ -15,7 +15,11 @@ bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
 # The α sensitivity first, then nx = 45 (the costly points), then nx = 30.
 points=()
-if [ "${ALPHA_POINTS:-1}" != 0 ]; then points+=("osc 30 quintic:1.2 1.0" "osc 30 quintic:1.2 4.0"); fi
+if [ "${ALPHA_POINTS:-1}" != 0 ]; then
+  for k in ${KERNELS:-quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0}; do
+    for a in 1.0 4.0; do points+=("osc 30 $k $a" "rest 30 $k $a"); done
+  done
+fi
 for nx in 45 30; do
   for k in ${KERNELS:-quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0}; do
     points+=("osc $nx $k 2.0" "rest $nx $k 2.0")
