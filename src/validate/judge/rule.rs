@@ -76,8 +76,8 @@ fn band(varied: String, found: &[(f64, u32, f64)], prec: usize, ok: impl Fn(f64)
     })
 }
 
-/// The oscillating drop's `column` (period, amplitude) with `kernel` at α × 0.5 / × 1 / × 2 of
-/// the rule (nx = 30), with whether `ok` holds at each.
+/// The oscillating drop's or the drop at rest's `column` (period, amplitude, jump) with `kernel`
+/// at α × 0.5 / × 1 / × 2 of the rule (nx = 30), with whether `ok` holds at each.
 pub(super) fn alpha_band(root: &Path, kernel: &str, column: &str, ok: impl Fn(f64) -> bool) -> Option<Band> {
     let found = table(root, kernel, column, &[(1.0, 30), (2.0, 30), (4.0, 30)]);
     let steps: Vec<&str> = found

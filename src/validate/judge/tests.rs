@@ -184,18 +184,29 @@ fn every_kernel_is_held_to_the_thesis_at_both_resolutions_once() {
     std::fs::write(
         dir.path().join("capillary-rule/capillary_rule.csv"),
         "alpha,nx,kernel,period,jump\n2.0,30,quintic,0.366,5.2\n2.0,45,quintic,0.374,5.24\n\
-         2.0,30,cubic-spline,0.32,4.98\n2.0,45,cubic-spline,0.297,4.76\n2.0,30,johnson,0.35,5.3\n",
+         2.0,30,cubic-spline,0.32,4.98\n2.0,45,cubic-spline,0.297,4.76\n2.0,30,johnson,0.35,5.3\n\
+         1.0,30,cubic-spline,0.36,5.0\n4.0,30,cubic-spline,0.268,5.17\n",
     )
     .unwrap();
     let mut rep = report("oscillation", Vec::new());
     for _ in 0..2 {
-        at_both_resolutions(dir.path(), &mut rep, "period", "period", 0.37, 0.05, 4);
+        at_both_resolutions(dir.path(), &mut rep, ("period", "period"), (0.37, 0.05), 4, "the rule at each nx");
     }
     // One row per kernel with both points (Johnson has one: no row), not duplicated by a second judging.
     assert_eq!(rep.rows.len(), 2, "{:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>());
-    assert!(verdict(&rep, "period under the rule at nx = 30 / 45, quintic").starts_with("pass"));
+    let quintic = verdict(&rep, "period under the rule at nx = 30 / 45, quintic");
+    assert!(
+        quintic.starts_with("pass") && quintic.contains("the rule at each nx; no committed sensitivity run"),
+        "{quintic}"
+    );
     let cubic = rep.row("period under the rule at nx = 30 / 45, cubic spline").unwrap();
     assert!(cubic.verdict.starts_with("FAIL") && cubic.sphlab.starts_with("0.3200 / 0.2970"), "{cubic:?}");
+    // The kernel's own α band, its values in α order, judged by the row's bound at each.
+    assert!(
+        cubic.verdict.contains("α × 0.5 / × 1 / × 2 of the rule at nx = 30: 0.3600 / 0.3200 / 0.2680"),
+        "{cubic:?}"
+    );
+    assert!(cubic.verdict.contains("bound not met across the band"), "{cubic:?}");
 }
 
 /// Writes a committed-run folder of the Young sweep (`src/name` under the root) whose circle-fit
