@@ -238,7 +238,13 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
         let two_point = rep.row(&format!("{label} θ − 60°, two-point, {window}")).map(|r| r.value + YOUNG_DEG);
         let circle = format!("{label} θ − 60°, circle fit, {window}");
         let spread = format!("{label} D/D0 at the wall, {window}");
-        let pb = if label == "Mode B, no-slip:" { relax_rule_band(root) } else { None };
+        let pb = match label {
+            "Mode B, no-slip:" => relax_rule_band(root, "b", ""),
+            "Mode A, no-slip:" => relax_rule_band(root, "a", ""),
+            "Mode B, free-slip:" => relax_rule_band(root, "b", "-freeslip"),
+            "Mode A, free-slip:" => relax_rule_band(root, "a", "-freeslip"),
+            _ => None,
+        };
         let depends = match label {
             "Mode B, no-slip, transport velocity:" => {
                 format!("p_b = ρ0c0² in the transport velocity only, c0 of {rule}, μ = 0.05")

@@ -384,15 +384,31 @@ fn the_relax_alpha_band_reads_the_runs_of_the_scenes_kernel() {
     for (n, theta) in names.iter().zip([70.0, 71.0, 72.0]) {
         sweep_run_in(root, "capillary-rule/relax-60", n, 33, "cubic-spline", theta);
     }
-    assert!(relax_rule_band(root).is_none(), "runs of another kernel make no band");
+    assert!(relax_rule_band(root, "b", "").is_none(), "runs of another kernel make no band");
     for (n, theta) in names.iter().zip([60.5, 61.0, 64.0]) {
         sweep_run_in(root, "form-and-kernel/relax-60", &format!("{n}-quintic"), 33, "quintic", theta);
     }
-    let [theta, spread] = relax_rule_band(root).unwrap();
+    let [theta, spread] = relax_rule_band(root, "b", "").unwrap();
     assert_eq!(theta.values, ["0.50", "1.00", "4.00"]);
     assert_eq!(theta.holds, Some(false));
     assert!(theta.source.starts_with("../form-and-kernel/relax-60/nx33-b-from90-alpha1-quintic"), "{}", theta.source);
+    assert!(theta.varied.contains("(Mode B from 90°, no-slip)"), "{}", theta.varied);
     assert_eq!(spread.values.len(), 3);
+    // Mode A's runs name α after the suffix; a mode or wall without its three runs has no band.
+    assert!(relax_rule_band(root, "a", "").is_none() && relax_rule_band(root, "b", "-freeslip").is_none());
+    for (n, theta) in ["-alpha1", "", "-alpha4"].iter().zip([60.4, 60.9, 60.8]) {
+        sweep_run_in(
+            root,
+            "form-and-kernel/relax-60",
+            &format!("nx33-a-from90-freeslip-quintic{n}"),
+            33,
+            "quintic",
+            theta,
+        );
+    }
+    let [a, _] = relax_rule_band(root, "a", "-freeslip").unwrap();
+    assert_eq!((a.values.clone(), a.holds), (vec!["0.40".to_string(), "0.90".into(), "0.80".into()], Some(true)));
+    assert!(a.varied.contains("(Mode A from 90°, free-slip)"), "{}", a.varied);
 }
 
 /// [`sweep_run_in`] in `relax-60/mode-a-line/runs`, recorded with the wall tensions `tension`.
