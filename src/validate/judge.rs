@@ -101,9 +101,9 @@ fn oscillation(root: &Path, rep: &mut CaseReport) {
 }
 
 /// Rows holding every kernel to the thesis at both resolutions of the rule's runs
-/// (`capillary-rule/capillary_rule.csv`): `what.1` (the table's column) within `bound.1`
-/// (relative) of `bound.0` at nx = 30 and at nx = 45, each depending on `on` and carrying that
-/// kernel's own α × 0.5 / × 2 band at nx = 30 where the table has it. Replaces the rows an
+/// (`capillary-rule/capillary_rule.csv`): the table's `column` (rows named by `what`) within
+/// `tol` (relative) of `target` at nx = 30 and at nx = 45, each depending on `on` and carrying
+/// that kernel's own α × 0.5 / × 2 band at nx = 30 where the table has it. Replaces the rows an
 /// earlier judging added.
 fn at_both_resolutions(
     root: &Path,
