@@ -75,8 +75,9 @@ pub fn write_index(
          `examples/analysis/pb_sweep.sh`), time to solution against physical error \
          ([speed-vs-physical-error/summary.md](speed-vs-physical-error/summary.md), \
          `examples/analysis/speed_vs_physical_error.sh`), the kernel of the capillary scenes and where p_b acts \
-         ([form-and-kernel/README.md](form-and-kernel/README.md)) and the cross-code check's \
-         short-time test (`tests/cross_code.rs`; the whole record is the `cross-code` case).\n"
+         ([form-and-kernel/README.md](form-and-kernel/README.md)), the shear rigidity p_b gives the \
+         particles, kernel by kernel ([kernel-rigidity/README.md](kernel-rigidity/README.md)), and the \
+         cross-code check's short-time test (`tests/cross_code.rs`; the whole record is the `cross-code` case).\n"
     );
     let _ = writeln!(m, "\n## Cases not run at full resolution\n");
     if not_full.is_empty() {
