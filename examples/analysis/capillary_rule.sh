@@ -14,14 +14,15 @@ extra=("$@")
 bin=${SPHLAB:-target/release/sphlab}
 mkdir -p "$out"
 # The α sensitivity first, then nx = 45 (the costly points), then nx = 30.
+kernels=${KERNELS:-quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0}
 points=()
 if [ "${ALPHA_POINTS:-1}" != 0 ]; then
-  for k in ${KERNELS:-quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0}; do
+  for k in $kernels; do
     for a in 1.0 4.0; do points+=("osc 30 $k $a" "rest 30 $k $a"); done
   done
 fi
 for nx in 45 30; do
-  for k in ${KERNELS:-quintic:1.2 wendland-c2:1.5 gaussian:1.2 cubic-spline:1.2 johnson:2.0}; do
+  for k in $kernels; do
     points+=("osc $nx $k 2.0" "rest $nx $k 2.0")
   done
 done
