@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Analysis of examples/analysis/capillary_rule.sh: per kernel and resolution the oscillating
-drop's period (the pb_sweep method) and the drop at rest's Laplace jump and density error, under
-the capillary rule. Prints a markdown table and writes capillary_rule.csv beside RUNDIR when it is
+drop's period (the pb_sweep method) and the drop at rest's Laplace jump, density error, spurious
+speed and liquid kinetic energy (the largest for t ≥ 0.1), under the capillary rule. Prints a markdown table and writes capillary_rule.csv beside RUNDIR when it is
 named `runs`, else RUNDIR.csv (e.g. runs-transport.csv) (stdlib only). h is read from each run.
 The Laplace jump needs a run's last particle snapshot, which is not committed: a run without one
 keeps its drop-at-rest columns from the csv already there (the analysis of its own snapshot).
@@ -37,6 +37,11 @@ def rest(d, kind, nx):
     derr = max(r["max_density_error"] for r in s)
     vmax = max(r["max_speed"] for r in s if r["t"] >= 0.1)
     return jump, derr, s[-1]["max_density_error"], vmax
+
+
+def rest_ke(d):
+    """The drop at rest's largest liquid kinetic energy for t ≥ 0.1 (from its committed series)."""
+    return max(r["kinetic_energy"] for r in series(d) if r["t"] >= 0.1)
 
 
 def status(d):
@@ -84,10 +89,10 @@ def main():
                 else:
                     rs = rest(r, kind, nx) if sr == "ok" else (math.nan,) * 4
                 row.update(rest_status=sr, jump=rs[0], max_density_error=rs[1], end_density_error=rs[2],
-                           spurious_speed=rs[3])
+                           spurious_speed=rs[3], rest_max_ke=rest_ke(r) if sr == "ok" else math.nan)
                 rows.append(row)
     keys = ["alpha", "nx", "kernel", "h_ratio", "p_b", "c0", "osc_status", "period", "amplitude", "rest_status", "jump",
-            "max_density_error", "end_density_error", "spurious_speed"]
+            "max_density_error", "end_density_error", "spurious_speed", "rest_max_ke"]
     with open(out, "w", newline="") as f:
         w = csv.DictWriter(f, keys, extrasaction="ignore")
         w.writeheader()

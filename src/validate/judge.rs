@@ -142,8 +142,12 @@ fn spurious(root: &Path, rep: &mut CaseReport) {
     for r in rows(rep, "Laplace jump") {
         r.qualify(&on, jump.as_ref());
     }
+    let ke = alpha_band(root, "quintic", "rest_max_ke", |v| v < super::spurious::KE_BOUND).map(|mut b| {
+        b.varied.push_str(&format!(" ({what})"));
+        b
+    });
     for r in rows(rep, "max liquid kinetic energy") {
-        r.qualify(&on, None);
+        r.qualify(&on, ke.as_ref());
     }
     let on = format!("{AT_EACH_NX}, the kernel's h");
     at_both_resolutions(root, rep, ("Laplace jump of the drop at rest", "jump"), (1.0 / DROP_R, 0.03), 3, &on);
@@ -260,7 +264,7 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
         for r in rows(rep, &format!("{label} θ − 60°, two-point, {window}")) {
             let ok = r.value.abs() < ANGLE_TOL_DEG;
             *r = r.clone().check(ok, "|θ − 60°| < 3° by the thesis's metric (the first two rows at the wall)");
-            r.qualify(&depends, None);
+            r.qualify(&depends, pb.as_ref().map(|b| &b[2]));
         }
         let d_an = super::relax::analytic_spread();
         for r in rows(rep, &spread) {
@@ -280,13 +284,6 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
         r.qualify(&rule, None);
     }
     young_sweep::young_sweep_rows(root, rep);
-    for r in rows(rep, "Mode A Young sweep") {
-        r.qualify(
-            "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, no-slip, \
-             T-wall, the starts",
-            None,
-        );
-    }
 }
 
 /// The resolutions of the convergence case's rows, finest last, with the row's value.

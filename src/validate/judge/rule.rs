@@ -67,10 +67,20 @@ fn table(root: &Path, kernel: &str, column: &str, points: &[(f64, u32)]) -> Vec<
     found
 }
 
+/// A band's value with `prec` decimals, or in scientific notation when that would show no
+/// significant digit (a kinetic energy of 1e-5).
+fn shown(v: f64, prec: usize) -> String {
+    if v != 0.0 && v.abs() < 1e-3 {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.prec$}")
+    }
+}
+
 fn band(varied: String, found: &[(f64, u32, f64)], prec: usize, ok: impl Fn(f64) -> bool) -> Option<Band> {
     (found.len() >= 2).then(|| Band {
         varied,
-        values: found.iter().map(|f| format!("{:.prec$}", f.2)).collect(),
+        values: found.iter().map(|f| shown(f.2, prec)).collect(),
         source: format!("../{RULE_CSV}"),
         holds: Some(found.iter().all(|f| ok(f.2))),
     })

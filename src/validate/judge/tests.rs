@@ -178,6 +178,30 @@ fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table(
 }
 
 #[test]
+fn the_spurious_kinetic_energy_carries_the_rules_alpha_band_of_the_drop_at_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
+    std::fs::write(
+        dir.path().join("capillary-rule/capillary_rule.csv"),
+        "alpha,nx,kernel,rest_max_ke\n2.0,30,quintic,1.1e-5\n1.0,30,quintic,6.8e-4\n4.0,30,quintic,4.7e-6\n",
+    )
+    .unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+    let ke = Row::new("max liquid kinetic energy for t ≥ 0.1", 1.1e-5, 6, None, Some(0.0)).check(true, "< 1e-4");
+    let mut rep = report("spurious", vec![ke]);
+    judge("spurious", &Ctx::new(&opts, "spurious"), &mut rep);
+    let v = verdict(&rep, "max liquid kinetic energy");
+    assert!(v.starts_with("pass (< 1e-4; depends on"), "{v}");
+    assert!(
+        v.contains(
+            "α × 0.5 / × 1 / × 2 of the rule at nx = 30 (the drop at rest to t = 1): 6.80e-4 / 1.10e-5 / 4.70e-6"
+        ),
+        "{v}"
+    );
+    assert!(v.ends_with("bound not met across the band)"), "α × 0.5 is above 1e-4: {v}");
+}
+
+#[test]
 fn every_kernel_is_held_to_the_thesis_at_both_resolutions_once() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
@@ -227,6 +251,7 @@ fn sweep_run_boxed(root: &Path, src: &str, name: &str, (width, cells): (f64, u32
             t,
             step: k as u64,
             theta_circle_fit: Some(if inside { theta } else { 150.0 }),
+            theta_two_point: Some(if inside { theta - 4.0 } else { 150.0 }),
             spread_factor: Some(1.37),
             ..Default::default()
         };
@@ -273,6 +298,11 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
         sweep_run(root, &format!("nx{nx}-a-from90"), a);
         sweep_run(root, &format!("nx{nx}-a-from45"), b);
     }
+    // The rule's α × 0.5 and × 2 at nx = 33 beside them: midpoints 61 and 67, the latter off 3°.
+    for (alpha, a, b) in [("-alpha1", 62.0, 60.0), ("-alpha4", 70.0, 64.0)] {
+        sweep_run(root, &format!("nx33-a-from90{alpha}"), a);
+        sweep_run(root, &format!("nx33-a-from45{alpha}"), b);
+    }
     // Realisations at nx = 33 beside the 60° runs: start means 62 and 61, pooled sd 1; one
     // realisation of a 120° start is too few to name.
     for (k, (a, b)) in [(61.0, 60.0), (62.0, 61.0), (63.0, 62.0)].into_iter().enumerate() {
@@ -317,11 +347,21 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
     assert!(sixty.sphlab.contains("nx = 33: ../capillary-rule/relax-60/nx33-a-from{90,45}"), "{}", sixty.sphlab);
     assert!(sixty.sphlab.contains("nx = 65: runs/a-noslip, runs/a-noslip-from45"), "{}", sixty.sphlab);
     assert!(sixty.sphlab.contains("midpoint at nx = 33 61.50° (pooled sd 1.00°, 3 per start)"), "{}", sixty.sphlab);
+    assert!(
+        sixty.verdict.contains(
+            "α × 0.5 / × 1 / × 2 at nx = 33 (the starts' midpoint, against 3° of θ_Y): 61.00 / 64.00 / 67.00 \
+             (../capillary-rule/relax-60/nx33-a-from{90,45}-alpha1, ../capillary-rule/relax-60/nx33-a-from{90,45}, \
+             ../capillary-rule/relax-60/nx33-a-from{90,45}-alpha4), bound not met across the band"
+        ),
+        "{}",
+        sixty.verdict
+    );
     let hydrophobic = at("120° (σ_LS = 1.5");
     assert!(hydrophobic.verdict.starts_with("FAIL ("), "{}", hydrophobic.verdict);
     assert!(hydrophobic.sphlab.starts_with("118.50 → 114.50 → 118.50"), "{}", hydrophobic.sphlab);
     assert!(hydrophobic.sphlab.contains("../form-and-kernel/relax-60/nx45-a-sls1.5-from{90,135}-quintic"));
     assert!(!hydrophobic.sphlab.contains("realisations"), "{}", hydrophobic.sphlab);
+    assert!(hydrophobic.verdict.ends_with("; no committed sensitivity run)"), "{}", hydrophobic.verdict);
     let wide = at("41°");
     assert!(!wide.verdict.starts_with("pass") && !wide.verdict.starts_with("FAIL"), "{}", wide.verdict);
     assert!(wide.quantity.ends_with("nx = 33, 45 (deg)"), "{}", wide.quantity);
@@ -385,16 +425,22 @@ fn the_relax_alpha_band_reads_the_runs_of_the_scenes_kernel() {
         sweep_run_in(root, "capillary-rule/relax-60", n, 33, "cubic-spline", theta);
     }
     assert!(relax_rule_band(root, "b", "").is_none(), "runs of another kernel make no band");
-    for (n, theta) in names.iter().zip([60.5, 61.0, 64.0]) {
-        sweep_run_in(root, "form-and-kernel/relax-60", &format!("{n}-quintic"), 33, "quintic", theta);
+    for (alpha, theta) in ["-alpha1", "", "-alpha4"].iter().zip([60.5, 61.0, 64.0]) {
+        let name = format!("nx33-b-from90-quintic{alpha}");
+        sweep_run_in(root, "form-and-kernel/relax-60", &name, 33, "quintic", theta);
     }
-    let [theta, spread] = relax_rule_band(root, "b", "").unwrap();
+    let [theta, spread, two_point] = relax_rule_band(root, "b", "").unwrap();
     assert_eq!(theta.values, ["0.50", "1.00", "4.00"]);
     assert_eq!(theta.holds, Some(false));
-    assert!(theta.source.starts_with("../form-and-kernel/relax-60/nx33-b-from90-alpha1-quintic"), "{}", theta.source);
+    assert!(theta.source.starts_with("../form-and-kernel/relax-60/nx33-b-from90-quintic-alpha1"), "{}", theta.source);
     assert!(theta.varied.contains("(Mode B from 90°, no-slip)"), "{}", theta.varied);
     assert_eq!(spread.values.len(), 3);
-    // Mode A's runs name α after the suffix; a mode or wall without its three runs has no band.
+    // The thesis's two-point angle of the same runs, against the same 3°.
+    assert_eq!(
+        (two_point.values.clone(), two_point.holds),
+        (vec!["-3.50".into(), "-3.00".into(), "0.00".into()], Some(false))
+    );
+    // A mode or wall without its three runs has no band.
     assert!(relax_rule_band(root, "a", "").is_none() && relax_rule_band(root, "b", "-freeslip").is_none());
     for (n, theta) in ["-alpha1", "", "-alpha4"].iter().zip([60.4, 60.9, 60.8]) {
         sweep_run_in(
@@ -406,7 +452,7 @@ fn the_relax_alpha_band_reads_the_runs_of_the_scenes_kernel() {
             theta,
         );
     }
-    let [a, _] = relax_rule_band(root, "a", "-freeslip").unwrap();
+    let [a, _, _] = relax_rule_band(root, "a", "-freeslip").unwrap();
     assert_eq!((a.values.clone(), a.holds), (vec!["0.40".to_string(), "0.90".into(), "0.80".into()], Some(true)));
     assert!(a.varied.contains("(Mode A from 90°, free-slip)"), "{}", a.varied);
 }

@@ -10,10 +10,11 @@
 
 use super::super::data::{col, read_series, window_stats};
 use super::super::report::summary_at;
-use super::super::report::{CaseReport, Row};
+use super::super::report::{Band, CaseReport, Row};
 use super::super::scatter::{pooled_sd, stats, suffix as scatter_suffix, JITTER, SEEDS};
+use super::sensitivity::ALPHA_SUFFIXES;
 use super::{end_angle, falls, of_the_scene, run_spacing, ANGLE_TOL_DEG, RELAX_RUN_SOURCES as SOURCES};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The resolutions of the sweep, coarse to fine.
 const NXS: [u32; 3] = [33, 45, 65];
@@ -170,31 +171,61 @@ fn drift_dx(dir: &Path) -> Option<f64> {
 /// The contact point's largest drift over t ∈ [3, 5] (in Δx) that still counts as stopped.
 const MOVING_DX: f64 = 2.0;
 
-/// The two starts' midpoint at `nx`, where its runs are (relative to the case's folder) and the
-/// larger of the starts' contact-point drifts over t ∈ [3, 5] (in Δx, zero when the series has no
-/// x_tp there), from the first source with both runs of the scene's kernel (None when none has
-/// them).
-fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String, f64)> {
+/// The two starts' run folders of point `p` at `nx` in the source `(src, suffix)`, with `tag` (one
+/// of [`ALPHA_SUFFIXES`]) after the suffix, and how a row cites them (relative to the case's
+/// folder).
+fn pair(root: &Path, p: &Point, nx: u32, (src, suffix): (&str, &str), tag: &str) -> ([PathBuf; 2], String) {
     let dir = p.run.replace("{nx}", &nx.to_string());
-    let mut sources: Vec<([std::path::PathBuf; 2], String)> = p
-        .sources
-        .iter()
-        .map(|(src, suffix)| {
-            let at = |start: &str| root.join(src).join(format!("{dir}{start}{suffix}"));
-            let cite = format!("../{src}/{dir}{{{}}}{suffix}", p.starts.join(","));
-            ([at(p.starts[0]), at(p.starts[1])], cite)
-        })
-        .collect();
+    let at = |start: &str| root.join(src).join(format!("{dir}{start}{suffix}{tag}"));
+    let cite = format!("../{src}/{dir}{{{}}}{suffix}{tag}", p.starts.join(","));
+    ([at(p.starts[0]), at(p.starts[1])], cite)
+}
+
+/// The midpoint of a pair of starts and the larger of their contact-point drifts over t ∈ [3, 5]
+/// (in Δx, zero when the series has no x_tp there), when both are runs of point `p` at `nx`.
+fn pair_midpoint(p: &Point, nx: u32, dirs: &[PathBuf; 2]) -> Option<(f64, f64)> {
+    if !dirs.iter().all(|d| of_the_point(d, p, nx)) {
+        return None;
+    }
+    let drift = dirs.iter().filter_map(|d| drift_dx(d)).fold(0.0, f64::max);
+    Some((0.5 * (end_angle(&dirs[0])? + end_angle(&dirs[1])?), drift))
+}
+
+/// The two starts' midpoint at `nx`, where its runs are (relative to the case's folder) and the
+/// larger of the starts' contact-point drifts, from the first source with both runs of the
+/// scene's kernel (None when none has them).
+fn midpoint(root: &Path, p: &Point, nx: u32) -> Option<(f64, String, f64)> {
+    let mut sources: Vec<([PathBuf; 2], String)> = p.sources.iter().map(|&src| pair(root, p, nx, src, "")).collect();
     if let Some(ids) = p.case_runs {
         let runs = root.join("relax-60/runs");
         sources.push(([runs.join(ids[0]), runs.join(ids[1])], format!("runs/{}, runs/{}", ids[0], ids[1])));
     }
-    sources.into_iter().find_map(|(dirs, cite)| {
-        if !dirs.iter().all(|d| of_the_point(d, p, nx)) {
-            return None;
-        }
-        let drift = dirs.iter().filter_map(|d| drift_dx(d)).fold(0.0, f64::max);
-        Some((0.5 * (end_angle(&dirs[0])? + end_angle(&dirs[1])?), cite, drift))
+    sources.into_iter().find_map(|(dirs, cite)| pair_midpoint(p, nx, &dirs).map(|(mid, drift)| (mid, cite, drift)))
+}
+
+/// Point `p`'s midpoint at nx = 33 under the capillary rule's α × 0.5 / × 1 / × 2 (the pairs of
+/// runs named with [`ALPHA_SUFFIXES`]), from the first source with all three pairs, each against
+/// the 3° bound.
+fn alpha_band(root: &Path, p: &Point) -> Option<Band> {
+    p.sources.iter().find_map(|&src| {
+        let (mids, cites): (Vec<f64>, Vec<String>) = ALPHA_SUFFIXES
+            .iter()
+            .map(|tag| {
+                let (dirs, cite) = pair(root, p, NXS[0], src, tag);
+                pair_midpoint(p, NXS[0], &dirs).map(|(mid, _)| (mid, cite))
+            })
+            .collect::<Option<Vec<_>>>()?
+            .into_iter()
+            .unzip();
+        Some(Band {
+            varied: format!(
+                "the capillary rule's α × 0.5 / × 1 / × 2 at nx = {} (the starts' midpoint, against 3° of θ_Y)",
+                NXS[0]
+            ),
+            values: mids.iter().map(|m| format!("{m:.2}")).collect(),
+            source: cites.join(", "),
+            holds: Some(mids.iter().all(|m| (m - p.theta_y).abs() < ANGLE_TOL_DEG)),
+        })
     })
 }
 
@@ -224,6 +255,10 @@ fn realisations(root: &Path, p: &Point, nx: u32) -> Option<(f64, f64, usize)> {
         Some((mid, pooled_sd(per_start.iter().map(Vec::as_slice))?, n))
     })
 }
+
+/// What every verdict of the sweep depends on.
+const DEPENDS: &str = "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, \
+                       no-slip, T-wall, the starts";
 
 /// Replaces the sweep's rows of `rep` with one row per point that has all three resolutions; a
 /// point with fewer is an info row that names the resolutions it has.
@@ -294,6 +329,8 @@ pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
         } else {
             row
         };
+        let mut row = row;
+        row.qualify(DEPENDS, alpha_band(root, p).as_ref());
         rep.rows.push(row);
     }
 }
