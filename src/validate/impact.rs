@@ -11,12 +11,12 @@
 //! `CHECK_NX`, so that the report shows how far the answer moves with the resolution.
 
 use super::data::{col, read_series};
-use super::report::{plot, write_csv, CaseReport, Row};
+use super::report::{plot, write_csv, Band, CaseReport, Row};
 use super::{Ctx, RunSpec, ValidateError};
 use crate::analytic::{spread_2d_c, spread_axisym};
 use crate::plot::{PlotSpec, Series};
 use crate::run::RunOptions;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Thesis angles (degrees).
 pub const ANGLES: [f64; 9] = [50.0, 70.0, 90.0, 100.0, 110.0, 130.0, 145.0, 160.0, 175.0];
@@ -347,9 +347,54 @@ fn across_angles(
     }
 }
 
+/// The sensitivity band of the direction row ("D/D0 at t = … ms: θ = A° minus θ = B°", `quantity`)
+/// from the committed runs in `case_dir`: the same difference at the end of the runs at
+/// [`CHECK_NX`] and at [`CPU_NX`], with whether the hydrophilic drop spreads more at both.
+pub(super) fn direction_band(case_dir: &Path, quantity: &str) -> Option<Band> {
+    let mut angles = quantity.split("θ = ").skip(1).map(|p| p.split('°').next().and_then(|a| a.parse::<f64>().ok()));
+    let (a, b) = (angles.next()??, angles.next()??);
+    let end = |th: f64, nx: u32| {
+        let rows = read_series(&case_dir.join("runs").join(spec(th, Some(nx), T_END).id));
+        col(&rows, |r| r.spread_factor).last().map(|p| p.1)
+    };
+    let diff: Vec<f64> =
+        [CHECK_NX, CPU_NX].into_iter().map(|nx| Some(end(a, nx)? - end(b, nx)?)).collect::<Option<_>>()?;
+    Some(Band {
+        varied: format!("nx = {CHECK_NX} / {CPU_NX}"),
+        values: diff.iter().map(|d| format!("{d:.3}")).collect(),
+        source: format!("runs/theta{a:.0}-nx{{{CHECK_NX},{CPU_NX}}}, runs/theta{b:.0}-nx{{{CHECK_NX},{CPU_NX}}}"),
+        holds: Some(diff.iter().all(|d| *d > 0.0)),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_direction_rows_band_is_the_same_difference_at_the_check_resolution() {
+        let dir = tempfile::tempdir().unwrap();
+        let q = "D/D0 at t = 1.65 ms: θ = 50° minus θ = 175°";
+        assert!(direction_band(dir.path(), q).is_none(), "no runs, no band");
+        for (id, ends) in [
+            ("theta50-nx24", [3.0, 4.1]),
+            ("theta175-nx24", [1.0, 4.3]),
+            ("theta50-nx48", [2.0, 3.7]),
+            ("theta175-nx48", [1.0, 0.6]),
+        ] {
+            let run = dir.path().join("runs").join(id);
+            std::fs::create_dir_all(&run).unwrap();
+            let mut w = csv::Writer::from_path(run.join("series.csv")).unwrap();
+            for (t, d) in [(1e-3, ends[0]), (T_END, ends[1])] {
+                w.serialize(crate::run::SeriesRow { t, spread_factor: Some(d), ..Default::default() }).unwrap();
+            }
+            w.flush().unwrap();
+        }
+        let band = direction_band(dir.path(), q).unwrap();
+        assert_eq!(band.values, ["-0.200", "3.100"], "the last rows, nx = 24 then 48");
+        assert_eq!(band.holds, Some(false), "the direction reverses at nx = 24");
+        assert_eq!(band.source, "runs/theta50-nx{24,48}, runs/theta175-nx{24,48}");
+    }
 
     #[test]
     fn run_ids_name_the_resolution_except_the_full_one() {

@@ -14,6 +14,8 @@ use std::path::Path;
 mod rule;
 mod sensitivity;
 #[cfg(test)]
+mod sweep_tests;
+#[cfg(test)]
 mod tests;
 mod young_sweep;
 
@@ -44,10 +46,13 @@ pub fn judge(name: &str, ctx: &Ctx, rep: &mut CaseReport) {
         "cross-code" => cross_code(rep),
         "capillary-wave" => capillary_wave(root, rep),
         "impact" => {
+            let dir = root.join(&rep.name);
             for r in rep.rows.iter_mut() {
+                let band =
+                    r.quantity.starts_with("D/D0 at t = ").then(|| super::impact::direction_band(&dir, &r.quantity));
                 r.qualify(
                     "nx = 48 (not shown converged: nx32-check/README.md), water's c0 and the scene's p_b; the nx = 24 rows above",
-                    None,
+                    band.flatten().as_ref(),
                 );
             }
         }
