@@ -285,8 +285,12 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
             "|midpoint − 60°| < 3°: Young's angle, from either side; ../capillary-rule/README.md",
         );
     }
-    for r in rows(rep, "Mode B, no-slip: end angle approached from both sides") {
-        r.qualify(&rule, None);
+    for mode in ["a", "b"] {
+        let band = young_sweep::both_sides_band(root, mode);
+        let head = format!("Mode {}, no-slip: end angle approached from both sides", mode.to_uppercase());
+        for r in rows(rep, &head) {
+            r.qualify(&rule, band.as_ref());
+        }
     }
     young_sweep::young_sweep_rows(root, rep);
 }

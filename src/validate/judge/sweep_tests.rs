@@ -258,3 +258,24 @@ fn the_line_forms_sweep_has_its_own_rows_from_its_own_runs() {
     // The bands' rows take none of these runs.
     assert!(rep.rows.iter().filter(|r| r.quantity.starts_with("Mode A Young sweep")).count() == 3);
 }
+
+#[test]
+fn the_both_sides_rows_band_is_the_starts_midpoint_at_each_alpha() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    assert!(young_sweep::both_sides_band(root, "b").is_none(), "no runs, no band");
+    for (alpha, from90, from45) in [("-alpha1", 64.0, 58.0), ("", 60.5, 60.3), ("-alpha4", 60.6, 60.0)] {
+        for (start, theta) in [("90", from90), ("45", from45)] {
+            let name = format!("nx33-b-from{start}-quintic{alpha}");
+            sweep_run_in(root, "form-and-kernel/relax-60", &name, 33, "quintic", theta);
+        }
+    }
+    let band = young_sweep::both_sides_band(root, "b").unwrap();
+    assert_eq!((band.values.clone(), band.holds), (vec!["61.00".into(), "60.40".into(), "60.30".into()], Some(true)));
+    assert!(
+        band.source.starts_with("../form-and-kernel/relax-60/nx33-b-from{90,45}-quintic-alpha1"),
+        "{}",
+        band.source
+    );
+    assert!(young_sweep::both_sides_band(root, "a").is_none(), "Mode A has no runs here");
+}

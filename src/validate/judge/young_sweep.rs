@@ -229,6 +229,26 @@ fn alpha_band(root: &Path, p: &Point) -> Option<Band> {
     })
 }
 
+/// The α band of relax-60's row "Mode <mode>, no-slip: end angle approached from both sides": the
+/// midpoint of the starts from 90° and 45° at nx = 33 under the capillary rule's α × 0.5 / × 1 /
+/// × 2, with the wall bands (`mode` "a" or "b").
+pub(super) fn both_sides_band(root: &Path, mode: &str) -> Option<Band> {
+    let run = match mode {
+        "a" => "nx{nx}-a-from",
+        _ => "nx{nx}-b-from",
+    };
+    let p = Point {
+        theta_y: 60.0,
+        tensions: "σ_LS = 0.5, σ_GS = 1 (built-in)",
+        run,
+        starts: ["90", "45"],
+        sources: &SOURCES,
+        wall_tension: "bands",
+        case_runs: None,
+    };
+    alpha_band(root, &p)
+}
+
 /// The realisations of a point at `nx`, from the first source with two or more per start: the
 /// midpoint of the starts' means, the pooled sample sd between realisations, and the count per
 /// start.
