@@ -155,16 +155,20 @@ fn rejudge_applies_the_verdicts_to_a_committed_report_once_and_needs_one() {
     assert_eq!(again.notes.iter().filter(|n| n.contains("--rejudge")).count(), 1);
 }
 
-#[test]
-fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table() {
+/// A report root holding only the capillary rule's table with `csv` as its content.
+fn rule_table(csv: &str) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
-    std::fs::write(
-        dir.path().join("capillary-rule/capillary_rule.csv"),
+    std::fs::write(dir.path().join("capillary-rule/capillary_rule.csv"), csv).unwrap();
+    dir
+}
+
+#[test]
+fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table() {
+    let dir = rule_table(
         "alpha,nx,kernel,period,jump\n2.0,30,quintic,0.366,5.2\n2.0,45,quintic,0.374,5.24\n\
          1.0,30,quintic,0.432,nan\n4.0,30,quintic,0.366,nan\n2.0,30,johnson,0.35,5.3\n",
-    )
-    .unwrap();
+    );
     let ok = |v: f64| (v / 0.37 - 1.0).abs() <= 0.05;
     let a = alpha_band(dir.path(), "quintic", "period", ok).unwrap();
     assert_eq!(a.values, ["0.4320", "0.3660", "0.3660"]);
@@ -179,13 +183,9 @@ fn verdicts_name_the_capillary_rule_and_read_its_bands_from_the_committed_table(
 
 #[test]
 fn the_spurious_kinetic_energy_carries_the_rules_alpha_band_of_the_drop_at_rest() {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
-    std::fs::write(
-        dir.path().join("capillary-rule/capillary_rule.csv"),
+    let dir = rule_table(
         "alpha,nx,kernel,rest_max_ke\n2.0,30,quintic,1.1e-5\n1.0,30,quintic,6.8e-4\n4.0,30,quintic,4.7e-6\n",
-    )
-    .unwrap();
+    );
     let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
     let ke = Row::new("max liquid kinetic energy for t ≥ 0.1", 1.1e-5, 6, None, Some(0.0)).check(true, "< 1e-4");
     let mut rep = report("spurious", vec![ke]);
@@ -203,15 +203,11 @@ fn the_spurious_kinetic_energy_carries_the_rules_alpha_band_of_the_drop_at_rest(
 
 #[test]
 fn every_kernel_is_held_to_the_thesis_at_both_resolutions_once() {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir_all(dir.path().join("capillary-rule")).unwrap();
-    std::fs::write(
-        dir.path().join("capillary-rule/capillary_rule.csv"),
+    let dir = rule_table(
         "alpha,nx,kernel,period,jump\n2.0,30,quintic,0.366,5.2\n2.0,45,quintic,0.374,5.24\n\
          2.0,30,cubic-spline,0.32,4.98\n2.0,45,cubic-spline,0.297,4.76\n2.0,30,johnson,0.35,5.3\n\
          1.0,30,cubic-spline,0.36,5.0\n4.0,30,cubic-spline,0.268,5.17\n",
-    )
-    .unwrap();
+    );
     let mut rep = report("oscillation", Vec::new());
     for _ in 0..2 {
         at_both_resolutions(dir.path(), &mut rep, ("period", "period"), (0.37, 0.05), 4, "the rule at each nx");

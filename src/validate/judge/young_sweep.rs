@@ -6,7 +6,8 @@
 //! each was run), and, at 60°, the case's own two Mode A runs. Only runs of relax-60's kernel and h as the scene takes
 //! them now count (each run's `summary.json`), so the rows describe the case's kernel. The
 //! acceptance is the issue's: within 3° of θ_Y at nx = 65, and cos θ / cos θ_Y closer to 1 at
-//! every refinement.
+//! every refinement. Each row's sensitivity band is its midpoint at nx = 33 under the capillary
+//! rule's α × 0.5 / × 1 / × 2, where those runs are committed.
 
 use super::super::data::{col, read_series, window_stats};
 use super::super::report::summary_at;
@@ -338,7 +339,7 @@ pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
             cites.join("; ")
         );
         let row = Row::new(&quantity, fine, 2, None, Some(p.theta_y)).sphlab_text(text);
-        let row = if found.len() == NXS.len() && nx_fine == NXS[NXS.len() - 1] {
+        let mut row = if found.len() == NXS.len() && nx_fine == NXS[NXS.len() - 1] {
             let off: Vec<f64> = ratio.iter().map(|r| (1.0 - r).abs()).collect();
             row.check(
                 (fine - p.theta_y).abs() < ANGLE_TOL_DEG && falls(&off) && moving.is_empty(),
@@ -349,7 +350,6 @@ pub(super) fn young_sweep_rows(root: &Path, rep: &mut CaseReport) {
         } else {
             row
         };
-        let mut row = row;
         row.qualify(DEPENDS, alpha_band(root, p).as_ref());
         rep.rows.push(row);
     }
