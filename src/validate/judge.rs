@@ -48,11 +48,14 @@ pub fn judge(name: &str, ctx: &Ctx, rep: &mut CaseReport) {
         "impact" => {
             let dir = root.join(&rep.name);
             for r in rep.rows.iter_mut() {
-                let band =
-                    r.quantity.starts_with("D/D0 at t = ").then(|| super::impact::direction_band(&dir, &r.quantity));
+                let band = if r.quantity.starts_with("D/D0 at t = ") {
+                    super::impact::direction_band(&dir, &r.quantity)
+                } else {
+                    None
+                };
                 r.qualify(
                     "nx = 48 (not shown converged: nx32-check/README.md), water's c0 and the scene's p_b; the nx = 24 rows above",
-                    band.flatten().as_ref(),
+                    band.as_ref(),
                 );
             }
         }
