@@ -2,11 +2,13 @@
 //! `oscillating_rod.py --scheme adami_stress` set-up) on the CPU with both colour-gradient forms
 //! (single-field = PySPH's, and the thesis's), against PySPH's committed curve
 //! `data/reference/pysph-oscillating-rod.csv` over its whole record (t ≤ 0.5; `--quick`: t ≤
-//! 0.08). Estimators: [`crate::diagnostics::rod`], shared with `tests/cross_code.rs`.
+//! 0.08). Estimators: [`crate::diagnostics::rod`], shared with `tests/cross_code.rs`. The full
+//! case also runs each form at p_b × 0.5 and × 2 of PySPH's (sphlab's side only): the band
+//! [`pb_bands`] gives every pass and FAIL row.
 
 use super::case::{Case, CaseOutput, CasePlot, CaseRun, CaseSpec, CaseTable};
 use super::data::{read_snapshot, snapshot_files};
-use super::report::{CaseReport, Row, RunRecord};
+use super::report::{Band, CaseReport, Row, RunRecord};
 use super::{Ctx, RunSpec, ValidateError};
 use crate::diagnostics::rod::{
     pysph_rod_reference, rms_over_amplitude, rod_measures, rod_oscillation, RodOscillation, RodRow, ROD_CURVES,
@@ -32,6 +34,21 @@ pub const VERTEX_WINDOW: f64 = 0.02;
 /// The colour-gradient forms: run id (= `surface_tension.colour_gradient`) and label.
 const FORMS: [(&str, &str); 2] =
     [("single-field", "single-field colour gradient (PySPH's)"), ("thesis", "thesis colour gradient (T71)")];
+/// The sensitivity band's runs beside each form (full case only): id suffix, label suffix and
+/// the factor on the scene's p_b (PySPH's ρ0c0² = 400) in both phases; c0, γ and dt unchanged.
+const PB_BAND: [(&str, &str, f64); 2] = [("-pb-half", ", p_b × 0.5", 0.5), ("-pb-double", ", p_b × 2", 2.0)];
+/// Each run's curve table, by run id.
+const TABLES: [(&str, &str); 6] = [
+    ("single-field", "curves_single-field.csv"),
+    ("single-field-pb-half", "curves_single-field-pb-half.csv"),
+    ("single-field-pb-double", "curves_single-field-pb-double.csv"),
+    ("thesis", "curves_thesis.csv"),
+    ("thesis-pb-half", "curves_thesis-pb-half.csv"),
+    ("thesis-pb-double", "curves_thesis-pb-double.csv"),
+];
+const RMS_HEAD: &str = "rms/amplitude of ";
+const PERIOD_HEAD: &str = "a_x period 2(t_min − t_max)";
+const DAMPING_HEAD: &str = "a_x damping rate β = Λ/(t_min − t_max)";
 const AX_PLOT: &str = "a_x.svg";
 const BY_PLOT: &str = "b_y.svg";
 
@@ -45,37 +62,103 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
 }
 
 fn table_file(id: &str) -> &'static str {
-    if id == "thesis" {
-        "curves_thesis.csv"
-    } else {
-        "curves_single-field.csv"
+    TABLES.iter().find(|t| t.0 == id).map_or(TABLES[0].1, |t| t.1)
+}
+
+/// The stated bound of a compared quantity, from its name: rms/amplitude against its form's
+/// tolerance (`quick`: over t ≤ [`QUICK_T_END`]), a_x's period and damping rate within
+/// [`OSCILLATION_TOL`] of PySPH's (`pysph`); with the criterion's text. None for an info row.
+fn bound(quantity: &str, quick: bool, pysph: Option<RodOscillation>) -> Option<(Box<dyn Fn(f64) -> bool>, String)> {
+    let tol = if quick { RMS_TOL_QUICK } else { RMS_TOL };
+    let tol = if quantity.contains(FORMS[1].1) { tol.1 } else { tol.0 };
+    let curve = quantity.strip_prefix(RMS_HEAD).and_then(|q| q.split(' ').next());
+    if let Some(k) = curve.and_then(|c| ROD_CURVES.iter().position(|n| *n == c)) {
+        return (k < 4).then(|| -> (Box<dyn Fn(f64) -> bool>, String) {
+            (Box::new(move |v| v <= tol), format!("≤ {:.1} % (stated bound)", tol * 100.0))
+        });
     }
+    let p = pysph?;
+    let r = if quantity.starts_with(PERIOD_HEAD) {
+        p.period
+    } else if quantity.starts_with(DAMPING_HEAD) {
+        p.damping_rate
+    } else {
+        return None;
+    };
+    Some((
+        Box::new(move |v| (v / r - 1.0).abs() <= OSCILLATION_TOL),
+        format!("within {:.0} % of PySPH's", OSCILLATION_TOL * 100.0),
+    ))
+}
+
+/// PySPH's a_x period and damping rate over its whole committed record, by the case's estimator.
+fn pysph_oscillation(reference: &[RodRow]) -> Option<RodOscillation> {
+    let t: Vec<f64> = reference.iter().map(|r| r.t).collect();
+    let a: Vec<f64> = reference.iter().map(|r| r.v[0]).collect();
+    rod_oscillation(&t, &a, EQUILIBRIUM_FROM, VERTEX_WINDOW)
+}
+
+/// For every pass and FAIL row of a form at PySPH's p_b, its sensitivity band: the same quantity
+/// from the case's runs at p_b × 0.5 and × 2 ([`PB_BAND`]), with whether the row's bound holds at
+/// all three. Rows whose band runs are not in the report get none.
+pub(super) fn pb_bands(rep: &CaseReport) -> Vec<(String, Band)> {
+    let pysph = pysph_oscillation(&pysph_rod_reference());
+    let judged = rep.rows.iter().filter(|r| r.verdict.starts_with("pass (") || r.verdict.starts_with("FAIL ("));
+    judged
+        .filter_map(|r| {
+            let at = |suffix: &str| rep.rows.iter().find(|b| b.quantity == format!("{}{suffix}", r.quantity));
+            let three = [at(PB_BAND[0].1)?, r, at(PB_BAND[1].1)?];
+            let (holds, _) = bound(&r.quantity, rep.quick, pysph)?;
+            let form = FORMS.iter().find(|f| r.quantity.ends_with(f.1))?.0;
+            let band = Band {
+                varied: "p_b × 0.5 / × 1 / × 2 of PySPH's ρ0c0² = 400, in sphlab only (c0, γ, dt unchanged; \
+                         PySPH's curve stays at 400)"
+                    .into(),
+                values: three.iter().map(|x| x.sphlab.clone()).collect(),
+                source: [PB_BAND[0].0, "", PB_BAND[1].0].map(|s| table_file(&format!("{form}{s}"))).join(", "),
+                holds: Some(three.iter().all(|x| holds(x.value))),
+            };
+            Some((r.quantity.clone(), band))
+        })
+        .collect()
 }
 
 impl CrossCode {
-    /// Period and damping-rate rows of a_x for one form, against PySPH's on the same rows.
-    fn oscillation_rows(&self, label: &str, sim: Option<RodOscillation>, pysph: Option<RodOscillation>) -> Vec<Row> {
+    /// Period and damping-rate rows of a_x for one run, against PySPH's on the same rows; judged
+    /// for a form at PySPH's p_b, info for a band run (`checked` false).
+    fn oscillation_rows(
+        &self,
+        label: &str,
+        checked: bool,
+        sim: Option<RodOscillation>,
+        pysph: Option<RodOscillation>,
+    ) -> Vec<Row> {
         let get = |o: Option<RodOscillation>, f: fn(&RodOscillation) -> f64| o.as_ref().map_or(f64::NAN, f);
         let row = |what: &str, f: fn(&RodOscillation) -> f64| {
-            let (v, r) = (get(sim, f), get(pysph, f));
-            Row::new(&format!("{what}, {label}"), v, 4, None, Some(r)).analytic_text(&format!("PySPH {r:.4}")).check(
-                (v / r - 1.0).abs() <= OSCILLATION_TOL,
-                &format!("within {:.0} % of PySPH's", OSCILLATION_TOL * 100.0),
-            )
+            let (v, r, q) = (get(sim, f), get(pysph, f), format!("{what}, {label}"));
+            let row = Row::new(&q, v, 4, None, Some(r)).analytic_text(&format!("PySPH {r:.4}"));
+            match bound(&q, self.quick, pysph).filter(|_| checked) {
+                Some((holds, text)) => row.check(holds(v), &text),
+                None => row,
+            }
         };
-        vec![
-            row("a_x period 2(t_min − t_max)", |o| o.period),
-            row("a_x damping rate β = Λ/(t_min − t_max)", |o| o.damping_rate),
-        ]
+        vec![row(PERIOD_HEAD, |o| o.period), row(DAMPING_HEAD, |o| o.damping_rate)]
     }
 }
 
 impl Case for CrossCode {
     fn spec(&self, _ctx: &Ctx) -> CaseSpec {
         let t_end = self.quick.then_some(QUICK_T_END);
-        let runs = FORMS.iter().map(|(id, label)| {
-            let sets = [format!("surface_tension.colour_gradient={id}")];
-            CaseRun::new(RunSpec::new(*id, SCENE, &sets, t_end, 1), *label)
+        let pb = RunSpec::new("", SCENE, &[], None, 1).scene().map_or(f64::NAN, |s| s.phases[0].p_b);
+        let band: &[_] = if self.quick { &[] } else { &PB_BAND };
+        let runs = FORMS.iter().flat_map(|(id, label)| {
+            let form = format!("surface_tension.colour_gradient={id}");
+            let at_pb = std::iter::once(CaseRun::new(RunSpec::new(*id, SCENE, &[form.clone()], t_end, 1), *label));
+            at_pb.chain(band.iter().map(move |(suffix, more, f)| {
+                let mut sets = vec![form.clone()];
+                sets.extend((0..2).map(|k| format!("phases.{k}.p_b={}", f * pb)));
+                CaseRun::new(RunSpec::new(format!("{id}{suffix}"), SCENE, &sets, t_end, 1), format!("{label}{more}"))
+            }))
         });
         let plot = |title: &str, y: &str| PlotSpec::new(title, "t (nondimensional)", y);
         let header = format!("t,step,{}", ROD_CURVES.join(","));
@@ -89,9 +172,10 @@ impl Case for CrossCode {
                 CasePlot { file: AX_PLOT, plot: plot("Oscillating rod: half-extent a_x(t)", "a_x = ½(max x − min x)") },
                 CasePlot { file: BY_PLOT, plot: plot("Oscillating rod: half-extent b_y(t)", "b_y = ½(max y − min y)") },
             ],
-            tables: FORMS
+            tables: TABLES
                 .iter()
-                .map(|(id, _)| CaseTable { file: table_file(id), header: header.clone(), rows: Vec::new() })
+                .filter(|t| !self.quick || FORMS.iter().any(|f| f.0 == t.0))
+                .map(|(_, file)| CaseTable { file, header: header.clone(), rows: Vec::new() })
                 .collect(),
             method_notes: vec![
                 "Curves (diagnostics::rod, as tests/cross_code.rs): the liquid's half-extents a_x, b_y = ½(max − min) \
@@ -151,15 +235,14 @@ impl Case for CrossCode {
         let (sv, rv): (Vec<[f64; 6]>, Vec<[f64; 6]>) =
             (sim.iter().map(|s| s.1).collect(), reference.iter().map(|r| r.v).collect());
         let e = rms_over_amplitude(&sv, &rv);
-        let tol = if self.quick { RMS_TOL_QUICK } else { RMS_TOL };
-        let tol = if id == "thesis" { tol.1 } else { tol.0 };
+        // A form at PySPH's p_b is judged; its band runs' rows are info, read by [`pb_bands`].
+        let checked = FORMS.iter().any(|f| f.0 == id);
         for (k, name) in ROD_CURVES.iter().enumerate() {
-            let row = Row::new(&format!("rms/amplitude of {name} over t ≤ {t_last:.4}, {label}"), e[k], 5, None, None)
-                .sphlab_text(format!("{:.3} %", 100.0 * e[k]));
-            out.rep.rows.push(if k < 4 {
-                row.check(e[k] <= tol && rec.status == "ok", &format!("≤ {:.1} % (stated bound)", tol * 100.0))
-            } else {
-                row
+            let q = format!("{RMS_HEAD}{name} over t ≤ {t_last:.4}, {label}");
+            let row = Row::new(&q, e[k], 5, None, None).sphlab_text(format!("{:.3} %", 100.0 * e[k]));
+            out.rep.rows.push(match bound(&q, self.quick, None).filter(|_| checked) {
+                Some((holds, text)) => row.check(holds(e[k]) && rec.status == "ok", &text),
+                None => row,
             });
         }
         if !self.quick {
@@ -168,7 +251,7 @@ impl Case for CrossCode {
                 rod_oscillation(&t, &v.iter().map(|v| v[0]).collect::<Vec<_>>(), EQUILIBRIUM_FROM, VERTEX_WINDOW)
             };
             let (so, ro) = (osc(&sv), osc(&rv));
-            out.rep.rows.extend(self.oscillation_rows(label, so, ro));
+            out.rep.rows.extend(self.oscillation_rows(label, checked, so, ro));
             if let (Some(s), Some(r)) = (so, ro) {
                 out.rep.notes.push(format!(
                     "{label}: a_x maximum {:.5} at t = {:.4} (PySPH {:.5} at {:.4}), minimum {:.5} at t = {:.4} (PySPH {:.5} at \

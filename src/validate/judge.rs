@@ -20,7 +20,7 @@ mod tests;
 mod young_sweep;
 
 use rule::{alpha_band, at_two_resolutions, nx_band, rule_text, KERNELS};
-use sensitivity::{relax_rule_band, sessile_pb_band};
+use sensitivity::{relax_rule_band, relax_transport_band, sessile_pb_band};
 
 /// Young's angle of relax-60 (deg).
 pub(super) const YOUNG_DEG: f64 = 60.0;
@@ -161,11 +161,14 @@ fn spurious(root: &Path, rep: &mut CaseReport) {
     at_both_resolutions(root, rep, ("Laplace jump of the drop at rest", "jump"), (1.0 / DROP_R, 0.03), 3, &on);
 }
 
+/// The rod's rows with their band from the case's own runs at p_b × 0.5 and × 2.
 fn cross_code(rep: &mut CaseReport) {
+    let bands = super::cross_code::pb_bands(rep);
     for r in rep.rows.iter_mut() {
+        let band = bands.iter().find(|b| b.0 == r.quantity).map(|b| &b.1);
         r.qualify(
             "PySPH's own parameters as its script sets them (scenes/pysph-rod.toml), none chosen for the match",
-            None,
+            band,
         );
     }
 }
@@ -255,6 +258,7 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
             "Mode A, no-slip:" => relax_rule_band(root, "a", ""),
             "Mode B, free-slip:" => relax_rule_band(root, "b", "-freeslip"),
             "Mode A, free-slip:" => relax_rule_band(root, "a", "-freeslip"),
+            "Mode B, no-slip, transport velocity:" => relax_transport_band(root),
             _ => None,
         };
         let depends = match label {

@@ -1,8 +1,8 @@
 //! Sensitivity bands read from committed runs: relax-60 at nx = 33 with the capillary
 //! rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1; `capillary-rule/relax-60` for the cubic
 //! spline, `form-and-kernel/relax-60` for the quintic), and sessile-90 Mode B at nx = 45 with p_b
-//! 45 / 90 (`sessile-90/pb-check/runs`, made before the rule and the quintic). The drop's bands
-//! of the rule are in `rule.rs`.
+//! 45 / 90 (`sessile-90/pb-check/runs`, made before the rule and the quintic); the transport
+//! velocity's own p_b × 0.5 / × 1 / × 2 the same way. The drop's bands of the rule are in `rule.rs`.
 
 use super::{of_the_scene, RELAX_RUN_SOURCES};
 use crate::validate::data::{col, read_series, window_stats};
@@ -21,9 +21,25 @@ pub(super) const ALPHA_SUFFIXES: [&str; 3] = ["-alpha1", "", "-alpha4"];
 /// at the wall, θ − 60° by the thesis's two-point measure]`, each with the case's bound. At
 /// nx = 33, not the headline's 65: an nx = 65 run costs about 17 CPU minutes, one at 33 about 2.
 pub(super) fn relax_rule_band(root: &Path, mode: &str, wall: &str) -> Option<[Band; 3]> {
-    let base = format!("nx33-{mode}-from90{wall}");
+    let slip = if wall.is_empty() { "no-slip" } else { "free-slip" };
+    let varied =
+        format!("the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode {} from 90°, {slip})", mode.to_uppercase());
+    relax_band(root, &format!("nx33-{mode}-from90{wall}"), ALPHA_SUFFIXES, &varied)
+}
+
+/// The transport-velocity form's own p_b (ρ0c0²) × 0.5 / × 1 / × 2 at nx = 33, Mode B from 90°,
+/// no-slip (`nx33-b-from90-tvf<source suffix>{-pb0.5,,-pb2}`), as [`relax_rule_band`] reads its runs.
+pub(super) fn relax_transport_band(root: &Path) -> Option<[Band; 3]> {
+    let varied = "the transport velocity's p_b = ρ0c0² × 0.5 / × 1 / × 2 at nx = 33 (Mode B from 90°, no-slip)";
+    relax_band(root, "nx33-b-from90-tvf", ["-pb0.5", "", "-pb2"], varied)
+}
+
+/// The band of relax-60's three end-state rows from the runs `<base><source suffix><s>` for each
+/// of `suffixes` (what `varied` names), found under the first of [`RELAX_RUN_SOURCES`] that holds
+/// all three at nx = 33 with the scene's kernel and h.
+fn relax_band(root: &Path, base: &str, suffixes: [&str; 3], varied: &str) -> Option<[Band; 3]> {
     let runs = RELAX_RUN_SOURCES.into_iter().find_map(|(src, suffix)| {
-        let all = ALPHA_SUFFIXES.map(|alpha| format!("{src}/{base}{suffix}{alpha}"));
+        let all = suffixes.map(|s| format!("{src}/{base}{suffix}{s}"));
         all.iter().all(|d| of_the_scene(&root.join(d), 33)).then_some(all)
     })?;
     let dx = 0.5 / 33.0;
@@ -36,12 +52,8 @@ pub(super) fn relax_rule_band(root: &Path, mode: &str, wall: &str) -> Option<[Ba
         two_point.push(window_stats(&col(&rows, |r| r.theta_two_point.map(|v| v - 60.0)), 4.3, 4.5)?.0);
     }
     let source = runs.iter().map(|r| format!("../{r}")).collect::<Vec<_>>().join(", ");
-    let slip = if wall.is_empty() { "no-slip" } else { "free-slip" };
     let band = |values: &[f64], holds: bool, prec: usize| Band {
-        varied: format!(
-            "the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode {} from 90°, {slip})",
-            mode.to_uppercase()
-        ),
+        varied: varied.to_string(),
         values: values.iter().map(|v| format!("{v:.prec$}")).collect(),
         source: source.clone(),
         holds: Some(holds),

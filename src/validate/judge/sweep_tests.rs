@@ -186,6 +186,14 @@ fn the_relax_alpha_band_reads_the_runs_of_the_scenes_kernel() {
     let [a, _, _] = relax_rule_band(root, "a", "-freeslip").unwrap();
     assert_eq!((a.values.clone(), a.holds), (vec!["0.40".to_string(), "0.90".into(), "0.80".into()], Some(true)));
     assert!(a.varied.contains("(Mode A from 90°, free-slip)"), "{}", a.varied);
+    // The transport velocity's band reads its own p_b runs, not the rule's α runs.
+    assert!(relax_transport_band(root).is_none());
+    for (n, theta) in ["-pb0.5", "", "-pb2"].iter().zip([63.5, 60.4, 60.1]) {
+        sweep_run_in(root, "form-and-kernel/relax-60", &format!("nx33-b-from90-tvf-quintic{n}"), 33, "quintic", theta);
+    }
+    let [tv, _, _] = relax_transport_band(root).unwrap();
+    assert_eq!((tv.values.clone(), tv.holds), (vec!["3.50".to_string(), "0.40".into(), "0.10".into()], Some(false)));
+    assert!(tv.varied.starts_with("the transport velocity's p_b = ρ0c0² × 0.5"), "{}", tv.varied);
 }
 
 /// [`sweep_run_in`] in `relax-60/mode-a-line/runs`, recorded with the wall tensions `tension`.

@@ -270,3 +270,37 @@ fn the_rule_text_names_the_values_the_runs_were_made_at() {
     let own = rule_text(dir.path(), &imp, "a");
     assert!(own.contains("set by the scene (before the capillary rule)"), "{own}");
 }
+
+#[test]
+fn the_rods_rows_carry_their_p_b_band_from_the_cases_own_runs() {
+    let sf = "single-field colour gradient (PySPH's)";
+    let rms = |label: &str, v: f64| {
+        Row::new(&format!("rms/amplitude of a_x over t ≤ 0.4967, {label}"), v, 5, None, None)
+            .sphlab_text(format!("{:.3} %", 100.0 * v))
+    };
+    let damping =
+        |label: &str, v: f64| Row::new(&format!("a_x damping rate β = Λ/(t_min − t_max), {label}"), v, 4, None, None);
+    let th = "thesis colour gradient (T71)";
+    let rep = judged(
+        "cross-code",
+        vec![
+            rms(sf, 0.0007).check(true, "≤ 1.0 % (stated bound)"),
+            rms(&format!("{sf}, p_b × 0.5"), 0.002),
+            rms(&format!("{sf}, p_b × 2"), 0.02),
+            damping(sf, 11.02).check(true, "within 2 % of PySPH's"),
+            damping(&format!("{sf}, p_b × 0.5"), 11.1),
+            damping(&format!("{sf}, p_b × 2"), 10.9),
+            rms(th, 0.02).check(true, "≤ 3.0 % (stated bound)"),
+        ],
+    );
+    let v = verdict(&rep, "rms/amplitude of a_x over t ≤ 0.4967, single-field colour gradient (PySPH's)");
+    assert!(v.contains(": 0.200 % / 0.070 % / 2.000 % (curves_single-field-pb-half.csv, curves_single-field.csv, curves_single-field-pb-double.csv), bound not met across the band)"), "× 2 is past 1 %: {v}");
+    // PySPH's damping rate is 11.02: 10.9 and 11.1 are within 2 % of it.
+    let v = verdict(&rep, "a_x damping rate β = Λ/(t_min − t_max), single-field");
+    assert!(v.ends_with("bound met across the band)"), "{v}");
+    assert!(verdict(&rep, "rms/amplitude of a_x over t ≤ 0.4967, thesis").ends_with("no committed sensitivity run)"));
+    assert_eq!(
+        verdict(&rep, "rms/amplitude of a_x over t ≤ 0.4967, single-field colour gradient (PySPH's), p_b × 2"),
+        "info"
+    );
+}
