@@ -61,6 +61,11 @@ pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     super::executor::execute(ctx, &mut CrossCode { quick: ctx.opts.quick, reference: pysph_rod_reference() })
 }
 
+/// The scene's p_b in both phases (PySPH's ρ0c0²).
+fn scene_pb() -> f64 {
+    RunSpec::new("", SCENE, &[], None, 1).scene().map_or(f64::NAN, |s| s.phases[0].p_b)
+}
+
 fn table_file(id: &str) -> &'static str {
     TABLES.iter().find(|t| t.0 == id).map_or(TABLES[0].1, |t| t.1)
 }
@@ -111,9 +116,11 @@ pub(super) fn pb_bands(rep: &CaseReport) -> Vec<(String, Band)> {
             let (holds, _) = bound(&r.quantity, rep.quick, pysph)?;
             let form = FORMS.iter().find(|f| r.quantity.ends_with(f.1))?.0;
             let band = Band {
-                varied: "p_b × 0.5 / × 1 / × 2 of PySPH's ρ0c0² = 400, in sphlab only (c0, γ, dt unchanged; \
-                         PySPH's curve stays at 400)"
-                    .into(),
+                varied: format!(
+                    "p_b × 0.5 / × 1 / × 2 of PySPH's ρ0c0² = {pb}, in sphlab only (c0, γ, dt unchanged; PySPH's \
+                     curve stays at {pb})",
+                    pb = scene_pb()
+                ),
                 values: three.iter().map(|x| x.sphlab.clone()).collect(),
                 source: [PB_BAND[0].0, "", PB_BAND[1].0].map(|s| table_file(&format!("{form}{s}"))).join(", "),
                 holds: Some(three.iter().all(|x| holds(x.value))),
@@ -149,7 +156,7 @@ impl CrossCode {
 impl Case for CrossCode {
     fn spec(&self, _ctx: &Ctx) -> CaseSpec {
         let t_end = self.quick.then_some(QUICK_T_END);
-        let pb = RunSpec::new("", SCENE, &[], None, 1).scene().map_or(f64::NAN, |s| s.phases[0].p_b);
+        let pb = scene_pb();
         let band: &[_] = if self.quick { &[] } else { &PB_BAND };
         let runs = FORMS.iter().flat_map(|(id, label)| {
             let form = format!("surface_tension.colour_gradient={id}");
