@@ -70,30 +70,48 @@ fn table_file(id: &str) -> &'static str {
     TABLES.iter().find(|t| t.0 == id).map_or(TABLES[0].1, |t| t.1)
 }
 
+/// A stated bound: at most a value (rms/amplitude), or within a fraction of PySPH's value.
+#[derive(Clone, Copy, Debug)]
+enum Bound {
+    AtMost(f64),
+    WithinOf { pysph: f64, tol: f64 },
+}
+
+impl Bound {
+    fn holds(self, v: f64) -> bool {
+        match self {
+            Bound::AtMost(max) => v <= max,
+            Bound::WithinOf { pysph, tol } => (v / pysph - 1.0).abs() <= tol,
+        }
+    }
+
+    fn text(self) -> String {
+        match self {
+            Bound::AtMost(max) => format!("≤ {:.1} % (stated bound)", max * 100.0),
+            Bound::WithinOf { tol, .. } => format!("within {:.0} % of PySPH's", tol * 100.0),
+        }
+    }
+}
+
 /// The stated bound of a compared quantity, from its name: rms/amplitude against its form's
 /// tolerance (`quick`: over t ≤ [`QUICK_T_END`]), a_x's period and damping rate within
-/// [`OSCILLATION_TOL`] of PySPH's (`pysph`); with the criterion's text. None for an info row.
-fn bound(quantity: &str, quick: bool, pysph: Option<RodOscillation>) -> Option<(Box<dyn Fn(f64) -> bool>, String)> {
+/// [`OSCILLATION_TOL`] of PySPH's (`pysph`). None for an info row.
+fn bound(quantity: &str, quick: bool, pysph: Option<RodOscillation>) -> Option<Bound> {
     let tol = if quick { RMS_TOL_QUICK } else { RMS_TOL };
     let tol = if quantity.contains(FORMS[1].1) { tol.1 } else { tol.0 };
     let curve = quantity.strip_prefix(RMS_HEAD).and_then(|q| q.split(' ').next());
     if let Some(k) = curve.and_then(|c| ROD_CURVES.iter().position(|n| *n == c)) {
-        return (k < 4).then(|| -> (Box<dyn Fn(f64) -> bool>, String) {
-            (Box::new(move |v| v <= tol), format!("≤ {:.1} % (stated bound)", tol * 100.0))
-        });
+        return (k < 4).then_some(Bound::AtMost(tol));
     }
     let p = pysph?;
-    let r = if quantity.starts_with(PERIOD_HEAD) {
+    let reference = if quantity.starts_with(PERIOD_HEAD) {
         p.period
     } else if quantity.starts_with(DAMPING_HEAD) {
         p.damping_rate
     } else {
         return None;
     };
-    Some((
-        Box::new(move |v| (v / r - 1.0).abs() <= OSCILLATION_TOL),
-        format!("within {:.0} % of PySPH's", OSCILLATION_TOL * 100.0),
-    ))
+    Some(Bound::WithinOf { pysph: reference, tol: OSCILLATION_TOL })
 }
 
 /// PySPH's a_x period and damping rate over its whole committed record, by the case's estimator.
@@ -113,7 +131,7 @@ pub(super) fn pb_bands(rep: &CaseReport) -> Vec<(String, Band)> {
         .filter_map(|r| {
             let at = |suffix: &str| rep.rows.iter().find(|b| b.quantity == format!("{}{suffix}", r.quantity));
             let three = [at(PB_BAND[0].1)?, r, at(PB_BAND[1].1)?];
-            let (holds, _) = bound(&r.quantity, rep.quick, pysph)?;
+            let b = bound(&r.quantity, rep.quick, pysph)?;
             let form = FORMS.iter().find(|f| r.quantity.ends_with(f.1))?.0;
             let band = Band {
                 varied: format!(
@@ -123,7 +141,7 @@ pub(super) fn pb_bands(rep: &CaseReport) -> Vec<(String, Band)> {
                 ),
                 values: three.iter().map(|x| x.sphlab.clone()).collect(),
                 source: [PB_BAND[0].0, "", PB_BAND[1].0].map(|s| table_file(&format!("{form}{s}"))).join(", "),
-                holds: Some(three.iter().all(|x| holds(x.value))),
+                holds: Some(three.iter().all(|x| b.holds(x.value))),
             };
             Some((r.quantity.clone(), band))
         })
@@ -145,7 +163,7 @@ impl CrossCode {
             let (v, r, q) = (get(sim, f), get(pysph, f), format!("{what}, {label}"));
             let row = Row::new(&q, v, 4, None, Some(r)).analytic_text(&format!("PySPH {r:.4}"));
             match bound(&q, self.quick, pysph).filter(|_| checked) {
-                Some((holds, text)) => row.check(holds(v), &text),
+                Some(b) => row.check(b.holds(v), &b.text()),
                 None => row,
             }
         };
@@ -160,7 +178,8 @@ impl Case for CrossCode {
         let band: &[_] = if self.quick { &[] } else { &PB_BAND };
         let runs = FORMS.iter().flat_map(|(id, label)| {
             let form = format!("surface_tension.colour_gradient={id}");
-            let at_pb = std::iter::once(CaseRun::new(RunSpec::new(*id, SCENE, &[form.clone()], t_end, 1), *label));
+            let at_pb =
+                std::iter::once(CaseRun::new(RunSpec::new(*id, SCENE, std::slice::from_ref(&form), t_end, 1), *label));
             at_pb.chain(band.iter().map(move |(suffix, more, f)| {
                 let mut sets = vec![form.clone()];
                 sets.extend((0..2).map(|k| format!("phases.{k}.p_b={}", f * pb)));
@@ -248,7 +267,7 @@ impl Case for CrossCode {
             let q = format!("{RMS_HEAD}{name} over t ≤ {t_last:.4}, {label}");
             let row = Row::new(&q, e[k], 5, None, None).sphlab_text(format!("{:.3} %", 100.0 * e[k]));
             out.rep.rows.push(match bound(&q, self.quick, None).filter(|_| checked) {
-                Some((holds, text)) => row.check(holds(e[k]) && rec.status == "ok", &text),
+                Some(b) => row.check(b.holds(e[k]) && rec.status == "ok", &b.text()),
                 None => row,
             });
         }
