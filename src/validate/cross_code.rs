@@ -114,7 +114,8 @@ fn bound(quantity: &str, quick: bool, pysph: Option<RodOscillation>) -> Option<B
     Some(Bound::WithinOf { pysph: reference, tol: OSCILLATION_TOL })
 }
 
-/// PySPH's a_x period and damping rate over its whole committed record, by the case's estimator.
+/// PySPH's a_x period and damping rate over `reference` (its whole record, or the rows a run
+/// matched), by the case's estimator.
 fn pysph_oscillation(reference: &[RodRow]) -> Option<RodOscillation> {
     let t: Vec<f64> = reference.iter().map(|r| r.t).collect();
     let a: Vec<f64> = reference.iter().map(|r| r.v[0]).collect();
@@ -276,7 +277,7 @@ impl Case for CrossCode {
             let osc = |v: &[[f64; 6]]| {
                 rod_oscillation(&t, &v.iter().map(|v| v[0]).collect::<Vec<_>>(), EQUILIBRIUM_FROM, VERTEX_WINDOW)
             };
-            let (so, ro) = (osc(&sv), osc(&rv));
+            let (so, ro) = (osc(&sv), pysph_oscillation(&reference));
             out.rep.rows.extend(self.oscillation_rows(label, checked, so, ro));
             if let (Some(s), Some(r)) = (so, ro) {
                 out.rep.notes.push(format!(
