@@ -150,6 +150,37 @@ pub(super) fn pb_bands(rep: &CaseReport) -> Vec<(String, Band)> {
 }
 
 impl CrossCode {
+    /// Notes on the method: the curves, their bounds (`tol`, `q` the quick mode's words) and the
+    /// half-cycle measures of period and damping.
+    fn method_notes(&self, tol: (f64, f64), q: &str) -> Vec<String> {
+        vec![
+            "Curves (diagnostics::rod, as tests/cross_code.rs): the liquid's half-extents a_x, b_y = ½(max − min) \
+             (PySPH's estimator), its centroid folded into the first quadrant mean |x|, mean |y|, and PySPH's quarter \
+             centroid (liquid with x > 0, y > 0), from the particle snapshots at every committed PySPH row (every 50 \
+             steps of PySPH's dt = 9.375e-5). Each curve's rms difference is divided by its amplitude, half the \
+             PySPH curve's range over the same rows."
+                .into(),
+            format!(
+                "Bounds{q}, stated before measuring: rms/amplitude of a_x, b_y, mean |x|, mean |y| ≤ {:.1} % \
+                 (single-field, PySPH's own form) and ≤ {:.1} % (thesis form); the quarter centroids are info (they \
+                 jump whenever a particle on an axis moves off it, so they measure the arrangement, not the drop).",
+                tol.0 * 100.0,
+                tol.1 * 100.0
+            ),
+            format!(
+                "Period and damping of a_x(t), by the same estimator on sphlab's and PySPH's rows \
+                 (diagnostics::rod::rod_oscillation): the first maximum (largest sample) and the first minimum after \
+                 it (smallest sample before t = {EQUILIBRIUM_FROM}), each refined to the vertex of the least-squares \
+                 parabola through the samples within ±{VERTEX_WINDOW}; equilibrium a_eq = mean of a_x over t ≥ \
+                 {EQUILIBRIUM_FROM}; period = 2(t_min − t_max); log decrement per half period Λ = ln((a_max − a_eq)/\
+                 (a_eq − a_min)); damping rate β = Λ/(t_min − t_max). Bound: within {:.0} % of PySPH's. The rod at \
+                 ν = 0.05 is strongly damped: the record holds one maximum and one minimum, so these are half-cycle \
+                 measures. --quick ends before the first minimum and reports neither.",
+                OSCILLATION_TOL * 100.0
+            ),
+        ]
+    }
+
     /// Period and damping-rate rows of a_x for one run, against PySPH's on the same rows; judged
     /// for a form at PySPH's p_b, info for a band run (`checked` false).
     fn oscillation_rows(
@@ -190,46 +221,35 @@ impl Case for CrossCode {
         let plot = |title: &str, y: &str| PlotSpec::new(title, "t (nondimensional)", y);
         let header = format!("t,step,{}", ROD_CURVES.join(","));
         let (tol, q) = if self.quick { (RMS_TOL_QUICK, " (quick)") } else { (RMS_TOL, "") };
+        let mut method_notes = self.method_notes(tol, q);
+        if !self.quick {
+            method_notes.push(format!(
+                "Sensitivity band: each form is also run at p_b × 0.5 and × 2 of PySPH's ρ0c0² = {pb} in both phases \
+                 (c0, γ and dt unchanged; PySPH's curve stays at {pb}): runs <form>{}, <form>{}, curves in \
+                 curves_<run>.csv. Their rows are info; the judge gives each form's pass and FAIL rows the band, \
+                 judged by the row's own bound.",
+                PB_BAND[0].0, PB_BAND[1].0
+            ));
+        }
         CaseSpec {
             name: "cross-code",
             reference: "PySPH 1.0b2 oscillating_rod.py --scheme adami_stress (scenes/pysph-rod.toml): cross-code check",
             runs: runs.collect(),
             not_full: Vec::new(),
             plots: vec![
-                CasePlot { file: AX_PLOT, plot: plot("Oscillating rod: half-extent a_x(t)", "a_x = ½(max x − min x)") },
-                CasePlot { file: BY_PLOT, plot: plot("Oscillating rod: half-extent b_y(t)", "b_y = ½(max y − min y)") },
+                CasePlot {
+                    file: AX_PLOT, plot: plot("Oscillating rod: half-extent a_x(t)", "a_x = ½(max x − min x)")
+                },
+                CasePlot {
+                    file: BY_PLOT, plot: plot("Oscillating rod: half-extent b_y(t)", "b_y = ½(max y − min y)")
+                },
             ],
             tables: TABLES
                 .iter()
                 .filter(|t| !self.quick || FORMS.iter().any(|f| f.0 == t.0))
                 .map(|(_, file)| CaseTable { file, header: header.clone(), rows: Vec::new() })
                 .collect(),
-            method_notes: vec![
-                "Curves (diagnostics::rod, as tests/cross_code.rs): the liquid's half-extents a_x, b_y = ½(max − min) \
-                 (PySPH's estimator), its centroid folded into the first quadrant mean |x|, mean |y|, and PySPH's quarter \
-                 centroid (liquid with x > 0, y > 0), from the particle snapshots at every committed PySPH row (every 50 \
-                 steps of PySPH's dt = 9.375e-5). Each curve's rms difference is divided by its amplitude, half the \
-                 PySPH curve's range over the same rows."
-                    .into(),
-                format!(
-                    "Bounds{q}, stated before measuring: rms/amplitude of a_x, b_y, mean |x|, mean |y| ≤ {:.1} % \
-                     (single-field, PySPH's own form) and ≤ {:.1} % (thesis form); the quarter centroids are info (they \
-                     jump whenever a particle on an axis moves off it, so they measure the arrangement, not the drop).",
-                    tol.0 * 100.0,
-                    tol.1 * 100.0
-                ),
-                format!(
-                    "Period and damping of a_x(t), by the same estimator on sphlab's and PySPH's rows \
-                     (diagnostics::rod::rod_oscillation): the first maximum (largest sample) and the first minimum after \
-                     it (smallest sample before t = {EQUILIBRIUM_FROM}), each refined to the vertex of the least-squares \
-                     parabola through the samples within ±{VERTEX_WINDOW}; equilibrium a_eq = mean of a_x over t ≥ \
-                     {EQUILIBRIUM_FROM}; period = 2(t_min − t_max); log decrement per half period Λ = ln((a_max − a_eq)/\
-                     (a_eq − a_min)); damping rate β = Λ/(t_min − t_max). Bound: within {:.0} % of PySPH's. The rod at \
-                     ν = 0.05 is strongly damped: the record holds one maximum and one minimum, so these are half-cycle \
-                     measures. --quick ends before the first minimum and reports neither.",
-                    OSCILLATION_TOL * 100.0
-                ),
-            ],
+            method_notes,
         }
     }
 

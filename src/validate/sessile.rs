@@ -4,7 +4,7 @@
 //! profile averaged near t ≈ 4.4 (the last 10 % of a shortened run) and the maximum normal
 //! deviation (Fig. 4.9). Thesis: Mode B < 3°, Mode A ±10°, Mode A's peak shear ≈ 160× Mode B's.
 
-use super::data::{for_each_snapshot_in, normal_deviation_series, read_series, Row as SRow, ShearMean};
+use super::data::{for_each_snapshot_in, normal_deviation_quantiles, read_series, Row as SRow, ShearMean};
 use super::report::CaseReport;
 use super::{Ctx, ValidateError};
 
@@ -24,6 +24,18 @@ pub const THESIS_MODE_B_SHEAR_MAX: f64 = 0.016;
 /// Half-width of the band around the contact line (fraction of the wall; the drop's edge is at
 /// 0.5) over which the mean-flow wall shear near the contact line is taken: two bins each side.
 const CONTACT_BAND: f64 = 0.1;
+
+/// The resolution of the sensitivity band of Mode B's rows.
+pub const BAND_NX: u32 = 33;
+/// The sensitivity band of Mode B's rows: Mode B at nx = [`BAND_NX`] under the capillary rule's
+/// α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1), as `(run id, α)`.
+pub const BAND_RUNS: [(&str, f64); 3] =
+    [("mode-b-nx33-alpha1", 1.0), ("mode-b-nx33", 2.0), ("mode-b-nx33-alpha4", 4.0)];
+
+/// The label of a band run's rows ("Mode B, nx = 33, α = 1").
+pub fn band_label(alpha: f64) -> String {
+    format!("Mode B, nx = {BAND_NX}, α = {alpha}")
+}
 
 /// Quick-mode overrides of the sessile / relax scenes: 26×26 (13 particles per radius),
 /// dt = 1.4e-4 (half the CFL limit there), a series row every 100 steps.
@@ -58,6 +70,9 @@ pub struct Measured {
     pub mean_flow: Vec<(f64, f64)>,
     /// Max normal deviation vs t.
     pub normal: Vec<(f64, f64)>,
+    /// Per snapshot with counted particles: t and the median, 90th percentile and maximum of
+    /// the normal deviations (degrees).
+    pub normal_quantiles: Vec<(f64, [f64; 3])>,
     /// Averaged shear profile (mean |γ̇|) over [`startup_window`].
     pub startup: Vec<(f64, f64)>,
 }
@@ -93,9 +108,14 @@ pub fn measure(dir: &std::path::Path, nx: u32, a: f64, b: f64, t_end: f64) -> Me
     });
     let shear = means[0].profile();
     let mean_flow = means[1].profile().into_iter().map(|(x, g)| (x, g.abs())).collect();
-    let normal = normal_deviation_series(dir, &rows, dx, y_w, [0.0, 0.0], 0.25, 3.0 * dx);
+    let normal_quantiles: Vec<(f64, [f64; 3])> =
+        normal_deviation_quantiles(dir, &rows, dx, y_w, [0.0, 0.0], 0.25, 3.0 * dx)
+            .into_iter()
+            .filter_map(|(t, q)| q.map(|q| (t, q)))
+            .collect();
+    let normal = normal_quantiles.iter().map(|(t, q)| (*t, q[2])).collect();
     let startup = means[2].profile();
-    Measured { rows, shear, mean_flow, normal, startup }
+    Measured { rows, shear, mean_flow, normal, normal_quantiles, startup }
 }
 
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {

@@ -1,12 +1,13 @@
 //! Sensitivity bands read from committed runs: relax-60 at nx = 33 with the capillary
 //! rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1; `capillary-rule/relax-60` for the cubic
-//! spline, `form-and-kernel/relax-60` for the quintic), and sessile-90 Mode B at nx = 45 with p_b
-//! 45 / 90 (`sessile-90/pb-check/runs`, made before the rule and the quintic); the transport
-//! velocity's own p_b × 0.5 / × 1 / × 2 the same way. The drop's bands of the rule are in `rule.rs`.
+//! spline, `form-and-kernel/relax-60` for the quintic), and sessile-90 Mode B at nx = 33 the same
+//! way (the case's own band runs, read from its rows); the transport velocity's own p_b × 0.5 /
+//! × 1 / × 2 as relax-60's. The drop's bands of the rule are in `rule.rs`.
 
 use super::{of_the_scene, RELAX_RUN_SOURCES};
 use crate::validate::data::{col, read_series, window_stats};
-use crate::validate::report::Band;
+use crate::validate::report::{Band, CaseReport};
+use crate::validate::sessile::{band_label, BAND_NX, BAND_RUNS};
 use std::path::Path;
 
 /// The capillary rule's α × 0.5 / × 1 / × 2 as the suffixes of a run's name: the runs of a
@@ -65,22 +66,21 @@ fn relax_band(root: &Path, base: &str, suffixes: [&str; 3], varied: &str) -> Opt
     ])
 }
 
-/// sessile-90 Mode B at nx = 45 with p_b 45 and 90 (× 0.5 and × 1 of σ/Δx): max |θ − 90°| by the
-/// circle fit over the whole run, with the case's bound (< 3°).
-pub(super) fn sessile_pb_band(root: &Path) -> Option<Band> {
-    let mut values = Vec::new();
-    for d in ["sessile-90/pb-check/runs/mode-b-pb45", "sessile-90/pb-check/runs/mode-b-pb90"] {
-        let rows = read_series(&root.join(d));
-        let dev = col(&rows, |r| r.theta_circle_fit.map(|v| (v - 90.0).abs()));
-        if dev.is_empty() {
-            return None;
-        }
-        values.push(dev.iter().map(|p| p.1).fold(f64::NAN, f64::max));
-    }
+/// sessile-90 Mode B at nx = 33 under the capillary rule's α × 0.5 / × 1 / × 2: the case's own
+/// band rows (`sessile::BAND_RUNS`) whose quantity is `what` after the run's label, each judged
+/// by `bound` (Mode B's row's own bound); none when the report lacks any of the three.
+pub(super) fn sessile_rule_band(rep: &CaseReport, what: &str, bound: impl Fn(f64) -> bool) -> Option<Band> {
+    let values: Vec<f64> = BAND_RUNS
+        .iter()
+        .map(|&(_, alpha)| {
+            let q = format!("{}: {what}", band_label(alpha));
+            rep.rows.iter().find(|r| r.quantity == q).map(|r| r.value).filter(|v| v.is_finite())
+        })
+        .collect::<Option<_>>()?;
     Some(Band {
-        varied: "p_b 45 / 90 at nx = 45, c0 = 20, the cubic spline h = 1.2Δx (runs before the capillary rule; × 0.5 / × 1 of its σ/Δx then)".into(),
+        varied: format!("the capillary rule's α × 0.5 / × 1 / × 2 at nx = {BAND_NX} (Mode B)"),
         values: values.iter().map(|v| format!("{v:.2}")).collect(),
-        source: "pb-check/runs/mode-b-pb45, pb-check/runs/mode-b-pb90".into(),
-        holds: Some(values.iter().all(|v| *v < 3.0)),
+        source: BAND_RUNS.iter().map(|(id, _)| format!("runs/{id}")).collect::<Vec<_>>().join(", "),
+        holds: Some(values.iter().all(|&v| bound(v))),
     })
 }

@@ -304,3 +304,38 @@ fn the_rods_rows_carry_their_p_b_band_from_the_cases_own_runs() {
         "info"
     );
 }
+
+#[test]
+fn sessile_mode_b_rows_carry_the_band_of_the_cases_own_alpha_runs() {
+    let w = "mean over t ∈ [4.3, 4.5] (deg)";
+    let band_rows = |nd: [f64; 3]| {
+        let mut rows = vec![
+            Row::new("Mode B: max |θ − 90°|, circle fit, whole run (deg)", 1.03, 2, Some(3.0), None)
+                .check(true, "< 3°"),
+            Row::new(&format!("Mode B: max normal deviation, {w}"), 10.13, 2, None, Some(0.0)).check(false, "0–8°"),
+        ];
+        for ((_, alpha), v) in crate::validate::sessile::BAND_RUNS.iter().zip(nd) {
+            let label = crate::validate::sessile::band_label(*alpha);
+            rows.push(Row::new(&format!("{label}: max |θ − 90°|, circle fit, whole run (deg)"), 2.0, 2, None, None));
+            rows.push(Row::new(&format!("{label}: max normal deviation, {w}"), v, 2, None, Some(0.0)));
+        }
+        rows
+    };
+    let rep = judged("sessile-90", band_rows([7.0, 7.5, 8.5]));
+    let nd = verdict(&rep, "Mode B: max normal deviation");
+    assert!(
+        nd.contains("7.00 / 7.50 / 8.50 (runs/mode-b-nx33-alpha1, runs/mode-b-nx33, runs/mode-b-nx33-alpha4)"),
+        "{nd}"
+    );
+    assert!(nd.contains("bound not met across the band"), "8.5° is past the 0–8° band: {nd}");
+    let circle = verdict(&rep, "Mode B: max |θ − 90°|");
+    assert!(circle.contains("2.00 / 2.00 / 2.00") && circle.contains("bound met across the band"), "{circle}");
+    let rep = judged("sessile-90", band_rows([7.0, 7.5, 7.9]));
+    assert!(verdict(&rep, "Mode B: max normal deviation").contains("bound met across the band"));
+    // One α run missing: no band, said so.
+    let mut rows = band_rows([7.0, 7.5, 7.9]);
+    rows.retain(|r| !r.quantity.starts_with(&crate::validate::sessile::band_label(4.0)));
+    let nd = judged("sessile-90", rows);
+    assert!(verdict(&nd, "Mode B: max normal deviation").contains("no committed sensitivity run"));
+    assert!(!verdict(&nd, "Mode B: max |θ − 90°|").contains("sensitivity the capillary rule"));
+}
