@@ -4,10 +4,12 @@
 //! profile averaged near t ≈ 4.4 (the last 10 % of a shortened run) and the maximum normal
 //! deviation (Fig. 4.9). Thesis: Mode B < 3°, Mode A ±10°, Mode A's peak shear ≈ 160× Mode B's.
 
+use super::committed::{vouched, Committed};
 use super::data::{for_each_snapshot_in, normal_deviation_quantiles, read_series, Row as SRow, ShearMean};
 use super::report::CaseReport;
 use super::{Ctx, ValidateError};
 
+mod band;
 mod case;
 
 /// Thesis: Mode B contact-angle deviation bound (degrees).
@@ -118,6 +120,73 @@ pub fn measure(dir: &std::path::Path, nx: u32, a: f64, b: f64, t_end: f64) -> Me
     Measured { rows, shear, mean_flow, normal, normal_quantiles, startup }
 }
 
+/// The committed tables of the case (their columns: `mode_b` first): the shear profiles and
+/// Fig. 4.9's quantiles per snapshot.
+pub(super) const SHEAR_TABLE: &str = "wall_shear_profile.csv";
+pub(super) const NORMAL_TABLE: &str = "fig4_9_max_normal_deviation.csv";
+
+/// For a reused run with none of its particle snapshots in this checkout: fills `m`'s shear
+/// profiles and normal-deviation series from the committed report's tables (each shear profile
+/// only where its committed peak row, named in `peaks` as (end window, mean flow, start-up),
+/// vouches for it). Returns whether anything was filled.
+pub(super) fn from_committed(ctx: &Ctx, mode_b: bool, peaks: [String; 3], m: &mut Measured) -> bool {
+    let Some(c) = Committed::load(ctx) else { return false };
+    let mode = if mode_b { 1.0 } else { 0.0 };
+    let shear = c.table(SHEAR_TABLE, |r| r.len() == 5 && r[0] == mode);
+    let [end, flow, startup] = peaks.map(|name| c.value(&name));
+    m.shear = vouched(shear.iter().map(|r| (r[1], r[2])).collect(), end);
+    m.mean_flow = vouched(shear.iter().map(|r| (r[1], r[3])).collect(), flow);
+    m.startup = vouched(shear.iter().map(|r| (r[1], r[4])).collect(), startup);
+    m.normal_quantiles =
+        c.table(NORMAL_TABLE, |r| r.len() == 5 && r[0] == mode).iter().map(|r| (r[1], [r[2], r[3], r[4]])).collect();
+    m.normal = m.normal_quantiles.iter().map(|(t, q)| (*t, q[2])).collect();
+    !(m.shear.is_empty() && m.mean_flow.is_empty() && m.startup.is_empty() && m.normal.is_empty())
+}
+
 pub(super) fn run(ctx: &Ctx) -> Result<CaseReport, ValidateError> {
     super::executor::execute(ctx, &mut case::Sessile::new(ctx))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::validate::report::Row;
+    use crate::validate::ValidateOptions;
+
+    #[test]
+    fn a_reused_run_without_snapshots_takes_the_committed_tables_its_peak_rows_vouch_for() {
+        let dir = tempfile::tempdir().unwrap();
+        let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+        let ctx = Ctx::new(&opts, "sessile-90");
+        std::fs::create_dir_all(&ctx.dir).unwrap();
+        let names = ["end", "flow", "startup"].map(|w| format!("Mode B: peak {w}"));
+        let mut rep = CaseReport::new("sessile-90", "test", false);
+        // the end window's and the start-up's peaks match the table; the mean flow's does not
+        for (name, v) in names.iter().zip([0.5, 9.0, 0.7]) {
+            rep.rows.push(Row::new(name, v, 4, None, None));
+        }
+        std::fs::write(ctx.path("case.json"), serde_json::to_string(&rep).unwrap()).unwrap();
+        let shear = "mode_b,x,a,b,c\n1,0.025,0.5,0.2,0.7\n1,0.075,0.1,0.3,0.1\n0,0.025,5,5,5\n";
+        std::fs::write(ctx.path(SHEAR_TABLE), shear).unwrap();
+        std::fs::write(ctx.path(NORMAL_TABLE), "mode_b,t,med,p90,max\n1,4.3,2,6,9.5\n0,4.3,3,7,12\n1,4.4,2,5,7.5\n")
+            .unwrap();
+        let mut m = Measured {
+            rows: Vec::new(),
+            shear: Vec::new(),
+            mean_flow: Vec::new(),
+            normal: Vec::new(),
+            normal_quantiles: Vec::new(),
+            startup: Vec::new(),
+        };
+        assert!(from_committed(&ctx, true, names.clone(), &mut m));
+        assert_eq!(m.shear, vec![(0.025, 0.5), (0.075, 0.1)]);
+        assert!(m.mean_flow.is_empty(), "its peak row is another run's");
+        assert_eq!(m.startup, vec![(0.025, 0.7), (0.075, 0.1)]);
+        assert_eq!(m.normal, vec![(4.3, 9.5), (4.4, 7.5)], "Mode B's rows only");
+        assert_eq!(m.normal_quantiles[1].1, [2.0, 5.0, 7.5]);
+        // no committed report: nothing filled
+        std::fs::remove_file(ctx.path("case.json")).unwrap();
+        let mut empty = Measured { normal: Vec::new(), ..m };
+        assert!(!from_committed(&ctx, true, names, &mut empty) && empty.normal.is_empty());
+    }
 }

@@ -4,13 +4,13 @@
 //! nx = 33 under the capillary rule's α × 0.5 / × 1 / × 2 for the sensitivity band of its rows.
 
 use super::{
-    band_label, mean_flow_window, measure, quick_sets, shear_window, startup_window, Measured, BAND_NX, BAND_RUNS,
-    CONTACT_BAND, THESIS_MODE_A_DEV, THESIS_MODE_A_SHEAR_PEAK, THESIS_MODE_B_DEV, THESIS_MODE_B_SHEAR_MAX,
-    THESIS_SHEAR_RATIO,
+    from_committed, mean_flow_window, measure, quick_sets, shear_window, startup_window, Measured, BAND_NX, BAND_RUNS,
+    CONTACT_BAND, NORMAL_TABLE, SHEAR_TABLE, THESIS_MODE_A_DEV, THESIS_MODE_A_SHEAR_PEAK, THESIS_MODE_B_DEV,
+    THESIS_MODE_B_SHEAR_MAX, THESIS_SHEAR_RATIO,
 };
 use crate::plot::{PlotSpec, RefLine, Series};
 use crate::validate::case::{Case, CaseOutput, CasePlot, CaseRun, CaseSpec, CaseTable};
-use crate::validate::data::{col, normal_deviation_quantiles, window_stats, Row as SRow};
+use crate::validate::data::{col, snapshot_files, window_stats, Row as SRow};
 use crate::validate::report::{Row, RunRecord};
 use crate::validate::{Ctx, RunSpec, ValidateError};
 use std::path::PathBuf;
@@ -20,9 +20,6 @@ const KE_PLOT: &str = "kinetic_energy.svg";
 const SHEAR_PLOT: &str = "wall_shear_profile.svg";
 const MEAN_FLOW_PLOT: &str = "wall_shear_mean_flow.svg";
 const NORMAL_PLOT: &str = "fig4_9_max_normal_deviation.svg";
-const SHEAR_TABLE: &str = "wall_shear_profile.csv";
-/// Fig. 4.9's data: per snapshot of each mode, the normal deviations' quantiles.
-const NORMAL_TABLE: &str = "fig4_9_max_normal_deviation.csv";
 
 /// The shear peaks of one mode, for the ratios across the modes (NaN for a run not made).
 #[derive(Clone, Copy)]
@@ -181,17 +178,16 @@ impl Sessile {
     /// The wall-shear rows of one mode: the end window's peak, the mean flow's peak and its
     /// value near the contact line, the start-up peak against the thesis's figures.
     fn shear_rows(&self, label: &str, mode_b: bool, m: &Measured, out: &mut CaseOutput) -> ModePeaks {
-        let (wtext, ftext, stext) = (&self.window.2, &self.ftext, &self.stext);
+        let ftext = &self.ftext;
+        let [end_name, flow_name, startup_name] = self.peak_names(label);
         let rows = &mut out.rep.rows;
         let (peak_x, peak) = peak_at(&m.shear);
         rows.push(
-            Row::new(&format!("{label}: peak wall shear rate, {wtext} (1/time)"), peak, 4, None, None)
-                .sphlab_text(format!("{peak:.4} (at {peak_x:.3} of the wall)")),
+            Row::new(&end_name, peak, 4, None, None).sphlab_text(format!("{peak:.4} (at {peak_x:.3} of the wall)")),
         );
         let (flow_x, flow) = peak_at(&m.mean_flow);
         rows.push(
-            Row::new(&format!("{label}: peak mean-flow wall shear rate |⟨γ̇⟩|, {ftext} (1/time)"), flow, 4, None, None)
-                .sphlab_text(format!("{flow:.4} (at {flow_x:.3} of the wall)")),
+            Row::new(&flow_name, flow, 4, None, None).sphlab_text(format!("{flow:.4} (at {flow_x:.3} of the wall)")),
         );
         // the mean flow near the contact line: the largest bin within CONTACT_BAND of the wall's 0.5
         let contact_line =
@@ -210,7 +206,7 @@ impl Sessile {
         let (su_x, startup) = peak_at(&m.startup);
         rows.push(
             Row::new(
-                &format!("{label}: peak wall shear rate, {stext} (1/time)"),
+                &startup_name,
                 startup,
                 4,
                 Some(if mode_b { THESIS_MODE_B_SHEAR_MAX } else { THESIS_MODE_A_SHEAR_PEAK }),
@@ -227,10 +223,21 @@ impl Sessile {
         ModePeaks { shear: peak, flow, flow_x, contact_line, startup }
     }
 
+    /// The names of a mode's peak wall-shear rows: the end window's, the mean flow's, the
+    /// start-up's.
+    fn peak_names(&self, label: &str) -> [String; 3] {
+        let (wtext, ftext, stext) = (&self.window.2, &self.ftext, &self.stext);
+        [
+            format!("{label}: peak wall shear rate, {wtext} (1/time)"),
+            format!("{label}: peak mean-flow wall shear rate |⟨γ̇⟩|, {ftext} (1/time)"),
+            format!("{label}: peak wall shear rate, {stext} (1/time)"),
+        ]
+    }
+
     /// The normal-deviation rows of one mode (Fig. 4.9's 0–8° band), with the quantiles per
     /// snapshot where Mode B's maximum is above the band.
-    fn normal_rows(&self, label: &str, mode_b: bool, dir: &std::path::Path, m: &Measured, out: &mut CaseOutput) {
-        let (quick, nx) = (self.quick, self.nx);
+    fn normal_rows(&self, label: &str, mode_b: bool, m: &Measured, out: &mut CaseOutput) {
+        let quick = self.quick;
         let (wa, wb, wtext) = (self.window.0, self.window.1, &self.window.2);
         let nd = window_stats(&m.normal, wa, wb).map_or(f64::NAN, |s| s.0);
         let nd_row =
@@ -267,12 +274,8 @@ impl Sessile {
             );
         }
         if mode_b && !quick && nd > 8.0 {
-            let (dxn, band) = (0.5 / nx as f64, 1.5 / nx as f64);
-            let q: Vec<[f64; 3]> = normal_deviation_quantiles(dir, &m.rows, dxn, 0.0, [0.0, 0.0], 0.25, band)
-                .into_iter()
-                .filter(|(t, _)| *t >= wa && *t <= wb)
-                .filter_map(|(_, q)| q)
-                .collect();
+            let q: Vec<[f64; 3]> =
+                m.normal_quantiles.iter().filter(|(t, _)| *t >= wa && *t <= wb).map(|(_, q)| *q).collect();
             let mean = |k: usize| q.iter().map(|v| v[k]).sum::<f64>() / q.len().max(1) as f64;
             let (lo, hi) = q.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v[2]), b.max(v[2])));
             rep.notes.push(format!(
@@ -299,7 +302,7 @@ impl Case for Sessile {
                     format!("Mode {}", mode.to_uppercase()),
                 )
             })
-            .chain(self.band_runs())
+            .chain(super::band::band_runs(self.quick, self.t_end))
             .collect();
         CaseSpec {
             name: "sessile-90",
@@ -326,7 +329,7 @@ impl Case for Sessile {
 
     fn measure(
         &mut self,
-        _ctx: &Ctx,
+        ctx: &Ctx,
         run: &CaseRun,
         rec: &RunRecord,
         out: &mut CaseOutput,
@@ -334,14 +337,20 @@ impl Case for Sessile {
         let mode_b = run.spec.id == "mode-b";
         let dir = PathBuf::from(&rec.dir);
         if let Some(&(_, alpha)) = BAND_RUNS.iter().find(|b| b.0 == run.spec.id) {
-            self.band_rows(alpha, &dir, out);
+            super::band::band_rows(ctx, (self.window.0, self.window.1, &self.window.2), self.t_end, alpha, &dir, out);
             return Ok(());
         }
-        let m = measure(&dir, self.nx, self.window.0, self.window.1, self.t_end);
+        let mut m = measure(&dir, self.nx, self.window.0, self.window.1, self.t_end);
         let label = &run.label;
+        if snapshot_files(&dir).is_empty() && from_committed(ctx, mode_b, self.peak_names(label), &mut m) {
+            out.rep.notes.push(format!(
+                "{label}: wall shear and normal deviation as the committed report measured them ({SHEAR_TABLE}, \
+                 {NORMAL_TABLE} and the peak rows): this checkout holds none of the run's particle snapshots."
+            ));
+        }
         self.angle_rows(label, mode_b, &m, out);
         let peaks = self.shear_rows(label, mode_b, &m, out);
-        self.normal_rows(label, mode_b, &dir, &m, out);
+        self.normal_rows(label, mode_b, &m, out);
         self.peaks.push(peaks);
         for (x, g) in &m.shear {
             let at = |prof: &[(f64, f64)]| prof.iter().find(|p| (p.0 - x).abs() < 1e-9).map_or(f64::NAN, |p| p.1);
@@ -370,38 +379,6 @@ impl Case for Sessile {
 }
 
 impl Sessile {
-    /// Mode B at nx = [`BAND_NX`] under the capillary rule's α × 0.5 / × 1 / × 2 ([`BAND_RUNS`]),
-    /// dt scaled from the scene's, a snapshot every series row (four or more in the end window):
-    /// none in quick mode.
-    fn band_runs(&self) -> Vec<CaseRun> {
-        let runs = if self.quick { &[][..] } else { &BAND_RUNS[..] };
-        runs.iter()
-            .map(|&(id, alpha)| {
-                let mut sets =
-                    vec![format!("domain.nx={BAND_NX}"), "time.dt_policy=scale".into(), "contact.mode=b".into()];
-                if alpha != crate::scene::capillary::BAND_PB_FACTOR {
-                    sets.push(format!("capillary_rule.alpha={alpha:.1}"));
-                }
-                CaseRun::new(RunSpec::new(id, "sessile-90", &sets, Some(self.t_end), 1), band_label(alpha))
-            })
-            .collect()
-    }
-
-    /// A band run's rows (info; the judge reads them as the band of Mode B's rows): the largest
-    /// |θ − 90°| of the circle fit over the run and the max normal deviation in the end window,
-    /// as Mode B's rows measure them.
-    fn band_rows(&self, alpha: f64, dir: &std::path::Path, out: &mut CaseOutput) {
-        let (wa, wb, wtext) = (self.window.0, self.window.1, &self.window.2);
-        let m = measure(dir, BAND_NX, wa, wb, self.t_end);
-        let label = band_label(alpha);
-        let circle = col(&m.rows, |r| r.theta_circle_fit.map(|v| (v - 90.0).abs()));
-        let max_circle = circle.iter().map(|p| p.1).fold(f64::NAN, f64::max);
-        let nd = window_stats(&m.normal, wa, wb).map_or(f64::NAN, |s| s.0);
-        let rows = &mut out.rep.rows;
-        rows.push(Row::new(&format!("{label}: max |θ − 90°|, circle fit, whole run (deg)"), max_circle, 2, None, None));
-        rows.push(Row::new(&format!("{label}: max normal deviation, mean over {wtext} (deg)"), nd, 2, None, Some(0.0)));
-    }
-
     /// Why the case is not at the thesis's resolution and end time (with the measured cost).
     fn not_full(&self, rep: &mut crate::validate::report::CaseReport) {
         let (quick, nx, t_end) = (self.quick, self.nx, self.t_end);
