@@ -84,3 +84,41 @@ pub(super) fn sessile_rule_band(rep: &CaseReport, what: &str, bound: impl Fn(f64
         holds: Some(values.iter().all(|&v| bound(v))),
     })
 }
+
+/// The convergence case's lattice trend under the capillary rule's α × 0.5 and × 2 (runs
+/// `convergence/runs/nx<nx>-alpha1` and `-alpha4`, relax-60 as the case runs it), beside the
+/// row's own at α (`at_alpha`, coarse to fine over `nxs`): per α the end angle's |θ − 60°|
+/// (circle fit, mean over t ∈ [4.3, 4.5]) or, with `density`, the max |ρ/ρ0 − 1| for t ≥ 1,
+/// judged as the trend rows are (falls at every refinement); none while a run is missing.
+pub(super) fn convergence_alpha_band(root: &Path, nxs: &[u32], at_alpha: &[f64], density: bool) -> Option<Band> {
+    let at = |alpha: &str| -> Option<Vec<f64>> {
+        nxs.iter()
+            .map(|&nx| {
+                let dir = root.join(format!("convergence/runs/nx{nx}-alpha{alpha}"));
+                if !of_the_scene(&dir, nx) {
+                    return None;
+                }
+                let rows = read_series(&dir);
+                if density {
+                    let late = rows.iter().filter(|r| r.t >= 1.0).map(|r| r.max_density_error);
+                    Some(late.fold(f64::NAN, f64::max)).filter(|v| v.is_finite())
+                } else {
+                    window_stats(&col(&rows, |r| r.theta_circle_fit), 4.3, 4.5).map(|s| (s.0 - 60.0).abs())
+                }
+            })
+            .collect()
+    };
+    let trends = [at("1")?, at_alpha.to_vec(), at("4")?];
+    let prec = if density { 3 } else { 2 };
+    let text = |t: &Vec<f64>| t.iter().map(|v| format!("{v:.prec$}")).collect::<Vec<_>>().join(" → ");
+    let nx_text = nxs.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
+    Some(Band {
+        varied: format!(
+            "the capillary rule's α × 0.5 / × 1 / × 2, the lattice runs at nx = {}",
+            nx_text.replace(',', ", ")
+        ),
+        values: trends.iter().map(text).collect(),
+        source: format!("runs/nx{{{nx_text}}}-alpha1, the rows above, runs/nx{{{nx_text}}}-alpha4"),
+        holds: Some(trends.iter().all(|t| super::falls(t))),
+    })
+}

@@ -1,7 +1,8 @@
 //! Tests of relax-60's verdicts read from committed runs of the Young sweep: the sweep's rows
 //! (within 3° of Young's angle at nx = 65, closer at every refinement, the α band at nx = 33),
-//! the line forms' own rows, and the α band of relax-60's rows at nx = 33.
+//! the line forms' own rows, the α band of relax-60's rows at nx = 33 and of the convergence trend.
 
+use super::sensitivity::convergence_alpha_band;
 use super::tests::report;
 use super::*;
 use crate::validate::ValidateOptions;
@@ -286,4 +287,33 @@ fn the_both_sides_rows_band_is_the_starts_midpoint_at_each_alpha() {
         band.source
     );
     assert!(young_sweep::both_sides_band(root, "a").is_none(), "Mode A has no runs here");
+}
+
+#[test]
+fn the_convergence_trend_band_reads_the_alpha_runs_at_every_nx_and_judges_their_trends() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let nxs = [33, 45, 65];
+    let at_alpha = [0.9, 0.5, 0.2];
+    // α × 0.5 falls, α × 2 does not; the nx = 65 α × 2 run missing first
+    for (nx, (t1, t4)) in nxs.iter().zip([(64.0, 61.0), (63.0, 60.2), (62.0, 0.0)]) {
+        sweep_run_in(root, "convergence/runs", &format!("nx{nx}-alpha1"), *nx, "quintic", t1);
+        if *nx != 65 {
+            sweep_run_in(root, "convergence/runs", &format!("nx{nx}-alpha4"), *nx, "quintic", t4);
+        }
+    }
+    assert!(convergence_alpha_band(root, &nxs, &at_alpha, false).is_none(), "a run missing: no band");
+    sweep_run_in(root, "convergence/runs", "nx65-alpha4", 45, "quintic", 60.1);
+    assert!(convergence_alpha_band(root, &nxs, &at_alpha, false).is_none(), "a run at another nx is not the one");
+    sweep_run_in(root, "convergence/runs", "nx65-alpha4", 65, "quintic", 60.1);
+    let b = convergence_alpha_band(root, &nxs, &at_alpha, false).unwrap();
+    assert_eq!(b.values, ["4.00 → 3.00 → 2.00", "0.90 → 0.50 → 0.20", "1.00 → 0.20 → 0.10"]);
+    assert_eq!(b.holds, Some(true));
+    assert!(b.source.starts_with("runs/nx{33,45,65}-alpha1"), "{}", b.source);
+    sweep_run_in(root, "convergence/runs", "nx45-alpha4", 45, "quintic", 59.0);
+    let b = convergence_alpha_band(root, &nxs, &at_alpha, false).unwrap();
+    assert_eq!((b.values[2].as_str(), b.holds), ("1.00 → 1.00 → 0.10", Some(false)), "α × 2 does not fall");
+    // The density trend: the largest max_density_error at t ≥ 1 (the test series' rows carry 0).
+    let d = convergence_alpha_band(root, &nxs, &[0.014, 0.015, 0.017], true).unwrap();
+    assert_eq!((d.values[0].as_str(), d.holds), ("0.000 → 0.000 → 0.000", Some(false)));
 }
