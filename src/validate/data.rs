@@ -179,27 +179,12 @@ pub fn mean_shear_profile_in(
     m.profile()
 }
 
-/// Max normal deviation (Fig. 4.9) of every snapshot: `(t, degrees)`, radial directions from
-/// `centre`, via [`crate::diagnostics::max_normal_deviation`], over the fluid particles within
-/// `band` of the circle of radius `radius` about `centre` (the drop's interface band; without
-/// it, Mode A's colour gradients at the right and top walls, a third phase there, count too).
-pub fn normal_deviation_series(
-    dir: &Path,
-    rows: &[Row],
-    dx: f64,
-    y_w: f64,
-    centre: [f64; 2],
-    radius: f64,
-    band: f64,
-) -> Vec<(f64, f64)> {
-    normal_deviation_quantiles(dir, rows, dx, y_w, centre, radius, band)
-        .into_iter()
-        .filter_map(|(t, q)| q.map(|q| (t, q[2])))
-        .collect()
-}
-
-/// Per snapshot, the median, 90th percentile and maximum of the normal deviations counted by
-/// [`normal_deviation_series`] (`None` when no particle counts).
+/// The normal deviations (Fig. 4.9) of every snapshot, via
+/// [`crate::diagnostics::flow::normal_deviations`]: per snapshot the median, 90th percentile and
+/// maximum (degrees; `None` when no particle counts) of the angles between n̂ and the radial
+/// direction from `centre`, over the fluid particles within `band` of the circle of radius
+/// `radius` about `centre` (the drop's interface band; without it, Mode A's colour gradients at
+/// the right and top walls, a third phase there, count too).
 pub fn normal_deviation_quantiles(
     dir: &Path,
     rows: &[Row],
