@@ -223,12 +223,13 @@ impl Case for CrossCode {
         let (tol, q) = if self.quick { (RMS_TOL_QUICK, " (quick)") } else { (RMS_TOL, "") };
         let mut method_notes = self.method_notes(tol, q);
         if !self.quick {
+            let ids: Vec<String> =
+                FORMS.iter().flat_map(|(id, _)| PB_BAND.iter().map(move |b| format!("`{id}{}`", b.0))).collect();
             method_notes.push(format!(
                 "Sensitivity band: each form is also run at p_b × 0.5 and × 2 of PySPH's ρ0c0² = {pb} in both phases \
-                 (c0, γ and dt unchanged; PySPH's curve stays at {pb}): runs <form>{}, <form>{}, curves in \
-                 curves_<run>.csv. Their rows are info; the judge gives each form's pass and FAIL rows the band, \
-                 judged by the row's own bound.",
-                PB_BAND[0].0, PB_BAND[1].0
+                 (c0, γ and dt unchanged; PySPH's curve stays at {pb}): runs {}, curves in `curves_<run>.csv`. Their \
+                 rows are info; the judge gives each form's pass and FAIL rows the band, judged by the row's own bound.",
+                ids.join(", ")
             ));
         }
         CaseSpec {
