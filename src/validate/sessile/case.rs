@@ -392,7 +392,7 @@ impl Sessile {
             let ms: Vec<f64> = rep
                 .runs
                 .iter()
-                .filter(|r| r.id.starts_with("mode-") && !BAND_RUNS.iter().any(|b| b.0 == r.id))
+                .filter(|r| !BAND_RUNS.iter().any(|b| b.0 == r.id))
                 .map(|r| r.ms_per_step)
                 .filter(|m| m.is_finite())
                 .collect();
