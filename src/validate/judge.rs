@@ -61,6 +61,11 @@ pub fn judge(name: &str, ctx: &Ctx, rep: &mut CaseReport) {
         }
         _ => {}
     }
+    // Every pass and FAIL says whether a sensitivity band stands beside it: a row no rule above
+    // qualified says it has none.
+    for r in rep.rows.iter_mut().filter(|r| !r.is_qualified()) {
+        r.qualify("the case's scene and run parameters (summary.md; not itemised for this row)", None);
+    }
 }
 
 /// Every row whose quantity starts with `prefix`.

@@ -104,6 +104,14 @@ impl Row {
         self.verdict = format!("{base}{QUALIFIER}{depends_on}{band})");
     }
 
+    /// Whether a pass or FAIL verdict names what it depends on ([`Row::qualify`]); true for
+    /// every other verdict (info, invariant, a broken invariant), which takes no qualification.
+    pub fn is_qualified(&self) -> bool {
+        let judged = (self.verdict.starts_with("pass (") || self.verdict.starts_with("FAIL ("))
+            && !self.verdict.starts_with("FAIL (invariant broken");
+        !judged || self.verdict.contains(QUALIFIER)
+    }
+
     /// Whether the verdict is a pass (an invariant row is not).
     pub fn is_pass(&self) -> bool {
         self.verdict.starts_with("pass")

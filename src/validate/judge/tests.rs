@@ -339,3 +339,28 @@ fn sessile_mode_b_rows_carry_the_band_of_the_cases_own_alpha_runs() {
     assert!(verdict(&nd, "Mode B: max normal deviation").contains("no committed sensitivity run"));
     assert!(!verdict(&nd, "Mode B: max |θ − 90°|").contains("sensitivity the capillary rule"));
 }
+
+#[test]
+fn a_judged_row_no_rule_qualifies_says_it_has_no_band_and_other_rows_stay_as_they_are() {
+    let rep = judged(
+        "capillary-wave",
+        vec![
+            Row::new("some other judged row", 0.1, 2, None, None).check(false, "≤ 0.05"),
+            Row::new("an info row", 0.1, 2, None, None),
+            Row::new("mass", 0.0, 2, None, None).invariant(false, "mass exact"),
+        ],
+    );
+    let v = verdict(&rep, "some other judged row");
+    assert!(v.starts_with("FAIL (≤ 0.05; depends on ") && v.ends_with("; no committed sensitivity run)"), "{v}");
+    assert_eq!(verdict(&rep, "an info row"), "info");
+    assert_eq!(verdict(&rep, "mass"), "FAIL (invariant broken: mass exact)");
+    // judging again changes nothing
+    let mut again = rep.clone();
+    let dir = tempfile::tempdir().unwrap();
+    let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+    judge("capillary-wave", &Ctx::new(&opts, "capillary-wave"), &mut again);
+    assert_eq!(
+        again.rows.iter().map(|r| &r.verdict).collect::<Vec<_>>(),
+        rep.rows.iter().map(|r| &r.verdict).collect::<Vec<_>>()
+    );
+}
