@@ -150,10 +150,11 @@ pub(super) fn pb_bands(rep: &CaseReport) -> Vec<(String, Band)> {
 }
 
 impl CrossCode {
-    /// Notes on the method: the curves, their bounds (`tol`, `q` the quick mode's words) and the
-    /// half-cycle measures of period and damping.
-    fn method_notes(&self, tol: (f64, f64), q: &str) -> Vec<String> {
-        vec![
+    /// Notes on the method: the curves, their bounds, the half-cycle measures of period and
+    /// damping and (full case) the p_b band's runs at the scene's `pb`.
+    fn method_notes(&self, pb: f64) -> Vec<String> {
+        let (tol, q) = if self.quick { (RMS_TOL_QUICK, " (quick)") } else { (RMS_TOL, "") };
+        let mut notes = vec![
             "Curves (diagnostics::rod, as tests/cross_code.rs): the liquid's half-extents a_x, b_y = ½(max − min) \
              (PySPH's estimator), its centroid folded into the first quadrant mean |x|, mean |y|, and PySPH's quarter \
              centroid (liquid with x > 0, y > 0), from the particle snapshots at every committed PySPH row (every 50 \
@@ -178,7 +179,18 @@ impl CrossCode {
                  measures. --quick ends before the first minimum and reports neither.",
                 OSCILLATION_TOL * 100.0
             ),
-        ]
+        ];
+        if !self.quick {
+            let ids: Vec<String> =
+                FORMS.iter().flat_map(|(id, _)| PB_BAND.iter().map(move |b| format!("`{id}{}`", b.0))).collect();
+            notes.push(format!(
+                "Sensitivity band: each form is also run at p_b × 0.5 and × 2 of PySPH's ρ0c0² = {pb} in both phases \
+                 (c0, γ and dt unchanged; PySPH's curve stays at {pb}): runs {}, curves in `curves_<run>.csv`. Their \
+                 rows are info; the judge gives each form's pass and FAIL rows the band, judged by the row's own bound.",
+                ids.join(", ")
+            ));
+        }
+        notes
     }
 
     /// Period and damping-rate rows of a_x for one run, against PySPH's on the same rows; judged
@@ -220,18 +232,7 @@ impl Case for CrossCode {
         });
         let plot = |title: &str, y: &str| PlotSpec::new(title, "t (nondimensional)", y);
         let header = format!("t,step,{}", ROD_CURVES.join(","));
-        let (tol, q) = if self.quick { (RMS_TOL_QUICK, " (quick)") } else { (RMS_TOL, "") };
-        let mut method_notes = self.method_notes(tol, q);
-        if !self.quick {
-            let ids: Vec<String> =
-                FORMS.iter().flat_map(|(id, _)| PB_BAND.iter().map(move |b| format!("`{id}{}`", b.0))).collect();
-            method_notes.push(format!(
-                "Sensitivity band: each form is also run at p_b × 0.5 and × 2 of PySPH's ρ0c0² = {pb} in both phases \
-                 (c0, γ and dt unchanged; PySPH's curve stays at {pb}): runs {}, curves in `curves_<run>.csv`. Their \
-                 rows are info; the judge gives each form's pass and FAIL rows the band, judged by the row's own bound.",
-                ids.join(", ")
-            ));
-        }
+        let method_notes = self.method_notes(pb);
         CaseSpec {
             name: "cross-code",
             reference: "PySPH 1.0b2 oscillating_rod.py --scheme adami_stress (scenes/pysph-rod.toml): cross-code check",

@@ -223,9 +223,7 @@ fn sessile(root: &Path, rep: &mut CaseReport) {
     let normal = what.and_then(|w| sessile_rule_band(rep, &format!("max normal deviation, mean{w}"), |v| v <= 8.0));
     for r in rows(rep, "Mode B: max normal deviation, mean") {
         r.qualify(
-            &format!(
-                "{rule}; the maximum over the counted particles grows with their number (normal-deviation/README.md); under the earlier per-scene p_b it failed at σ/(2Δx) and passed at σ/Δx (pb-check/README.md)"
-            ),
+            &format!("{rule}; the earlier per-scene p_b: pb-check/README.md; the measure: normal-deviation/README.md"),
             normal.as_ref(),
         );
     }

@@ -130,7 +130,13 @@ impl Sessile {
             "Max normal deviation: particles with |grad C| ≥ 0.3 × its largest value (diagnostics::flow::NORMAL_GRAD_FRACTION), y > 3Δx and |r − 0.25| ≤ 3Δx (the drop's interface band; Mode A's walls are a third colour, so particles at the right and top walls also carry grad C), angle between the outward normal and the radial direction from (0, 0).".into(),
         ];
         if !self.quick {
-            notes.push(format!("Sensitivity band: Mode B at nx = {BAND_NX} under the capillary rule's α × 0.5 / × 1 / × 2 (runs {}; dt scaled from the scene's, a snapshot every series row), measured as Mode B's rows at nx = 65 are (rows \"Mode B, nx = {BAND_NX}, α = …\"); the judge gives Mode B's max |θ − 90°| and max normal deviation that band, against their own bounds. Fig. 4.9's data per snapshot: {NORMAL_TABLE}.", BAND_RUNS.iter().map(|b| b.0).collect::<Vec<_>>().join(", ")));
+            notes.push(format!(
+                "Sensitivity band: Mode B at nx = {BAND_NX} under the capillary rule's α × 0.5 / × 1 / × 2 (runs {}; dt \
+                 scaled from the scene's, a snapshot every series row), measured as Mode B's rows at nx = 65 are (rows \
+                 \"Mode B, nx = {BAND_NX}, α = …\"); the judge gives Mode B's max |θ − 90°| and max normal deviation \
+                 that band, against their own bounds. Fig. 4.9's data per snapshot: {NORMAL_TABLE}.",
+                BAND_RUNS.iter().map(|b| b.0).collect::<Vec<_>>().join(", ")
+            ));
         }
         notes
     }
