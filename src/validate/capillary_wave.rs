@@ -12,7 +12,7 @@
 use super::case::{Case, CaseOutput, CasePlot, CaseRun, CaseSpec, CaseTable};
 use super::data::{col, read_series};
 use super::report::{Row, RunRecord};
-use super::{Ctx, RunSpec, ValidateError};
+use super::{wave_band, Ctx, RunSpec, ValidateError};
 use crate::analytic::capillary_wave::{Prosperetti, WaveParams};
 use crate::diagnostics::viscous_share::potential_wave_share;
 use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
@@ -128,6 +128,8 @@ impl CapillaryWave {
                 ));
             }
             runs.extend(super::wave_resolution::runs());
+            let band = wave_band::runs(&runs);
+            runs.extend(band);
         }
         runs
     }
@@ -170,6 +172,7 @@ impl Case for CapillaryWave {
                 "The analytic solution is for infinitely deep layers; each layer here is λ/2 deep to a mirror, which \
                  lowers the inviscid frequency by 1 − (coth kH)^{-1/2} = 0.19 % (docs/PHYSICS.md §9(f))."
                     .into(),
+                wave_band::method_note(),
             ],
         }
     }
@@ -181,7 +184,10 @@ impl Case for CapillaryWave {
         rec: &RunRecord,
         out: &mut CaseOutput,
     ) -> Result<(), ValidateError> {
-        let (id, label) = (run.spec.id.as_str(), run.label.as_str());
+        // A band run is measured as the run it repeats; its judged rows become that run's band.
+        let band = wave_band::of(&run.spec.id);
+        let id = band.as_ref().map_or(run.spec.id.as_str(), |b| b.1.as_str());
+        let (key, label) = (run.spec.id.as_str(), run.label.as_str());
         let scene = run.spec.scene()?;
         let Some(p) = prosperetti_of(&scene) else {
             return Err(ValidateError::Input(format!("{id}: no interface wave with equal kinematic viscosities")));
@@ -193,7 +199,7 @@ impl Case for CapillaryWave {
         let window = ACCEPT_PERIODS * p.params.period0();
         let ana: Vec<(f64, f64)> = sph.iter().map(|q| (q.0, p.amplitude(q.0))).collect();
         let main = ["ratio1", "ratio1000"].iter().any(|b| id.strip_suffix(PROJECTED).unwrap_or(id) == *b);
-        if id == "ratio1" || id == "ratio1000" {
+        if band.is_none() && (id == "ratio1" || id == "ratio1000") {
             let ratio = scene.phases[0].rho0 / scene.phases[1].rho0;
             out.table(TABLE).extend(sph.iter().zip(&ana).map(|(s, a)| vec![ratio, s.0, s.1, a.1]));
         }
@@ -201,14 +207,15 @@ impl Case for CapillaryWave {
         let reached = t_end >= window * (1.0 - 1e-9);
         let rms = rms_difference(&sph, |t| p.amplitude(t), window);
         let rms_all = rms_difference(&sph, |t| p.amplitude(t), f64::INFINITY);
-        self.rms.push((id.to_string(), rms));
+        self.rms.push((key.to_string(), rms));
+        let mut rows_out = Vec::new();
         let span = if reached {
             format!("t ≤ {window:.3} ({ACCEPT_PERIODS} periods)")
         } else {
             format!("t ≤ {t_end:.3} (the record)")
         };
         let row = Row::new(&format!("rms of a/a0 − Prosperetti, {span}, {label}"), rms, 4, None, Some(0.0));
-        out.rep.rows.push(match (main, self.quick) {
+        rows_out.push(match (main, self.quick) {
             (true, false) => row.check(
                 ok && reached && rms <= RMS_TOL,
                 &format!(
@@ -229,10 +236,10 @@ impl Case for CapillaryWave {
             let (fs, fa) = (damped_cosine_fit(&sph, window, w0), damped_cosine_fit(&ana, window, w0));
             let fit = |what: &str| format!("{what} (damped-cosine fit, t ≤ {window:.3}), {label}");
             let tau = 2.0 * std::f64::consts::PI;
-            out.rep.rows.push(Row::new(&fit("period 2π/ω"), tau / fs.0, 4, None, Some(tau / fa.0)));
-            out.rep.rows.push(Row::new(&fit("damping rate γ"), fs.1, 3, None, Some(fa.1)));
-            self.damping.push((id.to_string(), fs.1, fa.1));
-            self.periods.push((id.to_string(), tau / fs.0, tau / fa.0));
+            rows_out.push(Row::new(&fit("period 2π/ω"), tau / fs.0, 4, None, Some(tau / fa.0)));
+            rows_out.push(Row::new(&fit("damping rate γ"), fs.1, 3, None, Some(fa.1)));
+            self.damping.push((key.to_string(), fs.1, fa.1));
+            self.periods.push((key.to_string(), tau / fs.0, tau / fa.0));
             self.kernel = Some((scene.kernel.kind, scene.kernel.h_ratio));
         }
         if main {
@@ -247,11 +254,18 @@ impl Case for CapillaryWave {
                 Some(0.0),
             );
             // The classical test's own window is the whole record (ω0t ≤ 25): the same bound.
-            out.rep.rows.push(if self.quick {
+            rows_out.push(if self.quick {
                 whole
             } else {
                 whole.check(ok && rms_all <= RMS_TOL, &format!("≤ {RMS_TOL} over the whole record"))
             });
+        }
+        if let Some((k, _)) = band {
+            out.rep.rows.extend(rows_out.into_iter().filter_map(|r| wave_band::as_band(k, r)));
+        } else {
+            out.rep.rows.extend(rows_out);
+        }
+        if main && band.is_none() {
             out.rep.rows.push(Row::new(
                 &format!("a(0)/a0 of the displaced lattice, {label}"),
                 sph.first().map_or(f64::NAN, |q| q.1),
@@ -277,38 +291,54 @@ impl Case for CapillaryWave {
             plot_curves(out, id, &format!("{}, Δx = λ/{}", rec.backend, scene.domain.nx), &p, sph, window);
         }
         if !ok {
-            out.rep.notes.push(format!("{label}: the run did not finish: {}.", rec.status));
+            out.rep.notes.push(format!("{label} (run {key}): the run did not finish: {}.", rec.status));
         }
         Ok(())
     }
 
     fn compare(&mut self, _ctx: &Ctx, out: &mut CaseOutput) -> Result<(), ValidateError> {
-        self.compare_forms(out);
-        out.rep.rows.extend(super::wave_resolution::rows(&self.rms, &self.periods, &self.damping));
-        let get = |id: &str| self.rms.iter().find(|r| r.0 == id).map(|r| r.1);
-        if let (Some(base), Some(half), Some(double)) = (get("ratio1"), get("ratio1-pb-half"), get("ratio1-pb-double"))
-        {
-            let lo = base.min(half).min(double);
-            let hi = base.max(half).max(double);
-            out.rep.rows.push(
-                Row::new(
-                    "rms over 3 periods, density ratio 1: sensitivity p_b × 0.5 / × 1 / × 2",
-                    base,
-                    4,
-                    None,
-                    Some(0.0),
-                )
-                .sphlab_text(format!("{half:.4} / {base:.4} / {double:.4} (band {lo:.4}–{hi:.4})")),
-            );
+        out.rep.rows.extend(self.derived_rows(&self.rms, &self.periods, &self.damping));
+        // The same rows from each band end's runs in place of the rule's.
+        for (k, (suffix, _, _)) in wave_band::BAND.iter().enumerate() {
+            let as_base = |v: &[(String, f64, f64)]| -> Vec<(String, f64, f64)> {
+                wave_band::bases()
+                    .into_iter()
+                    .filter_map(|b| {
+                        let m = wave_band::member(&b, suffix);
+                        v.iter().find(|e| e.0 == m).map(|e| (b, e.1, e.2))
+                    })
+                    .collect()
+            };
+            let rms: Vec<(String, f64)> =
+                as_base(&self.rms.iter().map(|r| (r.0.clone(), r.1, 0.0)).collect::<Vec<_>>())
+                    .into_iter()
+                    .map(|r| (r.0, r.1))
+                    .collect();
+            let rows = self.derived_rows(&rms, &as_base(&self.periods), &as_base(&self.damping));
+            out.rep.rows.extend(rows.into_iter().filter_map(|r| wave_band::as_band(k, r)));
         }
         Ok(())
     }
 }
 
 impl CapillaryWave {
+    /// The rows that compare runs, from each run's three-period rms, (period, Prosperetti's)
+    /// and (damping rate, Prosperetti's), by run id.
+    fn derived_rows(
+        &self,
+        rms: &[(String, f64)],
+        periods: &[(String, f64, f64)],
+        damping: &[(String, f64, f64)],
+    ) -> Vec<Row> {
+        let mut rows = self.compare_forms(damping);
+        rows.extend(super::wave_resolution::rows(rms, periods, damping));
+        rows
+    }
+
     /// The viscous forms' damping rates against the prediction of docs/PHYSICS.md §4.1.
-    fn compare_forms(&self, out: &mut CaseOutput) {
-        let get = |id: &str| self.damping.iter().find(|d| d.0 == id).map(|d| (d.1, d.2));
+    fn compare_forms(&self, damping: &[(String, f64, f64)]) -> Vec<Row> {
+        let mut rows = Vec::new();
+        let get = |id: &str| damping.iter().find(|d| d.0 == id).map(|d| (d.1, d.2));
         let quick = self.quick;
         if let (Some((lap, ana)), Some((proj, _))) = (get("ratio1000"), get("ratio1000-projected")) {
             let rel = proj / ana - 1.0;
@@ -324,7 +354,7 @@ impl CapillaryWave {
                 "projected within {:.0} % of Prosperetti's rate (docs/PHYSICS.md §4.1: T70 about half, the projected form all)",
                 PROJECTED_DAMPING_TOL * 100.0
             );
-            out.rep.rows.push(if quick { row } else { row.check(rel.abs() <= PROJECTED_DAMPING_TOL, &bound) });
+            rows.push(if quick { row } else { row.check(rel.abs() <= PROJECTED_DAMPING_TOL, &bound) });
         }
         let share =
             |form, nx| self.kernel.map_or(f64::NAN, |(k, h)| potential_wave_share(&KernelParams::new(k, h), form, nx));
@@ -334,7 +364,7 @@ impl CapillaryWave {
             let nx = crate::scene::builtin::builtin("capillary-wave-1000").map_or(44, |s| s.domain.nx);
             let (sl32, sp32) = (share(ViscousForm::Laplacian, COARSE_NX), share(ViscousForm::Projected, COARSE_NX));
             let (sl, sp) = (share(ViscousForm::Laplacian, nx), share(ViscousForm::Projected, nx));
-            out.rep.rows.push(
+            rows.push(
                 Row::new(
                     &format!("damping rate γ / Prosperetti's, density ratio 1000, Δx = λ/{COARSE_NX} → λ/{nx}: T70; projected"),
                     p44 / a44,
@@ -358,7 +388,7 @@ impl CapillaryWave {
             let what = format!(
                 "damping rate γ / Prosperetti's, density ratio 1000, projected viscous form, Δx = λ/{nx} → λ/{FINE_NX}"
             );
-            out.rep.rows.push(Row::new(&what, p64 / a64, 3, None, Some(1.0)).sphlab_text(format!(
+            rows.push(Row::new(&what, p64 / a64, 3, None, Some(1.0)).sphlab_text(format!(
                 "{:.3} → {:.3} (the rest lattice's potential-flow share: {s44:.3} → {s64:.3})",
                 p44 / a44,
                 p64 / a64
@@ -378,8 +408,9 @@ impl CapillaryWave {
                 "projected within {:.0} % of T70's rate (docs/PHYSICS.md §4.1: the same where the viscosity is continuous)",
                 SAME_DAMPING_TOL * 100.0
             );
-            out.rep.rows.push(if quick { row } else { row.check(rel.abs() <= SAME_DAMPING_TOL, &bound) });
+            rows.push(if quick { row } else { row.check(rel.abs() <= SAME_DAMPING_TOL, &bound) });
         }
+        rows
     }
 }
 

@@ -178,33 +178,37 @@ fn cross_code(rep: &mut CaseReport) {
     }
 }
 
-/// The equal-density wave's 3-period rms with its band from the case's own p_b × 0.5 and × 2 rows.
+/// Every judged row of the capillary wave with its band: the same row built from the runs under
+/// the capillary rule's α × 0.5 and × 2 (`wave_band`), where the case has both.
 fn capillary_wave(root: &Path, rep: &mut CaseReport) {
+    use super::wave_band::{rows_of, BAND};
     let rule = rule_text(root, rep, "ratio1");
     const HEAD: &str = "rms of a/a0 − Prosperetti, t ≤ ";
-    let pick = |rep: &CaseReport, tail: &str| {
-        rep.rows.iter().find(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with(tail)).map(|r| r.value)
-    };
-    let (half, one, double) = (
-        pick(rep, "density ratio 1, p_b × 0.5"),
-        pick(rep, "(3 periods), density ratio 1"),
-        pick(rep, "density ratio 1, p_b × 2"),
-    );
-    let band = match (half, one, double) {
-        (Some(h), Some(o), Some(d)) => Some(Band {
-            varied: "p_b × 0.5 / × 1 / × 2 of the rule's".into(),
-            values: [h, o, d].iter().map(|v| format!("{v:.4}")).collect(),
-            source: "runs/ratio1-pb-half, runs/ratio1, runs/ratio1-pb-double".into(),
-            holds: Some([h, o, d].iter().all(|v| *v <= 0.05)),
-        }),
-        _ => None,
-    };
-    for r in rep
+    let bands: Vec<Option<Band>> = rep
         .rows
-        .iter_mut()
-        .filter(|r| r.quantity.starts_with(HEAD) && r.quantity.ends_with("(3 periods), density ratio 1"))
-    {
-        r.qualify(&format!("{rule}; the 3-period window chosen after the first run (README.md)"), band.as_ref());
+        .iter()
+        .map(|r| {
+            let [(half, half_met), (double, double_met)] = rows_of(&rep.rows, &r.quantity)?;
+            Some(Band {
+                varied: "the capillary rule's α × 0.5 / × 1 / × 2 (p_b × 0.5 / × 2, c0 unchanged)".into(),
+                values: [half, r.sphlab.as_str(), double].map(String::from).to_vec(),
+                source: format!(
+                    "the rows \"{}: …\" and \"{}: …\" (summary.md), from the runs named in the case's method notes",
+                    BAND[0].2, BAND[1].2
+                ),
+                holds: Some(half_met && r.is_pass() && double_met),
+            })
+        })
+        .collect();
+    for (r, band) in rep.rows.iter_mut().zip(bands) {
+        let depends = if r.quantity.starts_with(HEAD) && r.quantity.ends_with("(3 periods), density ratio 1") {
+            format!("{rule}; the 3-period window chosen after the first run (README.md)")
+        } else {
+            "p_b and c0 by the capillary rule at each run's Δx (docs/PHYSICS.md §3.1), La = 3000, the quintic at \
+             h = 1.2Δx, the lattice start unless the row names another"
+                .to_string()
+        };
+        r.qualify(&depends, band.as_ref());
     }
 }
 

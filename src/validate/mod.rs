@@ -29,6 +29,7 @@ mod scatter;
 mod sessile;
 mod speed;
 mod spurious;
+mod wave_band;
 mod wave_resolution;
 
 use crate::run::{RunError, RunOptions};
@@ -158,6 +159,7 @@ pub enum ValidateError {
 
 /// One run of a case: a built-in scene (or one of the scene files the cases run) with `--set` overrides (and optionally an edit that
 /// overrides cannot express), its end time and snapshot cadence.
+#[derive(Clone)]
 pub struct RunSpec<'a> {
     /// Run id (directory under `runs/`).
     pub id: String,

@@ -56,7 +56,7 @@ fn base_nx() -> u32 {
 }
 
 /// The id of the equal-density run at `nx` with the form's id suffix (`""` or `-projected`).
-fn id_at(nx: u32, suffix: &str) -> String {
+pub fn id_at(nx: u32, suffix: &str) -> String {
     if nx == base_nx() {
         format!("ratio1{suffix}")
     } else {

@@ -1,0 +1,141 @@
+//! The capillary wave's sensitivity band (case `capillary-wave`, full size only): every run whose
+//! rows are judged, made again under the capillary rule's α × 0.5 and × 2 (docs/PHYSICS.md §3.1:
+//! p_b × 0.5 and × 2, c0 unchanged, since c0 does not depend on α). Each judged row is built
+//! again from the band's runs in place of the rule's, with the same criterion; those rows are
+//! shown as the band of the row they repeat, not counted, and the judge sets them beside it.
+
+use super::case::CaseRun;
+use super::report::Row;
+use super::scatter::{self, SEEDS};
+use super::wave_resolution::{id_at, EXTRA_NX, TANGENTIAL, TANGENTIAL_NX};
+
+/// The band's two ends: the id suffix of their runs, α, and the label their rows carry.
+pub const BAND: [(&str, f64, &str); 2] =
+    [("-alpha1", 1.0, "at p_b × 0.5 (α = 1)"), ("-alpha4", 4.0, "at p_b × 2 (α = 4)")];
+
+/// Committed runs that are band members under other names: the same p_b and c0 set explicitly
+/// (the rule's values × 0.5 or × 2), made before the band had its own runs.
+const NAMED: [(&str, &str, &str); 4] = [
+    ("ratio1", "-alpha1", "ratio1-pb-half"),
+    ("ratio1", "-alpha4", "ratio1-pb-double"),
+    ("ratio1-nx64", "-alpha4", "ratio1-nx64-pb2"),
+    ("ratio1-nx64-tangential", "-alpha1", "ratio1-nx64-tangential-pb0.5"),
+];
+
+/// The runs the band repeats: both density ratios and viscous forms at the scene's Δx, the
+/// equal-density resolution study (both forms), the tangential form's runs and the jittered
+/// starts.
+pub fn bases() -> Vec<String> {
+    let mut ids: Vec<String> =
+        ["ratio1", "ratio1-projected", "ratio1000", "ratio1000-projected"].map(String::from).to_vec();
+    for nx in EXTRA_NX {
+        ids.extend(["", "-projected"].map(|form| id_at(nx, form)));
+    }
+    ids.extend(TANGENTIAL_NX.map(|nx| format!("{}{TANGENTIAL}", id_at(nx, ""))));
+    ids.extend(SEEDS.map(|s| format!("ratio1{}", scatter::suffix(s))));
+    ids
+}
+
+/// The id of `base`'s run at the band's end `suffix` (one of [`BAND`]'s).
+pub fn member(base: &str, suffix: &str) -> String {
+    NAMED
+        .iter()
+        .find(|(b, s, _)| *b == base && *s == suffix)
+        .map_or_else(|| format!("{base}{suffix}"), |(_, _, id)| id.to_string())
+}
+
+/// Which band end `id` is a member of, and the run it repeats: (index into [`BAND`], base id).
+pub fn of(id: &str) -> Option<(usize, String)> {
+    bases().into_iter().find_map(|b| (0..BAND.len()).find(|&k| member(&b, BAND[k].0) == id).map(|k| (k, b)))
+}
+
+/// The band's own runs, made from `base_runs` (the case's): each base's spec under α × 0.5 and
+/// × 2, with the base's label; members committed under another name are not made again.
+pub fn runs(base_runs: &[CaseRun]) -> Vec<CaseRun> {
+    let bases = bases();
+    let mut out = Vec::new();
+    for run in base_runs.iter().filter(|r| bases.contains(&r.spec.id)) {
+        for (suffix, alpha, _) in BAND {
+            let id = member(&run.spec.id, suffix);
+            if id != format!("{}{suffix}", run.spec.id) {
+                continue;
+            }
+            let mut spec = run.spec.clone();
+            spec.id = id;
+            spec.sets.push(format!("capillary_rule.alpha={alpha:.1}"));
+            out.push(CaseRun::new(spec, run.label.clone()));
+        }
+    }
+    out
+}
+
+/// The method note naming the band's runs.
+pub fn method_note() -> String {
+    let named: Vec<String> = NAMED.iter().map(|(b, s, id)| format!("`{id}` for `{b}{s}`")).collect();
+    format!(
+        "Sensitivity band: the runs {} made again under the capillary rule's α × 0.5 and × 2 as `<run>-alpha1` and \
+         `<run>-alpha4` (p_b × 0.5 / × 2, c0 unchanged), except where a committed run has the same p_b and c0 set \
+         explicitly ({}); every judged row built again from each end's runs is shown as the row's band (\"{}: …\", \
+         \"{}: …\"), not counted.",
+        bases().iter().map(|b| format!("`{b}`")).collect::<Vec<_>>().join(", "),
+        named.join(", "),
+        BAND[0].2,
+        BAND[1].2
+    )
+}
+
+/// A judged row built from the band end `k`'s runs, as the band of the row it repeats: its
+/// quantity prefixed with the end's label, its verdict the criterion's outcome as information
+/// (not counted). Rows without a verdict are dropped (nothing to band).
+pub fn as_band(k: usize, row: Row) -> Option<Row> {
+    let met = if row.verdict.starts_with("pass (") {
+        "met"
+    } else if row.verdict.starts_with("FAIL (") {
+        "not met"
+    } else {
+        return None;
+    };
+    let mut r = row;
+    r.quantity = format!("{}: {}", BAND[k].2, r.quantity);
+    r.verdict = format!("info (band of the row without this prefix: its criterion {met})");
+    Some(r)
+}
+
+/// The band ends' rows for `quantity`: per end, (sphlab's text, whether the criterion was met).
+pub fn rows_of<'a>(rows: &'a [Row], quantity: &str) -> Option<[(&'a str, bool); 2]> {
+    let end = |k: usize| {
+        let q = format!("{}: {quantity}", BAND[k].2);
+        let r = rows.iter().find(|r| r.quantity == q)?;
+        Some((r.sphlab.as_str(), r.verdict.contains("criterion met")))
+    };
+    Some([end(0)?, end(1)?])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn members_map_to_their_base_and_end_both_ways_including_the_named_ones() {
+        assert_eq!(member("ratio1", "-alpha1"), "ratio1-pb-half");
+        assert_eq!(member("ratio1-projected", "-alpha4"), "ratio1-projected-alpha4");
+        assert_eq!(of("ratio1-pb-double"), Some((1, "ratio1".to_string())));
+        assert_eq!(of("ratio1-nx64-pb2"), Some((1, "ratio1-nx64".to_string())));
+        assert_eq!(of("ratio1-nx64-tangential-pb0.5"), Some((0, "ratio1-nx64-tangential".to_string())));
+        assert_eq!(of("ratio1-jitter0.05-seed2-alpha1"), Some((0, "ratio1-jitter0.05-seed2".to_string())));
+        assert_eq!(of("ratio1-nx64-pb0.75"), None);
+        assert_eq!(of("ratio1"), None);
+    }
+
+    #[test]
+    fn a_band_row_is_information_that_keeps_its_criterions_outcome() {
+        let pass = Row::new("q", 0.01, 3, None, Some(0.0)).check(true, "≤ 0.05");
+        let fail = Row::new("q", 0.1, 3, None, Some(0.0)).check(false, "≤ 0.05");
+        let (p, f) = (as_band(0, pass).unwrap(), as_band(1, fail).unwrap());
+        assert!(p.verdict.starts_with("info") && f.verdict.starts_with("info"));
+        assert!(as_band(0, Row::new("q", 1.0, 3, None, None)).is_none());
+        let rows = [p, f];
+        assert_eq!(rows_of(&rows, "q"), Some([("0.010", true), ("0.100", false)]));
+        assert_eq!(rows_of(&rows, "other"), None);
+    }
+}
