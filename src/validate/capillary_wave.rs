@@ -12,7 +12,7 @@
 use super::case::{Case, CaseOutput, CasePlot, CaseRun, CaseSpec, CaseTable};
 use super::data::{col, read_series};
 use super::report::{Row, RunRecord};
-use super::{wave_band, Ctx, RunSpec, ValidateError};
+use super::{band_rows, wave_band, Ctx, RunSpec, ValidateError};
 use crate::analytic::capillary_wave::{Prosperetti, WaveParams};
 use crate::diagnostics::viscous_share::potential_wave_share;
 use crate::diagnostics::wave::{damped_cosine_fit, rms_difference};
@@ -261,7 +261,7 @@ impl Case for CapillaryWave {
             });
         }
         if let Some((k, _)) = band {
-            out.rep.rows.extend(rows_out.into_iter().filter_map(|r| wave_band::as_band(k, r)));
+            out.rep.rows.extend(rows_out.into_iter().filter_map(|r| band_rows::as_band(k, r)));
         } else {
             out.rep.rows.extend(rows_out);
         }
@@ -299,7 +299,7 @@ impl Case for CapillaryWave {
     fn compare(&mut self, _ctx: &Ctx, out: &mut CaseOutput) -> Result<(), ValidateError> {
         out.rep.rows.extend(self.derived_rows(&self.rms, &self.periods, &self.damping));
         // The same rows from each band end's runs in place of the rule's.
-        for (k, (suffix, _, _)) in wave_band::BAND.iter().enumerate() {
+        for (k, (suffix, _, _)) in band_rows::BAND.iter().enumerate() {
             let as_base = |v: &[(String, f64, f64)]| -> Vec<(String, f64, f64)> {
                 wave_band::bases()
                     .into_iter()
@@ -315,7 +315,7 @@ impl Case for CapillaryWave {
                     .map(|r| (r.0, r.1))
                     .collect();
             let rows = self.derived_rows(&rms, &as_base(&self.periods), &as_base(&self.damping));
-            out.rep.rows.extend(rows.into_iter().filter_map(|r| wave_band::as_band(k, r)));
+            out.rep.rows.extend(rows.into_iter().filter_map(|r| band_rows::as_band(k, r)));
         }
         Ok(())
     }

@@ -181,7 +181,7 @@ fn cross_code(rep: &mut CaseReport) {
 /// Every judged row of the capillary wave with its band: the same row built from the runs under
 /// the capillary rule's α × 0.5 and × 2 (`wave_band`), where the case has both.
 fn capillary_wave(root: &Path, rep: &mut CaseReport) {
-    use super::wave_band::{rows_of, BAND};
+    use super::band_rows::{rows_of, BAND};
     let rule = rule_text(root, rep, "ratio1");
     const HEAD: &str = "rms of a/a0 − Prosperetti, t ≤ ";
     let bands: Vec<Option<Band>> = rep

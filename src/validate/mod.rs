@@ -16,6 +16,7 @@ pub(crate) mod executor;
 mod judge;
 pub(crate) mod report;
 
+mod band_rows;
 mod capillary_wave;
 mod committed;
 mod convergence;

@@ -4,14 +4,10 @@
 //! again from the band's runs in place of the rule's, with the same criterion; those rows are
 //! shown as the band of the row they repeat, not counted, and the judge sets them beside it.
 
+use super::band_rows::BAND;
 use super::case::CaseRun;
-use super::report::Row;
 use super::scatter::{self, SEEDS};
 use super::wave_resolution::{id_at, EXTRA_NX, TANGENTIAL, TANGENTIAL_NX};
-
-/// The band's two ends: the id suffix of their runs, α, and the label their rows carry.
-pub const BAND: [(&str, f64, &str); 2] =
-    [("-alpha1", 1.0, "at p_b × 0.5 (α = 1)"), ("-alpha4", 4.0, "at p_b × 2 (α = 4)")];
 
 /// Committed runs that are band members under other names: the same p_b and c0 set explicitly
 /// (the rule's values × 0.5 or × 2), made before the band had its own runs.
@@ -84,33 +80,6 @@ pub fn method_note() -> String {
     )
 }
 
-/// A judged row built from the band end `k`'s runs, as the band of the row it repeats: its
-/// quantity prefixed with the end's label, its verdict the criterion's outcome as information
-/// (not counted). Rows without a verdict are dropped (nothing to band).
-pub fn as_band(k: usize, row: Row) -> Option<Row> {
-    let met = if row.verdict.starts_with("pass (") {
-        "met"
-    } else if row.verdict.starts_with("FAIL (") {
-        "not met"
-    } else {
-        return None;
-    };
-    let mut r = row;
-    r.quantity = format!("{}: {}", BAND[k].2, r.quantity);
-    r.verdict = format!("info (band of the row without this prefix: its criterion {met})");
-    Some(r)
-}
-
-/// The band ends' rows for `quantity`: per end, (sphlab's text, whether the criterion was met).
-pub fn rows_of<'a>(rows: &'a [Row], quantity: &str) -> Option<[(&'a str, bool); 2]> {
-    let end = |k: usize| {
-        let q = format!("{}: {quantity}", BAND[k].2);
-        let r = rows.iter().find(|r| r.quantity == q)?;
-        Some((r.sphlab.as_str(), r.verdict.contains("criterion met")))
-    };
-    Some([end(0)?, end(1)?])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -125,17 +94,5 @@ mod tests {
         assert_eq!(of("ratio1-jitter0.05-seed2-alpha1"), Some((0, "ratio1-jitter0.05-seed2".to_string())));
         assert_eq!(of("ratio1-nx64-pb0.75"), None);
         assert_eq!(of("ratio1"), None);
-    }
-
-    #[test]
-    fn a_band_row_is_information_that_keeps_its_criterions_outcome() {
-        let pass = Row::new("q", 0.01, 3, None, Some(0.0)).check(true, "≤ 0.05");
-        let fail = Row::new("q", 0.1, 3, None, Some(0.0)).check(false, "≤ 0.05");
-        let (p, f) = (as_band(0, pass).unwrap(), as_band(1, fail).unwrap());
-        assert!(p.verdict.starts_with("info") && f.verdict.starts_with("info"));
-        assert!(as_band(0, Row::new("q", 1.0, 3, None, None)).is_none());
-        let rows = [p, f];
-        assert_eq!(rows_of(&rows, "q"), Some([("0.010", true), ("0.100", false)]));
-        assert_eq!(rows_of(&rows, "other"), None);
     }
 }
