@@ -3,7 +3,7 @@
 //! shown beside the row they repeat as information (not counted), and read back by the judge as
 //! that row's band.
 
-use super::report::Row;
+use super::report::{Band, Row};
 
 /// The band's two ends: the id suffix of their runs, α, and the label their rows carry.
 pub const BAND: [(&str, f64, &str); 2] =
@@ -34,6 +34,24 @@ pub fn rows_of<'a>(rows: &'a [Row], quantity: &str) -> Option<[(&'a str, bool); 
         Some((r.sphlab.as_str(), r.verdict.contains("criterion met")))
     };
     Some([end(0)?, end(1)?])
+}
+
+/// `row`'s band from the band rows among `rows` (none unless both ends have one): the three
+/// results, α × 0.5's first, and whether the row's criterion holds at all three.
+pub fn band_of(rows: &[Row], row: &Row) -> Option<Band> {
+    let [(half, half_met), (double, double_met)] = rows_of(rows, &row.quantity)?;
+    let values = [half, row.sphlab.as_str(), double];
+    // A value with parts of its own is bracketed, so the band's " / " stays readable.
+    let parts = values.iter().any(|v| v.contains(" / ") || v.contains("; "));
+    Some(Band {
+        varied: "the capillary rule's α × 0.5 / × 1 / × 2 (p_b × 0.5 / × 2, c0 unchanged)".into(),
+        values: values.map(|v| if parts { format!("[{v}]") } else { v.to_string() }).to_vec(),
+        source: format!(
+            "the rows \"{}: …\" and \"{}: …\" (summary.md), from the runs named in the case's notes",
+            BAND[0].2, BAND[1].2
+        ),
+        holds: Some(half_met && row.is_pass() && double_met),
+    })
 }
 
 #[cfg(test)]

@@ -187,7 +187,9 @@ impl Case for CapillaryWave {
         // A band run is measured as the run it repeats; its judged rows become that run's band.
         let band = wave_band::of(&run.spec.id);
         let id = band.as_ref().map_or(run.spec.id.as_str(), |b| b.1.as_str());
-        let (key, label) = (run.spec.id.as_str(), run.label.as_str());
+        let base_label =
+            band.as_ref().and_then(|b| self.runs().into_iter().find(|r| r.spec.id == b.1)).map(|r| r.label);
+        let (key, label) = (run.spec.id.as_str(), base_label.as_deref().unwrap_or(run.label.as_str()));
         let scene = run.spec.scene()?;
         let Some(p) = prosperetti_of(&scene) else {
             return Err(ValidateError::Input(format!("{id}: no interface wave with equal kinematic viscosities")));
@@ -298,7 +300,16 @@ impl Case for CapillaryWave {
 
     fn compare(&mut self, _ctx: &Ctx, out: &mut CaseOutput) -> Result<(), ValidateError> {
         out.rep.rows.extend(self.derived_rows(&self.rms, &self.periods, &self.damping));
-        // The same rows from each band end's runs in place of the rule's.
+        out.rep.rows.extend(self.band_derived_rows());
+        Ok(())
+    }
+}
+
+impl CapillaryWave {
+    /// The rows that compare runs, built again from each band end's runs in place of the
+    /// rule's (each member's results under its base's id), as band rows.
+    fn band_derived_rows(&self) -> Vec<Row> {
+        let mut out = Vec::new();
         for (k, (suffix, _, _)) in band_rows::BAND.iter().enumerate() {
             let as_base = |v: &[(String, f64, f64)]| -> Vec<(String, f64, f64)> {
                 wave_band::bases()
@@ -315,13 +326,11 @@ impl Case for CapillaryWave {
                     .map(|r| (r.0, r.1))
                     .collect();
             let rows = self.derived_rows(&rms, &as_base(&self.periods), &as_base(&self.damping));
-            out.rep.rows.extend(rows.into_iter().filter_map(|r| band_rows::as_band(k, r)));
+            out.extend(rows.into_iter().filter_map(|r| band_rows::as_band(k, r)));
         }
-        Ok(())
+        out
     }
-}
 
-impl CapillaryWave {
     /// The rows that compare runs, from each run's three-period rms, (period, Prosperetti's)
     /// and (damping rate, Prosperetti's), by run id.
     fn derived_rows(
@@ -434,3 +443,6 @@ fn plot_curves(out: &mut CaseOutput, id: &str, what: &str, p: &Prosperetti, sph:
 pub(super) fn run(ctx: &Ctx) -> Result<super::CaseReport, ValidateError> {
     super::executor::execute(ctx, &mut CapillaryWave::new(ctx))
 }
+
+#[cfg(test)]
+mod tests;

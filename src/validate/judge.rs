@@ -6,6 +6,7 @@
 //! committed `case.json` (whose particle snapshots are not committed), so both give the same
 //! verdicts. The bands' numbers are read from the committed files named in each verdict.
 
+use super::band_rows::band_of;
 use super::data::{col, read_series, window_stats};
 use super::report::{Band, CaseReport, Row};
 use super::Ctx;
@@ -181,25 +182,9 @@ fn cross_code(rep: &mut CaseReport) {
 /// Every judged row of the capillary wave with its band: the same row built from the runs under
 /// the capillary rule's α × 0.5 and × 2 (`wave_band`), where the case has both.
 fn capillary_wave(root: &Path, rep: &mut CaseReport) {
-    use super::band_rows::{rows_of, BAND};
     let rule = rule_text(root, rep, "ratio1");
     const HEAD: &str = "rms of a/a0 − Prosperetti, t ≤ ";
-    let bands: Vec<Option<Band>> = rep
-        .rows
-        .iter()
-        .map(|r| {
-            let [(half, half_met), (double, double_met)] = rows_of(&rep.rows, &r.quantity)?;
-            Some(Band {
-                varied: "the capillary rule's α × 0.5 / × 1 / × 2 (p_b × 0.5 / × 2, c0 unchanged)".into(),
-                values: [half, r.sphlab.as_str(), double].map(String::from).to_vec(),
-                source: format!(
-                    "the rows \"{}: …\" and \"{}: …\" (summary.md), from the runs named in the case's method notes",
-                    BAND[0].2, BAND[1].2
-                ),
-                holds: Some(half_met && r.is_pass() && double_met),
-            })
-        })
-        .collect();
+    let bands: Vec<Option<Band>> = rep.rows.iter().map(|r| band_of(&rep.rows, r)).collect();
     for (r, band) in rep.rows.iter_mut().zip(bands) {
         let depends = if r.quantity.starts_with(HEAD) && r.quantity.ends_with("(3 periods), density ratio 1") {
             format!("{rule}; the 3-period window chosen after the first run (README.md)")
@@ -399,6 +384,14 @@ fn convergence(root: &Path, rep: &mut CaseReport) {
             &theta_band
         };
         r.qualify(on, band.as_ref());
+    }
+    let bands: Vec<Option<Band>> = rep.rows.iter().map(|r| band_of(&rep.rows, r)).collect();
+    for (r, band) in rep.rows.iter_mut().zip(bands).filter(|(r, _)| r.quantity.starts_with("tangential form: ")) {
+        r.qualify(
+            "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, Mode B, \
+             no-slip, the lattice start, the tangential form's runs beside the traceless form's",
+            band.as_ref(),
+        );
     }
 }
 

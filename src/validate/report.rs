@@ -93,10 +93,10 @@ impl Row {
     /// Names what a pass or FAIL depends on and, when committed runs give one, the result's
     /// sensitivity band: the verdict becomes "pass (criterion; depends on …; band …)". Applied
     /// again it replaces the earlier qualification (re-judging a committed report is idempotent);
-    /// info and invariant rows are left as they are.
+    /// info, invariant and broken-invariant rows are left as they are.
     pub fn qualify(&mut self, depends_on: &str, band: Option<&Band>) {
-        if !(self.verdict.starts_with("pass (") || self.verdict.starts_with("FAIL (")) {
-            return;
+        if self.is_qualified() && !self.verdict.contains(QUALIFIER) {
+            return; // info, invariant, a broken invariant
         }
         let base = self.verdict.strip_suffix(')').unwrap_or(&self.verdict);
         let base = base.split(QUALIFIER).next().unwrap_or(base).to_string();

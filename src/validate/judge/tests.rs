@@ -364,3 +364,23 @@ fn a_judged_row_no_rule_qualifies_says_it_has_no_band_and_other_rows_stay_as_the
         rep.rows.iter().map(|r| &r.verdict).collect::<Vec<_>>()
     );
 }
+
+#[test]
+fn a_capillary_wave_row_carries_the_band_its_band_rows_give_and_holds_only_if_all_three_meet() {
+    use crate::validate::band_rows::as_band;
+    let q = "rms of a/a0 − Prosperetti, whole record, density ratio 1";
+    let row = |v: f64| Row::new(q, v, 4, None, Some(0.0)).check(v <= 0.05, "≤ 0.05");
+    let rows = vec![row(0.04), as_band(0, row(0.03)).unwrap(), as_band(1, row(0.06)).unwrap()];
+    let rep = judged("capillary-wave", rows.clone());
+    let v = verdict(&rep, q);
+    assert!(v.contains("α × 0.5 / × 1 / × 2") && v.contains(": 0.0300 / 0.0400 / 0.0600 ("), "{v}");
+    assert!(v.ends_with("bound not met across the band)"), "{v}");
+    let mut met = rows.clone();
+    met[2] = as_band(1, row(0.01)).unwrap();
+    let rep = judged("capillary-wave", met);
+    assert!(verdict(&rep, q).ends_with("bound met across the band)"));
+    // One end missing: no band, said so; the band rows themselves stay information.
+    let rep = judged("capillary-wave", rows[..2].to_vec());
+    assert!(verdict(&rep, q).ends_with("no committed sensitivity run)"));
+    assert!(rep.rows[1].verdict.starts_with("info (band of"));
+}
