@@ -311,21 +311,10 @@ impl CapillaryWave {
     fn band_derived_rows(&self) -> Vec<Row> {
         let mut out = Vec::new();
         for (k, (suffix, _, _)) in band_rows::BAND.iter().enumerate() {
-            let as_base = |v: &[(String, f64, f64)]| -> Vec<(String, f64, f64)> {
-                wave_band::bases()
-                    .into_iter()
-                    .filter_map(|b| {
-                        let m = wave_band::member(&b, suffix);
-                        v.iter().find(|e| e.0 == m).map(|e| (b, e.1, e.2))
-                    })
-                    .collect()
-            };
-            let rms: Vec<(String, f64)> =
-                as_base(&self.rms.iter().map(|r| (r.0.clone(), r.1, 0.0)).collect::<Vec<_>>())
-                    .into_iter()
-                    .map(|r| (r.0, r.1))
-                    .collect();
-            let rows = self.derived_rows(&rms, &as_base(&self.periods), &as_base(&self.damping));
+            let rms = wave_band::under_base_ids(&self.rms, suffix, |e| &mut e.0);
+            let periods = wave_band::under_base_ids(&self.periods, suffix, |e| &mut e.0);
+            let damping = wave_band::under_base_ids(&self.damping, suffix, |e| &mut e.0);
+            let rows = self.derived_rows(&rms, &periods, &damping);
             out.extend(rows.into_iter().filter_map(|r| band_rows::as_band(k, r)));
         }
         out

@@ -65,6 +65,25 @@ pub fn runs(base_runs: &[CaseRun]) -> Vec<CaseRun> {
     out
 }
 
+/// The entries of `v` (each named by the id `id` gives) of the band end `suffix`'s runs, each
+/// renamed to the id of the run it repeats, so a row built for the rule's runs reads them.
+pub fn under_base_ids<T: Clone>(v: &[T], suffix: &str, id: impl Fn(&mut T) -> &mut String) -> Vec<T> {
+    bases()
+        .into_iter()
+        .filter_map(|b| {
+            let m = member(&b, suffix);
+            v.iter().cloned().find_map(|mut e| {
+                let i = id(&mut e);
+                if *i != m {
+                    return None;
+                }
+                *i = b.clone();
+                Some(e)
+            })
+        })
+        .collect()
+}
+
 /// The method note naming the band's runs.
 pub fn method_note() -> String {
     let named: Vec<String> = NAMED.iter().map(|(b, s, id)| format!("`{id}` for `{b}{s}`")).collect();
