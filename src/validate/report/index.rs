@@ -34,11 +34,12 @@ pub fn write_index(
         let records = run_records(&opts.out.join(c), &rep);
         let _ = writeln!(
             m,
-            "| [{c}]({c}/summary.md) | {} | {} | {} | {} | {pass} pass, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
+            "| [{c}]({c}/summary.md) | {} | {} | {} | {} | {pass} pass{}, {fail} FAIL, {inv} invariant, {} info | {:.0} |",
             rep.reference.lines().next().unwrap_or(""),
             if rep.not_full.is_none() { "yes" } else { "no" },
             pressure_rule(&records),
             kernel_column(&records),
+            pass_bands(&rep.rows),
             rep.rows.len() - pass - fail - inv,
             rep.runs.iter().map(|r| r.wall_time_s).filter(|w| w.is_finite()).sum::<f64>()
         );
@@ -183,9 +184,26 @@ fn kernel_column(records: &[(String, serde_json::Value)]) -> String {
     }
 }
 
+/// How the passes stand against their sensitivity bands (as `Row::qualify` words them):
+/// " (h held across their band, n not, z without one)", or nothing without a pass.
+fn pass_bands(rows: &[super::Row]) -> String {
+    let passes: Vec<&str> = rows.iter().filter(|r| r.is_pass()).map(|r| r.verdict.as_str()).collect();
+    if passes.is_empty() {
+        return String::new();
+    }
+    let n = |what: &str| passes.iter().filter(|v| v.contains(what)).count();
+    format!(
+        " ({} held across their band, {} not, {} without one)",
+        n("bound met across the band"),
+        n("bound not met across the band"),
+        n("no committed sensitivity run")
+    )
+}
+
 #[cfg(test)]
 mod tests {
-    use super::kernel_column;
+    use super::super::{Band, Row};
+    use super::{kernel_column, pass_bands};
     use serde_json::json;
 
     fn record(scene: &str, kind: &str, h: f64) -> (String, serde_json::Value) {
@@ -226,5 +244,21 @@ mod tests {
         // a scene file keeps its own kernel; no records, nothing to say
         assert_eq!(kernel_column(&[record("/some/scene.toml", other, 1.0)]), "the scene's");
         assert_eq!(kernel_column(&[]), "—");
+    }
+
+    #[test]
+    fn passes_are_counted_by_how_their_band_stands_and_fails_are_not() {
+        let band = |holds| Band { varied: "α".into(), values: vec![], source: "s".into(), holds: Some(holds) };
+        let mut rows: Vec<Row> = (0..5).map(|k| Row::new(&format!("q{k}"), 0.0, 1, None, None)).collect();
+        rows[0] = rows[0].clone().check(true, "c");
+        rows[0].qualify("d", Some(&band(true)));
+        rows[1] = rows[1].clone().check(true, "c");
+        rows[1].qualify("d", Some(&band(false)));
+        rows[2] = rows[2].clone().check(true, "c");
+        rows[2].qualify("d", None);
+        rows[3] = rows[3].clone().check(false, "c");
+        rows[3].qualify("d", Some(&band(false)));
+        assert_eq!(pass_bands(&rows), " (1 held across their band, 1 not, 1 without one)");
+        assert_eq!(pass_bands(&rows[3..]), "");
     }
 }
