@@ -385,13 +385,36 @@ fn convergence(root: &Path, rep: &mut CaseReport) {
         };
         r.qualify(on, band.as_ref());
     }
-    let bands: Vec<Option<Band>> = rep.rows.iter().map(|r| band_of(&rep.rows, r)).collect();
-    for (r, band) in rep.rows.iter_mut().zip(bands).filter(|(r, _)| r.quantity.starts_with("tangential form: ")) {
-        r.qualify(
-            "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, Mode B, \
-             no-slip, the lattice start, the tangential form's runs beside the traceless form's",
-            band.as_ref(),
-        );
+    tangential_bands(root, rep);
+}
+
+/// The tangential form's trend rows with the same trends from its lattice runs under the rule's
+/// α × 0.5 and × 2 (`runs/nx<nx>-tangential-alpha{1,4}`), judged by each row's own criterion.
+fn tangential_bands(root: &Path, rep: &mut CaseReport) {
+    let nxs = crate::validate::convergence::TANGENTIAL_NX;
+    let on = "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, Mode B, \
+              no-slip, the lattice start, the tangential form's runs beside the traceless form's";
+    let values = |prefix: &str, f: fn(&str) -> Option<Vec<f64>>| {
+        rep.rows.iter().find(|r| r.quantity.starts_with(prefix)).and_then(|r| f(&r.sphlab))
+    };
+    let numbers = |text: &str| -> Option<Vec<f64>> {
+        let v: Vec<f64> = text.split([',', '→']).filter_map(|p| p.trim().parse().ok()).collect();
+        (v.len() == 3).then_some(v)
+    };
+    let dens = values("tangential form: max |ρ/ρ0 − 1| for t ≥ 1 with refinement", numbers)
+        .and_then(|v| sensitivity::lattice_alpha_band(root, "-tangential", &nxs, &v, true, falls));
+    let within = |t: &[f64]| t.iter().all(|v| *v < ANGLE_TOL_DEG);
+    let theta = values("tangential form: |θ − 60°| at nx", numbers)
+        .and_then(|v| sensitivity::lattice_alpha_band(root, "-tangential", &nxs, &v, false, within));
+    for r in rep.rows.iter_mut().filter(|r| r.quantity.starts_with("tangential form: ")) {
+        let band = if r.quantity.contains("|ρ/ρ0 − 1|") {
+            &dens
+        } else if r.quantity.contains("|θ − 60°|") {
+            &theta
+        } else {
+            &None
+        };
+        r.qualify(on, band.as_ref());
     }
 }
 

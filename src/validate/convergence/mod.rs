@@ -19,6 +19,7 @@ mod band_density;
 mod realisations;
 mod tangential;
 use realisations::{band_density_row, capillary_rule_dir, end_values, End};
+pub use tangential::TANGENTIAL_NX;
 
 /// Resolutions (particles across 0.5) of the full study.
 pub const FULL_NX: [u32; 5] = [33, 45, 65, 85, 105];

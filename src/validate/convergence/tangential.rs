@@ -5,7 +5,7 @@
 //! form's band needs none. What is left is the compressibility of the Laplace jump,
 //! σκ/(ρ0c0²), which the rule's c0 ∝ Δx^(−1/2) makes fall as Δx.
 
-use super::super::band_rows::{as_band, BAND};
+use super::super::band_rows::BAND;
 use super::super::judge::{ANGLE_TOL_DEG, YOUNG_DEG};
 use super::super::report::{write_csv, CaseReport, Row};
 use super::super::{Ctx, RunSpec, ValidateError};
@@ -79,27 +79,23 @@ pub fn add(ctx: &Ctx, rep: &mut CaseReport, lattice: &[(u32, End)], t_end: f64) 
     Ok(())
 }
 
-/// The verdicts' sensitivity band: the lattice runs in both forms again under the capillary
-/// rule's α × 0.5 and × 2 (`nx<nx>-alpha1`, `-alpha4` and the same with `-tangential`), the
-/// verdicts rebuilt from each end's runs as band rows.
+/// The runs of the verdicts' sensitivity band: the lattice runs in both forms again under the
+/// capillary rule's α × 0.5 and × 2 (`nx<nx>-alpha1`, `-alpha4` and the same with
+/// `-tangential`), the rule's α in place of the named p_b and c0 (c0 does not depend on α). The
+/// judge reads their series (`judge::sensitivity::lattice_alpha_band`).
 fn band(ctx: &Ctx, rep: &mut CaseReport, t_end: f64) -> Result<(), ValidateError> {
-    let (wa, wb, _) = super::super::sessile::shear_window(t_end);
-    for (k, (suffix, alpha, _)) in BAND.iter().enumerate() {
-        let (mut ends, mut lattice) = (Vec::new(), Vec::new());
+    for (suffix, alpha, _) in BAND {
         for nx in TANGENTIAL_NX {
-            for (tangential, into) in [(false, &mut lattice), (true, &mut ends)] {
+            for tangential in [false, true] {
                 let mut s = if tangential { spec(nx, t_end) } else { super::spec(nx, false, t_end) };
                 s.id = format!("{}{suffix}", s.id);
-                // The rule's α in place of the case's named p_b and c0 (c0 does not depend on α).
                 s.sets.retain(|v| !(v.starts_with("phases.") && (v.contains(".p_b=") || v.contains(".c0="))));
                 s.sets.push(format!("capillary_rule.alpha={alpha:.1}"));
                 if let Some(rec) = super::run_or_skip(ctx, rep, &s, &[])? {
-                    into.push((nx, end_values(Path::new(&rec.dir), nx, wa, wb)));
                     rep.runs.push(rec);
                 }
             }
         }
-        rep.rows.extend(verdicts(&ends, &lattice).into_iter().filter_map(|r| as_band(k, r)));
     }
     Ok(())
 }

@@ -91,10 +91,23 @@ pub(super) fn sessile_rule_band(rep: &CaseReport, what: &str, bound: impl Fn(f64
 /// (circle fit, mean over t ∈ [4.3, 4.5]) or, with `density`, the max |ρ/ρ0 − 1| for t ≥ 1,
 /// judged as the trend rows are (falls at every refinement); none while a run is missing.
 pub(super) fn convergence_alpha_band(root: &Path, nxs: &[u32], at_alpha: &[f64], density: bool) -> Option<Band> {
+    lattice_alpha_band(root, "", nxs, at_alpha, density, super::falls)
+}
+
+/// [`convergence_alpha_band`] of the lattice runs in the form whose run ids carry `form`
+/// (`""` or `"-tangential"`: `nx<nx><form>-alpha1`, `-alpha4`), each trend judged by `holds`.
+pub(super) fn lattice_alpha_band(
+    root: &Path,
+    form: &str,
+    nxs: &[u32],
+    at_alpha: &[f64],
+    density: bool,
+    holds: fn(&[f64]) -> bool,
+) -> Option<Band> {
     let at = |alpha: &str| -> Option<Vec<f64>> {
         nxs.iter()
             .map(|&nx| {
-                let dir = root.join(format!("convergence/runs/nx{nx}-alpha{alpha}"));
+                let dir = root.join(format!("convergence/runs/nx{nx}{form}-alpha{alpha}"));
                 if !of_the_scene(&dir, nx) {
                     return None;
                 }
@@ -109,7 +122,14 @@ pub(super) fn convergence_alpha_band(root: &Path, nxs: &[u32], at_alpha: &[f64],
             .collect()
     };
     let trends = [at("1")?, at_alpha.to_vec(), at("4")?];
-    let prec = if density { 3 } else { 2 };
+    // The tangential rows print their density errors to 4 decimals, the traceless trend row to 3.
+    let prec = if !density {
+        2
+    } else if form.is_empty() {
+        3
+    } else {
+        4
+    };
     let text = |t: &Vec<f64>| t.iter().map(|v| format!("{v:.prec$}")).collect::<Vec<_>>().join(" → ");
     let nx_text = nxs.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
     Some(Band {
@@ -118,7 +138,7 @@ pub(super) fn convergence_alpha_band(root: &Path, nxs: &[u32], at_alpha: &[f64],
             nx_text.replace(',', ", ")
         ),
         values: trends.iter().map(text).collect(),
-        source: format!("runs/nx{{{nx_text}}}-alpha1, the rows above, runs/nx{{{nx_text}}}-alpha4"),
-        holds: Some(trends.iter().all(|t| super::falls(t))),
+        source: format!("runs/nx{{{nx_text}}}{form}-alpha1, the rows above, runs/nx{{{nx_text}}}{form}-alpha4"),
+        holds: Some(trends.iter().all(|t| holds(t))),
     })
 }

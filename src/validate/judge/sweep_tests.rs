@@ -2,7 +2,7 @@
 //! (within 3° of Young's angle at nx = 65, closer at every refinement, the α band at nx = 33),
 //! the line forms' own rows, the α band of relax-60's rows at nx = 33 and of the convergence trend.
 
-use super::sensitivity::convergence_alpha_band;
+use super::sensitivity::{convergence_alpha_band, lattice_alpha_band};
 use super::tests::report;
 use super::*;
 use crate::validate::ValidateOptions;
@@ -316,4 +316,29 @@ fn the_convergence_trend_band_reads_the_alpha_runs_at_every_nx_and_judges_their_
     // The density trend: the largest max_density_error at t ≥ 1 (the test series' rows carry 0).
     let d = convergence_alpha_band(root, &nxs, &[0.014, 0.015, 0.017], true).unwrap();
     assert_eq!((d.values[0].as_str(), d.holds), ("0.000 → 0.000 → 0.000", Some(false)));
+}
+
+#[test]
+fn the_tangential_angle_band_reads_its_own_runs_and_holds_only_within_three_degrees_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let nxs = [33, 45, 65];
+    let within = |t: &[f64]| t.iter().all(|v| *v < 3.0);
+    // The traceless form's α runs are not the tangential form's.
+    for nx in nxs {
+        sweep_run_in(root, "convergence/runs", &format!("nx{nx}-alpha1"), nx, "quintic", 60.0);
+        sweep_run_in(root, "convergence/runs", &format!("nx{nx}-alpha4"), nx, "quintic", 60.0);
+    }
+    assert!(lattice_alpha_band(root, "-tangential", &nxs, &[0.6, 0.6, 0.0], false, within).is_none());
+    for (nx, (t1, t4)) in nxs.iter().zip([(61.0, 60.5), (64.1, 60.2), (60.9, 60.4)]) {
+        sweep_run_in(root, "convergence/runs", &format!("nx{nx}-tangential-alpha1"), *nx, "quintic", t1);
+        sweep_run_in(root, "convergence/runs", &format!("nx{nx}-tangential-alpha4"), *nx, "quintic", t4);
+    }
+    let b = lattice_alpha_band(root, "-tangential", &nxs, &[0.6, 0.6, 0.0], false, within).unwrap();
+    assert_eq!(b.values, ["1.00 → 4.10 → 0.90", "0.60 → 0.60 → 0.00", "0.50 → 0.20 → 0.40"]);
+    assert_eq!(b.holds, Some(false), "4.1° at α × 0.5 is past 3°");
+    assert!(b.source.starts_with("runs/nx{33,45,65}-tangential-alpha1"), "{}", b.source);
+    // Density to 4 decimals, judged by the criterion it is given.
+    let d = lattice_alpha_band(root, "-tangential", &nxs, &[0.0117, 0.0119, 0.0126], true, |_| true).unwrap();
+    assert_eq!((d.values[1].as_str(), d.holds), ("0.0117 → 0.0119 → 0.0126", Some(true)));
 }
