@@ -263,6 +263,22 @@ impl Case for CapillaryWave {
             });
         }
         if let Some((k, _)) = band {
+            // A committed run standing in for a band member keeps its own rows under its own
+            // label (the 3-period rms, and the fits where its id has them), as information.
+            if key != format!("{id}{}", band_rows::BAND[k].0) {
+                let fits = key.starts_with("ratio1-nx");
+                let own = rows_out.iter().filter(|r| {
+                    r.quantity.starts_with("rms of a/a0 − Prosperetti, t ≤ ")
+                        || (fits && r.quantity.contains("(damped-cosine fit"))
+                });
+                out.rep.rows.extend(own.map(|r| {
+                    let q = r
+                        .quantity
+                        .strip_suffix(label)
+                        .map_or(r.quantity.clone(), |head| format!("{head}{}", run.label));
+                    Row { quantity: q, verdict: "info".into(), ..r.clone() }
+                }));
+            }
             out.rep.rows.extend(rows_out.into_iter().filter_map(|r| band_rows::as_band(k, r)));
         } else {
             out.rep.rows.extend(rows_out);
