@@ -187,8 +187,7 @@ impl Case for CapillaryWave {
         // A band run is measured as the run it repeats; its judged rows become that run's band.
         let band = wave_band::of(&run.spec.id);
         let id = band.as_ref().map_or(run.spec.id.as_str(), |b| b.1.as_str());
-        let base_label =
-            band.as_ref().and_then(|b| self.runs().into_iter().find(|r| r.spec.id == b.1)).map(|r| r.label);
+        let base_label = band.as_ref().and_then(|b| self.label_of(&b.1));
         let (key, label) = (run.spec.id.as_str(), base_label.as_deref().unwrap_or(run.label.as_str()));
         let scene = run.spec.scene()?;
         let Some(p) = prosperetti_of(&scene) else {
@@ -262,26 +261,11 @@ impl Case for CapillaryWave {
                 whole.check(ok && rms_all <= RMS_TOL, &format!("≤ {RMS_TOL} over the whole record"))
             });
         }
-        if let Some((k, _)) = band {
-            // A committed run standing in for a band member keeps its own rows under its own
-            // label (the 3-period rms, and the fits where its id has them), as information.
-            if key != format!("{id}{}", band_rows::BAND[k].0) {
-                let fits = key.starts_with("ratio1-nx");
-                let own = rows_out.iter().filter(|r| {
-                    r.quantity.starts_with("rms of a/a0 − Prosperetti, t ≤ ")
-                        || (fits && r.quantity.contains("(damped-cosine fit"))
-                });
-                out.rep.rows.extend(own.map(|r| {
-                    let q = r
-                        .quantity
-                        .strip_suffix(label)
-                        .map_or(r.quantity.clone(), |head| format!("{head}{}", run.label));
-                    Row { quantity: q, verdict: "info".into(), ..r.clone() }
-                }));
+        match &band {
+            Some((k, base)) => {
+                out.rep.rows.extend(wave_band::member_rows(*k, (key, &run.label), base, label, rows_out))
             }
-            out.rep.rows.extend(rows_out.into_iter().filter_map(|r| band_rows::as_band(k, r)));
-        } else {
-            out.rep.rows.extend(rows_out);
+            None => out.rep.rows.extend(rows_out),
         }
         if main && band.is_none() {
             out.rep.rows.push(Row::new(
@@ -322,6 +306,11 @@ impl Case for CapillaryWave {
 }
 
 impl CapillaryWave {
+    /// The label of the case's run `id`.
+    fn label_of(&self, id: &str) -> Option<String> {
+        self.runs().into_iter().find(|r| r.spec.id == id).map(|r| r.label)
+    }
+
     /// The rows that compare runs, built again from each band end's runs in place of the
     /// rule's (each member's results under its base's id), as band rows.
     fn band_derived_rows(&self) -> Vec<Row> {

@@ -394,17 +394,16 @@ fn tangential_bands(root: &Path, rep: &mut CaseReport) {
     let nxs = crate::validate::convergence::TANGENTIAL_NX;
     let on = "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, Mode B, \
               no-slip, the lattice start, the tangential form's runs beside the traceless form's";
-    let values = |prefix: &str, f: fn(&str) -> Option<Vec<f64>>| {
-        rep.rows.iter().find(|r| r.quantity.starts_with(prefix)).and_then(|r| f(&r.sphlab))
+    // The row's own three values, one per nx ("a → b → c" or "a, b, c").
+    let values = |prefix: &str| -> Option<Vec<f64>> {
+        let r = rep.rows.iter().find(|r| r.quantity.starts_with(prefix))?;
+        let v: Vec<f64> = r.sphlab.split([',', '→']).filter_map(|p| p.trim().parse().ok()).collect();
+        (v.len() == nxs.len()).then_some(v)
     };
-    let numbers = |text: &str| -> Option<Vec<f64>> {
-        let v: Vec<f64> = text.split([',', '→']).filter_map(|p| p.trim().parse().ok()).collect();
-        (v.len() == 3).then_some(v)
-    };
-    let dens = values("tangential form: max |ρ/ρ0 − 1| for t ≥ 1 with refinement", numbers)
+    let dens = values("tangential form: max |ρ/ρ0 − 1| for t ≥ 1 with refinement")
         .and_then(|v| sensitivity::lattice_alpha_band(root, "-tangential", &nxs, &v, true, falls));
     let within = |t: &[f64]| t.iter().all(|v| *v < ANGLE_TOL_DEG);
-    let theta = values("tangential form: |θ − 60°| at nx", numbers)
+    let theta = values("tangential form: |θ − 60°| at nx")
         .and_then(|v| sensitivity::lattice_alpha_band(root, "-tangential", &nxs, &v, false, within));
     for r in rep.rows.iter_mut().filter(|r| r.quantity.starts_with("tangential form: ")) {
         let band = if r.quantity.contains("|ρ/ρ0 − 1|") {

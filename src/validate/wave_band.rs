@@ -4,8 +4,9 @@
 //! again from the band's runs in place of the rule's, with the same criterion; those rows are
 //! shown as the band of the row they repeat, not counted, and the judge sets them beside it.
 
-use super::band_rows::BAND;
+use super::band_rows::{as_band, BAND};
 use super::case::CaseRun;
+use super::report::Row;
 use super::scatter::{self, SEEDS};
 use super::wave_resolution::{id_at, EXTRA_NX, TANGENTIAL, TANGENTIAL_NX};
 
@@ -82,6 +83,27 @@ pub fn under_base_ids<T: Clone>(v: &[T], suffix: &str, id: impl Fn(&mut T) -> &m
             })
         })
         .collect()
+}
+
+/// The rows of band run `key` (labelled `own_label`), measured into `rows` as its base `base`
+/// (labelled `label`): the judged ones as band rows of the end `k`; a committed run standing in
+/// under another name also keeps its own rows (the 3-period rms, and the fits where its id has
+/// them) under its own label, as information.
+pub fn member_rows(k: usize, (key, own_label): (&str, &str), base: &str, label: &str, rows: Vec<Row>) -> Vec<Row> {
+    let mut out = Vec::new();
+    if key != format!("{base}{}", BAND[k].0) {
+        let fits = key.starts_with("ratio1-nx");
+        let own = rows.iter().filter(|r| {
+            r.quantity.starts_with("rms of a/a0 − Prosperetti, t ≤ ")
+                || (fits && r.quantity.contains("(damped-cosine fit"))
+        });
+        out.extend(own.map(|r| {
+            let q = r.quantity.strip_suffix(label).map_or(r.quantity.clone(), |head| format!("{head}{own_label}"));
+            Row { quantity: q, verdict: "info".into(), ..r.clone() }
+        }));
+    }
+    out.extend(rows.into_iter().filter_map(|r| as_band(k, r)));
+    out
 }
 
 /// The method note naming the band's runs.
