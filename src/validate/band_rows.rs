@@ -4,10 +4,22 @@
 //! that row's band.
 
 use super::report::{Band, Row};
+use super::RunSpec;
 
 /// The band's two ends: the id suffix of their runs, α, and the label their rows carry.
 pub const BAND: [(&str, f64, &str); 2] =
     [("-alpha1", 1.0, "at p_b × 0.5 (α = 1)"), ("-alpha4", 4.0, "at p_b × 2 (α = 4)")];
+
+/// `spec` at the band end `k`: its id suffixed, the capillary rule's α set, and any p_b or c0
+/// the spec names dropped (an explicit value would override the rule, and α would change nothing).
+pub fn at_end<'a>(spec: &RunSpec<'a>, k: usize) -> RunSpec<'a> {
+    let (suffix, alpha, _) = BAND[k];
+    let mut s = spec.clone();
+    s.id = format!("{}{suffix}", s.id);
+    s.sets.retain(|v| !(v.starts_with("phases.") && (v.contains(".p_b=") || v.contains(".c0="))));
+    s.sets.push(format!("capillary_rule.alpha={alpha:.1}"));
+    s
+}
 
 /// A judged row built from the band end `k`'s runs, as the band of the row it repeats: its
 /// quantity prefixed with the end's label, its verdict the criterion's outcome as information

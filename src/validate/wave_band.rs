@@ -4,7 +4,7 @@
 //! again from the band's runs in place of the rule's, with the same criterion; those rows are
 //! shown as the band of the row they repeat, not counted, and the judge sets them beside it.
 
-use super::band_rows::{as_band, BAND};
+use super::band_rows::{as_band, at_end, BAND};
 use super::case::CaseRun;
 use super::report::Row;
 use super::scatter::{self, SEEDS};
@@ -52,14 +52,11 @@ pub fn runs(base_runs: &[CaseRun]) -> Vec<CaseRun> {
     let bases = bases();
     let mut out = Vec::new();
     for run in base_runs.iter().filter(|r| bases.contains(&r.spec.id)) {
-        for (suffix, alpha, _) in BAND {
-            let id = member(&run.spec.id, suffix);
-            if id != format!("{}{suffix}", run.spec.id) {
+        for (k, (suffix, _, _)) in BAND.iter().enumerate() {
+            if member(&run.spec.id, suffix) != format!("{}{suffix}", run.spec.id) {
                 continue;
             }
-            let mut spec = run.spec.clone();
-            spec.id = id;
-            spec.sets.push(format!("capillary_rule.alpha={alpha:.1}"));
+            let spec = at_end(&run.spec, k);
             out.push(CaseRun::new(spec, run.label.clone()));
         }
     }

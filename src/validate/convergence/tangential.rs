@@ -5,7 +5,7 @@
 //! form's band needs none. What is left is the compressibility of the Laplace jump,
 //! σκ/(ρ0c0²), which the rule's c0 ∝ Δx^(−1/2) makes fall as Δx.
 
-use super::super::band_rows::BAND;
+use super::super::band_rows::{at_end, BAND};
 use super::super::judge::{ANGLE_TOL_DEG, YOUNG_DEG};
 use super::super::report::{write_csv, CaseReport, Row};
 use super::super::{Ctx, RunSpec, ValidateError};
@@ -84,14 +84,10 @@ pub fn add(ctx: &Ctx, rep: &mut CaseReport, lattice: &[(u32, End)], t_end: f64) 
 /// `-tangential`), the rule's α in place of the named p_b and c0 (c0 does not depend on α). The
 /// judge reads their series (`judge::sensitivity::lattice_alpha_band`).
 fn band(ctx: &Ctx, rep: &mut CaseReport, t_end: f64) -> Result<(), ValidateError> {
-    for (suffix, alpha, _) in BAND {
+    for k in 0..BAND.len() {
         for nx in TANGENTIAL_NX {
-            for tangential in [false, true] {
-                let mut s = if tangential { spec(nx, t_end) } else { super::spec(nx, false, t_end) };
-                s.id = format!("{}{suffix}", s.id);
-                s.sets.retain(|v| !(v.starts_with("phases.") && (v.contains(".p_b=") || v.contains(".c0="))));
-                s.sets.push(format!("capillary_rule.alpha={alpha:.1}"));
-                if let Some(rec) = super::run_or_skip(ctx, rep, &s, &[])? {
+            for base in [super::spec(nx, false, t_end), spec(nx, t_end)] {
+                if let Some(rec) = super::run_or_skip(ctx, rep, &at_end(&base, k), &[])? {
                     rep.runs.push(rec);
                 }
             }
