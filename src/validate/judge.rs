@@ -21,7 +21,7 @@ mod tests;
 mod young_sweep;
 
 use rule::{alpha_band, at_two_resolutions, nx_band, rule_text, KERNELS};
-use sensitivity::{relax_rule_band, relax_transport_band, sessile_rule_band};
+use sensitivity::{relax_rule_band, relax_transport_band, sessile_rule_band, sessile_shear_ratio_band};
 
 /// Young's angle of relax-60 (deg).
 pub(super) const YOUNG_DEG: f64 = 60.0;
@@ -40,7 +40,7 @@ pub fn judge(name: &str, ctx: &Ctx, rep: &mut CaseReport) {
     let root = ctx.opts.out.as_path();
     match name {
         "oscillation" => oscillation(root, rep),
-        "sessile-90" => sessile(root, rep),
+        "sessile-90" => sessile(root, &super::sessile::shear_window(ctx.opts.long_t_end(0.3)).2, rep),
         "relax-60" => relax(root, &super::sessile::shear_window(ctx.opts.long_t_end(0.3)).2, rep),
         "convergence" => convergence(root, rep),
         "spurious" => spurious(root, rep),
@@ -197,7 +197,8 @@ fn capillary_wave(root: &Path, rep: &mut CaseReport) {
     }
 }
 
-fn sessile(root: &Path, rep: &mut CaseReport) {
+/// sessile-90's judged rows over the end window `wtext` (the case's, e.g. "t ∈ [4.3, 4.5]").
+fn sessile(root: &Path, wtext: &str, rep: &mut CaseReport) {
     let rule = rule_text(root, rep, "mode-b");
     let circle = sessile_rule_band(rep, "max |θ − 90°|, circle fit, whole run (deg)", |v| v < 3.0);
     for r in rows(rep, "Mode B: max |θ − 90°|, circle fit") {
@@ -216,13 +217,16 @@ fn sessile(root: &Path, rep: &mut CaseReport) {
             normal.as_ref(),
         );
     }
+    let thesis = super::sessile::THESIS_SHEAR_RATIO;
+    let within =
+        |ratio: f64| ratio.is_finite() && ratio >= thesis / SHEAR_RATIO_FACTOR && ratio <= thesis * SHEAR_RATIO_FACTOR;
+    let band = sessile_shear_ratio_band(rep, wtext, within);
     for r in rep.rows.iter_mut().filter(|r| r.quantity == "peak wall shear rate ratio, Mode A / Mode B") {
-        let ratio = r.value;
-        let thesis = super::sessile::THESIS_SHEAR_RATIO;
         *r = r.clone().check(
-            ratio.is_finite() && ratio >= thesis / SHEAR_RATIO_FACTOR && ratio <= thesis * SHEAR_RATIO_FACTOR,
+            within(r.value),
             &format!("within a factor {SHEAR_RATIO_FACTOR} of the thesis's ~{thesis:.0}; Mode B lower than Mode A is only the direction"),
         );
+        r.qualify(&format!("{rule} (both modes), μ = 0.15, Mode A's wall tensions (the scene's)"), band.as_ref());
     }
 }
 

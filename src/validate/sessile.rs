@@ -27,16 +27,29 @@ pub const THESIS_MODE_B_SHEAR_MAX: f64 = 0.016;
 /// 0.5) over which the mean-flow wall shear near the contact line is taken: two bins each side.
 const CONTACT_BAND: f64 = 0.1;
 
-/// The resolution of the sensitivity band of Mode B's rows.
+/// The resolution of the sensitivity band of the case's judged rows.
 pub const BAND_NX: u32 = 33;
-/// The sensitivity band of Mode B's rows: Mode B at nx = [`BAND_NX`] under the capillary rule's
-/// α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1), as `(run id, α)`.
-pub const BAND_RUNS: [(&str, f64); 3] =
-    [("mode-b-nx33-alpha1", 1.0), ("mode-b-nx33", 2.0), ("mode-b-nx33-alpha4", 4.0)];
+/// The sensitivity band of the case's judged rows: each mode at nx = [`BAND_NX`] under the
+/// capillary rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1), as `(run id, α, Mode B)`. Mode B's
+/// runs band Mode B's rows; both modes' band the Mode A / Mode B shear ratio.
+pub const BAND_RUNS: [(&str, f64, bool); 6] = [
+    ("mode-b-nx33-alpha1", 1.0, true),
+    ("mode-b-nx33", 2.0, true),
+    ("mode-b-nx33-alpha4", 4.0, true),
+    ("mode-a-nx33-alpha1", 1.0, false),
+    ("mode-a-nx33", 2.0, false),
+    ("mode-a-nx33-alpha4", 4.0, false),
+];
 
 /// The label of a band run's rows ("Mode B, nx = 33, α = 1").
-pub fn band_label(alpha: f64) -> String {
-    format!("Mode B, nx = {BAND_NX}, α = {alpha}")
+pub fn band_label(mode_b: bool, alpha: f64) -> String {
+    format!("Mode {}, nx = {BAND_NX}, α = {alpha}", if mode_b { "B" } else { "A" })
+}
+
+/// What a peak wall shear row measures, after its run's label (`window`: the end window's text,
+/// e.g. "t ∈ [4.3, 4.5]"): the quantity of the ratio row's numerator and denominator.
+pub fn peak_shear(window: &str) -> String {
+    format!("peak wall shear rate, {window} (1/time)")
 }
 
 /// Quick-mode overrides of the sessile / relax scenes: 26×26 (13 particles per radius),

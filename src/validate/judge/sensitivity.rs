@@ -1,13 +1,13 @@
 //! Sensitivity bands read from committed runs: relax-60 at nx = 33 with the capillary
 //! rule's α × 0.5 / × 1 / × 2 (docs/PHYSICS.md §3.1; `capillary-rule/relax-60` for the cubic
-//! spline, `form-and-kernel/relax-60` for the quintic), and sessile-90 Mode B at nx = 33 the same
+//! spline, `form-and-kernel/relax-60` for the quintic), and sessile-90's modes at nx = 33 the same
 //! way (the case's own band runs, read from its rows); the transport velocity's own p_b × 0.5 /
 //! × 1 / × 2 as relax-60's. The drop's bands of the rule are in `rule.rs`.
 
 use super::{of_the_scene, RELAX_RUN_SOURCES};
 use crate::validate::data::{col, read_series, window_stats};
 use crate::validate::report::{Band, CaseReport};
-use crate::validate::sessile::{band_label, BAND_NX, BAND_RUNS};
+use crate::validate::sessile::{band_label, peak_shear, BAND_NX, BAND_RUNS};
 use std::path::Path;
 
 /// The capillary rule's α × 0.5 / × 1 / × 2 as the suffixes of a run's name: the runs of a
@@ -70,19 +70,43 @@ fn relax_band(root: &Path, base: &str, suffixes: [&str; 3], varied: &str) -> Opt
 /// band rows (`sessile::BAND_RUNS`) whose quantity is `what` after the run's label, each judged
 /// by `bound` (Mode B's row's own bound); none when the report lacks any of the three.
 pub(super) fn sessile_rule_band(rep: &CaseReport, what: &str, bound: impl Fn(f64) -> bool) -> Option<Band> {
-    let values: Vec<f64> = BAND_RUNS
-        .iter()
-        .map(|&(_, alpha)| {
-            let q = format!("{}: {what}", band_label(alpha));
-            rep.rows.iter().find(|r| r.quantity == q).map(|r| r.value).filter(|v| v.is_finite())
-        })
-        .collect::<Option<_>>()?;
+    let (values, source) = sessile_band_values(rep, true, what)?;
     Some(Band {
         varied: format!("the capillary rule's α × 0.5 / × 1 / × 2 at nx = {BAND_NX} (Mode B)"),
         values: values.iter().map(|v| format!("{v:.2}")).collect(),
-        source: BAND_RUNS.iter().map(|(id, _)| format!("runs/{id}")).collect::<Vec<_>>().join(", "),
+        source,
         holds: Some(values.iter().all(|&v| bound(v))),
     })
+}
+
+/// The Mode A / Mode B peak wall shear rate ratio at each α of the band (both modes at nx = 33,
+/// the peak in the end window `window`, `sessile::peak_shear`), each judged by `bound` (the ratio
+/// row's own); none when any of the six band rows is missing.
+pub(super) fn sessile_shear_ratio_band(rep: &CaseReport, window: &str, bound: impl Fn(f64) -> bool) -> Option<Band> {
+    let what = peak_shear(window);
+    let (b, b_src) = sessile_band_values(rep, true, &what)?;
+    let (a, a_src) = sessile_band_values(rep, false, &what)?;
+    let ratios: Vec<f64> = a.iter().zip(&b).map(|(a, b)| a / b).collect();
+    Some(Band {
+        varied: format!("the capillary rule's α × 0.5 / × 1 / × 2 at nx = {BAND_NX} (both modes)"),
+        values: ratios.iter().map(|v| format!("{v:.1}")).collect(),
+        source: format!("{a_src} over {b_src}"),
+        holds: Some(ratios.iter().all(|&v| bound(v))),
+    })
+}
+
+/// The values of the band rows of one mode whose quantity is `what` after the run's label, in
+/// α order, and their runs; none when any is missing or not finite.
+fn sessile_band_values(rep: &CaseReport, mode_b: bool, what: &str) -> Option<(Vec<f64>, String)> {
+    let runs: Vec<_> = BAND_RUNS.iter().filter(|b| b.2 == mode_b).collect();
+    let values = runs
+        .iter()
+        .map(|&&(_, alpha, _)| {
+            let q = format!("{}: {what}", band_label(mode_b, alpha));
+            rep.rows.iter().find(|r| r.quantity == q).map(|r| r.value).filter(|v| v.is_finite())
+        })
+        .collect::<Option<Vec<f64>>>()?;
+    Some((values, runs.iter().map(|(id, ..)| format!("runs/{id}")).collect::<Vec<_>>().join(", ")))
 }
 
 /// The convergence case's lattice trend under the capillary rule's α × 0.5 and × 2 (runs

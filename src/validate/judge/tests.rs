@@ -318,8 +318,8 @@ fn sessile_mode_b_rows_carry_the_band_of_the_cases_own_alpha_runs() {
                 .check(true, "< 3°"),
             Row::new(&format!("Mode B: max normal deviation, {w}"), 10.13, 2, None, Some(0.0)).check(false, "0–8°"),
         ];
-        for ((_, alpha), v) in crate::validate::sessile::BAND_RUNS.iter().zip(nd) {
-            let label = crate::validate::sessile::band_label(*alpha);
+        for ((_, alpha, _), v) in crate::validate::sessile::BAND_RUNS.iter().zip(nd) {
+            let label = crate::validate::sessile::band_label(true, *alpha);
             rows.push(Row::new(&format!("{label}: max |θ − 90°|, circle fit, whole run (deg)"), 2.0, 2, None, None));
             rows.push(Row::new(&format!("{label}: max normal deviation, {w}"), v, 2, None, Some(0.0)));
         }
@@ -338,10 +338,42 @@ fn sessile_mode_b_rows_carry_the_band_of_the_cases_own_alpha_runs() {
     assert!(verdict(&rep, "Mode B: max normal deviation").contains("bound met across the band"));
     // One α run missing: no band, said so.
     let mut rows = band_rows([7.0, 7.5, 7.9]);
-    rows.retain(|r| !r.quantity.starts_with(&crate::validate::sessile::band_label(4.0)));
+    rows.retain(|r| !r.quantity.starts_with(&crate::validate::sessile::band_label(true, 4.0)));
     let nd = judged("sessile-90", rows);
     assert!(verdict(&nd, "Mode B: max normal deviation").contains("no committed sensitivity run"));
     assert!(!verdict(&nd, "Mode B: max |θ − 90°|").contains("sensitivity the capillary rule"));
+}
+
+#[test]
+fn the_sessile_shear_ratio_carries_mode_a_over_mode_b_at_each_alpha_and_holds_only_if_all_three_do() {
+    use crate::validate::sessile::{band_label, peak_shear, BAND_RUNS};
+    let w = "t ∈ [4.3, 4.5]";
+    // Mode B's peaks 0.5, 1, 2; Mode A's chosen so the ratios at α = 1, 2, 4 are `ratios`.
+    let rows = |ratios: [f64; 3]| {
+        let mut rows = vec![Row::new("peak wall shear rate ratio, Mode A / Mode B", 7.9, 1, Some(160.0), None)];
+        for (i, &(_, alpha, mode_b)) in BAND_RUNS.iter().enumerate() {
+            let b = [0.5, 1.0, 2.0][i % 3];
+            let v = if mode_b { b } else { b * ratios[i % 3] };
+            rows.push(Row::new(&format!("{}: {}", band_label(mode_b, alpha), peak_shear(w)), v, 4, None, None));
+        }
+        rows
+    };
+    let rep = judged("sessile-90", rows([4.0, 7.9, 12.0]));
+    let v = verdict(&rep, "peak wall shear rate ratio, Mode A / Mode B");
+    assert!(v.starts_with("FAIL (within a factor 2"), "{v}");
+    assert!(v.contains("(both modes): 4.0 / 7.9 / 12.0 (runs/mode-a-nx33-alpha1, runs/mode-a-nx33, runs/mode-a-nx33-alpha4 over runs/mode-b-nx33-alpha1, runs/mode-b-nx33, runs/mode-b-nx33-alpha4), bound not met across the band)"), "{v}");
+    // Every end within a factor 2 of 160: the band holds (the row itself still FAILs).
+    let ratio = |rows: Vec<Row>| verdict(&judged("sessile-90", rows), "peak wall shear rate ratio").to_string();
+    let v = ratio(rows([100.0, 150.0, 300.0]));
+    assert!(v.ends_with("bound met across the band)"), "{v}");
+    // One end past the factor: not held.
+    let v = ratio(rows([100.0, 150.0, 330.0]));
+    assert!(v.ends_with("bound not met across the band)"), "{v}");
+    // A Mode A run missing: no band, said so.
+    let mut r = rows([100.0, 150.0, 300.0]);
+    r.retain(|r| !r.quantity.starts_with(&band_label(false, 1.0)));
+    let v = ratio(r);
+    assert!(v.ends_with("no committed sensitivity run)"), "{v}");
 }
 
 #[test]
