@@ -392,8 +392,9 @@ fn convergence(root: &Path, rep: &mut CaseReport) {
     tangential_bands(root, rep);
 }
 
-/// The tangential form's trend rows with the same trends from its lattice runs under the rule's
-/// α × 0.5 and × 2 (`runs/nx<nx>-tangential-alpha{1,4}`), judged by each row's own criterion.
+/// The tangential form's rows with the same measures from its lattice runs under the rule's
+/// α × 0.5 and × 2 (`runs/nx<nx>-tangential-alpha{1,4}`, and for the band maximum the traceless
+/// form's `runs/nx<nx>-alpha{1,4}` beside them), judged by each row's own criterion.
 fn tangential_bands(root: &Path, rep: &mut CaseReport) {
     let nxs = crate::validate::convergence::TANGENTIAL_NX;
     let on = "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, Mode B, \
@@ -409,11 +410,23 @@ fn tangential_bands(root: &Path, rep: &mut CaseReport) {
     let within = |t: &[f64]| t.iter().all(|v| *v < ANGLE_TOL_DEG);
     let theta = values("tangential form: |θ − 60°| at nx")
         .and_then(|v| sensitivity::lattice_alpha_band(root, "-tangential", &nxs, &v, false, within));
+    // The band-maximum row's resolutions from its own text ("nx 33: a vs b; nx 45: …").
+    let band_max =
+        rep.rows.iter().find(|r| r.quantity.starts_with("tangential form: last state's band max")).and_then(|r| {
+            let nxs: Vec<u32> = r
+                .sphlab
+                .split(';')
+                .filter_map(|p| p.trim().strip_prefix("nx ")?.split(':').next()?.parse().ok())
+                .collect();
+            sensitivity::band_max_alpha_band(root, &nxs, r.value)
+        });
     for r in rep.rows.iter_mut().filter(|r| r.quantity.starts_with("tangential form: ")) {
         let band = if r.quantity.contains("|ρ/ρ0 − 1|") {
             &dens
         } else if r.quantity.contains("|θ − 60°|") {
             &theta
+        } else if r.quantity.contains("band max") {
+            &band_max
         } else {
             &None
         };

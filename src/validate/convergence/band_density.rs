@@ -48,6 +48,12 @@ pub fn last_state(dir: &Path, rho0: &[f64], dx: f64) -> Option<BandDensity> {
     })
 }
 
+/// [`last_state`] of a relax-60 run at `nx` in `dir` (the scene's ρ0 by phase, Δx = 0.5/nx).
+pub fn relax_last_state(dir: &Path, nx: u32) -> Option<BandDensity> {
+    let rho0: Vec<f64> = crate::scene::builtin::relax_60().phases.iter().map(|p| p.rho0).collect();
+    last_state(dir, &rho0, 0.5 / nx as f64)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,6 +18,7 @@ use std::path::PathBuf;
 mod band_density;
 mod realisations;
 mod tangential;
+pub use band_density::relax_last_state;
 use realisations::{band_density_row, capillary_rule_dir, end_values, End};
 pub use tangential::TANGENTIAL_NX;
 

@@ -11,7 +11,7 @@ use super::super::report::{plot, write_csv, CaseReport, Row};
 use super::super::richardson::{extrapolate, Extrapolation};
 use super::super::scatter::{self, stats, JITTER, SEEDS};
 use super::super::{Ctx, RunSpec, ValidateError};
-use super::band_density::{last_state, BandDensity};
+use super::band_density::{relax_last_state, BandDensity};
 use crate::plot::{PlotSpec, RefLine, Series};
 use std::path::{Path, PathBuf};
 
@@ -43,10 +43,7 @@ pub fn end_values(dir: &Path, nx: u32, a: f64, b: f64) -> End {
         two_point: mean(&col(&rows, |r| r.theta_two_point)),
         spread: mean(&wall_spread(&rows, 0.5 / nx as f64)),
         density: rows.iter().filter(|r| r.t >= 1.0).map(|r| r.max_density_error).fold(f64::NAN, f64::max),
-        band: {
-            let rho0: Vec<f64> = crate::scene::builtin::relax_60().phases.iter().map(|p| p.rho0).collect();
-            last_state(dir, &rho0, 0.5 / nx as f64)
-        },
+        band: relax_last_state(dir, nx),
     }
 }
 

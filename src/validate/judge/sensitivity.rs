@@ -166,3 +166,34 @@ pub(super) fn lattice_alpha_band(
         holds: Some(trends.iter().all(|t| holds(t))),
     })
 }
+
+/// The tangential form's last-state band maximum over the traceless form's under the capillary
+/// rule's α × 0.5 and × 2 (the last snapshots of `convergence/runs/nx<nx>-tangential-alpha{1,4}`
+/// and `nx<nx>-alpha{1,4}`), at the row's own resolutions `nxs`: per α the worst ratio, beside
+/// the row's own (`at_alpha`), each judged below one half as the row is; none while any of the
+/// runs or their last snapshots is missing.
+pub(super) fn band_max_alpha_band(root: &Path, nxs: &[u32], at_alpha: f64) -> Option<Band> {
+    let worst = |alpha: &str| -> Option<f64> {
+        let ratios = nxs.iter().map(|&nx| {
+            let last = |form: &str| {
+                let dir = root.join(format!("convergence/runs/nx{nx}{form}-alpha{alpha}"));
+                of_the_scene(&dir, nx).then(|| crate::validate::convergence::relax_last_state(&dir, nx)).flatten()
+            };
+            Some(last("-tangential")?.band_max / last("")?.band_max)
+        });
+        ratios.collect::<Option<Vec<f64>>>().map(|r| r.into_iter().fold(f64::NAN, f64::max))
+    };
+    let worsts = [worst("1")?, at_alpha, worst("4")?];
+    let nx_text = nxs.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
+    Some(Band {
+        varied: format!(
+            "the capillary rule's α × 0.5 / × 1 / × 2, the lattice runs' last states at nx = {} (worst ratio)",
+            nx_text.replace(',', ", ")
+        ),
+        values: worsts.iter().map(|v| format!("{v:.3}")).collect(),
+        source: format!(
+            "runs/nx{{{nx_text}}}{{-tangential,}}-alpha1, the row above, runs/nx{{{nx_text}}}{{-tangential,}}-alpha4"
+        ),
+        holds: Some(worsts.iter().all(|&w| w < 0.5)),
+    })
+}

@@ -2,7 +2,7 @@
 //! (within 3° of Young's angle at nx = 65, closer at every refinement, the α band at nx = 33),
 //! the line forms' own rows, the α band of relax-60's rows at nx = 33 and of the convergence trend.
 
-use super::sensitivity::{convergence_alpha_band, lattice_alpha_band};
+use super::sensitivity::{band_max_alpha_band, convergence_alpha_band, lattice_alpha_band};
 use super::tests::report;
 use super::*;
 use crate::validate::ValidateOptions;
@@ -341,4 +341,47 @@ fn the_tangential_angle_band_reads_its_own_runs_and_holds_only_within_three_degr
     // Density to 4 decimals, judged by the criterion it is given.
     let d = lattice_alpha_band(root, "-tangential", &nxs, &[0.0117, 0.0119, 0.0126], true, |_| true).unwrap();
     assert_eq!((d.values[1].as_str(), d.holds), ("0.0117 → 0.0119 → 0.0126", Some(true)));
+}
+
+#[test]
+fn the_band_maximum_band_is_the_worst_ratio_of_the_last_states_at_each_alpha() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let rho0 = crate::scene::builtin::relax_60().phases[0].rho0;
+    // One liquid particle in the interface band (|∇C|·Δx = 0.2) with |ρ/ρ0 − 1| = `err`, in the
+    // last of two snapshots (the first says nothing).
+    let last_state = |name: &str, nx: u32, err: f64| {
+        let d = root.join("convergence/runs").join(name);
+        let g = 0.2 * nx as f64 / 0.5;
+        let head = "id,x,y,vx,vy,rho,p,phase,gcx,gcy\n";
+        std::fs::write(d.join("particles_00000000.csv"), format!("{head}0,0,0,0,0,{},0,0,{g},0\n", rho0 * 2.0))
+            .unwrap();
+        std::fs::write(d.join("particles_00000500.csv"), format!("{head}0,0,0,0,0,{},0,0,{g},0\n", rho0 * (1.0 - err)))
+            .unwrap();
+    };
+    let at = [(33, [(0.0152, 0.0181), (0.0020, 0.0101)]), (45, [(0.0142, 0.0172), (0.0018, 0.0101)])];
+    for (nx, ends) in at {
+        for (alpha, (tan, tr)) in ["1", "4"].into_iter().zip(ends) {
+            for (form, err) in [("-tangential", tan), ("", tr)] {
+                let name = format!("nx{nx}{form}-alpha{alpha}");
+                sweep_run_in(root, "convergence/runs", &name, nx, "quintic", 60.0);
+                if (nx, alpha, form) != (45, "4", "") {
+                    last_state(&name, nx, err);
+                }
+            }
+        }
+    }
+    // A traceless run without its last state: no band.
+    assert!(band_max_alpha_band(root, &[33, 45], 0.479).is_none());
+    last_state("nx45-alpha4", 45, 0.0101);
+    let b = band_max_alpha_band(root, &[33, 45], 0.479).unwrap();
+    // α × 0.5: 0.0152 / 0.0181 = 0.840 is the worse of 0.840 and 0.826; α × 2: 0.198 and 0.178.
+    assert_eq!(b.values, ["0.840", "0.479", "0.198"]);
+    assert_eq!(b.holds, Some(false), "0.840 is not below one half");
+    assert!(b.source.contains("runs/nx{33,45}{-tangential,}-alpha1"), "{}", b.source);
+    // Tangential maxima below half the traceless ones at α × 0.5 too (0.442, 0.465): the band holds.
+    last_state("nx33-tangential-alpha1", 33, 0.0080);
+    last_state("nx45-tangential-alpha1", 45, 0.0080);
+    let b = band_max_alpha_band(root, &[33, 45], 0.479).unwrap();
+    assert_eq!((b.values[0].as_str(), b.holds), ("0.465", Some(true)), "{b}");
 }
