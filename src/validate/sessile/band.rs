@@ -59,3 +59,25 @@ pub(super) fn band_rows(
     rows.push(Row::new(&nd_name, nd, 2, None, Some(0.0)));
     rows.push(Row::new(&shear_name, shear, 4, None, None));
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_mode_gets_the_three_alpha_runs_at_nx33_and_quick_mode_none() {
+        assert!(band_runs(true, 5.0).is_empty());
+        let runs = band_runs(false, 5.0);
+        let got: Vec<(String, Vec<String>)> = runs.iter().map(|r| (r.spec.id.clone(), r.spec.sets.clone())).collect();
+        for (id, alpha, mode_b) in BAND_RUNS {
+            let (_, sets) = got.iter().find(|g| g.0 == id).unwrap_or_else(|| panic!("no run {id}"));
+            let mode = format!("contact.mode={}", if mode_b { "b" } else { "a" });
+            assert!(sets.contains(&mode) && sets.contains(&"domain.nx=33".to_string()), "{id}: {sets:?}");
+            // The rule's own α sets nothing; the ends set theirs.
+            let alpha_set = sets.iter().find(|s| s.starts_with("capillary_rule.alpha="));
+            assert_eq!(alpha_set.is_some(), alpha != 2.0, "{id}: {sets:?}");
+        }
+        assert_eq!(runs.len(), 6);
+        assert_eq!(runs[3].label, "Mode A, nx = 33, α = 1");
+    }
+}
