@@ -80,4 +80,36 @@ mod tests {
         assert_eq!(runs.len(), 6);
         assert_eq!(runs[3].label, "Mode A, nx = 33, α = 1");
     }
+
+    #[test]
+    fn a_band_run_without_snapshots_takes_its_windowed_rows_from_the_committed_report() {
+        use crate::validate::report::CaseReport;
+        use crate::validate::ValidateOptions;
+        let dir = tempfile::tempdir().unwrap();
+        let opts = ValidateOptions { out: dir.path().to_path_buf(), ..ValidateOptions::default() };
+        let ctx = Ctx::new(&opts, "sessile-90");
+        let run = ctx.dir.join("runs/mode-a-nx33-alpha4");
+        std::fs::create_dir_all(&run).unwrap();
+        let w = "t ∈ [4.3, 4.5]";
+        let label = band_label(false, 4.0);
+        let (nd, shear) =
+            (format!("{label}: max normal deviation, mean over {w} (deg)"), format!("{label}: {}", peak_shear(w)));
+        let mut committed = CaseReport::new("sessile-90", "test", false);
+        committed.rows.push(Row::new(&nd, 7.24, 2, None, None));
+        committed.rows.push(Row::new(&shear, 9.8888, 4, None, None));
+        // another α's row of the same quantity is not this run's
+        committed.rows.push(Row::new(&format!("{}: {}", band_label(false, 1.0), peak_shear(w)), 8.26, 4, None, None));
+        std::fs::write(ctx.path("case.json"), serde_json::to_string(&committed).unwrap()).unwrap();
+        let mut out =
+            CaseOutput { rep: CaseReport::new("sessile-90", "test", false), plots: Vec::new(), tables: Vec::new() };
+        band_rows(&ctx, (4.3, 4.5, w), 5.0, (4.0, false), &run, &mut out);
+        let value = |q: &str| out.rep.rows.iter().find(|r| r.quantity == q).map(|r| r.value);
+        assert_eq!((value(&nd), value(&shear)), (Some(7.24), Some(9.8888)));
+        // without a committed report the windowed rows are NaN, not another run's
+        std::fs::remove_file(ctx.path("case.json")).unwrap();
+        let mut out =
+            CaseOutput { rep: CaseReport::new("sessile-90", "test", false), plots: Vec::new(), tables: Vec::new() };
+        band_rows(&ctx, (4.3, 4.5, w), 5.0, (4.0, false), &run, &mut out);
+        assert!(out.rep.rows.iter().filter(|r| r.quantity == nd || r.quantity == shear).all(|r| r.value.is_nan()));
+    }
 }
