@@ -420,3 +420,19 @@ fn a_capillary_wave_row_carries_the_band_its_band_rows_give_and_holds_only_if_al
     assert!(verdict(&rep, q).ends_with("no committed sensitivity run)"));
     assert!(rep.rows[1].verdict.starts_with("info (band of"));
 }
+
+#[test]
+fn the_capillary_waves_p_b_tests_say_why_no_alpha_band_repeats_them() {
+    let pb = "period error against p_b (× the rule's), density ratio 1, T70, Δx = λ/64";
+    let other = "rms of a/a0 − Prosperetti over 3 periods at Δx = λ/32, λ/44, λ/64, λ/88, density ratio 1, T70";
+    let rep = judged(
+        "capillary-wave",
+        vec![
+            Row::new(pb, 3.78, 2, None, None).check(false, "falls with p_b"),
+            Row::new(other, 0.0671, 4, None, None).check(false, "falls at every refinement"),
+        ],
+    );
+    let v = verdict(&rep, pb);
+    assert!(v.contains("the row itself tests how large p_b is") && v.ends_with("no committed sensitivity run)"), "{v}");
+    assert!(!verdict(&rep, other).contains("itself tests"));
+}
