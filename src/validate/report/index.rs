@@ -185,19 +185,19 @@ fn kernel_column(records: &[(String, serde_json::Value)]) -> String {
 }
 
 /// How the passes stand against their sensitivity bands (as `Row::qualify` words them):
-/// " (h held across their band, n not, z without one)", or nothing without a pass.
+/// " (h held across their band, n not, z without one)", with ", s shown one they are not judged
+/// by" where a pass carries a band without a verdict on it; nothing without a pass.
 fn pass_bands(rows: &[super::Row]) -> String {
     let passes: Vec<&str> = rows.iter().filter(|r| r.is_pass()).map(|r| r.verdict.as_str()).collect();
     if passes.is_empty() {
         return String::new();
     }
     let n = |what: &str| passes.iter().filter(|v| v.contains(what)).count();
-    format!(
-        " ({} held across their band, {} not, {} without one)",
-        n("bound met across the band"),
-        n("bound not met across the band"),
-        n("no committed sensitivity run")
-    )
+    let (held, not, none) =
+        (n("bound met across the band"), n("bound not met across the band"), n("no committed sensitivity run"));
+    let shown = passes.len() - held - not - none;
+    let shown = if shown > 0 { format!(", {shown} shown one they are not judged by") } else { String::new() };
+    format!(" ({held} held across their band, {not} not, {none} without one{shown})")
 }
 
 #[cfg(test)]
@@ -260,5 +260,12 @@ mod tests {
         rows[3].qualify("d", Some(&band(false)));
         assert_eq!(pass_bands(&rows), " (1 held across their band, 1 not, 1 without one)");
         assert_eq!(pass_bands(&rows[3..]), "");
+        // A pass shown a band it is not judged by is counted apart.
+        rows[4] = rows[4].clone().check(true, "c");
+        rows[4].qualify("d", Some(&Band { holds: None, ..band(true) }));
+        assert_eq!(
+            pass_bands(&rows),
+            " (1 held across their band, 1 not, 1 without one, 1 shown one they are not judged by)"
+        );
     }
 }
