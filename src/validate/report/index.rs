@@ -195,7 +195,7 @@ fn pass_bands(rows: &[super::Row]) -> String {
     let n = |what: &str| passes.iter().filter(|v| v.contains(what)).count();
     let (held, not, none) =
         (n("bound met across the band"), n("bound not met across the band"), n("no committed sensitivity run"));
-    let shown = passes.len() - held - not - none;
+    let shown = passes.iter().filter(|v| v.contains("; sensitivity ") && !v.contains("met across the band")).count();
     let shown = if shown > 0 { format!(", {shown} shown one they are not judged by") } else { String::new() };
     format!(" ({held} held across their band, {not} not, {none} without one{shown})")
 }
@@ -267,5 +267,8 @@ mod tests {
             pass_bands(&rows),
             " (1 held across their band, 1 not, 1 without one, 1 shown one they are not judged by)"
         );
+        // A pass never qualified (a report not judged) is counted in none of them.
+        rows.push(Row::new("q5", 0.0, 1, None, None).check(true, "c"));
+        assert!(pass_bands(&rows).ends_with("1 without one, 1 shown one they are not judged by)"));
     }
 }
