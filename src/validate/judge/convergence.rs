@@ -36,18 +36,8 @@ pub(super) fn convergence(root: &Path, rep: &mut CaseReport) {
         });
         let nx_list: Vec<u32> = fine.iter().map(|p| p.0).collect();
         theta_band = sensitivity::convergence_alpha_band(root, &nx_list, &err, false);
-        let text = err.iter().map(|e| format!("{e:.2}")).collect::<Vec<_>>().join(" → ");
-        rep.rows.push(
-            Row::new(
-                &format!("trend with refinement: |θ − 60°| at nx = {} (deg)", nxs.join(", ")),
-                err[2],
-                2,
-                None,
-                Some(0.0),
-            )
-            .sphlab_text(format!("{text}{fixed}"))
-            .check(falls(&err), "falls at every refinement (convergence to Young's angle)"),
-        );
+        let what = format!("|θ − 60°| at nx = {} (deg)", nxs.join(", "));
+        rep.rows.push(trend_row(&what, &err, 2, &fixed, "falls at every refinement (convergence to Young's angle)"));
         let by_nx = by_resolution(rep, "max |ρ/ρ0 − 1| for t ≥ 1");
         let dens: Vec<f64> = fine
             .iter()
@@ -55,18 +45,9 @@ pub(super) fn convergence(root: &Path, rep: &mut CaseReport) {
             .collect();
         if dens.iter().all(|d| d.is_finite()) {
             dens_band = sensitivity::convergence_alpha_band(root, &nx_list, &dens, true);
-            let text = dens.iter().map(|e| format!("{e:.3}")).collect::<Vec<_>>().join(" → ");
-            rep.rows.push(
-                Row::new(
-                    &format!("trend with refinement: max |ρ/ρ0 − 1| for t ≥ 1 at nx = {}", nxs.join(", ")),
-                    dens[2],
-                    3,
-                    None,
-                    Some(0.0),
-                )
-                .sphlab_text(format!("{text} (the runs' series.csv){}", band_note(rep)))
-                .check(falls(&dens), "falls at every refinement"),
-            );
+            let what = format!("max |ρ/ρ0 − 1| for t ≥ 1 at nx = {}", nxs.join(", "));
+            let after = format!(" (the runs' series.csv){}", band_note(rep));
+            rep.rows.push(trend_row(&what, &dens, 3, &after, "falls at every refinement"));
         }
     }
     let on = "p_b and c0 by the capillary rule at each nx (α = 2, ε = 0.01; docs/PHYSICS.md §3.1), μ = 0.05, \
@@ -88,6 +69,15 @@ pub(super) fn convergence(root: &Path, rep: &mut CaseReport) {
         r.qualify(on, band.as_ref());
     }
     tangential_bands(root, rep);
+}
+
+/// A trend row "trend with refinement: `what`", coarse to fine `values` printed to `prec`
+/// decimals joined by arrows then `after`, judged by whether they fall at every refinement.
+fn trend_row(what: &str, values: &[f64], prec: usize, after: &str, criterion: &str) -> Row {
+    let text = values.iter().map(|e| format!("{e:.prec$}")).collect::<Vec<_>>().join(" → ");
+    Row::new(&format!("trend with refinement: {what}"), values[values.len() - 1], prec, None, Some(0.0))
+        .sphlab_text(format!("{text}{after}"))
+        .check(falls(values), criterion)
 }
 
 /// The tangential form's rows with the same measures from its lattice runs under the rule's
