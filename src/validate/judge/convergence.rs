@@ -58,16 +58,8 @@ pub(super) fn convergence(root: &Path, rep: &mut CaseReport) {
         holds: None,
         ..b
     });
-    for r in rep.rows.iter_mut().filter(|r| r.quantity.contains("trend with refinement")) {
-        let band = if r.quantity.starts_with("realisations") {
-            &lattice_only
-        } else if r.quantity.contains("|ρ/ρ0 − 1|") {
-            &dens_band
-        } else {
-            &theta_band
-        };
-        r.qualify(on, band.as_ref());
-    }
+    let bands = [("realisations", &lattice_only), ("|ρ/ρ0 − 1|", &dens_band), ("", &theta_band)];
+    qualify_each(rep, "trend with refinement", on, &bands);
     tangential_bands(root, rep);
 }
 
@@ -108,17 +100,20 @@ fn tangential_bands(root: &Path, rep: &mut CaseReport) {
                 .collect();
             sensitivity::band_max_alpha_band(root, &nxs, r.value)
         });
-    for r in rep.rows.iter_mut().filter(|r| r.quantity.starts_with("tangential form: ")) {
-        let band = if r.quantity.contains("|ρ/ρ0 − 1|") {
-            &dens
-        } else if r.quantity.contains("|θ − 60°|") {
-            &theta
-        } else if r.quantity.contains("band max") {
-            &band_max
-        } else {
-            &None
-        };
-        r.qualify(on, band.as_ref());
+    qualify_each(
+        rep,
+        "tangential form: ",
+        on,
+        &[("|ρ/ρ0 − 1|", &dens), ("|θ − 60°|", &theta), ("band max", &band_max)],
+    );
+}
+
+/// Qualifies every row whose quantity contains `rows` with `on` and the band of the first of
+/// `bands` whose key its quantity contains (none where no key does; the key "" takes any row).
+fn qualify_each(rep: &mut CaseReport, rows: &str, on: &str, bands: &[(&str, &Option<Band>)]) {
+    for r in rep.rows.iter_mut().filter(|r| r.quantity.contains(rows)) {
+        let band = bands.iter().find(|(key, _)| r.quantity.contains(key)).and_then(|(_, b)| b.as_ref());
+        r.qualify(on, band);
     }
 }
 

@@ -358,10 +358,15 @@ fn the_sessile_shear_ratio_carries_mode_a_over_mode_b_at_each_alpha_and_holds_on
         }
         rows
     };
-    let rep = judged("sessile-90", rows([4.0, 7.9, 12.0]));
+    let rep = judged("sessile-90", rows([4.0, 8.0, 12.0]));
     let v = verdict(&rep, "peak wall shear rate ratio, Mode A / Mode B");
     assert!(v.starts_with("FAIL (within a factor 2"), "{v}");
-    assert!(v.contains("(both modes): 4.0 / 7.9 / 12.0 (runs/mode-a-nx33-alpha1, runs/mode-a-nx33, runs/mode-a-nx33-alpha4 over runs/mode-b-nx33-alpha1, runs/mode-b-nx33, runs/mode-b-nx33-alpha4), bound not met across the band)"), "{v}");
+    let a = "runs/mode-a-nx33-alpha1, runs/mode-a-nx33, runs/mode-a-nx33-alpha4";
+    let b = "runs/mode-b-nx33-alpha1, runs/mode-b-nx33, runs/mode-b-nx33-alpha4";
+    assert!(
+        v.contains(&format!("(both modes): 4.0 / 8.0 / 12.0 ({a} over {b}), bound not met across the band)")),
+        "{v}"
+    );
     // Every end within a factor 2 of 160: the band holds (the row itself still FAILs).
     let ratio = |rows: Vec<Row>| verdict(&judged("sessile-90", rows), "peak wall shear rate ratio").to_string();
     let v = ratio(rows([100.0, 150.0, 300.0]));
