@@ -38,6 +38,12 @@ pub fn pooled_sd<'a>(groups: impl IntoIterator<Item = &'a [f64]>) -> Option<f64>
     (dof > 0).then(|| (ss / dof as f64).sqrt())
 }
 
+/// The standard error of a mean of group means, group `g` the mean of `counts[g]` values that
+/// scatter with sample sd `sd`: `sd·√(Σ 1/n_g) / G`.
+pub fn mean_of_means_se(sd: f64, counts: &[usize]) -> f64 {
+    sd * counts.iter().map(|&n| 1.0 / n as f64).sum::<f64>().sqrt() / counts.len() as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -52,5 +58,8 @@ mod tests {
         assert!((pooled_sd(g).unwrap() - (10.0f64 / 3.0).sqrt()).abs() < 1e-12);
         assert_eq!(pooled_sd([&[7.0][..]]), None);
         assert_eq!(suffix(2), "-jitter0.05-seed2");
+        // Two starts of 3 runs each, sd 0.6: 0.6/√6; of 2 and 4 runs: 0.6·√(3/4)/2.
+        assert!((mean_of_means_se(0.6, &[3, 3]) - 0.6 / 6f64.sqrt()).abs() < 1e-12);
+        assert!((mean_of_means_se(0.6, &[2, 4]) - 0.6 * 0.75f64.sqrt() / 2.0).abs() < 1e-12);
     }
 }

@@ -120,7 +120,11 @@ fn the_young_sweep_fails_unless_within_3_degrees_at_nx65_and_closer_at_every_ref
     assert!(sixty.sphlab.starts_with("64.00 → 62.00 → 61.00"), "{}", sixty.sphlab);
     assert!(sixty.sphlab.contains("nx = 33: ../capillary-rule/relax-60/nx33-a-from{90,45}"), "{}", sixty.sphlab);
     assert!(sixty.sphlab.contains("nx = 65: runs/a-noslip, runs/a-noslip-from45"), "{}", sixty.sphlab);
-    assert!(sixty.sphlab.contains("midpoint at nx = 33 61.50° (pooled sd 1.00°, 3 per start)"), "{}", sixty.sphlab);
+    assert!(
+        sixty.sphlab.contains("midpoint at nx = 33 61.50° (pooled sd 1.00°, 3 per start, standard error 0.41°)"),
+        "{}",
+        sixty.sphlab
+    );
     assert!(
         sixty.verdict.contains(
             "α × 0.5 / × 1 / × 2 at nx = 33 (the starts' midpoint, against 3° of θ_Y): 61.00 / 64.00 / 67.00 \
@@ -266,6 +270,71 @@ fn the_line_forms_sweep_has_its_own_rows_from_its_own_runs() {
     assert!(!hydrophobic.verdict.starts_with("pass") && !hydrophobic.verdict.starts_with("FAIL"));
     // The bands' rows take none of these runs.
     assert!(rep.rows.iter().filter(|r| r.quantity.starts_with("Mode A Young sweep")).count() == 3);
+}
+
+#[test]
+fn with_realisations_at_every_resolution_the_trend_is_judged_against_their_standard_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let seeds = |name: &str, k: usize| format!("{name}-unbalanced-jitter0.05-seed{}", k + 1);
+    // 60°: the lattice pairs move away at nx = 65 (59.6 → 60.0 → 60.7), which the strict check
+    // fails; the realisations' midpoints (59.75, 59.75, 60.25, each 0.35 its standard error) lie
+    // within two standard errors of 60° at every resolution.
+    // 120°: the realisations sit on 120° at nx = 33 and 45 and move 1° away at nx = 65, fourteen
+    // standard errors (0.07 each): FAIL, though within 3°.
+    let sixty = [[60.5, 59.5], [60.0, 59.0]];
+    for (nx, lattice, shift) in [(33, 59.6, 0.0), (45, 60.0, 0.0), (65, 60.7, 0.5)] {
+        for (start, runs) in ["90", "45"].into_iter().zip(sixty) {
+            let name = format!("nx{nx}-from{start}");
+            line_run(root, &format!("{name}-unbalanced"), nx, "unbalanced", lattice);
+            for (k, theta) in runs.into_iter().enumerate() {
+                line_run(root, &seeds(&name, k), nx, "unbalanced", theta + shift);
+            }
+        }
+    }
+    for (nx, lattice, shift) in [(33, 119.7, 0.0), (45, 119.5, 0.0), (65, 119.7, 1.0)] {
+        for start in ["90", "135"] {
+            let name = format!("nx{nx}-sls1.5-from{start}");
+            line_run(root, &format!("{name}-unbalanced"), nx, "unbalanced", lattice);
+            for (k, theta) in [120.1, 119.9].into_iter().enumerate() {
+                line_run(root, &seeds(&name, k), nx, "unbalanced", theta + shift);
+            }
+        }
+    }
+    let opts = ValidateOptions { out: root.to_path_buf(), ..ValidateOptions::default() };
+    let mut rep = report("relax-60", Vec::new());
+    judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
+    let row = |theta: &str| {
+        rep.rows.iter().find(|r| r.quantity.contains("§8.2.5") && r.quantity.contains(theta)).unwrap_or_else(|| {
+            panic!("no {theta} row in {:?}", rep.rows.iter().map(|r| &r.quantity).collect::<Vec<_>>())
+        })
+    };
+    let sixty = row("θ_Y = 60°");
+    assert!(sixty.verdict.starts_with("pass ("), "{}", sixty.verdict);
+    assert!(sixty.verdict.contains("within two standard errors of it at both resolutions"), "{}", sixty.verdict);
+    assert!(sixty.sphlab.starts_with("59.60 → 60.00 → 60.70"), "{}", sixty.sphlab);
+    assert!(
+        sixty.sphlab.contains("at nx = 65 60.25° (pooled sd 0.71°, 2 per start, standard error 0.35°)"),
+        "{}",
+        sixty.sphlab
+    );
+    let obtuse = row("θ_Y = 120°");
+    assert!(obtuse.verdict.starts_with("FAIL ("), "{}", obtuse.verdict);
+    assert!(obtuse.sphlab.contains("at nx = 65 121.00° (pooled sd 0.14°, 2 per start, standard error 0.07°)"));
+    // Realisations missing at nx = 65: the strict check of one run per start, which the lattice
+    // pairs fail at 60°.
+    for start in ["90", "45"] {
+        for k in 0..2 {
+            std::fs::remove_dir_all(
+                root.join("relax-60/mode-a-line/runs").join(seeds(&format!("nx65-from{start}"), k)),
+            )
+            .unwrap();
+        }
+    }
+    let mut rep = report("relax-60", Vec::new());
+    judge("relax-60", &Ctx::new(&opts, "relax-60"), &mut rep);
+    let sixty = rep.rows.iter().find(|r| r.quantity.contains("§8.2.5") && r.quantity.contains("θ_Y = 60°")).unwrap();
+    assert!(sixty.verdict.starts_with("FAIL (") && sixty.verdict.contains("cos θ / cos θ_Y closer to 1"));
 }
 
 #[test]
