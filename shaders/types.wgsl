@@ -16,6 +16,7 @@ const STAGE_NORMAL_CORRECTION: u32 = 32u;
 const STAGE_VISCOSITY: u32 = 64u;
 const STAGE_LJ: u32 = 128u;
 const STAGE_XSPH: u32 = 256u;
+const STAGE_YOUNG_UNBALANCED: u32 = 512u;
 
 const IMAGE_NONE: u32 = 0u;
 const IMAGE_MIRROR: u32 = 1u;
@@ -34,6 +35,11 @@ const CONTACT_MODE_B: u32 = 2u;
 const NO_COLOUR: i32 = -1;
 const COLOUR_WALL: i32 = 2;
 const MAX_CONTACTS: u32 = 32u;
+// Words per contact point in `contacts`: x, y, s, cos θ_d measured there (Mode A's unbalanced
+// Young force, docs/PHYSICS.md §8.2.5), and that point's line force per unit weight, F s / Σ_i W_i.
+const CONTACT_WORDS: u32 = 5u;
+const ANGLE_ROWS: u32 = 6u;        // rows above the wall whose interface gives θ_d (§8.2.5)
+const ANGLE_REACH_DX: u32 = 12u;   // half-width of the window around the point, in Δx
 const SIDE_WALL_HALF_DX: u32 = 3u; // a first-row particle this near a side wall meets it (§8.4)
 
 struct Params {
@@ -93,6 +99,7 @@ struct Params {
     sigma0: vec4<real>,       // σ table rows (colour 0, 1, 2), column = other colour
     sigma1: vec4<real>,
     sigma2: vec4<real>,
+    young: vec4<real>,        // the unbalanced Young force: σ_GS − σ_LS, σ_LG, cos θ at rest, unused
 }
 
 // Kernel constants in the form `shaders/kernel.wgsl` takes them.

@@ -196,6 +196,14 @@ pub fn compare_fields<T: Real>(
                 .zip(&cpu.contacts)
                 .map(|(a, b)| ((a.r - b.r).norm() / b.r.norm().max(model.dx)).f64() + (a.s - b.s).abs().f64())
                 .fold(if same_count { 0.0 } else { f64::INFINITY }, f64::max);
+            // The cos θ_d measured at each point (the unbalanced Young force; both empty otherwise).
+            let same_cos = gpu.contact_cos.len() == cpu.contact_cos.len();
+            let worst = gpu
+                .contact_cos
+                .iter()
+                .zip(&cpu.contact_cos)
+                .map(|(a, b)| (*a - *b).abs().f64())
+                .fold(if same_cos { worst } else { f64::INFINITY }, f64::max);
             out.push(check(name, worst, f64::NAN, (CONTACT_TOLERANCE, f64::INFINITY)));
         } else if let Some(tol) = tolerance::<T>(field) {
             let floor = scale_floor(field, model);

@@ -90,10 +90,18 @@ fn bad_inputs_exit_2_with_a_message() {
     let line = ["--set", "contact.mode=\"a\"", "--set", "contact.wall_tension=\"line\""];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &line[..]].concat();
     assert_input_error(&gpu, "contact.wall_tension");
-    // So is the unbalanced Young force at a measured angle.
-    let unbalanced = ["--set", "contact.mode=\"a\"", "--set", "contact.wall_tension=\"unbalanced\""];
+    // The unbalanced Young force at a measured angle runs there, but spread over the interface
+    // it does not (the WGSL force spreads by the kernel of the distance to the point).
+    let unbalanced = [
+        "--set",
+        "contact.mode=\"a\"",
+        "--set",
+        "contact.wall_tension=\"unbalanced\"",
+        "--set",
+        "contact.line_force_spread=\"interface\"",
+    ];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &unbalanced[..]].concat();
-    assert_input_error(&gpu, "contact.wall_tension = \"unbalanced\"");
+    assert_input_error(&gpu, "contact.line_force_spread = \"interface\"");
     // And Mode A's liquid–gas interface left free at the wall.
     let free = ["--set", "contact.mode=\"a\"", "--set", "contact.liquid_gas_at_wall=\"free\""];
     let gpu = [&["run", "relax-60", "--backend", "gpu", "--out", out][..], &free[..]].concat();

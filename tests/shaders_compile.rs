@@ -144,11 +144,12 @@ fn constants_of(m: &wgpu::naga::Module) -> std::collections::HashMap<String, i64
 
 #[test]
 fn wgsl_constants_equal_rust_values() {
+    use sphlab::cpu::contact_angle::{ANGLE_REACH_DX, ANGLE_ROWS};
     use sphlab::gpu::mask_lists;
     use sphlab::gpu::params::{code, flags};
     use sphlab::gpu::solver_buffers::ctl;
     use sphlab::gpu::variant_buffers::{vctl, vparam, CAND_SLOTS, NBR_SLOTS};
-    use sphlab::model::{COLOUR_WALL, MAX_CONTACTS, NO_COLOUR, SIDE_WALL_HALF_DX};
+    use sphlab::model::{COLOUR_WALL, CONTACT_WORDS, MAX_CONTACTS, NO_COLOUR, SIDE_WALL_HALF_DX};
     use sphlab::neighbours::{IMAGE_SHIFT, INDEX_MASK};
     use sphlab::physics::kernel::KernelKind;
     let w = wgsl_constants("#import common/variant_bindings\n");
@@ -162,6 +163,7 @@ fn wgsl_constants_equal_rust_values() {
         ("STAGE_VISCOSITY", flags::VISCOSITY as i64),
         ("STAGE_LJ", flags::LJ as i64),
         ("STAGE_XSPH", flags::XSPH as i64),
+        ("STAGE_YOUNG_UNBALANCED", flags::YOUNG_UNBALANCED as i64),
         ("IMAGE_NONE", code::IMAGE_NONE as i64),
         ("IMAGE_MIRROR", code::IMAGE_MIRROR as i64),
         ("IMAGE_SHIFT", code::IMAGE_SHIFT as i64),
@@ -173,6 +175,9 @@ fn wgsl_constants_equal_rust_values() {
         ("NO_COLOUR", NO_COLOUR as i64),
         ("COLOUR_WALL", COLOUR_WALL as i64),
         ("MAX_CONTACTS", MAX_CONTACTS as i64),
+        ("CONTACT_WORDS", CONTACT_WORDS as i64),
+        ("ANGLE_ROWS", ANGLE_ROWS as i64),
+        ("ANGLE_REACH_DX", ANGLE_REACH_DX as i64),
         ("SIDE_WALL_HALF_DX", SIDE_WALL_HALF_DX as i64),
         ("KERNEL_CUBIC_SPLINE", KernelKind::CubicSpline.id() as i64),
         ("KERNEL_QUINTIC", KernelKind::Quintic.id() as i64),

@@ -18,6 +18,10 @@ pub const COLOUR_WALL: i32 = 2;
 pub const NO_COLOUR: i32 = -1;
 /// Most contact points one evaluation may hold.
 pub const MAX_CONTACTS: usize = 32;
+
+/// Words per contact point in the GPU's contact list: x, y, s, the cos θ_d measured there and the
+/// point's line force per unit weight (docs/PHYSICS.md §8.2.5).
+pub const CONTACT_WORDS: usize = 5;
 /// A first-row particle nearer a side wall than this many half Δx has no room for another
 /// particle beside it on that side (the nearest fluid column stands Δx/2 off a wall, the next
 /// one Δx further): with no band neighbour there it meets the wall, it is no free edge of the

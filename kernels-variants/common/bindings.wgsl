@@ -26,7 +26,7 @@
 @group(0) @binding(14) var<storage, read_write> pi: array<real2>;      // (Π_xx, Π_xy)
 @group(0) @binding(15) var<storage, read_write> acc: array<real2>;
 @group(0) @binding(16) var<storage, read_write> vt: array<real2>;
-@group(0) @binding(17) var<storage, read_write> contacts: array<real>; // (x, y, s, 0) × 32
+@group(0) @binding(17) var<storage, read_write> contacts: array<real>; // CONTACT_WORDS × MAX_CONTACTS (types.wgsl)
 @group(0) @binding(18) var<storage, read_write> ctl: array<atomic<u32>>;
 @group(0) @binding(19) var<storage, read_write> cell_counts: array<atomic<u32>>;
 @group(0) @binding(20) var<storage, read_write> cell_start: array<u32>;
@@ -57,9 +57,9 @@ fn grad_at(i: u32, s: u32) -> real2 {
 
 // (x, s) of contact point a before that of point b (the CPU's sort order).
 fn contact_before(a: u32, b: u32) -> bool {
-    let xa = contacts[4u * a];
-    let xb = contacts[4u * b];
-    return xa < xb || (xa == xb && contacts[4u * a + 2u] < contacts[4u * b + 2u]);
+    let xa = contacts[CONTACT_WORDS * a];
+    let xb = contacts[CONTACT_WORDS * b];
+    return xa < xb || (xa == xb && contacts[CONTACT_WORDS * a + 2u] < contacts[CONTACT_WORDS * b + 2u]);
 }
 
 // Index of the contact point nearest to r (the first in (x, s) order on ties, whatever order
@@ -69,7 +69,7 @@ fn nearest_contact(r: real2) -> i32 {
     var best = -1;
     var bd = real(0.0);
     for (var k = 0u; k < count; k++) {
-        let d = r - real2(contacts[4u * k], contacts[4u * k + 1u]);
+        let d = r - real2(contacts[CONTACT_WORDS * k], contacts[CONTACT_WORDS * k + 1u]);
         let d2 = d.x * d.x + d.y * d.y;
         if best < 0 || d2 < bd || (d2 == bd && contact_before(k, u32(best))) {
             best = i32(k);
@@ -79,7 +79,29 @@ fn nearest_contact(r: real2) -> i32 {
     return best;
 }
 
-// Outward liquid normal n̂_θ = (s·sin θ, cos θ) of contact point k (T81; sin, cos from the host).
+// Outward liquid normal n̂_θ = (s·sin θ, cos θ) of contact point k (T81; sin, cos from the host),
+// or of the angle measured there with the unbalanced Young force (§8.2.5; word 3, `contact_angle`).
+// Twin of `cpu::stages::typing_normal`.
 fn contact_normal_of(k: i32) -> real2 {
-    return real2(contacts[4u * u32(k) + 2u] * params.sin_theta, params.cos_theta);
+    let base = CONTACT_WORDS * u32(k);
+    if params_has(params, STAGE_YOUNG_UNBALANCED) {
+        let c = contacts[base + 3u];
+        return real2(contacts[base + 2u] * sqrt(max(real(0.0), real(1.0) - c * c)), c);
+    }
+    return real2(contacts[base + 2u] * params.sin_theta, params.cos_theta);
+}
+
+// Mode A's unbalanced Young force on fluid particle i along x (§8.2.5): Σ_cp (F s / Σ_j W_j)_cp
+// W(|x_i − x_cp|) / m_i, the per-point factor from `contact_angle` (word 4). Twin of
+// `cpu::line_force::line_force_acc` with the kernel spread.
+fn young_line_acc(i: u32) -> real {
+    let count = min(atomicLoad(&ctl[CTL_CONTACTS_FOUND]), MAX_CONTACTS);
+    let kp = params_kernel(params);
+    var a = real(0.0);
+    for (var k = 0u; k < count; k++) {
+        let base = CONTACT_WORDS * k;
+        let d = pos[i] - real2(contacts[base], contacts[base + 1u]);
+        a += contacts[base + 4u] * kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
+    }
+    return a / mass[i];
 }

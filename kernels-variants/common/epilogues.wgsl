@@ -21,7 +21,7 @@ fn wall_typing_at(i: u32) {
     if r.y < params.y_wall {
         let k = nearest_contact(r);
         if k >= 0 {
-            let tp = real2(contacts[4u * u32(k)], contacts[4u * u32(k) + 1u]);
+            let tp = real2(contacts[CONTACT_WORDS * u32(k)], contacts[CONTACT_WORDS * u32(k) + 1u]);
             c = select(1, 0, contact_side(r, tp, contact_normal_of(k)) < real(0.0));
         }
     }

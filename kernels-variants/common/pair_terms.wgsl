@@ -242,7 +242,7 @@ fn acc_pair(i: u32, c: AccI, kp: KernelParams, p: Pair) -> real2 {
     return sum;
 }
 
-// a_i = Σ/m_i + g (+ Lennard-Jones); walls get zero.
+// a_i = Σ/m_i + g (+ Lennard-Jones, + the unbalanced Young force); walls get zero.
 fn acc_out(i: u32, sum: real2) {
     if i >= params.n_fluid {
         acc[i] = real2(real(0.0), real(0.0));
@@ -251,6 +251,9 @@ fn acc_out(i: u32, sum: real2) {
     var a = sum / mass[i] + real2(params.gravity_x, params.gravity_y);
     if params_has(params, STAGE_LJ) {
         a += lennard_jones(params, pos[i]);
+    }
+    if params_has(params, STAGE_YOUNG_UNBALANCED) {
+        a.x += young_line_acc(i);
     }
     acc[i] = a;
 }

@@ -33,10 +33,11 @@ fn push_contact(x: real, s: real) {
     let k = atomicAdd(&ctl[CTL_CONTACTS_FOUND], 1u);
     atomicMax(&ctl[CTL_CONTACTS_MAX], k + 1u);
     if k < MAX_CONTACTS {
-        contacts[4u * k] = x;
-        contacts[4u * k + 1u] = params.y_wall;
-        contacts[4u * k + 2u] = s;
-        contacts[4u * k + 3u] = real(0.0);
+        contacts[CONTACT_WORDS * k] = x;
+        contacts[CONTACT_WORDS * k + 1u] = params.y_wall;
+        contacts[CONTACT_WORDS * k + 2u] = s;
+        contacts[CONTACT_WORDS * k + 3u] = params.young.z;
+        contacts[CONTACT_WORDS * k + 4u] = real(0.0);
     }
 }
 

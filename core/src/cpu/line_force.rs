@@ -8,6 +8,7 @@
 use super::stages::{colour_slot, Ctx};
 use crate::fields::{ContactPoint, Fields};
 use crate::neighbours::unpack;
+use crate::physics::contact::line_force_of;
 use crate::physics::kernel::kernel_w;
 use crate::real::{Real, V2};
 use crate::scene::LineForceSpread;
@@ -56,10 +57,7 @@ pub fn line_force_weights<T: Real>(c: &Ctx<T>, f: &Fields<T>) -> Vec<Vec<T>> {
 /// measured there under the unbalanced Young force (§8.2.5).
 #[inline(always)]
 pub fn line_force_at<T: Real>(c: &Ctx<T>, f: &Fields<T>, k: usize) -> T {
-    match f.contact_cos.get(k) {
-        Some(&cos) => c.m.line_force - c.m.sigma[0][1] * cos,
-        None => c.m.line_force,
-    }
+    line_force_of(c.m, f.contact_cos.get(k).copied())
 }
 
 /// The line-force acceleration of fluid particle `i`: `a_i = Σ_cp F_cp s_cp x̂ w_i^cp / m_i`,

@@ -31,6 +31,8 @@ pub mod flags {
     pub const LJ: u32 = 128;
     /// XSPH.
     pub const XSPH: u32 = 256;
+    /// Mode A's unbalanced Young force at the measured angle (docs/PHYSICS.md §8.2.5).
+    pub const YOUNG_UNBALANCED: u32 = 512;
 }
 
 /// Codes of the enumerated `Params` words (`IMAGE_*`, `CONTACT_MODE_*`, `WALL_VELOCITY_*`, `VISCOUS_FORM_*` in
@@ -117,6 +119,9 @@ pub struct Params<T> {
     pub sigma0: [T; 4],
     pub sigma1: [T; 4],
     pub sigma2: [T; 4],
+    /// The unbalanced Young force (§8.2.5): σ_GS − σ_LS, σ_LG, the cos θ a point whose angle
+    /// cannot be measured is left at (the force is zero there), unused.
+    pub young: [T; 4],
 }
 
 // SAFETY: repr(C); 32 u32 (128 bytes) followed only by `T` scalars and arrays of `T`, where
@@ -124,8 +129,8 @@ pub struct Params<T> {
 unsafe impl<T: Real> bytemuck::Zeroable for Params<T> {}
 unsafe impl<T: Real> bytemuck::Pod for Params<T> {}
 
-const _: () = assert!(size_of::<Params<f32>>() == 128 + 24 * 4 + 12 * 16);
-const _: () = assert!(size_of::<Params<f64>>() == 128 + 24 * 8 + 12 * 32);
+const _: () = assert!(size_of::<Params<f32>>() == 128 + 24 * 4 + 13 * 16);
+const _: () = assert!(size_of::<Params<f64>>() == 128 + 24 * 8 + 13 * 32);
 
 fn axis_map<T: Real>(m: Option<AxisMap<T>>) -> (u32, T) {
     match m {
@@ -161,6 +166,7 @@ impl<T: Real> Params<T> {
             (st.viscosity, flags::VISCOSITY),
             (st.lennard_jones, flags::LJ),
             (st.xsph, flags::XSPH),
+            (m.young_unbalanced, flags::YOUNG_UNBALANCED),
         ];
         p.stages = bits.iter().filter(|b| b.0).fold(0, |a, b| a | b.1);
         p.wall_velocity = match m.wall_velocity {
@@ -210,6 +216,9 @@ impl<T: Real> Params<T> {
             p.sigma1[l] = m.sigma[1][l];
             p.sigma2[l] = m.sigma[2][l];
         }
+        let sigma_lg = m.sigma[0][1];
+        let rest = if sigma_lg > T::zero() { m.line_force / sigma_lg } else { T::zero() };
+        p.young = [m.line_force, sigma_lg, rest, T::zero()];
         p
     }
 }
@@ -225,6 +234,6 @@ pub fn field_offsets<T: Real>() -> Vec<(&'static str, usize)> {
     v.extend(offs!(support, support2, dx, sin_theta, cos_theta, band, y_wall, beta_max, chi_floor, lj_strength));
     v.extend(offs!(xsph, gravity_x, gravity_y, lo_x, lo_y, hi_x, hi_y, dt, grid_origin_x, grid_origin_y));
     v.extend(offs!(grid_inv_cell, image_value, wall_coord, wall_sign, rho0, mass, stiffness, gamma, p_b, eta));
-    v.extend(offs!(sigma0, sigma1, sigma2));
+    v.extend(offs!(sigma0, sigma1, sigma2, young));
     v
 }

@@ -23,7 +23,7 @@ use crate::gpu::mask_lists::list_words;
 use crate::gpu::variant::{KernelValues, ListFormat, SlotLayout, VariantSpec};
 use crate::gpu::variant_buffers::{binding4_name, vctl};
 use crate::gpu::GpuContext;
-use crate::model::MAX_CONTACTS;
+use crate::model::{CONTACT_WORDS, MAX_CONTACTS};
 use crate::neighbours::SearchKind;
 use crate::plan::fmt_bytes;
 use serde::Serialize;
@@ -211,7 +211,7 @@ impl GpuPlan {
             ("pi", n, v2),
             ("acc", n, v2),
             ("vt", n, v2),
-            ("contacts", 4 * MAX_CONTACTS as u64, r),
+            ("contacts", (CONTACT_WORDS * MAX_CONTACTS) as u64, r),
             ("ctl", CTL_WORDS as u64, 4),
             ("cell_count", cells + blocks, 4),
             ("cell_start", 3 * (cells + 1), 4),

@@ -13,8 +13,9 @@ use super::variant::SumLayout;
 use super::variant_buffers::NBR_SLOTS;
 use super::GpuError;
 use crate::fields::{ContactPoint, Field, Fields};
-use crate::model::MAX_CONTACTS;
+use crate::model::{CONTACT_WORDS, MAX_CONTACTS};
 use crate::neighbours::INDEX_MASK as PACK_MASK;
+use crate::physics::contact::line_force_per_weight;
 use crate::real::{Real, Sym2, V2};
 use crate::stage::Stage;
 use std::cmp::Ordering;
@@ -65,7 +66,7 @@ impl<T: Real> GpuSolver<T> {
         b.pi().upload(ctx, &to_device(&pi, 1, &o))?;
         b.acc.upload(ctx, &to_device(&f.acc, 1, &o))?;
         b.vt.upload(ctx, &to_device(&f.vt, 1, &o))?;
-        self.upload_contacts(&f.contacts)?;
+        self.upload_contacts(f, &pos[..self.n_fluid])?;
         let nan = T::nan();
         let nan2 = V2::new(nan, nan);
         for field in stage.pure_outputs() {
@@ -108,10 +109,21 @@ impl<T: Real> GpuSolver<T> {
         self.read_fields()
     }
 
-    fn upload_contacts(&self, cps: &[ContactPoint<T>]) -> Result<(), GpuError> {
-        let mut c = vec![T::zero(); 4 * MAX_CONTACTS];
+    /// Uploads `f`'s contact points: x, y, s, the cos θ_d measured there and, with the
+    /// unbalanced Young force, the point's line force per unit weight over the `fluid` positions
+    /// (what `contact_angle` writes on the device).
+    fn upload_contacts(&self, f: &Fields<T>, fluid: &[V2<T>]) -> Result<(), GpuError> {
+        let cps = &f.contacts;
+        let mut c = vec![T::zero(); CONTACT_WORDS * MAX_CONTACTS];
         for (k, cp) in cps.iter().take(MAX_CONTACTS).enumerate() {
-            c[4 * k..4 * k + 3].copy_from_slice(&[cp.r.x, cp.r.y, cp.s]);
+            let cos = f.contact_cos.get(k).copied();
+            let per_weight = if self.model.young_unbalanced {
+                line_force_per_weight(&self.model, cp, cos, fluid)
+            } else {
+                T::zero()
+            };
+            let words = [cp.r.x, cp.r.y, cp.s, cos.unwrap_or(T::zero()), per_weight];
+            c[CONTACT_WORDS * k..CONTACT_WORDS * (k + 1)].copy_from_slice(&words);
         }
         self.b.contacts.upload(&self.ctx, &c)?;
         let mut w = self.b.ctl.read_back(&self.ctx)?;
@@ -127,6 +139,16 @@ impl<T: Real> GpuSolver<T> {
         let w = b.ctl.read_back(ctx)?;
         let raw = b.contacts.read_back(ctx)?;
         let kept = (w[ctl::CONTACTS_FOUND] as usize).min(MAX_CONTACTS);
+        let (contacts, contact_cos) = sorted_contacts(
+            (0..kept)
+                .map(|k| {
+                    let c = &raw[CONTACT_WORDS * k..CONTACT_WORDS * (k + 1)];
+                    (ContactPoint { r: V2::new(c[0], c[1]), s: c[2] }, c[3])
+                })
+                .collect(),
+        );
+        // The measured angles only where the scene measures them (the CPU's fields have none else).
+        let contact_cos = if self.model.young_unbalanced { contact_cos } else { Vec::new() };
         let o = self.device_order()?;
         let (g0, g1) = (to_original(b.grad0().read_back(ctx)?, 1, &o), to_original(b.grad1().read_back(ctx)?, 1, &o));
         Ok(Fields {
@@ -141,11 +163,9 @@ impl<T: Real> GpuSolver<T> {
             pi_iso: Vec::new(),
             acc: to_original(b.acc.read_back(ctx)?, 1, &o),
             vt: to_original(b.vt.read_back(ctx)?, 1, &o),
-            contacts: sorted_contacts(
-                (0..kept).map(|k| ContactPoint { r: V2::new(raw[4 * k], raw[4 * k + 1]), s: raw[4 * k + 2] }).collect(),
-            ),
+            contacts,
             contact_overflow: (w[ctl::CONTACTS_FOUND] as usize).saturating_sub(MAX_CONTACTS),
-            contact_cos: Vec::new(),
+            contact_cos,
             shift: Vec::new(),
             shift_dv: Vec::new(),
         })
@@ -267,10 +287,11 @@ impl<T: Real> GpuSolver<T> {
     }
 }
 
-/// Contact points in the CPU's (x, s) order (the device keeps them in the order found).
-fn sorted_contacts<T: Real>(mut c: Vec<ContactPoint<T>>) -> Vec<ContactPoint<T>> {
-    c.sort_by(|a, b| {
+/// Contact points in the CPU's (x, s) order (the device keeps them in the order found), each
+/// with its measured cos θ_d.
+fn sorted_contacts<T: Real>(mut c: Vec<(ContactPoint<T>, T)>) -> (Vec<ContactPoint<T>>, Vec<T>) {
+    c.sort_by(|(a, _), (b, _)| {
         a.r.x.partial_cmp(&b.r.x).unwrap_or(Ordering::Equal).then(a.s.partial_cmp(&b.s).unwrap_or(Ordering::Equal))
     });
-    c
+    c.into_iter().unzip()
 }

@@ -6,7 +6,7 @@
 
 use super::params::Params;
 use super::{GpuContext, GpuError, GpuVec, Uniform};
-use crate::model::MAX_CONTACTS;
+use crate::model::{CONTACT_WORDS, MAX_CONTACTS};
 use crate::neighbours::cells::CellBox;
 use crate::real::{Real, V2};
 
@@ -185,7 +185,7 @@ impl<T: Real> Bufs<T> {
             p: s("p", n)?,
             acc: v2("acc", n)?,
             vt: v2("vt", n)?,
-            contacts: s("contacts", 4 * MAX_CONTACTS)?,
+            contacts: s("contacts", CONTACT_WORDS * MAX_CONTACTS)?,
             ctl: u("ctl", ctl::LEN)?,
             // The counts, then the block sums of the parallel scan (search/cell_scan.wgsl).
             cell_count: u("cell_count", cells + crate::gpu::plan::scan_blocks(cells))?,

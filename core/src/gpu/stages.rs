@@ -34,6 +34,9 @@ pub enum Domain {
     ScanBlocks,
     /// One workgroup (its own size).
     Group,
+    /// One workgroup (its own size) when the scene measures contact angles (Mode A's unbalanced
+    /// Young force, docs/PHYSICS.md §8.2.5), else none.
+    ContactAngles,
     /// One workgroup when the cell scan has more than `plan::SCAN_BLOCK` blocks, else none
     /// (`scan_add` sums the block sums itself then).
     BlockSums,
@@ -99,7 +102,13 @@ pub const REORDER: &[KernelDef] =
 /// The `thread` mapping: stage → kernels in dispatch order (every stage but the search).
 pub const THREAD_STAGES: &[(Stage, &[KernelDef])] = &[
     (Stage::NumberDensity, &[t(Stage::NumberDensity, "thread/number_density.wgsl", Domain::All)]),
-    (Stage::ContactLine, &[t(Stage::ContactLine, "thread/contact_line.wgsl", Domain::Fluid)]),
+    (
+        Stage::ContactLine,
+        &[
+            t(Stage::ContactLine, "thread/contact_line.wgsl", Domain::Fluid),
+            k("contact_angle", "thread/contact_angle.wgsl", Domain::ContactAngles),
+        ],
+    ),
     (Stage::WallTyping, &[t(Stage::WallTyping, "thread/wall_typing.wgsl", Domain::Wall)]),
     (Stage::EquationOfState, &[t(Stage::EquationOfState, "thread/equation_of_state.wgsl", Domain::All)]),
     (Stage::WallPressure, &[t(Stage::WallPressure, "thread/wall_pressure.wgsl", Domain::Wall)]),

@@ -4,7 +4,7 @@
 use super::super::GpuError;
 use crate::model::Model;
 use crate::real::Real;
-use crate::scene::{Integrator, Scene};
+use crate::scene::{Integrator, LineForceSpread, Scene};
 
 /// Refuses, with the option to change, what only the CPU reference models.
 pub(super) fn refuse_cpu_only<T: Real>(model: &Model<T>, scene: &Scene) -> Result<(), GpuError> {
@@ -15,14 +15,14 @@ pub(super) fn refuse_cpu_only<T: Real>(model: &Model<T>, scene: &Scene) -> Resul
                 .into(),
         ));
     }
-    if model.young_unbalanced {
+    if model.young_unbalanced && model.line_force_spread != LineForceSpread::Kernel {
         return Err(GpuError::Unsupported(
-            "contact.wall_tension = \"unbalanced\" (Mode A's unbalanced Young force at a measured angle) is \
-             CPU only; use --backend cpu, or contact.wall_tension = \"bands\""
+            "contact.line_force_spread = \"interface\" is CPU only (the WGSL unbalanced Young force spreads \
+             by the kernel of the distance to the contact point); use --backend cpu, or line_force_spread = \"kernel\""
                 .into(),
         ));
     }
-    if model.line_force != T::zero() {
+    if model.line_force != T::zero() && !model.young_unbalanced {
         return Err(GpuError::Unsupported(
             "Mode A's contact-line force (contact.line_force = true, or contact.wall_tension = \"line\", \
              with σ_GS ≠ σ_LS) is CPU only (the WGSL stages have the wall bands alone); use --backend cpu, \

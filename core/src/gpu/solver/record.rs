@@ -29,6 +29,7 @@ impl<T: Real> GpuSolver<T> {
             Domain::Fluid => self.n_fluid,
             Domain::Wall => self.n - self.n_fluid,
             Domain::One | Domain::Group => return [1, 1, 1],
+            Domain::ContactAngles => return [u32::from(self.model.young_unbalanced), 1, 1],
             Domain::BlockSums => {
                 let many = crate::gpu::plan::scan_blocks(self.grid.cells()) > crate::gpu::plan::SCAN_BLOCK;
                 return [u32::from(many), 1, 1];
