@@ -8,16 +8,18 @@
 // rows hold liquid, the rest value `params.young.z`, at which the force is zero), and
 // F = σ_GS − σ_LS − σ_LG cos θ_d times s over Σ_i W(|x_i − x_cp|) is the point's line force per
 // unit weight (word 4), which `young_line_acc` (common/bindings.wgsl) spreads. Dispatched only
-// for a scene with the option (`Domain::ContactAngles`, core/src/gpu/stages.rs).
+// for a scene with the option (`Domain::ContactAngles`, core/src/gpu/stages.rs). Its one
+// workgroup walks every fluid particle twice per point: O(N) work on one compute unit per
+// evaluation, which a walk over the cells of the point's window would bound.
 
 #import common/bindings
 
-const ANGLE_THREADS: u32 = 64u;
+const ANGLE_THREADS: u32 = 256u;
 // Beyond any u a window holds (|u| ≤ ANGLE_REACH_DX Δx): "no particle in this row".
 const NONE_U: f32 = 1e30;
 
 // Rows 0..ANGLE_ROWS reduced by max (liquid) or min (gas), then the weight sum.
-var<workgroup> red: array<real, 448>; // (ANGLE_ROWS + 1) × ANGLE_THREADS
+var<workgroup> red: array<real, 1792>; // (ANGLE_ROWS + 1) × ANGLE_THREADS
 var<workgroup> wg_count: u32;
 
 struct RowU {
@@ -83,7 +85,7 @@ fn det3(a: real, b: real, c: real, d: real, e: real, f: real, g: real, h: real, 
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(ANGLE_THREADS)
 fn contact_angle(@builtin(local_invocation_index) t: u32) {
     if t == 0u {
         wg_count = min(atomicLoad(&ctl[CTL_CONTACTS_FOUND]), MAX_CONTACTS);
