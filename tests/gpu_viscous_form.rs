@@ -6,11 +6,10 @@
 
 mod common;
 
-use common::{assert_gpu_evaluation_matches, gpu_or_skip, scene, serial};
+use common::{assert_variants_match, gpu_or_skip, scene, serial};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
 use sphlab::fields::Field;
-use sphlab::gpu::variant::VariantSpec;
 use sphlab::neighbours::SearchKind;
 use sphlab::real::Real;
 use sphlab::scene::build::Layout;
@@ -44,12 +43,5 @@ fn projected_viscous_form_matches_cpu_on_the_gpu() {
     assert!(diff > 1e-3, "the two forms give accelerations only {diff:e} apart: the check could not see the form");
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    for id in VARIANTS {
-        let spec: VariantSpec = id.parse().unwrap();
-        if let Err(why) = spec.support(&ctx) {
-            println!("unsupported on this adapter: {why}");
-            continue;
-        }
-        assert_gpu_evaluation_matches(&format!("projected {id}"), &ctx, &s, &l, id, &c64, &c32);
-    }
+    assert_variants_match("projected", &ctx, (&s, &l), &VARIANTS, &c64, &c32);
 }

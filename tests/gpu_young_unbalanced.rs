@@ -9,7 +9,7 @@
 
 mod common;
 
-use common::{assert_gpu_evaluation_matches, gpu_or_skip, serial};
+use common::{assert_variants_match, gpu_or_skip, serial};
 use sphlab::cpu::line_force::{line_force_acc, line_force_weights};
 use sphlab::cpu::CpuSolver;
 use sphlab::exec::Exec;
@@ -71,14 +71,7 @@ fn the_unbalanced_young_force_matches_the_cpu_on_the_gpu() {
     assert!(share > 1e-2, "a GPU without the force would pass: its share is only {share:e}");
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    for id in VARIANTS {
-        let spec: VariantSpec = id.parse().unwrap();
-        if let Err(why) = spec.support(&ctx) {
-            println!("unsupported on this adapter: {why}");
-            continue;
-        }
-        assert_gpu_evaluation_matches(&format!("unbalanced {id}"), &ctx, &s, &l, id, &c64, &c32);
-    }
+    assert_variants_match("unbalanced", &ctx, (&s, &l), &VARIANTS, &c64, &c32);
     // The contact angles themselves came back and were compared (verify's contacts row).
     let spec: VariantSpec = VARIANTS[0].parse().unwrap();
     let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();

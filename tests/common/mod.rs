@@ -273,6 +273,26 @@ pub fn assert_gpu_evaluation_matches(
     }
 }
 
+/// [`assert_gpu_evaluation_matches`] for each variant of `ids` the adapter supports (an
+/// unsupported one is printed with the reason), tagged `<tag> <id>`.
+pub fn assert_variants_match(
+    tag: &str,
+    ctx: &std::sync::Arc<GpuContext>,
+    (scene, layout): (&sphlab::scene::Scene, &sphlab::scene::build::Layout),
+    ids: &[&str],
+    c64: &CpuSolver<f64>,
+    c32: &CpuSolver<f32>,
+) {
+    for id in ids {
+        let spec: sphlab::gpu::variant::VariantSpec = id.parse().unwrap();
+        if let Err(why) = spec.support(ctx) {
+            println!("unsupported on this adapter: {why}");
+            continue;
+        }
+        assert_gpu_evaluation_matches(&format!("{tag} {id}"), ctx, scene, layout, id, c64, c32);
+    }
+}
+
 /// The GPU neighbour structures equal the CPU's exactly: the cell ranges of the `cells` grid
 /// (same counting sort over the same grid) and, for list variants, every particle's list as a set.
 pub fn assert_neighbours_match<T: Real>(tag: &str, cpu: &CpuSolver<T>, gpu: &GpuSolver<T>) {
