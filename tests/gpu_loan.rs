@@ -252,7 +252,8 @@ fn preset_refuses_a_cpu_adapter_and_dry_runs_its_plan() {
         "04-e4 share",
         "--e4-sizes 45",
         "08-verify share",
-        "09-chunks share",
+        "09-young share",
+        "10-chunks share",
         "--gpu-binding 256K",
         "sphlab validate impact",
     ] {

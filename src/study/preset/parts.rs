@@ -2,8 +2,9 @@
 //! own with a weight (its share of the budget) and a floor below which it is skipped:
 //!
 //! smoke → the bare neighbour walk (`walk-probe`) → scaling of the leading variants → E4 (2,025 and 10,000 fluid particles) → E1 → E3 →
-//! E2 → verify every variant on one scene → verify lists split into list chunks → impact at full
-//! resolution, one part per angle.
+//! E2 → verify every variant on one scene → verify Mode A's unbalanced Young force (its own
+//! contact-angle kernel) → verify lists split into list chunks → impact at full resolution, one
+//! part per angle.
 //!
 //! Two scales: `gpu` (the thesis's sizes; scaling from the E4 size N ≈ 10⁴, where the one-thread
 //! CPU references are measured, to the largest N whose buffers fit, probed at 10⁵ and 10⁶, with
@@ -55,6 +56,10 @@ pub const CHUNK_VARIANTS: [&str; 5] = [
 ];
 /// The per-buffer cap of that part: four chunks of the f64 cache at nx = 24 (1,024 particles).
 pub const CHUNK_BINDING: &str = "256K";
+/// The scene overrides of the unbalanced Young force's part: relax-60 at nx = 33, Mode A with
+/// the force (docs/PHYSICS.md §8.2.5), from a jittered lattice so the measured angle moves.
+pub const YOUNG_SETS: [&str; 4] =
+    ["domain.nx=33", "contact.mode=\"a\"", "contact.wall_tension=\"unbalanced\"", "domain.jitter=0.1"];
 /// Impact angles at full resolution (run ids of `validate impact`), one part each: the two
 /// extremes of the thesis's angles.
 pub const IMPACT_RUNS: [&str; 2] = ["theta50", "theta160"];
@@ -215,7 +220,7 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
     }
     push(
         format!("E4: every variant at nx {}", scale.e4_nx),
-        28.0,
+        26.5,
         study("e4", strs(&["--e4-sizes", scale.e4_nx])),
         true,
         false,
@@ -229,6 +234,10 @@ pub fn parts(scale: &Scale) -> Vec<Part> {
         push(format!("{what}, {sizes}"), w, study(e, strs(extra)), true, false);
     }
     push("verify every variant on oscillating-drop".into(), 6.0, verify("all"), false, false);
+    let mut young = strs(&["verify", "relax-60", "--variants", &SMOKE_VARIANTS.join(",")]);
+    young.extend(YOUNG_SETS.iter().flat_map(|kv| ["--set".to_string(), kv.to_string()]));
+    young.extend(strs(&["--steps", "20", "--per-stage", "--budget", BUDGET, "--out", OUT]));
+    push("verify Mode A's unbalanced Young force on relax-60 at nx 33".into(), 1.5, young, false, false);
     let mut chunks = strs(&["verify", "oscillating-drop", "--variants", &CHUNK_VARIANTS.join(",")]);
     chunks.extend(strs(&["--set", "domain.nx=24", "--steps", "20", "--per-stage", "--gpu-binding", CHUNK_BINDING]));
     chunks.extend(strs(&["--budget", BUDGET, "--out", OUT]));
@@ -261,6 +270,7 @@ fn args_name(args: &[String]) -> String {
     match args[0].as_str() {
         "verify" if get("--variants").as_deref() == Some("all") => "verify".into(),
         "verify" if get("--gpu-binding").is_some() => "chunks".into(),
+        "verify" if args.get(1).map(String::as_str) == Some("relax-60") => "young".into(),
         "verify" => "smoke".into(),
         "study" => get("--experiments").unwrap_or_default(),
         "walk-probe" => "walk".into(),
@@ -311,9 +321,10 @@ mod tests {
                 "06-e3",
                 "07-e2",
                 "08-verify",
-                "09-chunks",
-                "10-impact-theta50",
-                "11-impact-theta160"
+                "09-young",
+                "10-chunks",
+                "11-impact-theta50",
+                "12-impact-theta160"
             ]
         );
         assert!(p[0].gate && p.iter().skip(1).all(|p| !p.gate));
