@@ -158,7 +158,7 @@ fn rehearsal_without_cargo_returns_every_part() {
     assert!(gpu_timed || (loaded && all_dropped), "e4: no GPU row timed: {e4:?}");
     // Every part: done with its output, or a reason it has none.
     let parts = parts_json(&files);
-    assert_eq!(parts.len(), 10, "{parts:?}");
+    assert_eq!(parts.len(), 11, "{parts:?}");
     for p in &parts {
         let (name, status, note) =
             (p["name"].as_str().unwrap(), p["status"].as_str().unwrap(), p["note"].as_str().unwrap());
