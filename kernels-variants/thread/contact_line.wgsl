@@ -3,10 +3,12 @@
 // `cpu::stages::contact_line`. `contact_line`: one thread per fluid
 // particle finds its predecessor/successor among its band neighbours and appends points through
 // an atomic counter (capacity MAX_CONTACTS; the largest count is kept for the overflow error).
-// The points stay in the order of the appends: their one use, `nearest_contact`
-// (common/bindings.wgsl), breaks distance ties by (x, s), so it picks the point the CPU's
-// (x, s)-sorted list gives, and the readback sorts them (`gpu::readback`). The host clears
-// ctl[CTL_CONTACTS_FOUND] first.
+// The points stay in the order of the appends: `nearest_contact` (common/bindings.wgsl) breaks
+// distance ties by (x, s), so it picks the point the CPU's (x, s)-sorted list gives, the other
+// readers treat every point alike, and the readback sorts them (`gpu::readback`). The host
+// clears ctl[CTL_CONTACTS_FOUND] first. A point's last two words (CONTACT_WORDS) start at the
+// rest cos θ and a zero line force; with the unbalanced Young force the stage's second kernel,
+// `contact_angle` (thread/contact_angle.wgsl), measures both.
 
 #import common/neighbours
 
