@@ -6,42 +6,23 @@
 
 mod common;
 
-use common::{assert_variants_match, gpu_or_skip, scene, serial};
-use sphlab::cpu::CpuSolver;
-use sphlab::exec::Exec;
+use common::{assert_variants_match, evaluated_cpu, gpu_or_skip, scene, serial, MAPPING_VARIANTS};
 use sphlab::fields::Field;
-use sphlab::neighbours::SearchKind;
-use sphlab::real::Real;
-use sphlab::scene::build::Layout;
-use sphlab::scene::Scene;
 use sphlab::verify::field_error;
 use std::sync::Arc;
-
-const VARIANTS: [&str; 5] = [
-    "cells.thread.recomputed.f32",
-    "cells.thread.recomputed.f64",
-    "tracking.subgroup.cached.f32",
-    "cells.block-tree.fixed.recomputed.f64",
-    "direct.block-atomic.native.cached.f32",
-];
-
-fn cpu<T: Real>(s: &Scene, l: &Layout) -> CpuSolver<T> {
-    let mut c = CpuSolver::<T>::new(s, l, Exec::Parallel, SearchKind::Cells);
-    c.evaluate().unwrap();
-    c
-}
 
 #[test]
 fn projected_viscous_form_matches_cpu_on_the_gpu() {
     let _g = serial();
     let (lap, _) = scene("oscillating-drop", &[]);
     let (s, l) = scene("oscillating-drop", &["viscous_form=projected"]);
-    let (c64_lap, c64, c32) = (cpu::<f64>(&lap, &l), cpu::<f64>(&s, &l), cpu::<f32>(&s, &l));
+    let (c64_lap, c64, c32) =
+        (evaluated_cpu::<f64>(&lap, &l), evaluated_cpu::<f64>(&s, &l), evaluated_cpu::<f32>(&s, &l));
     let nf = c64.n_fluid;
     let (_, diff) = field_error(&c64.f.flat(Field::Acc, nf), &c64_lap.f.flat(Field::Acc, nf), 0.0);
     println!("CPU f64 accelerations, projected against T70: rel-L2 {diff:.2e}");
     assert!(diff > 1e-3, "the two forms give accelerations only {diff:e} apart: the check could not see the form");
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    assert_variants_match("projected", &ctx, (&s, &l), &VARIANTS, &c64, &c32);
+    assert_variants_match("projected", &ctx, (&s, &l), &MAPPING_VARIANTS, &c64, &c32);
 }

@@ -9,27 +9,15 @@
 
 mod common;
 
-use common::{assert_variants_match, gpu_or_skip, serial};
+use common::{assert_variants_match, evaluated_cpu, gpu_or_skip, serial, MAPPING_VARIANTS};
 use sphlab::cpu::line_force::{line_force_acc, line_force_weights};
-use sphlab::cpu::CpuSolver;
-use sphlab::exec::Exec;
 use sphlab::gpu::solver::GpuSolver;
 use sphlab::gpu::stages::Domain;
 use sphlab::gpu::variant::VariantSpec;
-use sphlab::neighbours::SearchKind;
-use sphlab::real::Real;
 use sphlab::scene::build::{build_layout, Layout};
 use sphlab::scene::Scene;
 use sphlab::verify::Verifier;
 use std::sync::Arc;
-
-const VARIANTS: [&str; 5] = [
-    "cells.thread.recomputed.f32",
-    "cells.thread.recomputed.f64",
-    "tracking.subgroup.cached.f32",
-    "cells.block-tree.fixed.recomputed.f64",
-    "direct.block-atomic.native.cached.f32",
-];
 
 /// relax-60 at nx = 33 with the unbalanced Young force (Mode A), no relaxation.
 fn scene() -> Scene {
@@ -44,18 +32,12 @@ fn layout(s: &Scene) -> Layout {
     build_layout(s).unwrap()
 }
 
-fn cpu<T: Real>(s: &Scene, l: &Layout) -> CpuSolver<T> {
-    let mut c = CpuSolver::<T>::new(s, l, Exec::Parallel, SearchKind::Cells);
-    c.evaluate().unwrap();
-    c
-}
-
 #[test]
 fn the_unbalanced_young_force_matches_the_cpu_on_the_gpu() {
     let _g = serial();
     let s = scene();
     let l = layout(&s);
-    let (c64, c32) = (cpu::<f64>(&s, &l), cpu::<f32>(&s, &l));
+    let (c64, c32) = (evaluated_cpu::<f64>(&s, &l), evaluated_cpu::<f32>(&s, &l));
     assert_eq!(c64.f.contacts.len(), 1, "relax-60's half-drop (mirrored at x = 0) meets the wall once");
     assert_eq!(c64.f.contact_cos.len(), 1);
     // The line force's part of the accelerations: far above verify's rel-L2 tolerance (3e-4).
@@ -71,9 +53,9 @@ fn the_unbalanced_young_force_matches_the_cpu_on_the_gpu() {
     assert!(share > 1e-2, "a GPU without the force would pass: its share is only {share:e}");
     let Some(ctx) = gpu_or_skip() else { return };
     let ctx = Arc::new(ctx);
-    assert_variants_match("unbalanced", &ctx, (&s, &l), &VARIANTS, &c64, &c32);
+    assert_variants_match("unbalanced", &ctx, (&s, &l), &MAPPING_VARIANTS, &c64, &c32);
     // The contact angles themselves came back and were compared (verify's contacts row).
-    let spec: VariantSpec = VARIANTS[0].parse().unwrap();
+    let spec: VariantSpec = MAPPING_VARIANTS[0].parse().unwrap();
     let mut g = GpuSolver::<f32>::new(ctx.clone(), &s, &l, spec).unwrap();
     g.evaluate_once().unwrap();
     let f = g.read_fields().unwrap();

@@ -273,6 +273,22 @@ pub fn assert_gpu_evaluation_matches(
     }
 }
 
+/// One variant of each mapping family, both precisions: what a physics option's GPU check runs.
+pub const MAPPING_VARIANTS: [&str; 5] = [
+    "cells.thread.recomputed.f32",
+    "cells.thread.recomputed.f64",
+    "tracking.subgroup.cached.f32",
+    "cells.block-tree.fixed.recomputed.f64",
+    "direct.block-atomic.native.cached.f32",
+];
+
+/// The CPU reference on `scene`'s `layout` (cells search, parallel), after one force evaluation.
+pub fn evaluated_cpu<T: Real>(scene: &sphlab::scene::Scene, layout: &sphlab::scene::build::Layout) -> CpuSolver<T> {
+    let mut c = CpuSolver::<T>::new(scene, layout, sphlab::exec::Exec::Parallel, sphlab::neighbours::SearchKind::Cells);
+    c.evaluate().unwrap();
+    c
+}
+
 /// [`assert_gpu_evaluation_matches`] for each variant of `ids` the adapter supports (an
 /// unsupported one is printed with the reason), tagged `<tag> <id>`.
 pub fn assert_variants_match(
