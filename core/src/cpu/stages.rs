@@ -9,6 +9,7 @@ use crate::exec::{self, Exec};
 pub use crate::fields::{ContactPoint, Fields};
 use crate::model::{Model, COLOUR_WALL, MAX_CONTACTS, NO_COLOUR, SIDE_WALL_HALF_DX};
 use crate::neighbours::{unpack, NeighbourList};
+use crate::physics::contact::rest_cos;
 use crate::physics::contact::{contact_normal, contact_side, corrected_normal};
 use crate::physics::eos::eos_pressure;
 use crate::physics::kernel::{kernel_dwdr, kernel_w};
@@ -197,8 +198,7 @@ pub fn contact_line<T: Real>(c: &Ctx<T>, f: &mut Fields<T>) {
     all.truncate(MAX_CONTACTS);
     f.contact_cos = if m.young_unbalanced {
         // Where the angle cannot be measured the line is left at rest: cos θ_d = cos θ_Y.
-        let rest = if m.sigma[0][1] > T::zero() { m.line_force / m.sigma[0][1] } else { T::zero() };
-        all.iter().map(|cp| measured_contact_cos(c, cp).unwrap_or(rest)).collect()
+        all.iter().map(|cp| measured_contact_cos(c, cp).unwrap_or_else(|| rest_cos(m))).collect()
     } else {
         Vec::new()
     };

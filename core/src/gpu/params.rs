@@ -8,6 +8,7 @@
 
 use crate::model::{AxisMap, Model};
 use crate::neighbours::cells::CellBox;
+use crate::physics::contact::rest_cos;
 use crate::real::Real;
 use crate::scene::{ContactMode, ViscousForm, WallVelocity};
 
@@ -216,9 +217,7 @@ impl<T: Real> Params<T> {
             p.sigma1[l] = m.sigma[1][l];
             p.sigma2[l] = m.sigma[2][l];
         }
-        let sigma_lg = m.sigma[0][1];
-        let rest = if sigma_lg > T::zero() { m.line_force / sigma_lg } else { T::zero() };
-        p.young = [m.line_force, sigma_lg, rest, T::zero()];
+        p.young = [m.line_force, m.sigma[0][1], rest_cos(m), T::zero()];
         p
     }
 }

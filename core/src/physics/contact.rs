@@ -40,6 +40,17 @@ pub fn line_force_of<T: Real>(m: &Model<T>, cos: Option<T>) -> T {
     cos.map_or(m.line_force, |cos| m.line_force - m.sigma[0][1] * cos)
 }
 
+/// The cos θ at which the unbalanced Young force of `m` is zero, (σ_GS − σ_LS)/σ_LG: where the
+/// angle cannot be measured the line is left there, at rest (zero without a liquid–gas tension).
+pub fn rest_cos<T: Real>(m: &Model<T>) -> T {
+    let sigma_lg = m.sigma[0][1];
+    if sigma_lg > T::zero() {
+        m.line_force / sigma_lg
+    } else {
+        T::zero()
+    }
+}
+
 /// The line force of contact point `cp` per unit of the kernel spread's weight, `F s / Σ_i
 /// W(|x_i − x_cp|)` over the fluid positions `fluid` (zero when no particle weighs): what
 /// the GPU's contact list carries for the acceleration to spread (kernels-variants/thread/
