@@ -8,11 +8,13 @@
 // rows hold liquid, the rest value `params.young.z`, at which the force is zero), and
 // F = σ_GS − σ_LS − σ_LG cos θ_d times s over Σ_i W(|x_i − x_cp|) is the point's line force per
 // unit weight (word 4), which `young_line_acc` (common/bindings.wgsl) spreads. Dispatched only
-// for a scene with the option (`Domain::ContactAngles`, core/src/gpu/stages.rs). Its one
-// workgroup walks every fluid particle twice per point: O(N) work on one compute unit per
-// evaluation, which a walk over the cells of the point's window would bound.
+// for a scene with the option (`Domain::ContactAngles`, core/src/gpu/stages.rs). The particles
+// it reads are those of the point's window: the cells of the box holding the window and the
+// kernel support around the point, one contiguous span of the evaluation's cell sort per row of
+// cells (`window_of`), so a point costs its window, not N; under the direct search (no cell
+// sort) the one span is every fluid particle.
 
-#import common/bindings
+#import common/neighbours
 
 const ANGLE_THREADS: u32 = 256u;
 // Beyond any u a window holds (|u| ≤ ANGLE_REACH_DX Δx): "no particle in this row".
@@ -85,6 +87,52 @@ fn det3(a: real, b: real, c: real, d: real, e: real, f: real, g: real, h: real, 
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
 }
 
+// The fluid slots that hold every particle of a point's window (module comment): rows
+// `y0..=y1` of cells `x0..=x1`, or (direct search) one row, slots 0..n_fluid.
+struct Window {
+    x0: i32,
+    x1: i32,
+    y0: i32,
+    y1: i32,
+    phys: bool,
+}
+
+fn window_of(cp: real2) -> Window {
+#ifdef DIRECT
+    return Window(0, 0, 0, 0, false);
+#else
+    // Below the wall only the weights' support; above it the rows or the support.
+    let half = max(real(ANGLE_REACH_DX) * params.dx, params.support);
+    let top = max(real(ANGLE_ROWS) * params.dx, params.support);
+    let lo = clamp(cell_coords(real2(cp.x - half, cp.y - params.support)), vec2<i32>(0, 0), grid_last());
+    let hi = clamp(cell_coords(real2(cp.x + half, cp.y + top)), vec2<i32>(0, 0), grid_last());
+    return Window(lo.x, hi.x, lo.y, hi.y, physical_order());
+#endif
+}
+
+fn grid_last() -> vec2<i32> {
+    return vec2<i32>(i32(params.grid_nx) - 1, i32(params.grid_ny) - 1);
+}
+
+// Slots [x, y) of the window's row r (cells adjacent in the sort: one span).
+fn window_span(w: Window, r: i32) -> vec2<u32> {
+#ifdef DIRECT
+    return vec2<u32>(0u, params.n_fluid);
+#else
+    let row = u32(i32(params.grid_nx) * r);
+    return vec2<u32>(cell_start[row + u32(w.x0)], cell_start[row + u32(w.x1) + 1u]);
+#endif
+}
+
+// The particle in slot s of the window's sort.
+fn window_particle(w: Window, s: u32) -> u32 {
+#ifdef DIRECT
+    return s;
+#else
+    return slot_at(s, w.phys);
+#endif
+}
+
 @compute @workgroup_size(ANGLE_THREADS)
 fn contact_angle(@builtin(local_invocation_index) t: u32) {
     if t == 0u {
@@ -99,14 +147,19 @@ fn contact_angle(@builtin(local_invocation_index) t: u32) {
         let cp = real2(contacts[base], contacts[base + 1u]);
         let s = contacts[base + 2u];
         // The outermost liquid particle of each row, and the weight sum.
+        let win = window_of(cp);
         var liq = array<real, ANGLE_ROWS>(-none, -none, -none, -none, -none, -none);
         var wsum = real(0.0);
-        for (var i = t; i < params.n_fluid; i += ANGLE_THREADS) {
-            let d = pos[i] - cp;
-            wsum += kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
-            let ru = angle_row(pos[i], cp.x, s);
-            if phase[i] == 0u && ru.row >= 0 {
-                liq[ru.row] = max(liq[ru.row], ru.u);
+        for (var y = win.y0; y <= win.y1; y++) {
+            let span = window_span(win, y);
+            for (var slot = span.x + t; slot < span.y; slot += ANGLE_THREADS) {
+                let i = window_particle(win, slot);
+                let d = pos[i] - cp;
+                wsum += kernel_w(kp, sqrt(d.x * d.x + d.y * d.y));
+                let ru = angle_row(pos[i], cp.x, s);
+                if phase[i] == 0u && ru.row >= 0 {
+                    liq[ru.row] = max(liq[ru.row], ru.u);
+                }
             }
         }
         for (var r = 0u; r < ANGLE_ROWS; r++) {
@@ -121,10 +174,14 @@ fn contact_angle(@builtin(local_invocation_index) t: u32) {
         workgroupBarrier();
         // The nearest gas particle beyond the liquid of each row.
         var gas = array<real, ANGLE_ROWS>(none, none, none, none, none, none);
-        for (var i = t; i < params.n_fluid; i += ANGLE_THREADS) {
-            let ru = angle_row(pos[i], cp.x, s);
-            if phase[i] == 1u && ru.row >= 0 && liq[ru.row] > -none && ru.u > liq[ru.row] {
-                gas[ru.row] = min(gas[ru.row], ru.u);
+        for (var y = win.y0; y <= win.y1; y++) {
+            let span = window_span(win, y);
+            for (var slot = span.x + t; slot < span.y; slot += ANGLE_THREADS) {
+                let i = window_particle(win, slot);
+                let ru = angle_row(pos[i], cp.x, s);
+                if phase[i] == 1u && ru.row >= 0 && liq[ru.row] > -none && ru.u > liq[ru.row] {
+                    gas[ru.row] = min(gas[ru.row], ru.u);
+                }
             }
         }
         for (var r = 0u; r < ANGLE_ROWS; r++) {

@@ -188,7 +188,9 @@ pub fn stage_bytes(spec: &VariantSpec, stage: Stage, r: f64) -> (f64, u8) {
         },
         // σ is stored with 1/σ² (a real2 record).
         Stage::NumberDensity => (2.0 * v + r, 0),
-        Stage::ContactLine => (0.0, 1),
+        // Every fluid particle's phase, and a liquid particle's position (counted for all); the
+        // contact angles of the unbalanced Young force read only the points' windows.
+        Stage::ContactLine => (v + 4.0, 1),
         Stage::WallTyping => (v + 4.0 + r, 2),
         Stage::EquationOfState => (v + 3.0 * r + 8.0, 0),
         Stage::WallPressure => (v + r, 2),
