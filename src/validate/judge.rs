@@ -22,7 +22,9 @@ mod tests;
 mod young_sweep;
 
 use rule::{alpha_band, at_two_resolutions, nx_band, rule_text, KERNELS};
-use sensitivity::{relax_rule_band, relax_transport_band, sessile_rule_band, sessile_shear_ratio_band};
+use sensitivity::{
+    relax_rule_band, relax_transport_band, relax_unbalanced_band, sessile_rule_band, sessile_shear_ratio_band,
+};
 
 /// Young's angle of relax-60 (deg).
 pub(super) const YOUNG_DEG: f64 = 60.0;
@@ -243,12 +245,14 @@ fn sessile(root: &Path, wtext: &str, rep: &mut CaseReport) {
 
 /// The variants of relax-60 judged against Young's angle at the wall and in the cap: every run
 /// started at 90° (the from-45° runs are judged through the two-start midpoint).
-const RELAX_FROM_90: [&str; 5] = [
+const RELAX_FROM_90: [&str; 7] = [
     "Mode B, no-slip:",
     "Mode B, no-slip, transport velocity:",
     "Mode B, free-slip:",
     "Mode A, no-slip:",
     "Mode A, free-slip:",
+    "Mode A, unbalanced Young force, no-slip:",
+    "Mode A, unbalanced Young force, free-slip:",
 ];
 
 /// relax-60's rows over the end window `wtext` (the case's, e.g. "t ∈ [4.3, 4.5]").
@@ -256,8 +260,9 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
     let window = format!("mean over {wtext}");
     let rule = rule_text(root, rep, "b-noslip");
     for label in RELAX_FROM_90 {
-        let mode_a = label.starts_with("Mode A");
-        let why = if mode_a {
+        let why = if label.starts_with("Mode A, unbalanced") {
+            "; the form at θ_Y 41°–120°, nx = 33, 45, 65: mode-a-line/README.md"
+        } else if label.starts_with("Mode A") {
             "; Mode A under the rule, both starts and θ_Y 60°–120°: ../capillary-rule/README.md"
         } else {
             ""
@@ -270,6 +275,8 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
             "Mode A, no-slip:" => relax_rule_band(root, "a", ""),
             "Mode B, free-slip:" => relax_rule_band(root, "b", "-freeslip"),
             "Mode A, free-slip:" => relax_rule_band(root, "a", "-freeslip"),
+            "Mode A, unbalanced Young force, no-slip:" => relax_unbalanced_band(root, ""),
+            "Mode A, unbalanced Young force, free-slip:" => relax_unbalanced_band(root, "-freeslip"),
             "Mode B, no-slip, transport velocity:" => relax_transport_band(root),
             _ => None,
         };
@@ -297,17 +304,23 @@ fn relax(root: &Path, wtext: &str, rep: &mut CaseReport) {
             r.qualify(&depends, pb.as_ref().map(|b| &b[1]));
         }
     }
-    for r in rows(rep, "Mode A, no-slip: end angle approached from both sides") {
-        let mid = r.value;
-        *r = r.clone().check(
-            mid.abs() < ANGLE_TOL_DEG,
-            "|midpoint − 60°| < 3°: Young's angle, from either side; ../capillary-rule/README.md",
-        );
+    for (head, why) in [
+        ("Mode A, no-slip", "../capillary-rule/README.md"),
+        ("Mode A, unbalanced Young force, no-slip", "mode-a-line/README.md"),
+    ] {
+        for r in rows(rep, &format!("{head}: end angle approached from both sides")) {
+            let mid = r.value;
+            *r = r.clone().check(
+                mid.abs() < ANGLE_TOL_DEG,
+                &format!("|midpoint − 60°| < 3°: Young's angle, from either side; {why}"),
+            );
+        }
     }
-    for mode in ["a", "b"] {
+    for (mode, head) in
+        [("a", "Mode A, no-slip"), ("b", "Mode B, no-slip"), ("unbalanced", "Mode A, unbalanced Young force, no-slip")]
+    {
         let band = young_sweep::both_sides_band(root, mode);
-        let head = format!("Mode {}, no-slip: end angle approached from both sides", mode.to_uppercase());
-        for r in rows(rep, &head) {
+        for r in rows(rep, &format!("{head}: end angle approached from both sides")) {
             r.qualify(&rule, band.as_ref());
         }
     }

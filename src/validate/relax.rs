@@ -60,14 +60,19 @@ pub struct Variant {
 }
 
 impl Variant {
-    /// Mode B, the thesis's method, whose equilibrium is held to 60° (Mode A's is not held to
-    /// it: relax-60/mode-a-check/README.md). Read from the
-    /// variant's scene (relax-60 with its overrides), as the run itself sees it.
+    /// Mode B, the thesis's method, and Mode A with the unbalanced Young force (docs/PHYSICS.md
+    /// §8.2.5), whose equilibria are held to 60° (Mode A's wall bands are not held to it:
+    /// relax-60/mode-a-check/README.md). Read from the variant's scene (relax-60 with its
+    /// overrides), as the run itself sees it.
     pub fn held_to_young(&self) -> bool {
+        use crate::scene::{ContactMode, WallTension};
         crate::scene::overrides::apply_overrides(&crate::scene::builtin::relax_60(), &self.sets)
-            .is_ok_and(|s| s.contact.mode == crate::scene::ContactMode::B)
+            .is_ok_and(|s| s.contact.mode == ContactMode::B || s.contact.wall_tension == WallTension::Unbalanced)
     }
 }
+
+/// The run of Mode A with the unbalanced Young force, no-slip, from 90°.
+const YOUNG_NOSLIP: &str = "a-young-noslip";
 
 /// The angle the second start comes from: below 60°, so that the contact line recedes to its
 /// equilibrium while the 90° start advances to it.
@@ -90,14 +95,18 @@ pub fn start_sets(theta_deg: f64) -> Vec<String> {
 }
 
 /// The variants: the thesis's four; Mode B no-slip with the transport-velocity formulation at
-/// p_b = ρ0c0² (Adami, Hu & Adams 2013; CPU only); and both modes, no-slip, started below 60°
-/// ([`START_BELOW_DEG`]), so that each mode's end angle is approached from both sides.
+/// p_b = ρ0c0² (Adami, Hu & Adams 2013; CPU only); both modes, no-slip, started below 60°
+/// ([`START_BELOW_DEG`]), so that each mode's end angle is approached from both sides; and Mode
+/// A with the unbalanced Young force in place of the wall bands (docs/PHYSICS.md §8.2.5), both
+/// walls and both starts.
 pub fn variants() -> Vec<Variant> {
     let ph = &crate::scene::builtin::relax_60().phases[0];
     let p_b = crate::scene::builtin::transport_background_pressure(ph.rho0, ph.c0);
     let v = |id, label, sets: Vec<String>, start_deg| Variant { id, label, sets, start_deg, from_90: None };
     let below = |id, label, sets, from_90| Variant { from_90: Some(from_90), ..v(id, label, sets, START_BELOW_DEG) };
     let mode_a = || vec!["contact.mode=a".to_string()];
+    let young = || vec!["contact.mode=a".to_string(), "contact.wall_tension=unbalanced".to_string()];
+    let free = || vec!["domain.bottom=free-slip".to_string()];
     vec![
         v("b-noslip", "Mode B, no-slip", vec![], 90.0),
         v(
@@ -115,6 +124,14 @@ pub fn variants() -> Vec<Variant> {
             "Mode A, no-slip, from 45°",
             [mode_a(), start_sets(START_BELOW_DEG)].concat(),
             "a-noslip",
+        ),
+        v(YOUNG_NOSLIP, "Mode A, unbalanced Young force, no-slip", young(), 90.0),
+        v("a-young-freeslip", "Mode A, unbalanced Young force, free-slip", [young(), free()].concat(), 90.0),
+        below(
+            "a-young-noslip-from45",
+            "Mode A, unbalanced Young force, no-slip, from 45°",
+            [young(), start_sets(START_BELOW_DEG)].concat(),
+            YOUNG_NOSLIP,
         ),
     ]
 }

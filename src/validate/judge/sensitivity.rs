@@ -4,6 +4,7 @@
 //! way (the case's own band runs, read from its rows); the transport velocity's own p_b × 0.5 /
 //! × 1 / × 2 as relax-60's. The drop's bands of the rule are in `rule.rs`.
 
+use super::young_sweep::wall_tension_of;
 use super::{of_the_scene, RELAX_RUN_SOURCES};
 use crate::validate::data::{col, read_series, window_stats};
 use crate::validate::report::{Band, CaseReport};
@@ -35,6 +36,20 @@ pub(super) fn relax_transport_band(root: &Path) -> Option<[Band; 3]> {
     relax_band(root, "nx33-b-from90-tvf", ["-pb0.5", "", "-pb2"], varied)
 }
 
+/// Mode A with the unbalanced Young force from 90° at nx = 33 with the bottom wall `wall` ("" for
+/// no-slip, "-freeslip") at the capillary rule's α × 0.5 / × 1 / × 2 (the runs of
+/// `relax-60/mode-a-line/runs/nx33-from90-unbalanced<wall>`, then one of [`ALPHA_SUFFIXES`]), read
+/// as [`relax_rule_band`] reads the wall bands'.
+pub(super) fn relax_unbalanced_band(root: &Path, wall: &str) -> Option<[Band; 3]> {
+    let slip = if wall.is_empty() { "no-slip" } else { "free-slip" };
+    let varied = format!(
+        "the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode A with the unbalanced Young force from 90°, {slip})"
+    );
+    let runs = ALPHA_SUFFIXES.map(|s| format!("relax-60/mode-a-line/runs/nx33-from90-unbalanced{wall}{s}"));
+    let of_the_form = |d: &String| wall_tension_of(&root.join(d)).as_deref() == Some("unbalanced");
+    runs.iter().all(of_the_form).then(|| relax_band_of(root, runs.clone(), &varied))?
+}
+
 /// The band of relax-60's three end-state rows from the runs `<base><source suffix><s>` for each
 /// of `suffixes` (what `varied` names), found under the first of [`RELAX_RUN_SOURCES`] that holds
 /// all three at nx = 33 with the scene's kernel and h.
@@ -43,6 +58,15 @@ fn relax_band(root: &Path, base: &str, suffixes: [&str; 3], varied: &str) -> Opt
         let all = suffixes.map(|s| format!("{src}/{base}{suffix}{s}"));
         all.iter().all(|d| of_the_scene(&root.join(d), 33)).then_some(all)
     })?;
+    relax_band_of(root, runs, varied)
+}
+
+/// The band of relax-60's three end-state rows from `runs` (relative to the report root, at
+/// nx = 33), none unless all three are runs of the scene's kernel and h.
+fn relax_band_of(root: &Path, runs: [String; 3], varied: &str) -> Option<[Band; 3]> {
+    if !runs.iter().all(|d| of_the_scene(&root.join(d), 33)) {
+        return None;
+    }
     let dx = 0.5 / 33.0;
     let d_an = crate::validate::relax::analytic_spread();
     let (mut theta, mut spread, mut two_point) = (Vec::new(), Vec::new(), Vec::new());

@@ -356,6 +356,26 @@ fn the_both_sides_rows_band_is_the_starts_midpoint_at_each_alpha() {
         band.source
     );
     assert!(young_sweep::both_sides_band(root, "a").is_none(), "Mode A has no runs here");
+    // The unbalanced Young force's band reads its own runs, recorded with its wall tensions.
+    for (alpha, from90, from45) in [("-alpha1", 58.0, 59.0), ("", 60.5, 60.3), ("-alpha4", 61.0, 62.0)] {
+        for (start, theta) in [("90", from90), ("45", from45)] {
+            line_run(root, &format!("nx33-from{start}-unbalanced{alpha}"), 33, "bands", theta);
+        }
+    }
+    assert!(young_sweep::both_sides_band(root, "unbalanced").is_none(), "runs of the wall bands do not count");
+    assert!(relax_unbalanced_band(root, "").is_none(), "runs of the wall bands do not count");
+    for alpha in ["-alpha1", "", "-alpha4"] {
+        for (start, theta) in [("90", 60.0), ("45", 60.0)] {
+            line_run(root, &format!("nx33-from{start}-unbalanced{alpha}"), 33, "unbalanced", theta);
+        }
+    }
+    let band = young_sweep::both_sides_band(root, "unbalanced").unwrap();
+    assert_eq!((band.values.clone(), band.holds), (vec!["60.00".to_string(); 3], Some(true)));
+    // relax-60's end-state rows of the form: its α runs from 90° per wall.
+    let [theta, _, _] = relax_unbalanced_band(root, "").unwrap();
+    assert_eq!(theta.values, ["0.00", "0.00", "0.00"]);
+    assert!(theta.source.starts_with("../relax-60/mode-a-line/runs/nx33-from90-unbalanced-alpha1"), "{}", theta.source);
+    assert!(relax_unbalanced_band(root, "-freeslip").is_none(), "no free-slip runs here");
 }
 
 #[test]

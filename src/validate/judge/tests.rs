@@ -86,6 +86,26 @@ fn relax_60_off_youngs_angle_fails_and_mode_b_passes_with_the_thesis_metric_besi
         vec![Row::new(&format!("Mode A, no-slip: θ − 60°, circle fit, {w} (deg)"), 1.0, 2, None, None)],
     );
     assert!(verdict(&rep, "Mode A").starts_with("pass"));
+    // The unbalanced Young force's rows are judged by the same bounds, each wall on its own.
+    let young = "Mode A, unbalanced Young force";
+    let rep = judged(
+        "relax-60",
+        vec![
+            Row::new(&format!("{young}, no-slip: θ − 60°, circle fit, {w} (deg)"), 0.4, 2, None, Some(0.0)),
+            Row::new(&format!("{young}, free-slip: D/D0 at the wall, {w}"), 1.30, 3, None, Some(1.385)),
+            Row::new(
+                &format!("{young}, no-slip: end angle approached from both sides, midpoint − 60°"),
+                3.2,
+                2,
+                None,
+                None,
+            ),
+        ],
+    );
+    let v = verdict(&rep, &format!("{young}, no-slip: θ − 60°"));
+    assert!(v.starts_with("pass") && v.contains("mode-a-line/README.md"), "{v}");
+    assert!(verdict(&rep, &format!("{young}, free-slip: D/D0")).starts_with("FAIL"));
+    assert!(verdict(&rep, &format!("{young}, no-slip: end angle")).starts_with("FAIL"));
 }
 
 #[test]

@@ -36,7 +36,7 @@ struct Point {
 
 /// Where a run's wall tensions act, as its `summary.json` records them (`bands` when the record
 /// predates the option).
-fn wall_tension_of(dir: &Path) -> Option<String> {
+pub(super) fn wall_tension_of(dir: &Path) -> Option<String> {
     let v = summary_at(dir)?;
     Some(v["parameters"]["contact"]["wall_tension"].as_str().unwrap_or("bands").to_string())
 }
@@ -232,19 +232,21 @@ fn alpha_band(root: &Path, p: &Point) -> Option<Band> {
 
 /// The α band of relax-60's row "Mode <mode>, no-slip: end angle approached from both sides": the
 /// midpoint of the starts from 90° and 45° at nx = 33 under the capillary rule's α × 0.5 / × 1 /
-/// × 2, with the wall bands (`mode` "a" or "b").
+/// × 2: with the wall bands (`mode` "a" or "b"), or Mode A with the unbalanced Young force
+/// (`mode` "unbalanced").
 pub(super) fn both_sides_band(root: &Path, mode: &str) -> Option<Band> {
-    let run = match mode {
-        "a" => "nx{nx}-a-from",
-        _ => "nx{nx}-b-from",
+    let (run, sources, wall_tension): (_, &'static [(&'static str, &'static str)], _) = match mode {
+        "a" => ("nx{nx}-a-from", &SOURCES, "bands"),
+        "unbalanced" => ("nx{nx}-from", &UNBALANCED_RUNS, "unbalanced"),
+        _ => ("nx{nx}-b-from", &SOURCES, "bands"),
     };
     let p = Point {
         theta_y: 60.0,
         tensions: "σ_LS = 0.5, σ_GS = 1 (built-in)",
         run,
         starts: ["90", "45"],
-        sources: &SOURCES,
-        wall_tension: "bands",
+        sources,
+        wall_tension,
         case_runs: None,
     };
     alpha_band(root, &p)

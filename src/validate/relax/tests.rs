@@ -54,12 +54,29 @@ fn the_cap_at_the_first_row_is_narrower_and_the_wall_estimate_recovers_the_wall_
 }
 
 #[test]
-fn only_mode_b_variants_are_held_to_60_degrees() {
+fn mode_b_and_the_unbalanced_young_force_are_held_to_60_degrees() {
     let held: Vec<&str> = variants().iter().filter(|v| v.held_to_young()).map(|v| v.id).collect();
-    assert_eq!(held, ["b-noslip", "b-noslip-tvf", "b-freeslip", "b-noslip-from45"]);
-    // A Mode A variant is Mode A by its scene: the override sets the contact mode.
+    assert_eq!(
+        held,
+        [
+            "b-noslip",
+            "b-noslip-tvf",
+            "b-freeslip",
+            "b-noslip-from45",
+            "a-young-noslip",
+            "a-young-freeslip",
+            "a-young-noslip-from45"
+        ]
+    );
+    // A variant is Mode A with the wall bands by its scene: the overrides set the contact mode
+    // and leave the wall tensions; the held Mode A variants are those of the unbalanced force.
+    let scene =
+        |v: &Variant| crate::scene::overrides::apply_overrides(&crate::scene::builtin::relax_60(), &v.sets).unwrap();
     for v in variants().iter().filter(|v| !v.held_to_young()) {
-        let scene = crate::scene::overrides::apply_overrides(&crate::scene::builtin::relax_60(), &v.sets).unwrap();
-        assert_eq!(scene.contact.mode, crate::scene::ContactMode::A, "{}", v.id);
+        assert_eq!(scene(v).contact.mode, crate::scene::ContactMode::A, "{}", v.id);
+        assert_eq!(scene(v).contact.wall_tension, crate::scene::WallTension::Bands, "{}", v.id);
+    }
+    for v in variants().iter().filter(|v| v.held_to_young() && v.id.starts_with("a-")) {
+        assert_eq!(scene(v).contact.wall_tension, crate::scene::WallTension::Unbalanced, "{}", v.id);
     }
 }
