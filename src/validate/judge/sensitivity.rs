@@ -46,8 +46,10 @@ pub(super) fn relax_unbalanced_band(root: &Path, wall: &str) -> Option<[Band; 3]
         "the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode A with the unbalanced Young force from 90°, {slip})"
     );
     let runs = ALPHA_SUFFIXES.map(|s| format!("relax-60/mode-a-line/runs/nx33-from90-unbalanced{wall}{s}"));
-    let of_the_form = |d: &String| wall_tension_of(&root.join(d)).as_deref() == Some("unbalanced");
-    runs.iter().all(of_the_form).then(|| relax_band_of(root, runs.clone(), &varied))?
+    if !runs.iter().all(|d| wall_tension_of(&root.join(d)).as_deref() == Some("unbalanced")) {
+        return None;
+    }
+    relax_band_of(root, runs, &varied)
 }
 
 /// The band of relax-60's three end-state rows from the runs `<base><source suffix><s>` for each
