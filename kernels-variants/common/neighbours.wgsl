@@ -91,12 +91,15 @@ fn cell_coords(p: real2) -> vec2<i32> {
     return vec2<i32>(i32(clamp(fx, real(-2.0), nx + real(1.0))), i32(clamp(fy, real(-2.0), ny + real(1.0))));
 }
 
+// Cell coordinates of p clamped into the grid: the cell whose list holds a particle at p.
+fn grid_coords(p: real2) -> vec2<i32> {
+    return clamp(cell_coords(p), vec2<i32>(0, 0), vec2<i32>(i32(params.grid_nx) - 1, i32(params.grid_ny) - 1));
+}
+
 // Linear cell of p (coordinates clamped into the grid), as `CellGrid::cell_of`.
 fn cell_index(p: real2) -> u32 {
-    let c = cell_coords(p);
-    let x = clamp(c.x, 0, i32(params.grid_nx) - 1);
-    let y = clamp(c.y, 0, i32(params.grid_ny) - 1);
-    return u32(x + i32(params.grid_nx) * y);
+    let c = grid_coords(p);
+    return u32(c.x + i32(params.grid_nx) * c.y);
 }
 
 // Cells per block of the cell scan (twin of search/cell_scan.wgsl's SCAN_BLOCK, plan::SCAN_BLOCK).

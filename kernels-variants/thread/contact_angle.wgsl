@@ -104,14 +104,10 @@ fn window_of(cp: real2) -> Window {
     // Below the wall only the weights' support; above it the rows or the support.
     let half = max(real(ANGLE_REACH_DX) * params.dx, params.support);
     let top = max(real(ANGLE_ROWS) * params.dx, params.support);
-    let lo = clamp(cell_coords(real2(cp.x - half, cp.y - params.support)), vec2<i32>(0, 0), grid_last());
-    let hi = clamp(cell_coords(real2(cp.x + half, cp.y + top)), vec2<i32>(0, 0), grid_last());
+    let lo = grid_coords(real2(cp.x - half, cp.y - params.support));
+    let hi = grid_coords(real2(cp.x + half, cp.y + top));
     return Window(lo.x, hi.x, lo.y, hi.y, physical_order());
 #endif
-}
-
-fn grid_last() -> vec2<i32> {
-    return vec2<i32>(i32(params.grid_nx) - 1, i32(params.grid_ny) - 1);
 }
 
 // Slots [x, y) of the window's row r (cells adjacent in the sort: one span).

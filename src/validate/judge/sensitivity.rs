@@ -46,10 +46,12 @@ pub(super) fn relax_unbalanced_band(root: &Path, wall: &str) -> Option<[Band; 3]
         "the capillary rule's α × 0.5 / × 1 / × 2 at nx = 33 (Mode A with the unbalanced Young force from 90°, {slip})"
     );
     let runs = ALPHA_SUFFIXES.map(|s| format!("relax-60/mode-a-line/runs/nx33-from90-unbalanced{wall}{s}"));
-    if !runs.iter().all(|d| wall_tension_of(&root.join(d)).as_deref() == Some("unbalanced")) {
+    let of_the_form =
+        |d: &String| of_the_scene(&root.join(d), 33) && wall_tension_of(&root.join(d)).as_deref() == Some("unbalanced");
+    if !runs.iter().all(of_the_form) {
         return None;
     }
-    relax_band_of(root, runs, &varied)
+    relax_band_of(root, &runs, &varied)
 }
 
 /// The band of relax-60's three end-state rows from the runs `<base><source suffix><s>` for each
@@ -60,19 +62,16 @@ fn relax_band(root: &Path, base: &str, suffixes: [&str; 3], varied: &str) -> Opt
         let all = suffixes.map(|s| format!("{src}/{base}{suffix}{s}"));
         all.iter().all(|d| of_the_scene(&root.join(d), 33)).then_some(all)
     })?;
-    relax_band_of(root, runs, varied)
+    relax_band_of(root, &runs, varied)
 }
 
-/// The band of relax-60's three end-state rows from `runs` (relative to the report root, at
-/// nx = 33), none unless all three are runs of the scene's kernel and h.
-fn relax_band_of(root: &Path, runs: [String; 3], varied: &str) -> Option<[Band; 3]> {
-    if !runs.iter().all(|d| of_the_scene(&root.join(d), 33)) {
-        return None;
-    }
+/// The band of relax-60's three end-state rows from `runs` (relative to the report root; runs of
+/// the scene's kernel and h at nx = 33, as the callers checked); none when one has no end window.
+fn relax_band_of(root: &Path, runs: &[String; 3], varied: &str) -> Option<[Band; 3]> {
     let dx = 0.5 / 33.0;
     let d_an = crate::validate::relax::analytic_spread();
     let (mut theta, mut spread, mut two_point) = (Vec::new(), Vec::new(), Vec::new());
-    for d in &runs {
+    for d in runs {
         let rows = read_series(&root.join(d));
         theta.push(window_stats(&col(&rows, |r| r.theta_circle_fit.map(|v| v - 60.0)), 4.3, 4.5)?.0);
         spread.push(window_stats(&crate::validate::relax::wall_spread(&rows, dx), 4.3, 4.5)?.0);
