@@ -173,6 +173,12 @@ impl Series {
         self.colour = Some(rgb);
         self
     }
+    /// The series in the palette's colour `k`, whatever its position in the plot (one colour per
+    /// family of series across several plots).
+    pub fn with_palette_colour(self, k: usize) -> Self {
+        let RGBColor(r, g, b) = palette(k);
+        self.with_colour((r, g, b))
+    }
     /// The colour it is drawn in as the `k`-th series.
     pub(crate) fn colour(&self, k: usize) -> RGBColor {
         self.colour.map_or(palette(k), |(r, g, b)| RGBColor(r, g, b))

@@ -4,7 +4,7 @@
 
 use super::compare::{dt_comparison, two_starts, EndAngle};
 use super::{analytic_spread, analytic_spread_at, start_cap, variants, wall_spread, Variant, R0, THESIS_SPREAD_MAX};
-use crate::plot::{PlotSpec, RefLine, Series};
+use crate::plot::{Marker, PlotSpec, RefLine, Series};
 use crate::validate::case::{Case, CaseOutput, CasePlot, CaseRun, CaseSpec, CaseTable};
 use crate::validate::committed::{vouched, Committed};
 use crate::validate::data::{col, mean_shear_profile_in, read_series, snapshot_files, window_stats, Row as SRow};
@@ -15,7 +15,8 @@ use std::path::PathBuf;
 
 const ANGLE_PLOT: &str = "contact_angle_deviation.svg";
 const SPREAD_PLOT: &str = "fig4_13_spread_factor.svg";
-const SHEAR_PLOT: &str = "wall_shear_profiles.svg";
+/// The wall shear along the wall while the drop relaxes and at its end, one plot per window.
+const SHEAR_PLOTS: [&str; 2] = ["wall_shear_profiles_early.svg", "wall_shear_profiles_end.svg"];
 const SHEAR_TABLE: &str = "wall_shear_profiles.csv";
 
 /// The case: resolution, windows, the analytic spreads, its variants, and what the comparison
@@ -120,14 +121,19 @@ impl Relax {
             RefLine::horizontal(format!("analytic cap at the first row's height {d_row:.3}"), d_row),
             RefLine::horizontal("thesis Fig. 4.13 upper bound 1.4", THESIS_SPREAD_MAX),
         ];
-        let mut shear = PlotSpec::new(
-            "Relaxation 90° → 60°: wall shear rate along the wall",
-            "fraction of the wall (0 = drop centre, 1 = right wall)",
-            "average |∂u/∂y| (1/time)",
-        );
-        shear.log_y = true;
-        [(ANGLE_PLOT, angle), (SPREAD_PLOT, spread), (SHEAR_PLOT, shear)]
+        let phases = ["relaxing", "end window"];
+        let shear = self.shear_windows().into_iter().zip(phases).map(|(window, phase)| {
+            let mut shear = PlotSpec::new(
+                format!("Relaxation 90° → 60°: wall shear, {window} ({phase})"),
+                "fraction of the wall (0 = drop centre, 1 = right wall)",
+                "average |∂u/∂y| (1/time)",
+            );
+            shear.log_y = true;
+            shear
+        });
+        [(ANGLE_PLOT, angle), (SPREAD_PLOT, spread)]
             .into_iter()
+            .chain(SHEAR_PLOTS.into_iter().zip(shear))
             .map(|(file, plot)| CasePlot { file, plot })
             .collect()
     }
@@ -184,9 +190,10 @@ impl Relax {
             angle.series.push(Series::line(format!("{label}: area inversion"), s.area.clone()));
         }
         out.plot(SPREAD_PLOT).series.push(Series::line(label.to_string(), s.spread.clone()));
-        let shear = out.plot(SHEAR_PLOT);
-        for (window, profile) in self.shear_windows().iter().zip([early, late]) {
-            shear.series.push(Series::line_points(format!("{label}, {window}"), profile.clone()));
+        let (colour, marker) = shear_look(&self.variants, k);
+        for (file, profile) in SHEAR_PLOTS.into_iter().zip([early, late]) {
+            let line = Series::line_points(label, profile.clone()).with_palette_colour(colour).with_marker(marker);
+            out.plot(file).series.push(line);
         }
         let table = out.table(SHEAR_TABLE);
         for (window, profile) in [(0.0, early), (1.0, late)] {
@@ -432,11 +439,35 @@ impl Case for Relax {
             let angle = &mut out.plots.iter_mut().find(|p| p.file == ANGLE_PLOT).expect("the angle plot").plot;
             dt_comparison(ctx, self.nx, self.t_end, (wa, wb, wtext), &self.b_circle, &mut out.rep, angle);
         }
+        shared_y_range(out, &SHEAR_PLOTS);
         Ok(())
     }
+}
+
+/// The look of variant `k` in the wall-shear plots: its palette colour, one per mode, wall and
+/// form (a run from below 60° in its from-90° sibling's colour), and a circle from 90°, a
+/// triangle from below.
+pub(super) fn shear_look(variants: &[Variant], k: usize) -> (usize, Marker) {
+    let v = &variants[k];
+    let family = v.from_90.unwrap_or(v.id);
+    let colour = variants.iter().filter(|w| w.from_90.is_none()).position(|w| w.id == family);
+    (colour.unwrap_or(k), if v.from_90.is_some() { Marker::Triangle } else { Marker::Circle })
 }
 
 /// The row of a run's peak wall shear in a window (also how the committed profile is vouched for).
 fn peak_name(label: &str, window: &str) -> String {
     format!("{label}: peak wall shear, {window} (1/time)")
+}
+
+/// One y range for the plots `files` (log axes: their positive values), so that the windows'
+/// profiles read against each other.
+fn shared_y_range(out: &mut CaseOutput, files: &[&str]) {
+    let plots = || out.plots.iter().filter(|p| files.contains(&p.file));
+    let ys = plots().flat_map(|p| p.plot.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)));
+    let (lo, hi) = ys.filter(|y| *y > 0.0).fold((f64::INFINITY, 0.0f64), |(lo, hi), y| (lo.min(y), hi.max(y)));
+    if lo < hi {
+        for p in out.plots.iter_mut().filter(|p| files.contains(&p.file)) {
+            p.plot.y_range = Some((lo / 1.5, hi * 1.5));
+        }
+    }
 }

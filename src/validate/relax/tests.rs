@@ -1,5 +1,6 @@
 //! Tests of the relax-60 case's geometry: the equal-area start caps, the analytic cap at the
-//! first row and at the wall, and which variants are held to 60°.
+//! first row and at the wall, which variants are held to 60°, and how the wall-shear plots tell
+//! the variants apart.
 
 use super::*;
 
@@ -79,4 +80,23 @@ fn mode_b_and_the_unbalanced_young_force_are_held_to_60_degrees() {
     for v in variants().iter().filter(|v| v.held_to_young() && v.id.starts_with("a-")) {
         assert_eq!(scene(v).contact.wall_tension, crate::scene::WallTension::Unbalanced, "{}", v.id);
     }
+}
+
+#[test]
+fn each_variant_has_its_own_look_in_the_wall_shear_plots_and_a_start_below_shares_its_siblings_colour() {
+    let vs = variants();
+    let looks: Vec<_> = (0..vs.len()).map(|k| case::shear_look(&vs, k)).collect();
+    for (k, a) in looks.iter().enumerate() {
+        for b in &looks[k + 1..] {
+            assert_ne!(a, b, "{} shares its look", vs[k].id);
+        }
+    }
+    for (k, v) in vs.iter().enumerate() {
+        if let Some(sibling) = v.from_90 {
+            let s = vs.iter().position(|w| w.id == sibling).expect("the sibling is a variant");
+            assert_eq!(looks[k].0, looks[s].0, "{} and {sibling}", v.id);
+        }
+    }
+    // One colour per from-90° run: the palette's ten hues are not reused.
+    assert!(looks.iter().all(|l| l.0 < 10), "{looks:?}");
 }
