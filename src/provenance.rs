@@ -156,6 +156,7 @@ pub const RUN_UNITS: &[(&str, &str)] = &[
     ("x_tp", "L"),
     ("spread_factor", "1 (D/D0)"),
     ("wave_amplitude", "L"),
+    ("max_density_error_x, max_density_error_y, max_speed_x, max_speed_y", "L"),
     ("dt_last", "T"),
     ("t_final", "T"),
     ("wall_time_s", "s (wall clock)"),

@@ -177,9 +177,12 @@ fn a_run_writes_series_snapshots_vtk_and_summary() {
         "theta_circle_fit",
         "theta_area",
         "spread_factor",
+        "max_density_error_x",
+        "max_speed_y",
     ] {
         assert!(header.split(',').any(|c| c == col), "series.csv has column {col}: {header}");
     }
+    the_last_row_places_its_maxima_on_the_snapshots_particles(&series, &out.join("particles_00000020.csv"));
     assert_eq!(series.lines().count(), 1 + 5, "t = 0 plus one row every 5 of 20 steps");
     assert!(Path::new(&out.join("particles_00000020.csv")).exists(), "final snapshot");
     assert!(Path::new(&out.join("particles_00000020.vtu")).exists(), "final VTK");
@@ -219,6 +222,37 @@ fn a_run_writes_series_snapshots_vtk_and_summary() {
     cpu.evaluate().expect("evaluation");
     let (start, peak) = (cpu.nbrs.max_count() as u64, summary["peak_neighbours"].as_u64().expect("CPU records it"));
     assert!(start > 20 && peak >= start && peak <= 64, "peak {peak}, start {start}");
+}
+
+/// The last series row's `max_density_error` and `max_speed` sit at the positions it names: the
+/// fluid particle of the final snapshot (same step) with that |ρ − 1| (ρ0 = 1 in both phases of
+/// sessile-90) and that speed.
+fn the_last_row_places_its_maxima_on_the_snapshots_particles(series: &str, snapshot: &Path) {
+    let mut lines = series.lines();
+    let head: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let last: Vec<&str> = lines.last().expect("a row").split(',').collect();
+    let col = |name: &str| -> f64 {
+        let k = head.iter().position(|c| *c == name).unwrap_or_else(|| panic!("column {name}"));
+        last[k].parse().unwrap_or_else(|_| panic!("{name} = {:?}", last[k]))
+    };
+    let snap = std::fs::read_to_string(snapshot).expect("final snapshot");
+    let mut rows = snap.lines();
+    let sh: Vec<&str> = rows.next().expect("header").split(',').collect();
+    let k = |name: &str| sh.iter().position(|c| *c == name).unwrap_or_else(|| panic!("snapshot column {name}"));
+    let (kx, ky, kvx, kvy, kr, kp) = (k("x"), k("y"), k("vx"), k("vy"), k("rho"), k("phase"));
+    let fluid: Vec<Vec<f64>> = rows
+        .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect::<Vec<f64>>())
+        .filter(|r| r[kp] >= 0.0)
+        .collect();
+    let at = |x: f64, y: f64| {
+        fluid.iter().find(|r| r[kx] == x && r[ky] == y).unwrap_or_else(|| panic!("a fluid particle at ({x}, {y})"))
+    };
+    let worst = fluid.iter().map(|r| (r[kr] - 1.0).abs()).fold(0.0, f64::max);
+    let p = at(col("max_density_error_x"), col("max_density_error_y"));
+    assert!((p[kr] - 1.0).abs() == worst && worst == col("max_density_error") && worst > 0.0, "{p:?} {worst}");
+    let fastest = fluid.iter().map(|r| r[kvx].hypot(r[kvy])).fold(0.0, f64::max);
+    let q = at(col("max_speed_x"), col("max_speed_y"));
+    assert!(q[kvx].hypot(q[kvy]) == fastest && fastest == col("max_speed") && fastest > 0.0, "{q:?} {fastest}");
 }
 
 #[test]

@@ -298,6 +298,15 @@ fn flow_basics_and_normal_deviation() {
     assert_eq!(mass_per_phase(&mass, &phase, 2), vec![4.0, 2.0]);
     let rho = vec![1.01, 0.98, 1.3, 5.0];
     assert!((max_density_error(&rho, &[1.0, 1.2], &phase) - 0.1 / 1.2).abs() < 1e-12);
+    // The maxima's particles: the wall (ρ = 5, v = (5, 5)) is never one of them.
+    let (i, e) = argmax_density_error(&rho, &[1.0, 1.2], &phase).expect("fluid particles");
+    assert!(i == 2 && (e - 0.1 / 1.2).abs() < 1e-12, "{i} {e}");
+    assert_eq!(argmax_speed(&vel, &phase), Some((1, 2.0)));
+    // A NaN is skipped, the first of equal errors wins, a phase without ρ0 and no fluid give None.
+    let (rho2, phase2) = (vec![f64::NAN, 1.02, 0.98, 1.01], vec![0, 0, 0, 0]);
+    assert_eq!(argmax_density_error(&rho2, &[1.0], &phase2).map(|k| k.0), Some(1));
+    assert_eq!(argmax_density_error(&rho2, &[], &phase2), None);
+    assert_eq!(argmax_speed(&vel[3..], &phase[3..]), None);
 
     // Radial outward normals: liquid grad_c = +r̂, gas grad_c = −r̂ → 0°; tilt one by 7°.
     let dx = 0.01;

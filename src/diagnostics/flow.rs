@@ -46,10 +46,30 @@ pub fn mass_per_phase(mass: &[f64], phase: &[u32], n_phases: usize) -> Vec<f64> 
 /// Maximum relative density error `max_i |ρ_i/ρ0_{k(i)} − 1|` over fluid particles whose phase
 /// has a reference density in `rho0_of_phase` (0 when there is none).
 pub fn max_density_error(rho: &[f64], rho0_of_phase: &[f64], phase: &[u32]) -> f64 {
-    rho.iter()
-        .zip(phase)
-        .filter_map(|(r, &p)| rho0_of_phase.get(p as usize).filter(|_| p != WALL).map(|r0| (r / r0 - 1.0).abs()))
-        .fold(0.0, f64::max)
+    argmax_density_error(rho, rho0_of_phase, phase).map_or(0.0, |(_, e)| e)
+}
+
+/// The particle of [`max_density_error`]: `(index, error)` of the first particle with the largest
+/// error (NaN errors skipped); None when no particle has a reference density.
+pub fn argmax_density_error(rho: &[f64], rho0_of_phase: &[f64], phase: &[u32]) -> Option<(usize, f64)> {
+    let errors = rho.iter().zip(phase).enumerate().filter_map(|(i, (r, &p))| {
+        rho0_of_phase.get(p as usize).filter(|_| p != WALL).map(|r0| (i, (r / r0 - 1.0).abs()))
+    });
+    argmax(errors)
+}
+
+/// The fluid particle with the largest speed: `(index, |v|)`, the first of equals; None when
+/// there is no fluid particle.
+pub fn argmax_speed(vel: &[[f64; 2]], phase: &[u32]) -> Option<(usize, f64)> {
+    argmax(vel.iter().zip(phase).enumerate().filter(|(_, (_, &p))| p != WALL).map(|(i, (v, _))| (i, v[0].hypot(v[1]))))
+}
+
+/// The first `(index, value)` with the largest value, NaN values skipped.
+fn argmax(items: impl Iterator<Item = (usize, f64)>) -> Option<(usize, f64)> {
+    items.filter(|(_, v)| !v.is_nan()).fold(None, |best, (i, v)| match best {
+        Some((_, b)) if v <= b => best,
+        _ => Some((i, v)),
+    })
 }
 
 /// Wall shear-rate profile, §9(b) quick check for a no-slip wall: for the first-row fluid

@@ -17,6 +17,6 @@ pub use contact_angle::{
     area_inversion, circle_fit, contact_half_width, measure_all, two_point, CircleFit, ContactAngles,
 };
 pub use flow::{
-    centroid, kinetic_energy, laplace_jump, mass_per_phase, max_density_error, max_normal_deviation, oscillation,
-    wall_shear_profile, Oscillation,
+    argmax_density_error, argmax_speed, centroid, kinetic_energy, laplace_jump, mass_per_phase, max_density_error,
+    max_normal_deviation, oscillation, wall_shear_profile, Oscillation,
 };

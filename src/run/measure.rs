@@ -1,6 +1,6 @@
 //! The series row of `sphlab run` (`series.csv`, read back by `validate`): what is measured on
-//! a frame (energy, centroid, masses, density error, speed, the binding dt limit, contact
-//! angles and spread, the interface wave's amplitude).
+//! a frame (energy, centroid, masses, density error, speed and where their maxima sit, the
+//! binding dt limit, contact angles and spread, the interface wave's amplitude).
 
 use crate::backend::Frame;
 use crate::diagnostics::{contact_angle, flow};
@@ -52,6 +52,18 @@ pub struct SeriesRow {
     /// Interface wave amplitude a (scenes with `[interface_wave]`; `diagnostics::wave`).
     #[serde(default)]
     pub wave_amplitude: Option<f64>,
+    /// Position x of the fluid particle with the largest |ρ/ρ0 − 1| (`max_density_error`).
+    #[serde(default)]
+    pub max_density_error_x: Option<f64>,
+    /// Position y of that particle.
+    #[serde(default)]
+    pub max_density_error_y: Option<f64>,
+    /// Position x of the fastest fluid particle (`max_speed`).
+    #[serde(default)]
+    pub max_speed_x: Option<f64>,
+    /// Position y of that particle.
+    #[serde(default)]
+    pub max_speed_y: Option<f64>,
 }
 
 /// Measures one series row from a frame (the circle fit empty where its buffers cannot be
@@ -88,6 +100,9 @@ fn measure_with<E>(
         vel.iter().map(norm).fold(0.0, f64::max),
         fr.acc.get(..nf).map_or(0.0, |a| a.iter().map(norm).fold(0.0, f64::max)),
     );
+    let at = |k: Option<(usize, f64)>| k.map(|(i, _)| pos[i]);
+    let (rho_at, speed_at) =
+        (at(flow::argmax_density_error(&fr.rho[..nf], &rho0, phase)), at(flow::argmax_speed(vel, phase)));
     let (limit, tight) = crate::scene::dt_policy::tightest(&crate::scene::dt_policy::state_limits(scene, v_max, a_max));
     let mut row = SeriesRow {
         t: fr.t,
@@ -102,6 +117,10 @@ fn measure_with<E>(
         max_speed: v_max,
         dt_limit: if scene.time.dt > 0.0 { "fixed" } else { limit }.into(),
         dt_over_limit: fr.dt / tight,
+        max_density_error_x: rho_at.map(|p| p[0]),
+        max_density_error_y: rho_at.map(|p| p[1]),
+        max_speed_x: speed_at.map(|p| p[0]),
+        max_speed_y: speed_at.map(|p| p[1]),
         ..Default::default()
     };
     if let Some(w) = &scene.interface_wave {
