@@ -96,13 +96,13 @@ fn measure_with<E>(
     let m = flow::mass_per_phase(mass, phase, scene.phases.len());
     let rho0: Vec<f64> = scene.phases.iter().map(|p| p.rho0).collect();
     let norm = |v: &[f64; 2]| v[0].hypot(v[1]);
-    let (v_max, a_max) = (
-        vel.iter().map(norm).fold(0.0, f64::max),
-        fr.acc.get(..nf).map_or(0.0, |a| a.iter().map(norm).fold(0.0, f64::max)),
-    );
+    // Each maximum once, with its particle: the value for the row, the position beside it.
+    let (rho_max, speed_max) =
+        (flow::argmax_density_error(&fr.rho[..nf], &rho0, phase), flow::argmax_speed(vel, phase));
+    let (v_max, a_max) =
+        (speed_max.map_or(0.0, |(_, v)| v), fr.acc.get(..nf).map_or(0.0, |a| a.iter().map(norm).fold(0.0, f64::max)));
     let at = |k: Option<(usize, f64)>| k.map(|(i, _)| pos[i]);
-    let (rho_at, speed_at) =
-        (at(flow::argmax_density_error(&fr.rho[..nf], &rho0, phase)), at(flow::argmax_speed(vel, phase)));
+    let (rho_at, speed_at) = (at(rho_max), at(speed_max));
     let (limit, tight) = crate::scene::dt_policy::tightest(&crate::scene::dt_policy::state_limits(scene, v_max, a_max));
     let mut row = SeriesRow {
         t: fr.t,
@@ -113,7 +113,7 @@ fn measure_with<E>(
         centroid_y: c[1],
         mass_phase0: m[0],
         mass_phase1: m.get(1).copied().unwrap_or(0.0),
-        max_density_error: flow::max_density_error(&fr.rho[..nf], &rho0, phase),
+        max_density_error: rho_max.map_or(0.0, |(_, e)| e),
         max_speed: v_max,
         dt_limit: if scene.time.dt > 0.0 { "fixed" } else { limit }.into(),
         dt_over_limit: fr.dt / tight,
